@@ -1,0 +1,3 @@
+//! The `rappel` command: argument parsing and printing only; the work happens in the facade crate.
+
+fn main() {}

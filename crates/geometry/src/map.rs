@@ -1,0 +1,649 @@
+//! The planning map (thesis §2.1.2, Fig. 2.7): an outer boundary polygon and obstacle polygons
+//! (holes) in the planar, unfolded frame of a tether-demand plane, and its validation. A valid map
+//! is exactly what a boundary-triangulated 2-manifold can be built from: simple rings of positive
+//! area, every obstacle strictly inside the boundary, no two obstacles sharing a point.
+//!
+//! Validation is exact (it uses [`crate::predicates`]) and reports the first defect it finds as a
+//! [`MapError`] that names the ring and the coordinates involved. Overlapping obstacles, the normal
+//! output of obstacle detection, are merged by [`crate::normalize`] rather than refused.
+
+use crate::polygon::{Aabb, PointInPolygon, Polygon};
+use crate::predicates::{SegmentContact, orient2d, segment_contact};
+use crate::spatial_grid::SpatialGrid;
+use nalgebra::Point2;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// A map: the outer boundary and the obstacles inside it.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::map::Map;
+/// use rappel_geometry::polygon::Polygon;
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(5., 6.)])],
+/// );
+/// map.validate().unwrap();
+/// assert_eq!(map.free_area(), 98.0);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Map {
+    /// The outer boundary of the planning region.
+    pub boundary: Polygon,
+    /// Tether obstacles: holes in the free space.
+    #[serde(default)]
+    pub obstacles: Vec<Polygon>,
+}
+
+/// Which ring of a map something refers to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum RingId {
+    /// The outer boundary.
+    Boundary,
+    /// Obstacle number `i` (0-based, in map order).
+    Obstacle(usize),
+}
+
+impl fmt::Display for RingId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RingId::Boundary => write!(f, "the boundary"),
+            RingId::Obstacle(i) => write!(f, "obstacle {i}"),
+        }
+    }
+}
+
+/// Formats a point as `(x, y)` for error messages.
+pub(crate) struct At(pub Point2<f64>);
+
+impl fmt::Display for At {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "({}, {})", self.0.x, self.0.y)
+    }
+}
+
+/// Why a point is not in free space.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FreeSpaceViolation {
+    /// Outside the outer boundary.
+    OutsideBoundary,
+    /// On the outer boundary.
+    OnBoundary,
+    /// Inside obstacle `i`.
+    InsideObstacle(usize),
+    /// On the boundary of obstacle `i`.
+    OnObstacle(usize),
+}
+
+impl fmt::Display for FreeSpaceViolation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FreeSpaceViolation::OutsideBoundary => write!(f, "outside the map boundary"),
+            FreeSpaceViolation::OnBoundary => write!(f, "on the map boundary"),
+            FreeSpaceViolation::InsideObstacle(i) => write!(f, "inside obstacle {i}"),
+            FreeSpaceViolation::OnObstacle(i) => write!(f, "on the edge of obstacle {i}"),
+        }
+    }
+}
+
+/// A defect that makes a map unusable for triangulation. Each names the ring and where; the doc of
+/// each variant says how to fix the input.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MapError {
+    /// A coordinate is NaN or infinite. Fix: replace the vertex.
+    #[error("{ring} vertex {vertex} has a non-finite coordinate ({x}, {y})")]
+    NonFinite {
+        /// The ring.
+        ring: RingId,
+        /// The vertex index in the ring.
+        vertex: usize,
+        /// Its x coordinate as given.
+        x: f64,
+        /// Its y coordinate as given.
+        y: f64,
+    },
+    /// Fewer than three distinct vertices. Fix: drop the ring or give it a real shape.
+    #[error("{ring} has {distinct} distinct vertices; a polygon needs at least 3 (first vertex at {})", At(*.at))]
+    TooFewVertices {
+        /// The ring.
+        ring: RingId,
+        /// How many distinct vertices it has.
+        distinct: usize,
+        /// Its first vertex, to find it.
+        at: Point2<f64>,
+    },
+    /// The same vertex twice in a row. Fix: remove the repeat (normalisation does).
+    #[error("{ring} repeats vertex {vertex} at {}", At(*.at))]
+    RepeatedVertex {
+        /// The ring.
+        ring: RingId,
+        /// Index of the repeat.
+        vertex: usize,
+        /// The repeated point.
+        at: Point2<f64>,
+    },
+    /// All vertices on one line. Fix: drop the ring.
+    #[error("{ring} has zero area: all its vertices lie on one line (first vertex at {})", At(*.at))]
+    ZeroArea {
+        /// The ring.
+        ring: RingId,
+        /// Its first vertex.
+        at: Point2<f64>,
+    },
+    /// Two edges of one ring cross or touch. Fix: redraw the ring as a simple polygon, or take its
+    /// convex hull (normalisation can).
+    #[error("{ring} intersects itself: edges {first_edge} and {second_edge} meet near {}", At(*.at))]
+    SelfIntersecting {
+        /// The ring.
+        ring: RingId,
+        /// The first edge (edge `i` runs from vertex `i` to vertex `i + 1`).
+        first_edge: usize,
+        /// The second edge.
+        second_edge: usize,
+        /// A point of the contact.
+        at: Point2<f64>,
+    },
+    /// An obstacle lies entirely outside the boundary. Fix: drop it (normalisation does).
+    #[error("obstacle {obstacle} lies outside the boundary (vertex at {})", At(*.at))]
+    ObstacleOutsideBoundary {
+        /// The obstacle.
+        obstacle: usize,
+        /// One of its vertices.
+        at: Point2<f64>,
+    },
+    /// An obstacle crosses or touches the boundary. Fix: move the boundary inwards or clip the
+    /// obstacle; the tether cannot pass between an obstacle and the boundary it touches anyway.
+    #[error("obstacle {obstacle} crosses or touches the boundary near {}", At(*.at))]
+    ObstacleCrossesBoundary {
+        /// The obstacle.
+        obstacle: usize,
+        /// A point of the contact.
+        at: Point2<f64>,
+    },
+    /// Two obstacles overlap (crossing edges or one inside the other). Fix: merge them with
+    /// [`crate::normalize::normalize`].
+    #[error("obstacles {first} and {second} overlap near {}", At(*.at))]
+    ObstaclesOverlap {
+        /// The lower-numbered obstacle.
+        first: usize,
+        /// The other obstacle.
+        second: usize,
+        /// A point of the overlap.
+        at: Point2<f64>,
+    },
+    /// Two obstacles share a point without overlapping. Fix: merge them with
+    /// [`crate::normalize::normalize`] (a tether cannot pass between them).
+    #[error("obstacles {first} and {second} touch at {}", At(*.at))]
+    ObstaclesTouch {
+        /// The lower-numbered obstacle.
+        first: usize,
+        /// The other obstacle.
+        second: usize,
+        /// The contact point.
+        at: Point2<f64>,
+    },
+    /// A named point (start, goal, ...) is not in free space. Fix: move it.
+    #[error("the {what} point {} is {violation}", At(*.at))]
+    PointNotFree {
+        /// What the point is, e.g. `start` or `goal`.
+        what: &'static str,
+        /// The point.
+        at: Point2<f64>,
+        /// Why it is not free.
+        violation: FreeSpaceViolation,
+    },
+}
+
+impl Map {
+    /// A map from its boundary and obstacles (not validated).
+    pub fn new(boundary: Polygon, obstacles: Vec<Polygon>) -> Self {
+        Map {
+            boundary,
+            obstacles,
+        }
+    }
+
+    /// The ring with the given id.
+    pub fn ring(&self, id: RingId) -> &Polygon {
+        match id {
+            RingId::Boundary => &self.boundary,
+            RingId::Obstacle(i) => &self.obstacles[i],
+        }
+    }
+
+    /// All rings with their ids, boundary first.
+    pub fn rings(&self) -> impl Iterator<Item = (RingId, &Polygon)> + '_ {
+        std::iter::once((RingId::Boundary, &self.boundary)).chain(
+            self.obstacles
+                .iter()
+                .enumerate()
+                .map(|(i, o)| (RingId::Obstacle(i), o)),
+        )
+    }
+
+    /// Total number of vertices over all rings.
+    pub fn vertex_count(&self) -> usize {
+        self.rings().map(|(_, r)| r.len()).sum()
+    }
+
+    /// Area of the free space: the boundary's area minus the obstacles' (valid maps only).
+    pub fn free_area(&self) -> f64 {
+        self.boundary.area() - self.obstacles.iter().map(Polygon::area).sum::<f64>()
+    }
+
+    /// The boundary's bounding box.
+    pub fn aabb(&self) -> Aabb {
+        self.boundary.aabb()
+    }
+
+    /// Checks every condition for building a BTM; returns the first defect found.
+    pub fn validate(&self) -> Result<(), MapError> {
+        for (id, ring) in self.rings() {
+            validate_ring_alone(id, ring)?;
+        }
+        self.check_edge_contacts()?;
+        self.check_containment()
+    }
+
+    /// Where `p` lies with respect to free space (the map must be valid).
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::map::{Map, FreeSpaceViolation};
+    /// use rappel_geometry::polygon::Polygon;
+    /// let p = |x, y| Point2::new(x, y);
+    /// let map = Map::new(
+    ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+    ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(5., 6.)])],
+    /// );
+    /// assert_eq!(map.free_space_violation(&p(1., 1.)), None);
+    /// assert_eq!(map.free_space_violation(&p(5., 5.)), Some(FreeSpaceViolation::InsideObstacle(0)));
+    /// ```
+    pub fn free_space_violation(&self, p: &Point2<f64>) -> Option<FreeSpaceViolation> {
+        match self.boundary.locate(p) {
+            PointInPolygon::Outside => return Some(FreeSpaceViolation::OutsideBoundary),
+            PointInPolygon::OnBoundary => return Some(FreeSpaceViolation::OnBoundary),
+            PointInPolygon::Inside => {}
+        }
+        for (i, o) in self.obstacles.iter().enumerate() {
+            if !o.aabb().contains(p) {
+                continue;
+            }
+            match o.locate(p) {
+                PointInPolygon::Inside => return Some(FreeSpaceViolation::InsideObstacle(i)),
+                PointInPolygon::OnBoundary => return Some(FreeSpaceViolation::OnObstacle(i)),
+                PointInPolygon::Outside => {}
+            }
+        }
+        None
+    }
+
+    /// Checks that the point called `what` (e.g. `"start"`) lies in free space.
+    pub fn validate_point(&self, what: &'static str, p: &Point2<f64>) -> Result<(), MapError> {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return Err(MapError::PointNotFree {
+                what,
+                at: *p,
+                violation: FreeSpaceViolation::OutsideBoundary,
+            });
+        }
+        match self.free_space_violation(p) {
+            None => Ok(()),
+            Some(violation) => Err(MapError::PointNotFree {
+                what,
+                at: *p,
+                violation,
+            }),
+        }
+    }
+
+    /// Every pair of edges (within a ring or across rings) that meet where they must not, as
+    /// errors keyed by `(ring, edge, ring, edge)` with rings numbered boundary first, sorted.
+    pub(crate) fn edge_contacts(&self) -> Vec<((u32, u32, u32, u32), MapError)> {
+        // Segment table: (ring, edge index). Ring 0 is the boundary, ring k + 1 obstacle k.
+        let rings: Vec<&Polygon> = std::iter::once(&self.boundary)
+            .chain(&self.obstacles)
+            .collect();
+        let mut segs: Vec<(u32, u32)> = Vec::with_capacity(self.vertex_count());
+        for (r, ring) in rings.iter().enumerate() {
+            for e in 0..ring.len() {
+                segs.push((r as u32, e as u32));
+            }
+        }
+        let seg_points = |s: (u32, u32)| {
+            let ring = rings[s.0 as usize];
+            let n = ring.len();
+            (
+                ring.vertices[s.1 as usize],
+                ring.vertices[(s.1 as usize + 1) % n],
+            )
+        };
+        let mut bounds = self.boundary.aabb();
+        for o in &self.obstacles {
+            let b = o.aabb();
+            bounds = Aabb::of_points([&bounds.min, &bounds.max, &b.min, &b.max]);
+        }
+        let mut grid = SpatialGrid::new(bounds, segs.len());
+        for (i, &s) in segs.iter().enumerate() {
+            let (a, b) = seg_points(s);
+            grid.insert(&Aabb::of_points([&a, &b]), i as u32);
+        }
+        let ring_id = |r: u32| {
+            if r == 0 {
+                RingId::Boundary
+            } else {
+                RingId::Obstacle(r as usize - 1)
+            }
+        };
+        let mut found: Vec<((u32, u32, u32, u32), MapError)> = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        for bucket in grid.buckets() {
+            for (k, &i) in bucket.iter().enumerate() {
+                for &j in &bucket[k + 1..] {
+                    let (si, sj) = if segs[i as usize] < segs[j as usize] {
+                        (segs[i as usize], segs[j as usize])
+                    } else {
+                        (segs[j as usize], segs[i as usize])
+                    };
+                    let key = (si.0, si.1, sj.0, sj.1);
+                    let (a, b) = seg_points(si);
+                    let (c, d) = seg_points(sj);
+                    let contact = segment_contact(&a, &b, &c, &d);
+                    if contact == SegmentContact::Disjoint || !seen.insert(key) {
+                        continue;
+                    }
+                    let at = contact_point(&a, &b, &c, &d);
+                    let error = if si.0 == sj.0 {
+                        let n = rings[si.0 as usize].len() as u32;
+                        let adjacent = (si.1 + 1) % n == sj.1 || (sj.1 + 1) % n == si.1;
+                        if adjacent && !adjacent_edges_overlap(&a, &b, &c, &d) {
+                            continue;
+                        }
+                        MapError::SelfIntersecting {
+                            ring: ring_id(si.0),
+                            first_edge: si.1 as usize,
+                            second_edge: sj.1 as usize,
+                            at,
+                        }
+                    } else if si.0 == 0 {
+                        MapError::ObstacleCrossesBoundary {
+                            obstacle: sj.0 as usize - 1,
+                            at,
+                        }
+                    } else if contact == SegmentContact::Crossing {
+                        MapError::ObstaclesOverlap {
+                            first: si.0 as usize - 1,
+                            second: sj.0 as usize - 1,
+                            at,
+                        }
+                    } else {
+                        MapError::ObstaclesTouch {
+                            first: si.0 as usize - 1,
+                            second: sj.0 as usize - 1,
+                            at,
+                        }
+                    };
+                    found.push((key, error));
+                }
+            }
+        }
+        found.sort_by_key(|(k, _)| *k);
+        found
+    }
+
+    /// The first edge contact in input order, as an error.
+    fn check_edge_contacts(&self) -> Result<(), MapError> {
+        match self.edge_contacts().into_iter().next() {
+            Some((_, e)) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// Pairs of obstacles `(i, j)`, `i < j`, one of which holds a vertex of the other (checked
+    /// for one vertex each: with no edge contacts that decides nesting).
+    pub(crate) fn nested_obstacles(&self) -> Vec<(usize, usize, Point2<f64>)> {
+        let mut grid = SpatialGrid::new(self.boundary.aabb(), self.obstacles.len());
+        for (i, o) in self.obstacles.iter().enumerate() {
+            grid.insert(&o.aabb(), i as u32);
+        }
+        let mut out = Vec::new();
+        for (i, o) in self.obstacles.iter().enumerate() {
+            let v = o.vertices[0];
+            for &j in grid.at(&v) {
+                let j = j as usize;
+                if j != i
+                    && self.obstacles[j].aabb().contains(&v)
+                    && self.obstacles[j].locate(&v) != PointInPolygon::Outside
+                {
+                    out.push((i.min(j), i.max(j), v));
+                }
+            }
+        }
+        out.sort_by_key(|&(i, j, _)| (i, j));
+        out.dedup_by_key(|&mut (i, j, _)| (i, j));
+        out
+    }
+
+    /// With no edge contacts, rings are nested or disjoint: check each obstacle is inside the
+    /// boundary and inside no other obstacle.
+    fn check_containment(&self) -> Result<(), MapError> {
+        for (i, o) in self.obstacles.iter().enumerate() {
+            let v = o.vertices[0];
+            if self.boundary.locate(&v) != PointInPolygon::Inside {
+                return Err(MapError::ObstacleOutsideBoundary { obstacle: i, at: v });
+            }
+        }
+        match self.nested_obstacles().first() {
+            Some(&(first, second, at)) => Err(MapError::ObstaclesOverlap { first, second, at }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Checks on one ring that need no other ring: finiteness, vertex count, repeats, area.
+fn validate_ring_alone(ring: RingId, poly: &Polygon) -> Result<(), MapError> {
+    for (vertex, p) in poly.vertices.iter().enumerate() {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return Err(MapError::NonFinite {
+                ring,
+                vertex,
+                x: p.x,
+                y: p.y,
+            });
+        }
+    }
+    let first = poly.vertices.first().copied().unwrap_or(Point2::origin());
+    let distinct = poly.distinct_vertex_count();
+    if distinct < 3 {
+        return Err(MapError::TooFewVertices {
+            ring,
+            distinct,
+            at: first,
+        });
+    }
+    let n = poly.len();
+    for i in 0..n {
+        if poly.vertices[i] == poly.vertices[(i + 1) % n] {
+            return Err(MapError::RepeatedVertex {
+                ring,
+                vertex: (i + 1) % n,
+                at: poly.vertices[i],
+            });
+        }
+    }
+    if poly.is_degenerate() {
+        return Err(MapError::ZeroArea { ring, at: first });
+    }
+    Ok(())
+}
+
+/// Adjacent edges `ab` and `cd` of a ring share one endpoint; they also meet beyond it exactly when
+/// the ring doubles back on itself there (a spike): collinear, with both far ends on the same side.
+fn adjacent_edges_overlap(
+    a: &Point2<f64>,
+    b: &Point2<f64>,
+    c: &Point2<f64>,
+    d: &Point2<f64>,
+) -> bool {
+    let (shared, p, q) = if b == c {
+        (b, a, d)
+    } else if d == a {
+        (a, b, c)
+    } else {
+        // Adjacent by index yet no common endpoint: impossible for a ring, so treat it as a defect.
+        return true;
+    };
+    // Collinear with both far ends on one side of the shared vertex. The dot product of two
+    // vectors along one line is positive exactly when they point the same way.
+    orient2d(p, shared, q) == 0.0 && (p - shared).dot(&(q - shared)) > 0.0
+}
+
+/// A representative point of the contact between two meeting segments.
+fn contact_point(
+    a: &Point2<f64>,
+    b: &Point2<f64>,
+    c: &Point2<f64>,
+    d: &Point2<f64>,
+) -> Point2<f64> {
+    use crate::predicates::point_on_segment;
+    for (p, s0, s1) in [(c, a, b), (d, a, b), (a, c, d), (b, c, d)] {
+        if point_on_segment(s0, s1, p) {
+            return *p;
+        }
+    }
+    // A proper crossing: the floating-point intersection, for the message only.
+    let r = b - a;
+    let s = d - c;
+    let denom = r.x * s.y - r.y * s.x;
+    if denom == 0.0 {
+        return *a;
+    }
+    let t = ((c - a).x * s.y - (c - a).y * s.x) / denom;
+    a + r * t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn poly(pts: &[(f64, f64)]) -> Polygon {
+        Polygon::new(pts.iter().map(|&(x, y)| Point2::new(x, y)).collect())
+    }
+
+    fn square(x: f64, y: f64, s: f64) -> Polygon {
+        poly(&[(x, y), (x + s, y), (x + s, y + s), (x, y + s)])
+    }
+
+    fn map(obstacles: Vec<Polygon>) -> Map {
+        Map::new(square(0.0, 0.0, 100.0), obstacles)
+    }
+
+    /// One `check`: the map's validation result, as the error variant's name.
+    fn check(m: &Map, expected: &str) {
+        let got = match m.validate() {
+            Ok(()) => "ok".to_string(),
+            Err(e) => format!("{e:?}")
+                .split([' ', '{', '('])
+                .next()
+                .unwrap_or("")
+                .to_string(),
+        };
+        assert_eq!(got, expected, "{:?}", m.validate());
+    }
+
+    #[test]
+    fn each_defect_has_its_own_error() {
+        check(&map(vec![square(10., 10., 5.)]), "ok");
+        check(
+            &map(vec![poly(&[(1., 1.), (f64::NAN, 2.), (3., 1.)])]),
+            "NonFinite",
+        );
+        check(
+            &map(vec![poly(&[(1., 1.), (2., 2.), (1., 1.)])]),
+            "TooFewVertices",
+        );
+        check(
+            &map(vec![poly(&[(1., 1.), (2., 2.), (2., 2.), (3., 1.)])]),
+            "RepeatedVertex",
+        );
+        check(
+            &map(vec![poly(&[(1., 1.), (2., 2.), (3., 3.)])]),
+            "ZeroArea",
+        );
+        check(
+            &map(vec![poly(&[
+                (10., 10.),
+                (20., 20.),
+                (20., 10.),
+                (10., 20.),
+            ])]),
+            "SelfIntersecting",
+        );
+        check(
+            &map(vec![square(200., 200., 5.)]),
+            "ObstacleOutsideBoundary",
+        );
+        check(&map(vec![square(95., 50., 10.)]), "ObstacleCrossesBoundary");
+        check(&map(vec![square(0., 50., 10.)]), "ObstacleCrossesBoundary");
+        check(
+            &map(vec![square(10., 10., 5.), square(12., 12., 5.)]),
+            "ObstaclesOverlap",
+        );
+        check(
+            &map(vec![square(10., 10., 10.), square(12., 12., 2.)]),
+            "ObstaclesOverlap",
+        );
+        check(
+            &map(vec![square(10., 10., 5.), square(15., 10., 5.)]),
+            "ObstaclesTouch",
+        );
+        check(
+            &map(vec![square(10., 10., 5.), square(15., 15., 5.)]),
+            "ObstaclesTouch",
+        );
+    }
+
+    #[test]
+    fn a_spike_is_a_self_intersection() {
+        // Edge (2,2)->(4,4) doubles back along (4,4)->(3,3).
+        check(
+            &map(vec![poly(&[
+                (2., 1.),
+                (2., 2.),
+                (4., 4.),
+                (3., 3.),
+                (5., 1.),
+            ])]),
+            "SelfIntersecting",
+        );
+    }
+
+    #[test]
+    fn messages_name_the_ring_and_place() {
+        let e = map(vec![square(10., 10., 5.), square(12., 12., 5.)])
+            .validate()
+            .unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("obstacles 0 and 1 overlap near"), "{msg}");
+    }
+
+    #[test]
+    fn start_and_goal_must_be_free() {
+        let m = map(vec![square(10., 10., 5.)]);
+        assert!(m.validate_point("start", &Point2::new(50., 50.)).is_ok());
+        let e = m
+            .validate_point("goal", &Point2::new(12., 12.))
+            .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "the goal point (12, 12) is inside obstacle 0"
+        );
+        assert!(m.validate_point("start", &Point2::new(0., 50.)).is_err());
+        assert!(
+            m.validate_point("start", &Point2::new(f64::NAN, 50.))
+                .is_err()
+        );
+    }
+}

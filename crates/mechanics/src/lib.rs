@@ -1,0 +1,49 @@
+//! Tether and rover mechanics (thesis Ch. 3, Paton §IV, Kumar §II-III): rope statics with friction,
+//! terrain curvature, potential tether friction obstacles, robot models and the wheel/tether
+//! stability QP and tension-limited LP. Pure functions of geometry and parameters; no search.
+//!
+//! Module map (one concept each; the math and the paper equations are in each module's docs):
+//!
+//! | module | computes | source |
+//! |---|---|---|
+//! | [`ode`] | adaptive Dormand-Prince RK45 integration | thesis §3.3.4 (ode45) |
+//! | [`darboux`] | Darboux frame, `κ_n`, `κ_g`, `φ` of a curve on a surface | eqs. 3.1-3.5 |
+//! | [`surface_curve`] | tether curves on surfaces (capstan, helix, plane line) | §3.3.4 |
+//! | [`sticking`] | `ω²`, Konyukhov's conditions, Alg. 9 `TetherSlips` | eqs. 3.16-3.19, 3.25-3.27 |
+//! | [`capstan`] | capstan relation and its constant-`ω` generalisation | eqs. 3.20-3.24 |
+//! | [`heavy_rope`] | limiting tension of a heavy rope | eq. 3.14 |
+//! | [`curvature`] | principal curvatures, convexity, saddle break angle | eqs. 3.28-3.31 |
+//! | [`friction`] | friction intervals used conservatively | §3.6.1 |
+//! | [`ptfo`] | solid / slides / volatile PTFO classes | §3.4.1, Alg. 9 |
+//! | [`robot`] | the robot-model trait, planes, poses, placement | Paton §IV-A |
+//! | [`axel`] | the Axel model and its tether-tension estimate | eq. 3.32 |
+//! | [`four_wheel`] | a generic four-wheel rover | Kumar §II |
+//! | [`traversability`] | the stability-criterion seam, errors, settings | GUIDE §2 |
+//! | [`conic`] | the clarabel adapter and status mapping | GUIDE §3 |
+//! | [`stability_qp`] | wheel/tether stability QP | Paton eqs. 1-9 |
+//! | [`tension_limit`] | holding limit, winding angles, capstan amplification | Kumar eqs. 1-2 |
+//! | [`tension_lp`] | tension-limited stability LP | Kumar eqs. 3a-3e |
+//! | [`stability_map`] | parallel pose grids over planes | Kumar Fig. 5 |
+//!
+//! Sign convention: surface normals point out of the ground, and normal curvatures are
+//! `ρ''·n`, so a tether over a hump has `κ_n < 0` (see [`darboux`]).
+
+pub mod axel;
+pub mod capstan;
+pub mod conic;
+pub mod curvature;
+pub mod darboux;
+pub mod four_wheel;
+pub mod friction;
+pub mod heavy_rope;
+pub mod ode;
+pub mod ptfo;
+pub mod robot;
+pub mod stability_map;
+pub mod stability_qp;
+mod statics;
+pub mod sticking;
+pub mod surface_curve;
+pub mod tension_limit;
+pub mod tension_lp;
+pub mod traversability;

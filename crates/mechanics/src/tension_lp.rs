@@ -1,0 +1,140 @@
+//! Tension-limited static stability of a rappelling robot as a linear program (Kumar §III-B,
+//! eqs. 3a-3e), solved with clarabel.
+//!
+//! # Formulation
+//! The constraints are those of [`crate::statics`] with point contacts (no contact moments):
+//! force and moment balance (3a-3b), friction pyramids and non-negative normal forces (3c-3d; the
+//! paper's strict `F_Z > 0` is taken as `>= 0`, the tipping limit), and `0 <= T_2 <= T_2max`
+//! (3e), `T_2max` being the tether's limit (see [`crate::tension_limit`]). Kumar solves a pure
+//! feasibility problem; we add the objective `min T_2`, which leaves the feasible set (and so the
+//! verdict) unchanged and returns the smallest tension that holds the robot. The margin is the
+//! tension headroom `1 - T_2,required / T_2max` (1 without a tether). Kumar's pyramid is aligned
+//! with the tether direction; ours with the robot's axes (the two agree when the robot faces away
+//! from its anchor, the usual rappelling pose).
+
+use crate::conic::{ConicBuilder, ConicOutcome, ConicProblem};
+use crate::robot::PlacedRobot;
+use crate::statics::{Layout, add_equilibrium, add_friction_pyramids, add_tether_bounds, weight};
+use crate::traversability::{Assessment, StabilityCriterion, StabilityError, StabilitySettings};
+
+/// The LP's verdict.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LpReport {
+    /// A static equilibrium exists within the tension limit.
+    pub stable: bool,
+    /// The smallest tether tension that holds the robot (N), if stable and tethered.
+    pub required_tension: Option<f64>,
+    /// `1 - required / limit` (1 when no tension is needed or there is no tether; 0 when not
+    /// stable).
+    pub headroom: f64,
+    /// clarabel reported reduced accuracy.
+    pub reduced_accuracy: bool,
+}
+
+/// Kumar's tension-limited stability LP.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TensionLimitedLp {
+    settings: StabilitySettings,
+}
+
+impl TensionLimitedLp {
+    /// An LP checker with `settings`.
+    pub fn new(settings: StabilitySettings) -> Self {
+        TensionLimitedLp { settings }
+    }
+
+    fn layout(robot: &PlacedRobot) -> Layout {
+        Layout {
+            contacts: robot.contacts.len(),
+            with_moments: false,
+            tether: robot.tether.is_some(),
+        }
+    }
+
+    /// Builds the LP for `robot` (exposed so that setup and solve can be timed apart). A tethered
+    /// robot must have a tension limit (Kumar eq. 3e).
+    pub fn assemble(&self, robot: &PlacedRobot) -> Result<ConicProblem, StabilityError> {
+        let w = weight(robot, self.settings.gravity())?;
+        if robot.tether.is_some_and(|t| t.max_tension.is_none()) {
+            return Err(StabilityError::Input(
+                "the tension-limited LP needs a tether tension limit (T_2max)",
+            ));
+        }
+        let layout = Self::layout(robot);
+        let mut b = ConicBuilder::new(layout.len());
+        if let Some(col) = layout.tether() {
+            b.add_linear(col, 1.0);
+        }
+        add_equilibrium(&mut b, robot, &layout, self.settings.gravity(), w);
+        add_friction_pyramids(&mut b, &layout, robot.friction);
+        add_tether_bounds(&mut b, robot, &layout, w);
+        Ok(b.build(self.settings.solver()))
+    }
+
+    /// Checks whether `robot` is stable within its tether's tension limit.
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::Point3;
+    /// use rappel_mechanics::four_wheel::FourWheelRover;
+    /// use rappel_mechanics::robot::{place, PlanarPose, SlopePlane, TetherSpec};
+    /// use rappel_mechanics::tension_lp::TensionLimitedLp;
+    /// // 35 kg on a 55° slope, μ = 0.4, tether straight up the fall line.
+    /// let slope = SlopePlane::new(55f64.to_radians(), 0.4).unwrap();
+    /// let pose = PlanarPose::new(0.0, 0.0, std::f64::consts::PI);
+    /// let check = |limit| {
+    ///     let tether = TetherSpec { anchor: Point3::new(0.0, 30.0, 0.35), max_tension: Some(limit) };
+    ///     let robot = place(&FourWheelRover::default(), &pose, &slope, Some(&tether)).unwrap();
+    ///     TensionLimitedLp::default().check(&robot).unwrap().stable
+    /// };
+    /// assert!(!check(200.0) && check(300.0));
+    /// ```
+    pub fn check(&self, robot: &PlacedRobot) -> Result<LpReport, StabilityError> {
+        let problem = self.assemble(robot)?;
+        let w = weight(robot, self.settings.gravity())?;
+        let layout = Self::layout(robot);
+        Ok(match problem.setup()?.solve()? {
+            ConicOutcome::Infeasible { reduced_accuracy } => LpReport {
+                stable: false,
+                required_tension: None,
+                headroom: 0.0,
+                reduced_accuracy,
+            },
+            ConicOutcome::Optimal {
+                x,
+                reduced_accuracy,
+                ..
+            } => {
+                let required = layout.tether().map(|c| x[c].max(0.0) * w);
+                let limit = robot.tether.and_then(|t| t.max_tension);
+                let headroom = match (required, limit) {
+                    (Some(r), Some(l)) if l > 0.0 => (1.0 - r / l).clamp(0.0, 1.0),
+                    (Some(_), Some(_)) => 0.0,
+                    _ => 1.0,
+                };
+                LpReport {
+                    stable: true,
+                    required_tension: required,
+                    headroom,
+                    reduced_accuracy,
+                }
+            }
+        })
+    }
+}
+
+impl StabilityCriterion for TensionLimitedLp {
+    fn name(&self) -> &str {
+        "tension-limited-lp"
+    }
+
+    fn assess(&self, robot: &PlacedRobot) -> Result<Assessment, StabilityError> {
+        let r = self.check(robot)?;
+        Ok(Assessment {
+            stable: r.stable,
+            margin: r.headroom,
+            tether_tension: r.required_tension,
+            reduced_accuracy: r.reduced_accuracy,
+        })
+    }
+}

@@ -1,0 +1,96 @@
+//! The seam between planners and stability models (GUIDE §2): a [`StabilityCriterion`] answers
+//! "is this placed robot statically stable, and by how much?". The wheel/tether QP
+//! ([`crate::stability_qp`], Paton §IV-C) and the tension-limited LP ([`crate::tension_lp`],
+//! Kumar §III-B) implement it; a point-robot friction cone (thesis eq. 2.7) can implement it later
+//! without touching the planners.
+
+use crate::conic::SolverSettings;
+use crate::robot::{PlacedRobot, RobotError, STANDARD_GRAVITY};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Why a stability question could not be answered. "Not stable" is **not** an error: it is an
+/// [`Assessment`] with `stable == false`.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum StabilityError {
+    /// An input is out of range or not finite; the message names it.
+    #[error("invalid stability input: {0}")]
+    Input(&'static str),
+    /// The robot could not be placed.
+    #[error(transparent)]
+    Robot(#[from] RobotError),
+    /// clarabel rejected the problem data or settings.
+    #[error("solver setup failed: {0}")]
+    Setup(String),
+    /// clarabel stopped without a verdict (iteration or time limit, numerical error, lack of
+    /// progress, or an unbounded problem). Retry with more iterations; report if it persists.
+    #[error("solver trouble: {0}")]
+    Trouble(String),
+}
+
+/// A stability verdict with a margin a planner can compare (larger is safer; margins are
+/// comparable only between assessments by the same criterion).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Assessment {
+    /// The robot can be held in static equilibrium.
+    pub stable: bool,
+    /// The criterion's margin (0 when not stable); see the criterion's docs.
+    pub margin: f64,
+    /// The tether tension of the solution (N), if tethered and stable.
+    pub tether_tension: Option<f64>,
+    /// The solver reported reduced accuracy (`AlmostSolved` / `AlmostPrimalInfeasible`).
+    pub reduced_accuracy: bool,
+}
+
+/// A static-stability model of a placed robot.
+pub trait StabilityCriterion: Sync {
+    /// A short name for reports.
+    fn name(&self) -> &str;
+    /// Assesses `robot`.
+    fn assess(&self, robot: &PlacedRobot) -> Result<Assessment, StabilityError>;
+}
+
+/// Settings shared by the stability checks: gravity and the solver's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StabilitySettings {
+    gravity: f64,
+    solver: SolverSettings,
+}
+
+impl Default for StabilitySettings {
+    /// Earth gravity ([`STANDARD_GRAVITY`]) and clarabel's defaults.
+    fn default() -> Self {
+        StabilitySettings {
+            gravity: STANDARD_GRAVITY,
+            solver: SolverSettings::default(),
+        }
+    }
+}
+
+impl StabilitySettings {
+    /// Sets the gravitational acceleration (m/s², finite and positive; 3.71 on Mars, 1.62 on the
+    /// Moon).
+    pub fn with_gravity(mut self, g: f64) -> Result<Self, StabilityError> {
+        if !(g.is_finite() && g > 0.0) {
+            return Err(StabilityError::Input("gravity must be finite and positive"));
+        }
+        self.gravity = g;
+        Ok(self)
+    }
+
+    /// Sets the solver settings.
+    pub fn with_solver(mut self, solver: SolverSettings) -> Self {
+        self.solver = solver;
+        self
+    }
+
+    /// Gravitational acceleration (m/s²).
+    pub fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    /// Solver settings.
+    pub fn solver(&self) -> SolverSettings {
+        self.solver
+    }
+}
