@@ -2,6 +2,9 @@
 //! holes and their validation, exact predicates, the half-edge DCEL, boundary-triangulated
 //! 2-manifolds built as constrained Delaunay triangulations, point location and local updates.
 
+pub mod btm;
+pub mod dcel;
+pub mod generate;
 pub mod map;
 pub mod normalize;
 pub mod polygon;

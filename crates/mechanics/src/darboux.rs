@@ -111,8 +111,15 @@ impl DarbouxFrame {
     /// The angle `φ ∈ (-π, π]` from the curve normal `N` to the surface normal `n` (eq. 3.5), or
     /// `None` where the curve is straight (`κ` below [`STRAIGHT_CURVATURE`]).
     pub fn phi(&self) -> Option<f64> {
-        (self.curvature >= STRAIGHT_CURVATURE)
-            .then(|| (-self.geodesic_curvature).atan2(self.normal_curvature))
+        (self.curvature >= STRAIGHT_CURVATURE).then(|| {
+            let phi = (-self.geodesic_curvature).atan2(self.normal_curvature);
+            // atan2(-0, x < 0) is -π; keep the half-open range (-π, π].
+            if phi <= -std::f64::consts::PI {
+                std::f64::consts::PI
+            } else {
+                phi
+            }
+        })
     }
 
     /// The Frenet-Serret normal `N` (eq. 3.1), or `None` on a straight curve.

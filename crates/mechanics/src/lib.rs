@@ -28,6 +28,10 @@
 //! Sign convention: surface normals point out of the ground, and normal curvatures are
 //! `ρ''·n`, so a tether over a hump has `κ_n < 0` (see [`darboux`]).
 
+/// The linear-algebra crate of every public signature, re-exported so that users name the same
+/// version.
+pub use nalgebra;
+
 pub mod axel;
 pub mod capstan;
 pub mod conic;

@@ -105,11 +105,15 @@ impl PlanarPose {
         }
     }
 
-    /// The isometry from the robot frame to the plane frame.
+    /// The isometry from the robot frame to the plane frame: the robot's forward axis maps to
+    /// `(-sin heading, cos heading, 0)`.
     pub fn to_plane(&self) -> Isometry3<f64> {
         Isometry3::from_parts(
             Translation3::new(self.position.x, self.position.y, 0.0),
-            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), self.heading),
+            UnitQuaternion::from_axis_angle(
+                &Vector3::z_axis(),
+                self.heading + std::f64::consts::FRAC_PI_2,
+            ),
         )
     }
 }

@@ -1,6 +1,8 @@
 //! The regression runner: every suite returns [`Case`]s (a measured value beside its reference and a
 //! verdict); the runner prints them as one table and fails if any case failed.
 
+mod mechanics;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -40,7 +42,7 @@ impl Case {
 /// A suite: a name and the function that runs it.
 type Suite = (&'static str, fn() -> Result<Vec<Case>, String>);
 
-const SUITES: &[Suite] = &[];
+const SUITES: &[Suite] = &[("mechanics", mechanics::suite)];
 
 /// The workspace root (the parent of `xtask/`).
 pub fn workspace_root() -> PathBuf {

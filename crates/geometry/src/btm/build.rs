@@ -1,0 +1,379 @@
+//! Building the BTM as a constrained Delaunay triangulation of the map's free space, with no
+//! Steiner points (every vertex is a map vertex), in four steps:
+//!
+//! 1. **Scaffold**: one large triangle around the map, so that walks and flips never meet a border.
+//! 2. **Delaunay insertion**: every map vertex, in Hilbert-curve order (each point lands near the
+//!    previous one, so the walk is short), by splitting the triangle or edge it falls in and
+//!    restoring the Delaunay property with Lawson's flips.
+//! 3. **Constraints**: every map edge. Most are already Delaunay edges and are only marked; the
+//!    others are inserted with Anglada's algorithm: remove the triangles the segment crosses and
+//!    retriangulate the two pseudo-polygons on either side, each by recursively picking the chain
+//!    vertex whose circle through the segment's ends is empty. The result is the constrained
+//!    Delaunay triangulation (Anglada 1997).
+//! 4. **Faces**: a flood fill from the map edges labels each triangle free, obstacle or exterior
+//!    (free space lies to the left of every ring, oriented boundary counter-clockwise and
+//!    obstacles clockwise).
+
+use super::{Btm, BtmError, ObstacleRecord};
+use crate::btm::locate::{Locator, RawLocation, WalkRng};
+use crate::dcel::{Dcel, EdgeKind, FaceKind, HalfEdgeId, NONE, ObstacleId, RingLink};
+use crate::map::Map;
+use crate::polygon::{Aabb, Polygon};
+use crate::predicates::{incircle, orient2d};
+use nalgebra::Point2;
+
+/// How far the scaffold triangle reaches beyond the map, in multiples of the map's size. Any
+/// value works with exact predicates; a large one keeps scaffold triangles from crowding the map.
+const SCAFFOLD_SCALE: f64 = 64.0;
+
+impl Btm {
+    /// Builds the BTM of a map (validated first).
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::btm::Btm;
+    /// use rappel_geometry::{map::Map, polygon::Polygon};
+    /// let p = |x, y| Point2::new(x, y);
+    /// let map = Map::new(
+    ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+    ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(5., 6.)])],
+    /// );
+    /// let btm = Btm::build(&map).unwrap();
+    /// // n + 2h - 2 triangles: 7 vertices, 1 hole.
+    /// assert_eq!(btm.triangle_count(), 7);
+    /// assert!(btm.is_constrained_delaunay());
+    /// ```
+    pub fn build(map: &Map) -> Result<Btm, BtmError> {
+        map.validate()?;
+        let n = map.vertex_count();
+        let mut dcel = Dcel::with_capacity(n);
+        add_scaffold(&mut dcel, &map.aabb());
+
+        // Vertices, rings oriented so free space lies on the left.
+        let mut rings: Vec<(EdgeKind, Vec<u32>)> = Vec::with_capacity(map.obstacles.len() + 1);
+        let boundary = map.boundary.to_counter_clockwise();
+        rings.push((
+            EdgeKind::Boundary,
+            add_ring(&mut dcel, &boundary, EdgeKind::Boundary),
+        ));
+        for (i, o) in map.obstacles.iter().enumerate() {
+            let mut cw = o.to_counter_clockwise();
+            cw.reverse();
+            let kind = EdgeKind::Obstacle(ObstacleId(i as u32));
+            rings.push((kind, add_ring(&mut dcel, &cw, kind)));
+        }
+
+        // Delaunay insertion in Hilbert order.
+        let order = hilbert_order(&dcel, dcel.scaffold, dcel.points.len() as u32);
+        let mut rng = WalkRng::new();
+        let mut last = 0u32;
+        let mut stack = Vec::with_capacity(64);
+        for v in order {
+            last = insert_vertex(&mut dcel, v, last, &mut rng, &mut stack)?;
+        }
+
+        // Constraints.
+        for (_, ring) in &rings {
+            for i in 0..ring.len() {
+                insert_constraint(&mut dcel, ring[i], ring[(i + 1) % ring.len()])?;
+            }
+        }
+
+        classify_faces(&mut dcel);
+        let obstacles = rings[1..]
+            .iter()
+            .map(|(_, vs)| {
+                Some(ObstacleRecord {
+                    vertices: vs.clone(),
+                })
+            })
+            .collect();
+        let locator = Locator::new(&dcel);
+        Ok(Btm {
+            dcel,
+            boundary: rings[0].1.clone(),
+            obstacles,
+            locator,
+        })
+    }
+}
+
+/// Adds the three scaffold vertices and their triangle.
+pub(crate) fn add_scaffold(dcel: &mut Dcel, b: &Aabb) {
+    let (w, h) = b.size();
+    let s = w.max(h).max(1.0) * SCAFFOLD_SCALE;
+    let c = Point2::new((b.min.x + b.max.x) / 2.0, (b.min.y + b.max.y) / 2.0);
+    let a = dcel.add_vertex(Point2::new(c.x - s, c.y - s), None);
+    let bb = dcel.add_vertex(Point2::new(c.x + s, c.y - s), None);
+    let cc = dcel.add_vertex(Point2::new(c.x, c.y + s), None);
+    dcel.scaffold = 3;
+    dcel.push_triangle(a, bb, cc, FaceKind::Exterior);
+}
+
+/// Adds a ring's vertices (already oriented with free space on the left) and their ring links.
+pub(crate) fn add_ring(dcel: &mut Dcel, ring: &Polygon, kind: EdgeKind) -> Vec<u32> {
+    let first = dcel.points.len() as u32;
+    let n = ring.len() as u32;
+    ring.vertices
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let next = first + (i as u32 + 1) % n;
+            dcel.add_vertex(*p, Some(RingLink { kind, next }))
+        })
+        .collect()
+}
+
+/// Vertex ids `from..to` sorted along a Hilbert curve over their bounding box.
+fn hilbert_order(dcel: &Dcel, from: u32, to: u32) -> Vec<u32> {
+    let b = Aabb::of_points(dcel.points[from as usize..to as usize].iter());
+    let (w, h) = b.size();
+    let scale = 65535.0 / w.max(h).max(f64::MIN_POSITIVE);
+    let mut keyed: Vec<(u64, u32)> = (from..to)
+        .map(|v| {
+            let p = dcel.points[v as usize];
+            let x = ((p.x - b.min.x) * scale) as u32;
+            let y = ((p.y - b.min.y) * scale) as u32;
+            (hilbert_index(x.min(65535), y.min(65535)), v)
+        })
+        .collect();
+    keyed.sort_unstable();
+    keyed.into_iter().map(|(_, v)| v).collect()
+}
+
+/// Position of `(x, y)` (16-bit each) along the Hilbert curve of order 16.
+fn hilbert_index(mut x: u32, mut y: u32) -> u64 {
+    let mut d: u64 = 0;
+    let mut s: u32 = 1 << 15;
+    while s > 0 {
+        let rx = u32::from(x & s > 0);
+        let ry = u32::from(y & s > 0);
+        d += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
+        if ry == 0 {
+            if rx == 1 {
+                x = 0xFFFF - x;
+                y = 0xFFFF - y;
+            }
+            std::mem::swap(&mut x, &mut y);
+        }
+        s >>= 1;
+    }
+    d
+}
+
+/// Inserts vertex `v` (already in `dcel.points`) into the triangulation, walking from triangle
+/// `hint`; returns a triangle incident to `v`, a good hint for the next insertion.
+pub(crate) fn insert_vertex(
+    dcel: &mut Dcel,
+    v: u32,
+    hint: u32,
+    rng: &mut WalkRng,
+    stack: &mut Vec<u32>,
+) -> Result<u32, BtmError> {
+    let p = dcel.points[v as usize];
+    let hint = if dcel
+        .face
+        .get(hint as usize)
+        .is_some_and(|f| *f != FaceKind::Dead)
+    {
+        hint
+    } else {
+        (0..dcel.face.len() as u32)
+            .rev()
+            .find(|&t| dcel.face[t as usize] != FaceKind::Dead)
+            .unwrap_or(0)
+    };
+    stack.clear();
+    match dcel.walk(&p, hint, rng) {
+        None => {
+            return Err(BtmError::Internal(format!(
+                "vertex at ({}, {}) fell outside the scaffold",
+                p.x, p.y
+            )));
+        }
+        Some(RawLocation::OnVertex(u)) => {
+            return Err(BtmError::DuplicateVertex {
+                at: p,
+                existing: dcel.points[u as usize],
+            });
+        }
+        Some(RawLocation::Inside(t)) => stack.extend_from_slice(&dcel.split_triangle(t, v)),
+        Some(RawLocation::OnEdge(h)) => {
+            if dcel.constrained[h as usize] {
+                return Err(BtmError::VertexOnMapEdge { at: p });
+            }
+            stack.extend(dcel.split_edge(h, v));
+        }
+    }
+    dcel.legalize_around_new_vertex(stack);
+    Ok(dcel.vertex_edge[v as usize] / 3)
+}
+
+/// Makes `a - b` a map edge of the triangulation (see the module docs).
+pub(crate) fn insert_constraint(dcel: &mut Dcel, a: u32, b: u32) -> Result<(), BtmError> {
+    if let Some(h) = dcel.find_edge(a, b) {
+        dcel.set_constrained(h, true);
+        return Ok(());
+    }
+    let (pa, pb) = (dcel.points[a as usize], dcel.points[b as usize]);
+    let through = |v: u32| BtmError::EdgeThroughVertex {
+        from: pa,
+        to: pb,
+        vertex: dcel.points[v as usize],
+    };
+    // The triangle of a's fan that the segment leaves through.
+    let start = dcel.vertex_edge[a as usize];
+    let mut h = start;
+    let mut first = NONE;
+    for _ in 0..dcel.origin.len() {
+        let (u, w) = (dcel.dest(h), dcel.apex(h));
+        let ou = orient2d(&pa, dcel.pt(u), &pb);
+        let ow = orient2d(&pa, dcel.pt(w), &pb);
+        if ou == 0.0 && (dcel.pt(u) - pa).dot(&(pb - pa)) > 0.0 {
+            return Err(through(u));
+        }
+        if ou > 0.0 && ow < 0.0 {
+            first = h;
+            break;
+        }
+        let t = dcel.twin[HalfEdgeId(h).prev().index()];
+        if t == NONE || t == start {
+            break;
+        }
+        h = t;
+    }
+    if first == NONE {
+        return Err(BtmError::Internal(format!(
+            "no triangle around ({}, {}) faces ({}, {})",
+            pa.x, pa.y, pb.x, pb.y
+        )));
+    }
+    let face = dcel.face[(first / 3) as usize];
+    let mut dead = vec![first / 3];
+    let mut left: Vec<u32> = vec![dcel.apex(first)];
+    let mut right: Vec<u32> = vec![dcel.dest(first)];
+    let mut e = HalfEdgeId(first).next().0; // u -> w, crossed by the segment
+    loop {
+        if dcel.constrained[e as usize] {
+            let (u, w) = (
+                dcel.points[dcel.origin[e as usize] as usize],
+                dcel.points[dcel.dest(e) as usize],
+            );
+            return Err(BtmError::EdgesCross {
+                first: (pa, pb),
+                second: (u, w),
+            });
+        }
+        let g = dcel.twin[e as usize];
+        if g == NONE {
+            return Err(BtmError::Internal(
+                "constraint walk left the scaffold".into(),
+            ));
+        }
+        dead.push(g / 3);
+        let x = dcel.apex(g);
+        if x == b {
+            break;
+        }
+        let o = orient2d(&pa, &pb, dcel.pt(x));
+        if o > 0.0 {
+            left.push(x);
+            e = HalfEdgeId(g).next().0;
+        } else if o < 0.0 {
+            right.push(x);
+            e = HalfEdgeId(g).prev().0;
+        } else {
+            return Err(through(x));
+        }
+    }
+    let mut tris = Vec::with_capacity(dead.len());
+    triangulate_pseudo_polygon(dcel, a, b, &left, &mut tris);
+    right.reverse();
+    triangulate_pseudo_polygon(dcel, b, a, &right, &mut tris);
+    dcel.replace_cavity(&dead, &tris, face, Some((a, b)));
+    Ok(())
+}
+
+/// Constrained Delaunay triangulation of the pseudo-polygon with base edge `s -> e` and the chain
+/// of vertices to its left ordered from `s`'s side to `e`'s side; appends CCW triangles.
+fn triangulate_pseudo_polygon(dcel: &Dcel, s: u32, e: u32, chain: &[u32], out: &mut Vec<[u32; 3]>) {
+    // Explicit stack of (base start, base end, chain range) to survive very long chains.
+    let mut work: Vec<(u32, u32, usize, usize)> = vec![(s, e, 0, chain.len())];
+    while let Some((s, e, lo, hi)) = work.pop() {
+        if lo >= hi {
+            continue;
+        }
+        let mut c = lo;
+        for i in lo + 1..hi {
+            if incircle(dcel.pt(s), dcel.pt(e), dcel.pt(chain[c]), dcel.pt(chain[i])) > 0.0 {
+                c = i;
+            }
+        }
+        out.push([s, e, chain[c]]);
+        work.push((s, chain[c], lo, c));
+        work.push((chain[c], e, c + 1, hi));
+    }
+}
+
+/// Labels every live triangle free, obstacle or exterior by flood fill from the map edges.
+pub(crate) fn classify_faces(dcel: &mut Dcel) {
+    const UNSEEN: u8 = 0;
+    let mut seen = vec![UNSEEN; dcel.face.len()];
+    let mut queue: Vec<(u32, FaceKind)> = Vec::new();
+    for h in 0..dcel.origin.len() as u32 {
+        if !dcel.constrained[h as usize] || dcel.face[(h / 3) as usize] == FaceKind::Dead {
+            continue;
+        }
+        let (a, b) = (dcel.origin[h as usize], dcel.dest(h));
+        let Some(link) = dcel.ring[a as usize] else {
+            continue;
+        };
+        if link.next == b {
+            queue.push((h / 3, FaceKind::Free));
+            let g = dcel.twin[h as usize];
+            if g != NONE {
+                let across = match link.kind {
+                    EdgeKind::Obstacle(o) => FaceKind::Obstacle(o),
+                    _ => FaceKind::Exterior,
+                };
+                queue.push((g / 3, across));
+            }
+        }
+    }
+    while let Some((t, kind)) = queue.pop() {
+        if seen[t as usize] != UNSEEN {
+            continue;
+        }
+        seen[t as usize] = 1;
+        dcel.face[t as usize] = kind;
+        for i in 0..3 {
+            let h = 3 * t + i;
+            let g = dcel.twin[h as usize];
+            if !dcel.constrained[h as usize] && g != NONE && seen[(g / 3) as usize] == UNSEEN {
+                queue.push((g / 3, kind));
+            }
+        }
+    }
+    // Anything unreached (only the scaffold when there are no map edges) is exterior.
+    for (t, s) in seen.iter().enumerate() {
+        if *s == UNSEEN && dcel.face[t] != FaceKind::Dead {
+            dcel.face[t] = FaceKind::Exterior;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hilbert_index_is_a_bijection_on_a_small_grid() {
+        let mut seen = std::collections::HashSet::new();
+        for x in 0..64u32 {
+            for y in 0..64u32 {
+                assert!(seen.insert(hilbert_index(x << 10, y << 10) >> 20));
+            }
+        }
+        assert_eq!(seen.len(), 64 * 64);
+    }
+}

@@ -1,0 +1,88 @@
+//! Kumar's tension-limited stability LP (Kumar §III-B) against closed forms, and its monotonicity
+//! in the tension limit.
+
+use nalgebra::Point3;
+use rappel_mechanics::four_wheel::FourWheelRover;
+use rappel_mechanics::robot::{PlanarPose, STANDARD_GRAVITY, SlopePlane, TetherSpec, place};
+use rappel_mechanics::tension_lp::{LpReport, TensionLimitedLp};
+use rappel_mechanics::traversability::StabilityError;
+use std::f64::consts::PI;
+
+/// The four-wheel rover facing downhill at the origin of a slope `deg` with friction `mu`, its
+/// tether running to `anchor` (plane frame) with limit `limit`.
+fn check(deg: f64, mu: f64, heading: f64, anchor: Point3<f64>, limit: f64) -> LpReport {
+    let slope = SlopePlane::new(deg.to_radians(), mu).unwrap();
+    let tether = TetherSpec {
+        anchor,
+        max_tension: Some(limit),
+    };
+    let robot = place(
+        &FourWheelRover::default(),
+        &PlanarPose::new(0.0, 0.0, heading),
+        &slope,
+        Some(&tether),
+    )
+    .unwrap();
+    TensionLimitedLp::default().check(&robot).unwrap()
+}
+
+#[test]
+fn least_tension_up_the_fall_line_matches_closed_form() {
+    // Tether parallel to the slope (anchor at the exit height): T = m g (sin η - μ cos η).
+    let w = 35.0 * STANDARD_GRAVITY;
+    for (deg, mu) in [(55.0f64, 0.4), (65.0, 0.4), (40.0, 0.6), (30.0, 0.2)] {
+        let r = check(deg, mu, PI, Point3::new(0.0, 30.0, 0.35), 1000.0);
+        let exact = w * (deg.to_radians().sin() - mu * deg.to_radians().cos());
+        let t = r.required_tension.unwrap();
+        assert!(
+            r.stable && ((t - exact) / exact).abs() < 1e-6,
+            "{deg} deg: {t} vs {exact}"
+        );
+        assert!((r.headroom - (1.0 - exact / 1000.0)).abs() < 1e-6);
+    }
+    // A tether pulling into the slope at angle α needs m g (sin η - μ cos η)/(cos α + μ sin α).
+    let (deg, mu, alpha) = (55.0f64, 0.4, 0.2f64);
+    let anchor = Point3::new(0.0, 10.0, 0.35 - (10.0 - 0.3) * alpha.tan());
+    let t = check(deg, mu, PI, anchor, 1000.0).required_tension.unwrap();
+    let exact = w * (deg.to_radians().sin() - mu * deg.to_radians().cos())
+        / (alpha.cos() + mu * alpha.sin());
+    assert!(((t - exact) / exact).abs() < 1e-6, "{t} vs {exact}");
+}
+
+#[test]
+fn gentle_slope_needs_no_tension_and_limits_are_nested() {
+    let r = check(15.0, 0.4, PI, Point3::new(0.0, 30.0, 0.35), 50.0);
+    assert!(r.stable && r.required_tension.unwrap() < 1e-6 && (r.headroom - 1.0).abs() < 1e-6);
+    // Stable sets grow with the tension limit (Kumar Fig. 5): check on a fan of anchor offsets.
+    for dx in [-20.0, -8.0, -3.0, 0.0, 5.0, 12.0] {
+        let mut was_stable = false;
+        for limit in [150.0, 200.0, 250.0, 300.0, 400.0, 600.0] {
+            let stable = check(60.0, 0.4, PI, Point3::new(dx, 15.0, 0.35), limit).stable;
+            assert!(
+                stable || !was_stable,
+                "offset {dx}: stable at a lower limit but not at {limit}"
+            );
+            was_stable = stable;
+        }
+    }
+}
+
+#[test]
+fn a_tethered_lp_needs_a_limit() {
+    let slope = SlopePlane::new(0.5, 0.4).unwrap();
+    let tether = TetherSpec {
+        anchor: Point3::new(0.0, 30.0, 0.35),
+        max_tension: None,
+    };
+    let robot = place(
+        &FourWheelRover::default(),
+        &PlanarPose::new(0.0, 0.0, PI),
+        &slope,
+        Some(&tether),
+    )
+    .unwrap();
+    assert!(matches!(
+        TensionLimitedLp::default().check(&robot),
+        Err(StabilityError::Input(_))
+    ));
+}

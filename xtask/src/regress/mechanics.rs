@@ -1,0 +1,456 @@
+//! Regression cases of the mechanics crate (issue 5, item 8): rope statics against closed forms
+//! (thesis Figs. 3.4-3.9), Kumar's tension-limited stability sweep (Kumar Fig. 5) and sanity checks
+//! of the Axel wheel/tether QP (Paton §IV-C). Each case puts the measured value beside a reference
+//! obtained independently (a closed form or the papers' stated result). The geometry the papers do
+//! not give numerically is chosen here and documented in `docs/mechanics.md`.
+
+use super::Case;
+use rappel::mechanics::axel::{Axel, AxelParams, BoomMode, tether_tension_estimate};
+use rappel::mechanics::four_wheel::FourWheelRover;
+use rappel::mechanics::heavy_rope::{HeavyRope, RopeOutcome, TensionBranch};
+use rappel::mechanics::nalgebra::{Point2, Point3, Vector3};
+use rappel::mechanics::ode::OdeSettings;
+use rappel::mechanics::robot::{PlanarPose, STANDARD_GRAVITY, SlopePlane, TetherSpec, place};
+use rappel::mechanics::stability_map::{
+    AnchorSource, GridSpec, Heading, MapPlane, PoseVerdict, stability_map,
+};
+use rappel::mechanics::stability_qp::StabilityQp;
+use rappel::mechanics::surface_curve::{Helix, PlaneLine, SurfaceCurve};
+use rappel::mechanics::tension_lp::TensionLimitedLp;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+const SUITE: &str = "mechanics";
+
+/// The integrator tolerances of the rope cases.
+fn ode() -> Result<OdeSettings, String> {
+    OdeSettings::new()
+        .with_tolerances(1e-10, 1e-12)
+        .map_err(|e| e.to_string())
+}
+
+/// Integrates the limiting tension on `branch` along `curve`; an error if the rope slips.
+fn profile(
+    rope: &HeavyRope,
+    curve: &dyn SurfaceCurve,
+    t0: f64,
+    branch: TensionBranch,
+) -> Result<(Vec<f64>, Vec<f64>), String> {
+    match rope
+        .limit_tension(curve, t0, branch)
+        .map_err(|e| e.to_string())?
+    {
+        RopeOutcome::Holds(p) => Ok((p.s, p.tension)),
+        RopeOutcome::Slips { at, reason } => Err(format!("rope slipped at s = {at} ({reason:?})")),
+    }
+}
+
+/// Largest relative error of a profile against `exact(s)`.
+fn max_rel_err(s: &[f64], t: &[f64], exact: impl Fn(f64) -> f64) -> f64 {
+    s.iter()
+        .zip(t)
+        .map(|(s, t)| ((t - exact(*s)) / exact(*s)).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Thesis Fig. 3.4: a weightless rope on a capstan of radius 0.5 m, μ = 0.4, contact angle 0 to
+/// π/2, both limits against `T_0 e^{±μζ}`.
+fn capstan() -> Result<Vec<Case>, String> {
+    let (r, mu, t0) = (0.5, 0.4, 100.0);
+    let curve = Helix::new(r, 0.0, FRAC_PI_2).map_err(|e| e.to_string())?;
+    let rope = HeavyRope::weightless(mu, ode()?).map_err(|e| e.to_string())?;
+    let mut cases = Vec::new();
+    for (branch, sign, label) in [
+        (TensionBranch::Growing, 1.0, "upper"),
+        (TensionBranch::Decaying, -1.0, "lower"),
+    ] {
+        let (s, t) = profile(&rope, &curve, t0, branch)?;
+        let err = max_rel_err(&s, &t, |s| t0 * (sign * mu * s / r).exp());
+        cases.push(Case::new(
+            SUITE,
+            format!("capstan R 0.5 m, mu 0.4, zeta 0..pi/2: {label} limit, max rel. error"),
+            format!("{err:.1e}"),
+            "<= 1e-6 vs T0 e^(±mu zeta)",
+            err <= 1e-6,
+        ));
+    }
+    Ok(cases)
+}
+
+/// Thesis Fig. 3.5: a weightless rope along a helix (R = 1 m, pitch 1 m, T_0 = 45 N) over a
+/// quarter turn; Konyukhov's closed form `T = T_0 e^{μ |κ_n| s}`, `|κ_n| = R/(R² + c²)`.
+fn helix() -> Result<Vec<Case>, String> {
+    let (r, pitch, mu, t0) = (1.0, 1.0, 0.4, 45.0);
+    let c: f64 = pitch / TAU;
+    let curve = Helix::new(r, pitch, FRAC_PI_2).map_err(|e| e.to_string())?;
+    let rope = HeavyRope::weightless(mu, ode()?).map_err(|e| e.to_string())?;
+    let (s, t) = profile(&rope, &curve, t0, TensionBranch::Growing)?;
+    let kn = r / (r * r + c * c);
+    let exact = |s: f64| t0 * (mu * kn * s).exp();
+    let err = max_rel_err(&s, &t, exact);
+    let end = t.last().copied().unwrap_or(f64::NAN);
+    Ok(vec![Case::new(
+        SUITE,
+        "helix R 1 m, pitch 1 m, T0 45 N, 0..pi/2: end tension (max rel. error)",
+        format!("{end:.6} N ({err:.1e})"),
+        format!("{:.6} N (<= 1e-6)", exact(curve.length())),
+        err <= 1e-6,
+    )])
+}
+
+/// Thesis Figs. 3.6-3.7: a 100 g/m rope straight across a plane tilted 30°, 30° off the fall line,
+/// 10 m, T_0 = 45 N, μ = 0.4. Exact: `T(s) = T_0 + ρ g s (sin η cos β + sqrt(μ² cos² η - sin² η sin² β))`.
+fn heavy_rope_on_tilted_plane() -> Result<Vec<Case>, String> {
+    let (eta, beta, rho, mu, t0, len): (f64, f64, f64, f64, f64, f64) =
+        (30f64.to_radians(), 30f64.to_radians(), 0.1, 0.4, 45.0, 10.0);
+    let g = STANDARD_GRAVITY;
+    let (normal, up, across) = plane_axes(eta);
+    let line = PlaneLine::new(
+        Point3::origin(),
+        up * beta.cos() + across * beta.sin(),
+        normal,
+        len,
+    )
+    .map_err(|e| e.to_string())?;
+    let rope =
+        HeavyRope::new(mu, rho, Vector3::new(0.0, 0.0, -g), ode()?).map_err(|e| e.to_string())?;
+    let (s, t) = profile(&rope, &line, t0, TensionBranch::Growing)?;
+    let rate = rho
+        * g
+        * (eta.sin() * beta.cos()
+            + (mu * mu * eta.cos().powi(2) - (eta.sin() * beta.sin()).powi(2)).sqrt());
+    let err = max_rel_err(&s, &t, |s| t0 + rate * s);
+    Ok(vec![Case::new(
+        SUITE,
+        "heavy rope 100 g/m on a 30 deg plane, 10 m: end tension (max rel. error)",
+        format!("{:.6} N ({err:.1e})", t.last().copied().unwrap_or(f64::NAN)),
+        format!("{:.6} N (<= 1e-9)", t0 + rate * len),
+        err <= 1e-9,
+    )])
+}
+
+/// Outward normal, up-slope and across-slope unit vectors of a plane of slope `eta`.
+fn plane_axes(eta: f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    (
+        Vector3::new(0.0, -eta.sin(), eta.cos()),
+        Vector3::new(0.0, eta.cos(), eta.sin()),
+        Vector3::x(),
+    )
+}
+
+/// Thesis Figs. 3.8-3.9: a heavy (100 g/m) tether loaded with 539 N, running up a steep (60°) then
+/// a shallow (30°) slope at 20° to the fall line (a geodesic keeps that angle across the edge).
+/// On a plane `κ = 0`, so it sticks iff `μ >= tan η sin β` (closed form of `D >= 0`).
+fn two_slopes() -> Result<Vec<Case>, String> {
+    let (beta, rho, load, len) = (20f64.to_radians(), 0.1, 539.0, 5.0);
+    let mut cases = Vec::new();
+    for mu in [0.31, 0.7] {
+        for (name, eta_deg) in [("shallow 30 deg", 30.0f64), ("steep 60 deg", 60.0)] {
+            let eta = eta_deg.to_radians();
+            let (normal, up, across) = plane_axes(eta);
+            let line = PlaneLine::new(
+                Point3::origin(),
+                up * beta.cos() + across * beta.sin(),
+                normal,
+                len,
+            )
+            .map_err(|e| e.to_string())?;
+            let rope = HeavyRope::new(mu, rho, Vector3::new(0.0, 0.0, -STANDARD_GRAVITY), ode()?)
+                .map_err(|e| e.to_string())?;
+            let sticks = matches!(
+                rope.limit_tension(&line, load, TensionBranch::Growing)
+                    .map_err(|e| e.to_string())?,
+                RopeOutcome::Holds(_)
+            );
+            let threshold = eta.tan() * beta.sin();
+            let expect = mu >= threshold;
+            let word = |b: bool| if b { "sticks" } else { "slips" };
+            cases.push(Case::new(
+                SUITE,
+                format!("two slopes, 539 N, mu {mu}: {name}"),
+                word(sticks),
+                format!(
+                    "{} (mu* = tan(eta) sin(beta) = {threshold:.3})",
+                    word(expect)
+                ),
+                sticks == expect,
+            ));
+        }
+    }
+    Ok(cases)
+}
+
+/// Kumar §IV geometry: robot 2 on S1 (55°) or S2 (65°), each 8 m long, below the flat top S0 where
+/// the tether's last obstacle anchor sits 3 m behind the S0/S1 ridge and 4 m right of centre. The
+/// tether runs straight in the unfolded planes at height `h_t` (Kumar Fig. 3), so the last anchor
+/// of a robot is where that line crosses the top edge of its plane.
+struct KumarChain {
+    lengths: [f64; 2],
+    anchor_x: f64,
+    anchor_behind: f64,
+    tether_height: f64,
+    limit: f64,
+}
+
+impl AnchorSource for KumarChain {
+    fn tether_at(&self, plane: usize, p: &Point2<f64>) -> Option<TetherSpec> {
+        let top = *self.lengths.get(plane)?;
+        let above: f64 = self.lengths[..plane].iter().sum::<f64>() + self.anchor_behind;
+        let anchor_y = top + above;
+        let x_edge = p.x + (self.anchor_x - p.x) * (top - p.y) / (anchor_y - p.y);
+        Some(TetherSpec {
+            anchor: Point3::new(x_edge, top, self.tether_height),
+            max_tension: Some(self.limit),
+        })
+    }
+}
+
+fn kumar_sweep() -> Result<Vec<Case>, String> {
+    let rover = FourWheelRover::default();
+    let mu = 0.4;
+    let planes = [
+        MapPlane {
+            plane: SlopePlane::new(55f64.to_radians(), mu).map_err(|e| e.to_string())?,
+            x_range: [-8.0, 8.0],
+            y_range: [0.0, 7.0],
+        },
+        MapPlane {
+            plane: SlopePlane::new(65f64.to_radians(), mu).map_err(|e| e.to_string())?,
+            x_range: [-8.0, 8.0],
+            y_range: [0.0, 7.0],
+        },
+    ];
+    let grid = GridSpec::new(1.0, Heading::AwayFromAnchor).map_err(|e| e.to_string())?;
+    let lp = TensionLimitedLp::default();
+    let mut maps: Vec<Vec<PoseVerdict>> = Vec::new();
+    for limit in [200.0, 300.0, 500.0] {
+        let chain = KumarChain {
+            lengths: [8.0, 8.0],
+            anchor_x: 4.0,
+            anchor_behind: 3.0,
+            tether_height: rover.params().tether_exit.z,
+            limit,
+        };
+        maps.push(stability_map(&rover, &lp, &planes, &chain, &grid).map_err(|e| e.to_string())?);
+    }
+    let failed = maps
+        .iter()
+        .flatten()
+        .filter(|v| {
+            matches!(
+                v.outcome,
+                rappel::mechanics::stability_map::PoseOutcome::Failed { .. }
+            )
+        })
+        .count();
+    let count = |m: &[PoseVerdict], plane: usize| {
+        m.iter()
+            .filter(|v| v.plane == plane && v.is_stable())
+            .count()
+    };
+    let total = maps[0].len();
+    let w = rover.params().mass * STANDARD_GRAVITY;
+    // Least tension holding the robot with the tether straight up the fall line, parallel to the slope.
+    let least = |deg: f64| w * (deg.to_radians().sin() - mu * deg.to_radians().cos());
+    let nested = maps.windows(2).all(|p| {
+        p[0].iter()
+            .zip(&p[1])
+            .all(|(a, b)| !a.is_stable() || b.is_stable())
+    });
+    let mut cases = vec![
+        Case::new(
+            SUITE,
+            "Kumar sweep: poses that could not be assessed",
+            failed.to_string(),
+            "0",
+            failed == 0,
+        ),
+        Case::new(
+            SUITE,
+            format!("Kumar sweep, T2max 200 N: stable poses of {total}"),
+            (count(&maps[0], 0) + count(&maps[0], 1)).to_string(),
+            format!(
+                "0 (Kumar Fig. 5a; least tension on 55 deg = {:.1} N > 200)",
+                least(55.0)
+            ),
+            count(&maps[0], 0) + count(&maps[0], 1) == 0,
+        ),
+        Case::new(
+            SUITE,
+            "Kumar sweep: stable sets nested 200 c 300 c 500 N",
+            format!(
+                "{} c {} c {}",
+                count(&maps[0], 0) + count(&maps[0], 1),
+                count(&maps[1], 0) + count(&maps[1], 1),
+                count(&maps[2], 0) + count(&maps[2], 1)
+            ),
+            "nested (Kumar Fig. 5a-c)",
+            nested,
+        ),
+        Case::new(
+            SUITE,
+            "Kumar sweep, T2max 500 N: stable poses on the 65 deg slope",
+            count(&maps[2], 1).to_string(),
+            "> 0 (Kumar Fig. 5c)",
+            count(&maps[2], 1) > 0,
+        ),
+        Case::new(
+            SUITE,
+            "Kumar sweep, T2max 300 N: stable poses on 55 deg / 65 deg (Fig. 5b shows 65 deg unstable)",
+            format!("{} / {}", count(&maps[1], 0), count(&maps[1], 1)),
+            format!(
+                "> 0 / > 0 (least tension {:.1} / {:.1} N <= 300)",
+                least(55.0),
+                least(65.0)
+            ),
+            count(&maps[1], 0) > 0 && count(&maps[1], 1) > 0,
+        ),
+    ];
+    // The pose straight below the anchor on the 65° slope needs the closed-form least tension.
+    let chain = KumarChain {
+        lengths: [8.0, 8.0],
+        anchor_x: 4.0,
+        anchor_behind: 3.0,
+        tether_height: rover.params().tether_exit.z,
+        limit: 500.0,
+    };
+    let position = Point2::new(4.0, 2.0);
+    let tether = chain.tether_at(1, &position);
+    let placed = place(
+        &rover,
+        &PlanarPose::new(4.0, 2.0, PI),
+        &planes[1].plane,
+        tether.as_ref(),
+    )
+    .map_err(|e| e.to_string())?;
+    let required = lp
+        .check(&placed)
+        .map_err(|e| e.to_string())?
+        .required_tension
+        .unwrap_or(f64::NAN);
+    cases.push(Case::new(
+        SUITE,
+        "Kumar LP, 65 deg, tether up the fall line: least tension",
+        format!("{required:.4} N"),
+        format!(
+            "{:.4} N = m g (sin eta - mu cos eta), rel. 1e-6",
+            least(65.0)
+        ),
+        ((required - least(65.0)) / least(65.0)).abs() <= 1e-6,
+    ));
+    Ok(cases)
+}
+
+/// Axel QP sanity (issue 5 item 8) and eq. 3.32 against the QP.
+fn axel_qp() -> Result<Vec<Case>, String> {
+    let qp = StabilityQp::default();
+    let axel = Axel::default();
+    let mu = 0.8;
+    let downhill = PlanarPose::new(0.0, 0.0, PI);
+    let up_fall_line = TetherSpec {
+        anchor: Point3::new(0.0, 30.0, 0.0),
+        max_tension: None,
+    };
+    let check = |deg: f64, tether: Option<&TetherSpec>| -> Result<(bool, f64), String> {
+        let plane = SlopePlane::new(f64::to_radians(deg), mu).map_err(|e| e.to_string())?;
+        let placed = place(&axel, &downhill, &plane, tether).map_err(|e| e.to_string())?;
+        let r = qp.check(&placed).map_err(|e| e.to_string())?;
+        Ok((r.stable, r.margin))
+    };
+    let word = |b: bool| if b { "stable" } else { "unstable" };
+    let flat = check(0.0, None)?.0;
+    let bare = check(55.0, None)?.0;
+    let held = check(55.0, Some(&up_fall_line))?.0;
+    let margins = (1..=6)
+        .map(|k| {
+            check(10.0 * k as f64, Some(&up_fall_line)).map(|r| if r.0 { r.1 } else { f64::NAN })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let decreasing = margins.windows(2).all(|w| w[1] < w[0]);
+    let mut cases = vec![
+        Case::new(
+            SUITE,
+            "Axel QP, flat ground, no tether",
+            word(flat),
+            "stable",
+            flat,
+        ),
+        Case::new(
+            SUITE,
+            "Axel QP, 55 deg, mu 0.8, no tether",
+            word(bare),
+            "unstable (tan 55 deg = 1.43 > mu)",
+            !bare,
+        ),
+        Case::new(
+            SUITE,
+            "Axel QP, 55 deg, mu 0.8, tether up the fall line",
+            word(held),
+            "stable",
+            held,
+        ),
+        Case::new(
+            SUITE,
+            "Axel QP margin, tethered (inline boom), slopes 10..60 deg step 10",
+            margins
+                .iter()
+                .map(|m| format!("{m:.2}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+            "strictly decreasing",
+            decreasing,
+        ),
+    ];
+    // Eq. 3.32: all mass at the axle, point contacts, fixed boom: the QP's tension is fixed by the
+    // moment balance about the wheel contact line.
+    let params = AxelParams {
+        boom_mass: 0.0,
+        body_mass: 55.0,
+        moment_coefficient: 0.0,
+        boom: BoomMode::Fixed(30f64.to_radians()),
+        ..AxelParams::default()
+    };
+    let light = Axel::new(params).map_err(|e| e.to_string())?;
+    let eta = 40f64.to_radians();
+    let plane = SlopePlane::new(eta, 1.0).map_err(|e| e.to_string())?;
+    let placed =
+        place(&light, &downhill, &plane, Some(&up_fall_line)).map_err(|e| e.to_string())?;
+    let t_qp = qp
+        .check(&placed)
+        .map_err(|e| e.to_string())?
+        .tether_tension
+        .unwrap_or(f64::NAN);
+    let dir = placed
+        .tether
+        .map(|t| t.direction.into_inner())
+        .unwrap_or_else(Vector3::zeros);
+    let tether_angle = dir.dot(&plane.normal()).asin();
+    let estimate = tether_tension_estimate(
+        55.0,
+        STANDARD_GRAVITY,
+        params.wheel_radius,
+        params.boom_length,
+        eta,
+        30f64.to_radians(),
+        tether_angle,
+    )
+    .unwrap_or(f64::NAN);
+    cases.push(Case::new(
+        SUITE,
+        "Axel eq. 3.32 (re-derived) vs QP tether tension, 40 deg, boom 30 deg",
+        format!("{t_qp:.3} N"),
+        format!("{estimate:.3} N (rel. 1e-5)"),
+        ((t_qp - estimate) / estimate).abs() <= 1e-5,
+    ));
+    Ok(cases)
+}
+
+/// Every mechanics regression case.
+pub fn suite() -> Result<Vec<Case>, String> {
+    let mut cases = capstan()?;
+    cases.extend(helix()?);
+    cases.extend(heavy_rope_on_tilted_plane()?);
+    cases.extend(two_slopes()?);
+    cases.extend(kumar_sweep()?);
+    cases.extend(axel_qp()?);
+    Ok(cases)
+}
