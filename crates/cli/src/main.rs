@@ -1,3 +1,44 @@
 //! The `rappel` command: argument parsing and printing only; the work happens in the facade crate.
+//! Every subcommand lives in its own module; errors print one `error:` line on stderr and exit 2.
 
-fn main() {}
+mod btm;
+mod gen_map;
+mod output;
+mod validate;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Motion planning for tethered robots on extreme terrain.
+#[derive(Parser)]
+#[command(name = "rappel", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Check a scenario file: schema, map, start, goal, terrain planes and robot.
+    Validate(validate::Args),
+    /// Build the boundary-triangulated 2-manifold (constrained Delaunay) of a scenario's map.
+    Btm(btm::Args),
+    /// Generate a random crater-strip scenario with non-overlapping convex obstacles.
+    GenMap(gen_map::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Validate(args) => validate::run(&args),
+        Command::Btm(args) => btm::run(&args),
+        Command::GenMap(args) => gen_map::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

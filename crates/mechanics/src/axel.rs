@@ -83,17 +83,9 @@ impl Default for AxelParams {
 }
 
 /// The Axel rover model.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Axel {
     params: AxelParams,
-}
-
-impl Default for Axel {
-    fn default() -> Self {
-        Axel {
-            params: AxelParams::default(),
-        }
-    }
 }
 
 impl Axel {

@@ -49,7 +49,7 @@ impl SolverSettings {
     /// Sets a time limit in seconds (positive; infinity for none). Results then depend on the
     /// machine's speed: prefer the iteration limit for reproducible runs.
     pub fn with_time_limit(mut self, seconds: f64) -> Result<Self, StabilityError> {
-        if !(seconds > 0.0) {
+        if seconds.is_nan() || seconds <= 0.0 {
             return Err(StabilityError::Input("time_limit must be positive"));
         }
         self.time_limit = seconds;

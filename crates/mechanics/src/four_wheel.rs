@@ -42,17 +42,9 @@ impl Default for FourWheelParams {
 }
 
 /// A rigid four-wheel rover.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FourWheelRover {
     params: FourWheelParams,
-}
-
-impl Default for FourWheelRover {
-    fn default() -> Self {
-        FourWheelRover {
-            params: FourWheelParams::default(),
-        }
-    }
 }
 
 impl FourWheelRover {

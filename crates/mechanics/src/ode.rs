@@ -74,7 +74,7 @@ impl OdeSettings {
 
     /// Sets an upper bound on the step size (positive; infinity for none).
     pub fn with_max_step(mut self, max_step: f64) -> Result<Self, OdeError> {
-        if !(max_step > 0.0) {
+        if max_step.is_nan() || max_step <= 0.0 {
             return Err(OdeError::InvalidSettings("max_step must be positive"));
         }
         self.max_step = max_step;

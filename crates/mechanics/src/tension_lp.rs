@@ -10,12 +10,34 @@
 //! verdict) unchanged and returns the smallest tension that holds the robot. The margin is the
 //! tension headroom `1 - T_2,required / T_2max` (1 without a tether). Kumar's pyramid is aligned
 //! with the tether direction; ours with the robot's axes (the two agree when the robot faces away
-//! from its anchor, the usual rappelling pose).
+//! from its anchor, the usual rappelling pose). Kumar's pyramid circumscribes the friction cone;
+//! [`FrictionPyramid::Inscribed`] selects the conservative pyramid inside it.
 
 use crate::conic::{ConicBuilder, ConicOutcome, ConicProblem};
 use crate::robot::PlacedRobot;
 use crate::statics::{Layout, add_equilibrium, add_friction_pyramids, add_tether_bounds, weight};
 use crate::traversability::{Assessment, StabilityCriterion, StabilityError, StabilitySettings};
+
+/// How the friction cone `sqrt(F_X² + F_Y²) <= μ F_Z` is linearised.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FrictionPyramid {
+    /// Kumar's eq. 3c: `|F_X|, |F_Y| <= μ F_Z`. It contains the cone, so along its diagonals it
+    /// allows up to `sqrt(2) μ F_Z`: optimistic off-axis.
+    #[default]
+    Circumscribed,
+    /// `|F_X|, |F_Y| <= μ F_Z / sqrt(2)`: inside the cone, so every verdict "stable" also holds
+    /// for the exact cone (conservative).
+    Inscribed,
+}
+
+impl FrictionPyramid {
+    fn coefficient(self, mu: f64) -> f64 {
+        match self {
+            FrictionPyramid::Circumscribed => mu,
+            FrictionPyramid::Inscribed => mu * std::f64::consts::FRAC_1_SQRT_2,
+        }
+    }
+}
 
 /// The LP's verdict.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -35,12 +57,22 @@ pub struct LpReport {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TensionLimitedLp {
     settings: StabilitySettings,
+    pyramid: FrictionPyramid,
 }
 
 impl TensionLimitedLp {
     /// An LP checker with `settings`.
     pub fn new(settings: StabilitySettings) -> Self {
-        TensionLimitedLp { settings }
+        TensionLimitedLp {
+            settings,
+            pyramid: FrictionPyramid::default(),
+        }
+    }
+
+    /// Uses `pyramid` to linearise the friction cone (default: Kumar's circumscribed pyramid).
+    pub fn with_pyramid(mut self, pyramid: FrictionPyramid) -> Self {
+        self.pyramid = pyramid;
+        self
     }
 
     fn layout(robot: &PlacedRobot) -> Layout {
@@ -66,7 +98,7 @@ impl TensionLimitedLp {
             b.add_linear(col, 1.0);
         }
         add_equilibrium(&mut b, robot, &layout, self.settings.gravity(), w);
-        add_friction_pyramids(&mut b, &layout, robot.friction);
+        add_friction_pyramids(&mut b, &layout, self.pyramid.coefficient(robot.friction));
         add_tether_bounds(&mut b, robot, &layout, w);
         Ok(b.build(self.settings.solver()))
     }

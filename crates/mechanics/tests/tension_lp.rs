@@ -86,3 +86,52 @@ fn a_tethered_lp_needs_a_limit() {
         Err(StabilityError::Input(_))
     ));
 }
+
+#[test]
+fn circumscribed_pyramid_is_optimistic_off_axis_and_inscribed_is_not() {
+    use rappel_mechanics::tension_lp::FrictionPyramid;
+    // 55°, μ = 0.4, 35 kg: G = m g sin η, μN = μ m g cos η. Facing away from an anchor at θ off
+    // the fall line, eq. 3c needs G cos θ - μN (while G sin θ <= μN).
+    let w = 35.0 * STANDARD_GRAVITY;
+    let (g_along, mu_n) = (
+        w * 55f64.to_radians().sin(),
+        0.4 * w * 55f64.to_radians().cos(),
+    );
+    // 10°: small enough that the yaw moment of the saturated longitudinal friction (unequal left
+    // and right wheel loads) can still be balanced; beyond ~13° that coupling binds first.
+    let theta = 10f64.to_radians();
+    // The robot's back (and tether exit, 0.3 m behind centre) points up the line at θ.
+    let anchor = Point3::new(20.3 * theta.sin(), 20.3 * theta.cos(), 0.35);
+    let heading = PI - theta;
+    let slope = SlopePlane::new(55f64.to_radians(), 0.4).unwrap();
+    let tether = TetherSpec {
+        anchor,
+        max_tension: Some(400.0),
+    };
+    let robot = place(
+        &FourWheelRover::default(),
+        &PlanarPose::new(0.0, 0.0, heading),
+        &slope,
+        Some(&tether),
+    )
+    .unwrap();
+    let t = TensionLimitedLp::default()
+        .check(&robot)
+        .unwrap()
+        .required_tension
+        .unwrap();
+    let exact = g_along * theta.cos() - mu_n;
+    assert!(((t - exact) / exact).abs() < 1e-4, "{t} vs {exact}");
+    assert!(
+        t < g_along - mu_n,
+        "off-axis needs less than on-axis with the circumscribed pyramid"
+    );
+    let inscribed = TensionLimitedLp::default()
+        .with_pyramid(FrictionPyramid::Inscribed)
+        .check(&robot)
+        .unwrap();
+    assert!(
+        inscribed.required_tension.unwrap() > g_along - mu_n,
+        "inscribed pyramid is at least as strict as the cone"
+    );
+}

@@ -1,5 +1,27 @@
 //! rappel: motion planning for tethered robots on extreme terrain. This facade crate is what users
 //! embed: scenario files, a small high-level API, SVG pictures, and the layered crates re-exported.
+//!
+//! ```
+//! use rappel::scenario::Scenario;
+//! use rappel::btm_summary::summarize_btm;
+//! let s = Scenario::from_ron_str(r#"(
+//!     map: (boundary: [(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)],
+//!           obstacles: [[(4.0, 8.0), (6.0, 8.0), (5.0, 10.0)]]),
+//!     start: (5.0, 19.0), goal: (5.0, 1.0))"#).unwrap();
+//! let (btm, summary) = summarize_btm(&s.map).unwrap();
+//! assert_eq!(summary.triangles, 7);
+//! let mut pic = rappel::svg::Picture::of_map(&s.map);
+//! pic.btm(&btm);
+//! pic.map(&s.map);
+//! pic.start_goal(s.start, s.goal);
+//! assert!(pic.finish("tiny").contains("BTM edge"));
+//! ```
+
+pub mod btm_summary;
+pub mod generated;
+pub mod io;
+pub mod scenario;
+pub mod svg;
 
 pub use rappel_geometry as geometry;
 pub use rappel_homotopy as homotopy;

@@ -16,7 +16,7 @@ use rappel::mechanics::stability_map::{
 };
 use rappel::mechanics::stability_qp::StabilityQp;
 use rappel::mechanics::surface_curve::{Helix, PlaneLine, SurfaceCurve};
-use rappel::mechanics::tension_lp::TensionLimitedLp;
+use rappel::mechanics::tension_lp::{FrictionPyramid, TensionLimitedLp};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 const SUITE: &str = "mechanics";
@@ -251,11 +251,29 @@ fn kumar_sweep() -> Result<Vec<Case>, String> {
     let w = rover.params().mass * STANDARD_GRAVITY;
     // Least tension holding the robot with the tether straight up the fall line, parallel to the slope.
     let least = |deg: f64| w * (deg.to_radians().sin() - mu * deg.to_radians().cos());
+    // With the pyramid of eq. 3c aligned with the tether, a pose at angle θ off the anchor's fall
+    // line needs G cos θ - μN as long as G sin θ <= μN: least sqrt(G² - (μN)²) - μN.
+    let least_pyramid = |deg: f64| {
+        let (g_along, mu_n) = (w * deg.to_radians().sin(), mu * w * deg.to_radians().cos());
+        (g_along * g_along - mu_n * mu_n).sqrt() - mu_n
+    };
     let nested = maps.windows(2).all(|p| {
         p[0].iter()
             .zip(&p[1])
             .all(|(a, b)| !a.is_stable() || b.is_stable())
     });
+    let chain200 = KumarChain {
+        lengths: [8.0, 8.0],
+        anchor_x: 4.0,
+        anchor_behind: 3.0,
+        tether_height: rover.params().tether_exit.z,
+        limit: 200.0,
+    };
+    let inscribed = TensionLimitedLp::default().with_pyramid(FrictionPyramid::Inscribed);
+    let map200_in =
+        stability_map(&rover, &inscribed, &planes, &chain200, &grid).map_err(|e| e.to_string())?;
+    let stable200 = count(&maps[0], 0) + count(&maps[0], 1);
+    let stable200_in = count(&map200_in, 0) + count(&map200_in, 1);
     let mut cases = vec![
         Case::new(
             SUITE,
@@ -266,13 +284,24 @@ fn kumar_sweep() -> Result<Vec<Case>, String> {
         ),
         Case::new(
             SUITE,
-            format!("Kumar sweep, T2max 200 N: stable poses of {total}"),
-            (count(&maps[0], 0) + count(&maps[0], 1)).to_string(),
             format!(
-                "0 (Kumar Fig. 5a; least tension on 55 deg = {:.1} N > 200)",
-                least(55.0)
+                "Kumar sweep, T2max 200 N, pyramid of eq. 3c: stable poses of {total} (paper: 0; see docs)"
             ),
-            count(&maps[0], 0) + count(&maps[0], 1) == 0,
+            stable200.to_string(),
+            format!(
+                "0 (Fig. 5a); eq. 3c admits < 200 N off the fall line (point-mass bound {:.1} N)",
+                least_pyramid(55.0)
+            ),
+            stable200 == 0,
+        ),
+        Case::new(
+            SUITE,
+            format!(
+                "Kumar sweep, T2max 200 N, pyramid inscribed in the cone: stable poses of {total}"
+            ),
+            stable200_in.to_string(),
+            format!("0 (exact cone needs >= {:.1} N on 55 deg)", least(55.0)),
+            stable200_in == 0,
         ),
         Case::new(
             SUITE,

@@ -1,4 +1,23 @@
 //! Terrain models (thesis §2.1.2): the convex series of planes down a crater wall in the unfolded
 //! planning frame, and (from DEMs) height fields and the obstacles detected on them.
+//!
+//! DEM ingestion (thesis §2.1.3, §2.5.1-2.5.5), one concept per module: [`dem`] (height grids and
+//! [`dem::read_dem`]), [`esri_ascii`] and [`geotiff`] (the readers), [`slope`] (Horn's slope and
+//! aspect, the fall line, hillshade), [`least_squares`] (plane fits by sufficient statistics),
+//! [`plane_fit`] (the convex plane series), [`frame`] (the unfolded planning frame),
+//! [`obstacle_detection`] (Manduchi's rule on slopes, positive and negative obstacles),
+//! [`plane_class`] (tether-free or tether-demand), [`ingest`] (the whole pipeline, DEM to scenario
+//! ingredients) and [`synthetic`] (DEMs with known answers).
 
+pub mod dem;
+pub mod esri_ascii;
+pub mod frame;
+pub mod geotiff;
+pub mod ingest;
+pub mod least_squares;
+pub mod obstacle_detection;
+pub mod plane_class;
+pub mod plane_fit;
 pub mod plane_series;
+pub mod slope;
+pub mod synthetic;

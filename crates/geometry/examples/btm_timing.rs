@@ -1,0 +1,23 @@
+//! Quick timing of a BTM build on a generated crater strip (the criterion benchmark in
+//! `benches/` is the reference; this is for a glance from the command line).
+
+use rappel_geometry::btm::Btm;
+use rappel_geometry::generate::{CraterStripOptions, crater_strip};
+use std::time::Instant;
+
+fn main() {
+    let n: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(10_000);
+    let g = crater_strip(&CraterStripOptions::new(n, 1));
+    let t = Instant::now();
+    let btm = match Btm::build(&g.map) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(2);
+        }
+    };
+    let build = t.elapsed();
+    let t = Instant::now();
+    let report = btm.check_invariants();
+    println!("{} vertices, build {:?}, check {:?}: {:?}", g.map.vertex_count(), build, t.elapsed(), report.map(|r| r.triangles));
+}

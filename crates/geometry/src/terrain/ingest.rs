@@ -1,0 +1,449 @@
+//! From a DEM to the ingredients of a planning scenario (thesis §2.1.3: "First, a DEM or other
+//! terrain map must be approximated as a series of planes, with tether obstacles identified using
+//! the sloped terrain obstacle-detection algorithm ... these obstacles must be further filtered to
+//! remove obstacles that sink below the plane"; §2.5.2-2.5.3: obstacle hulls written as a map).
+//!
+//! [`ingest`] runs the whole pipeline:
+//! 1. slope analysis by Horn's method and the fall line ([`crate::terrain::slope`]), unless the
+//!    fall line is given;
+//! 2. the convex plane series along the fall line ([`crate::terrain::plane_fit`]) and the unfolded
+//!    planning frame ([`crate::terrain::frame`]);
+//! 3. obstacle detection relative to the plane under each cell
+//!    ([`crate::terrain::obstacle_detection`]);
+//! 4. each cluster replaced by the convex hull of its cells' corners in the planning frame; the
+//!    tether obstacles, inside the unfolded footprint of the grid, normalised into a valid [`Map`]
+//!    ([`crate::normalize`], hull mode: overlapping hulls merged into the hull of their union,
+//!    hulls touching the edge carved out of the boundary); the negative obstacles merged likewise
+//!    into the separate robot-obstacle layer;
+//! 5. the planes classified tether-free or tether-demand for the given friction
+//!    ([`crate::terrain::plane_class`]);
+//! 6. a suggested start near the top and goal near the bottom, in free space (or the given ones,
+//!    checked).
+//!
+//! Unknown (NODATA) cells are never taken as ground: by default their clusters become tether
+//! obstacles too, so that no plan crosses terrain nobody has seen ([`UnknownPolicy`]).
+
+use nalgebra::{Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use super::dem::{GridGeometry, HeightGrid, Raster};
+use super::frame::PlanningFrame;
+use super::obstacle_detection::{
+    ObstacleDetection, ObstacleError, ObstacleOptions, ReferencePlane, detect_obstacles,
+};
+use super::plane_class::{PlaneClass, classify_plane};
+use super::plane_fit::{FittedPlane, PlaneFitError, PlaneFitOptions, fit_plane_series};
+use super::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
+use super::slope::{FallLine, HillshadeOptions, SlopeError, SlopeField};
+use crate::map::{Map, MapError};
+use crate::normalize::{NormalizeOptions, NormalizeReport, normalize};
+use crate::polygon::{Aabb, PointInPolygon, Polygon, convex_hull};
+
+/// Default wheel-terrain friction `mu` (thesis §2.5.4, Fig. 2.36: `mu = 0.4`).
+pub const DEFAULT_FRICTION: f64 = 0.4;
+
+/// Suggested start and goal keep this many cells (of the larger cell size) of clearance from the
+/// boundary and every obstacle; the search for them steps by one cell.
+pub const START_GOAL_MARGIN_CELLS: f64 = 2.0;
+
+/// What unknown (NODATA) regions become in the scenario.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum UnknownPolicy {
+    /// Tether obstacles (and so robot obstacles too): no plan crosses them. The default.
+    #[default]
+    TetherObstacle,
+    /// Robot obstacles only: the robot avoids them, the tether may pass over them.
+    RobotObstacle,
+    /// Neither: they are only reported in [`Ingested::unknown_regions`].
+    Ignore,
+}
+
+/// Settings of [`ingest`]; every default is documented on its field.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct IngestOptions {
+    /// Obstacle detection (defaults: the thesis' `H_min`, `H_max`, `theta_max`).
+    pub obstacles: ObstacleOptions,
+    /// Plane segmentation.
+    pub planes: PlaneFitOptions,
+    /// Wheel-terrain friction `mu` of every plane, `>= 0`. Default [`DEFAULT_FRICTION`].
+    pub friction: f64,
+    /// Compass azimuth (degrees clockwise from north) of the fall line, downhill; `None` (the
+    /// default): measured as the mean downhill direction.
+    pub fall_line_azimuth_deg: Option<f64>,
+    /// What unknown regions become. Default [`UnknownPolicy::TetherObstacle`].
+    pub unknown: UnknownPolicy,
+    /// Start in the planning frame; `None` (the default): suggested near the top.
+    pub start: Option<Point2<f64>>,
+    /// Goal in the planning frame; `None` (the default): suggested near the bottom.
+    pub goal: Option<Point2<f64>>,
+    /// Lighting of the hillshade.
+    pub hillshade: HillshadeOptions,
+}
+
+impl Default for IngestOptions {
+    fn default() -> Self {
+        IngestOptions {
+            obstacles: ObstacleOptions::default(),
+            planes: PlaneFitOptions::default(),
+            friction: DEFAULT_FRICTION,
+            fall_line_azimuth_deg: None,
+            unknown: UnknownPolicy::default(),
+            start: None,
+            goal: None,
+            hillshade: HillshadeOptions::default(),
+        }
+    }
+}
+
+/// Why a DEM could not be turned into a scenario. Each variant's source says how to fix it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IngestError {
+    /// A friction that is negative or not finite.
+    #[error("friction mu = {0} must be finite and >= 0")]
+    BadFriction(f64),
+    /// No fall line (flat terrain, or no known slope), or a bad fall-line azimuth.
+    #[error(transparent)]
+    Slope(#[from] SlopeError),
+    /// No plane series could be fitted, or bad segmentation options.
+    #[error(transparent)]
+    PlaneFit(#[from] PlaneFitError),
+    /// Bad obstacle-detection parameters.
+    #[error(transparent)]
+    Obstacles(#[from] ObstacleError),
+    /// The plane series came out invalid (a bug: please report it with the DEM).
+    #[error("internal error, the fitted plane series is invalid: {0}")]
+    PlaneSeries(#[from] PlaneSeriesError),
+    /// The map could not be built (obstacles cover the whole grid), or a given start or goal is
+    /// not in free space.
+    #[error(transparent)]
+    Map(#[from] MapError),
+    /// No free point with clearance found for a suggested start or goal. Fix: give it explicitly,
+    /// or relax obstacle detection.
+    #[error("no free {what} point with {margin_m} m of clearance found in the map; give one explicitly")]
+    NoFreeEndpoint {
+        /// `start` or `goal`.
+        what: &'static str,
+        /// The clearance sought.
+        margin_m: f64,
+    },
+}
+
+/// Everything [`ingest`] makes of a DEM. Polygons and points are in the planning frame (`x` across
+/// the slope, `y` up it, metres along the ground); rasters are in the grid's frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Ingested {
+    /// The grid the rasters are on.
+    pub grid: GridGeometry,
+    /// The planning map: the unfolded footprint of the grid and the tether obstacles, normalised
+    /// (valid: [`Map::validate`] passes).
+    pub map: Map,
+    /// The plane series, top first, with the friction given.
+    pub planes: Vec<TerrainPlane>,
+    /// The fitted planes behind [`Ingested::planes`], in the same order.
+    pub plane_fits: Vec<FittedPlane>,
+    /// Tether-free / tether-demand class of each plane, in the same order.
+    pub plane_classes: Vec<PlaneClass>,
+    /// Number of merges made to make the series convex.
+    pub convexity_merges: usize,
+    /// The robot-obstacle layer: hulls of negative obstacles (and of unknown regions under
+    /// [`UnknownPolicy::RobotObstacle`]), merged where they overlap. Not clipped to the map.
+    pub robot_obstacles: Vec<Polygon>,
+    /// Hulls of unknown (NODATA) regions, merged where they overlap, whatever the policy.
+    pub unknown_regions: Vec<Polygon>,
+    /// Start (suggested or given).
+    pub start: Point2<f64>,
+    /// Goal (suggested or given).
+    pub goal: Point2<f64>,
+    /// The transform between world and planning coordinates.
+    pub frame: PlanningFrame,
+    /// The fall line used.
+    pub fall_line: FallLine,
+    /// Slope per cell, degrees.
+    pub slope_deg: Raster,
+    /// Aspect per cell (azimuth of the downhill direction), degrees.
+    pub aspect_deg: Raster,
+    /// Hillshade per cell, in `[0, 1]`.
+    pub hillshade: Raster,
+    /// Per-cell detection result and clusters.
+    pub detection: ObstacleDetection,
+    /// What normalisation of the tether obstacles changed.
+    pub normalize_report: NormalizeReport,
+}
+
+/// The counts that summarise an ingestion (for tables and golden files).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct IngestSummary {
+    /// Planes in the series.
+    pub planes: usize,
+    /// Tether-free planes.
+    pub tether_free_planes: usize,
+    /// Tether-demand planes.
+    pub tether_demand_planes: usize,
+    /// Obstacle points (cells with a compatible partner).
+    pub obstacle_points: usize,
+    /// Clusters of raised cells.
+    pub tether_clusters: usize,
+    /// Tether obstacles in the map, after merging and carving.
+    pub tether_obstacles: usize,
+    /// Clusters of sunken cells.
+    pub robot_clusters: usize,
+    /// Polygons of the robot-obstacle layer.
+    pub robot_obstacles: usize,
+    /// Unknown regions.
+    pub unknown_regions: usize,
+}
+
+impl Ingested {
+    /// The summary counts.
+    pub fn summary(&self) -> IngestSummary {
+        let free = self
+            .plane_classes
+            .iter()
+            .filter(|&&c| c == PlaneClass::TetherFree)
+            .count();
+        IngestSummary {
+            planes: self.planes.len(),
+            tether_free_planes: free,
+            tether_demand_planes: self.planes.len() - free,
+            obstacle_points: self.detection.classes.len()
+                - self.detection.count(super::obstacle_detection::CellClass::Ground)
+                - self.detection.count(super::obstacle_detection::CellClass::Unknown),
+            tether_clusters: self.detection.tether_clusters.len(),
+            tether_obstacles: self.map.obstacles.len(),
+            robot_clusters: self.detection.robot_clusters.len(),
+            robot_obstacles: self.robot_obstacles.len(),
+            unknown_regions: self.unknown_regions.len(),
+        }
+    }
+
+    /// Fractional grid `(row, col)` of a planning-frame point (to draw over the rasters).
+    pub fn planning_to_grid(&self, p: &Point2<f64>) -> (f64, f64) {
+        self.grid.world_to_grid(&self.frame.to_world(p))
+    }
+
+    /// The edges between consecutive planes as world segments across the grid (to draw over the
+    /// rasters), top first.
+    pub fn plane_edges_world(&self) -> Vec<[Point2<f64>; 2]> {
+        self.plane_fits
+            .iter()
+            .skip(1)
+            .filter_map(|p| self.frame.level_line_in_grid(&self.grid, p.s_top))
+            .collect()
+    }
+}
+
+/// The convex hull, in the planning frame, of the corners of the given cells.
+fn cluster_hull(g: &GridGeometry, frame: &PlanningFrame, cells: &[usize]) -> Polygon {
+    let pts: Vec<Point2<f64>> = cells
+        .iter()
+        .flat_map(|&i| {
+            let (r, c) = g.row_col(i);
+            g.cell_corners(r, c)
+        })
+        .map(|w| frame.to_planning(&w))
+        .collect();
+    convex_hull(&pts)
+}
+
+/// Merges overlapping polygons of a layer (hull mode), inside a frame that holds them all.
+fn merge_layer(polys: Vec<Polygon>) -> Result<Vec<Polygon>, MapError> {
+    if polys.is_empty() {
+        return Ok(polys);
+    }
+    let b = Aabb::of_points(polys.iter().flat_map(|p| p.vertices.iter()));
+    let (w, h) = b.size();
+    let pad = w.max(h).max(1.0);
+    let frame = Polygon::new(vec![
+        Point2::new(b.min.x - pad, b.min.y - pad),
+        Point2::new(b.max.x + pad, b.min.y - pad),
+        Point2::new(b.max.x + pad, b.max.y + pad),
+        Point2::new(b.min.x - pad, b.max.y + pad),
+    ]);
+    let options = NormalizeOptions {
+        convex_hulls: true,
+        carve_boundary: false,
+    };
+    Ok(normalize(&Map::new(frame, polys), &options)?.0.obstacles)
+}
+
+/// `true` when `p` and the eight points at distance `margin` around it are in the map's free
+/// space and outside every robot obstacle.
+fn clear(map: &Map, robot: &[Polygon], p: Point2<f64>, margin: f64) -> bool {
+    let around = (0..8).map(|k| {
+        let a = f64::from(k) * std::f64::consts::FRAC_PI_4;
+        p + Vector2::new(a.cos(), a.sin()) * margin
+    });
+    std::iter::once(p).chain(around).all(|q| {
+        map.free_space_violation(&q).is_none()
+            && robot
+                .iter()
+                .all(|o| !o.aabb().contains(&q) || o.locate(&q) == PointInPolygon::Outside)
+    })
+}
+
+/// A clear point, searching along vertical lines from the middle of the map outwards, each from the
+/// top down (`from_top`) or the bottom up.
+fn suggest(map: &Map, robot: &[Polygon], from_top: bool, step: f64, margin: f64) -> Option<Point2<f64>> {
+    let b = map.aabb();
+    let xc = 0.5 * (b.min.x + b.max.x);
+    let half = ((b.max.x - b.min.x) / (2.0 * step)).ceil() as i64;
+    let rows = ((b.max.y - b.min.y - 2.0 * margin) / step).floor().max(0.0) as i64;
+    for k in 0..=2 * half {
+        let off = if k % 2 == 1 { (k + 1) / 2 } else { -(k / 2) };
+        let x = xc + off as f64 * step;
+        for j in 0..=rows {
+            let y = if from_top {
+                b.max.y - margin - j as f64 * step
+            } else {
+                b.min.y + margin + j as f64 * step
+            };
+            let p = Point2::new(x, y);
+            if clear(map, robot, p, margin) {
+                return Some(p);
+            }
+        }
+    }
+    None
+}
+
+/// Turns a DEM into the ingredients of a planning scenario (see the module docs).
+///
+/// ```
+/// use rappel_geometry::terrain::dem::GridGeometry;
+/// use rappel_geometry::terrain::ingest::{ingest, IngestOptions};
+/// use rappel_geometry::terrain::plane_class::PlaneClass;
+/// use rappel_geometry::terrain::slope::FallLine;
+/// use rappel_geometry::terrain::synthetic::{plane_series_dem, with_box, ProfilePlane};
+/// let g = GridGeometry::new(60, 40, 1.0, 1.0, 0.0, 60.0).unwrap();
+/// let south = FallLine::from_azimuth(180.0).unwrap();
+/// let wall = plane_series_dem(g, &south, 300.0, &[ProfilePlane::new(100.0, 45.0)]).unwrap();
+/// let dem = with_box(&wall, 20..24, 18..22, 1.0); // a boulder
+/// let out = ingest(&dem, &IngestOptions::default()).unwrap();
+/// out.map.validate().unwrap();
+/// assert_eq!(out.planes.len(), 1);
+/// assert!((out.planes[0].slope_deg - 45.0).abs() < 0.5);
+/// assert_eq!(out.plane_classes[0], PlaneClass::TetherDemand);
+/// assert_eq!(out.map.obstacles.len(), 1);
+/// assert!(out.start.y > out.goal.y);
+/// ```
+pub fn ingest(dem: &HeightGrid, options: &IngestOptions) -> Result<Ingested, IngestError> {
+    if !(options.friction.is_finite() && options.friction >= 0.0) {
+        return Err(IngestError::BadFriction(options.friction));
+    }
+    options.obstacles.validate()?;
+    options.planes.validate()?;
+    let g = *dem.geometry();
+
+    // 1. Slopes and the fall line.
+    let slope = SlopeField::horn(dem);
+    let fall_line = match options.fall_line_azimuth_deg {
+        Some(a) => FallLine::from_azimuth(a)?,
+        None => slope.fall_line()?,
+    };
+
+    // 2. Planes and the unfolded frame.
+    let flat_frame = PlanningFrame::for_grid(&g, &fall_line);
+    let fit = fit_plane_series(dem, &flat_frame, &options.planes)?;
+    let bottom_up: Vec<FittedPlane> = fit.planes.iter().rev().copied().collect();
+    let frame = flat_frame.unfolded(
+        &bottom_up
+            .iter()
+            .map(|p| (p.s_bottom, p.slope_deg()))
+            .collect::<Vec<_>>(),
+    );
+    let planes: Vec<TerrainPlane> = fit
+        .planes
+        .iter()
+        .map(|p| TerrainPlane {
+            y_top: frame.unfold(p.s_top),
+            y_bottom: frame.unfold(p.s_bottom),
+            slope_deg: p.slope_deg(),
+            friction: options.friction,
+        })
+        .collect();
+    validate_planes(&planes)?;
+    let plane_classes = planes
+        .iter()
+        .map(|p| classify_plane(p.slope_deg, p.friction))
+        .collect();
+
+    // 3. Obstacles, relative to the plane under each cell.
+    let reference = |r: usize, c: usize| {
+        let (t, s) = frame.horizontal(&g.cell_center(r, c));
+        let p = &bottom_up[frame.piece_index(s)];
+        ReferencePlane {
+            gradient: frame.uphill * p.fall_line_gradient + frame.across * p.cross_gradient,
+            height: p.height(t, s),
+        }
+    };
+    let detection = detect_obstacles(dem, reference, &options.obstacles)?;
+
+    // 4. Hulls, the map and the robot-obstacle layer.
+    let hulls = |clusters: &[Vec<usize>]| -> Vec<Polygon> {
+        clusters
+            .iter()
+            .map(|k| cluster_hull(&g, &frame, k))
+            .collect()
+    };
+    let unknown = hulls(&detection.unknown_clusters);
+    let mut tether = hulls(&detection.tether_clusters);
+    let mut robot = hulls(&detection.robot_clusters);
+    match options.unknown {
+        UnknownPolicy::TetherObstacle => tether.extend(unknown.iter().cloned()),
+        UnknownPolicy::RobotObstacle => robot.extend(unknown.iter().cloned()),
+        UnknownPolicy::Ignore => {}
+    }
+    let raw = Map::new(Polygon::new(frame.footprint(&g)), tether);
+    let (map, normalize_report) = normalize(
+        &raw,
+        &NormalizeOptions {
+            convex_hulls: true,
+            carve_boundary: true,
+        },
+    )?;
+    let robot_obstacles = merge_layer(robot)?;
+    let unknown_regions = merge_layer(unknown)?;
+
+    // 6. Start and goal.
+    let step = g.cell_size();
+    let margin = START_GOAL_MARGIN_CELLS * step;
+    let endpoint = |what: &'static str, given: Option<Point2<f64>>, from_top: bool| {
+        match given {
+            Some(p) => map.validate_point(what, &p).map(|_| p).map_err(IngestError::from),
+            None => suggest(&map, &robot_obstacles, from_top, step, margin).ok_or(
+                IngestError::NoFreeEndpoint {
+                    what,
+                    margin_m: margin,
+                },
+            ),
+        }
+    };
+    let start = endpoint("start", options.start, true)?;
+    let goal = endpoint("goal", options.goal, false)?;
+    if options.goal.is_none() && goal.y >= start.y {
+        return Err(IngestError::NoFreeEndpoint {
+            what: "goal",
+            margin_m: margin,
+        });
+    }
+
+    Ok(Ingested {
+        grid: g,
+        map,
+        planes,
+        plane_fits: fit.planes,
+        plane_classes,
+        convexity_merges: fit.convexity_merges,
+        robot_obstacles,
+        unknown_regions,
+        start,
+        goal,
+        frame,
+        fall_line,
+        slope_deg: slope.slope_deg(),
+        aspect_deg: slope.aspect_deg(),
+        hillshade: slope.hillshade(&options.hillshade),
+        detection,
+        normalize_report,
+    })
+}

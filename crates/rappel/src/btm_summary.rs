@@ -1,0 +1,63 @@
+//! The summary of a BTM build that `rappel btm` prints and `--json` emits: sizes, the checked
+//! invariants (including whether the triangulation is constrained Delaunay) and the build time.
+
+use rappel_geometry::btm::{Btm, BtmError};
+use rappel_geometry::map::Map;
+use serde::Serialize;
+use std::time::Instant;
+
+/// What `rappel btm` reports.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BtmSummary {
+    /// Map vertices.
+    pub vertices: usize,
+    /// Holes (obstacles).
+    pub holes: usize,
+    /// Free triangles.
+    pub triangles: usize,
+    /// n + 2h - 2.
+    pub expected_triangles: usize,
+    /// Every invariant of `Btm::check_invariants` held (count, area, map edges, Delaunay).
+    pub invariants_hold: bool,
+    /// The first broken invariant, if any.
+    pub invariant_violation: Option<String>,
+    /// The empty-circumcircle test, checked exactly on every diagonal.
+    pub constrained_delaunay: bool,
+    /// Free-space area, m².
+    pub free_area: f64,
+    /// Wall-clock time of the build, milliseconds.
+    pub build_ms: f64,
+}
+
+/// Builds the BTM of `map`, timing it, and checks it.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel::btm_summary::summarize_btm;
+/// use rappel::geometry::{map::Map, polygon::Polygon};
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(Polygon::new(vec![p(0., 0.), p(4., 0.), p(4., 4.), p(0., 4.)]), vec![]);
+/// let (_, s) = summarize_btm(&map).unwrap();
+/// assert!(s.constrained_delaunay && s.invariants_hold);
+/// assert_eq!(s.triangles, 2);
+/// ```
+pub fn summarize_btm(map: &Map) -> Result<(Btm, BtmSummary), BtmError> {
+    let t = Instant::now();
+    let btm = Btm::build(map)?;
+    let build_ms = t.elapsed().as_secs_f64() * 1e3;
+    let check = btm.check_invariants();
+    let vertices = btm.vertex_count();
+    let holes = btm.hole_count();
+    let summary = BtmSummary {
+        vertices,
+        holes,
+        triangles: btm.triangle_count(),
+        expected_triangles: vertices + 2 * holes - 2,
+        invariants_hold: check.is_ok(),
+        invariant_violation: check.as_ref().err().map(ToString::to_string),
+        constrained_delaunay: btm.is_constrained_delaunay(),
+        free_area: map.free_area(),
+        build_ms,
+    };
+    Ok((btm, summary))
+}

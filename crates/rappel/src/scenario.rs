@@ -1,0 +1,314 @@
+//! Scenario files: a map, a start and a goal, the robot's parameters and the terrain planes, in
+//! RON or JSON with one schema (chosen by file extension; see `docs/scenario-format.md`). Loading
+//! checks everything a planner relies on and reports the first problem with its location: the
+//! line and column for syntax and schema errors, the ring and coordinates for geometric ones.
+
+use nalgebra::Point2;
+use rappel_geometry::map::{Map, MapError};
+use rappel_geometry::terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A planning scenario.
+///
+/// ```
+/// use rappel::scenario::Scenario;
+/// let text = r#"(
+///     name: "tiny",
+///     map: (
+///         boundary: [(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)],
+///         obstacles: [[(4.0, 8.0), (6.0, 8.0), (5.0, 10.0)]],
+///     ),
+///     start: (5.0, 19.0),
+///     goal: (5.0, 1.0),
+/// )"#;
+/// let s = Scenario::from_ron_str(text).unwrap();
+/// s.validate().unwrap();
+/// assert_eq!(s.map.obstacles.len(), 1);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// A short name.
+    #[serde(default)]
+    pub name: String,
+    /// Free text: where the scenario comes from.
+    #[serde(default)]
+    pub description: String,
+    /// The planning map in the unfolded frame (x across the slope, y up the slope).
+    pub map: Map,
+    /// Where the tether is anchored and the descent starts (near the top).
+    pub start: Point2<f64>,
+    /// The science target (lower down).
+    pub goal: Point2<f64>,
+    /// The robot.
+    #[serde(default)]
+    pub robot: RobotParams,
+    /// The terrain: planes down the fall line.
+    #[serde(default)]
+    pub terrain: Terrain,
+}
+
+/// Which robot model the scenario uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum RobotModel {
+    /// A point robot (thesis Ch. 2).
+    #[default]
+    Point,
+    /// JPL's Axel: two wheels, a body and a boom carrying the tether.
+    Axel,
+    /// A generic four-wheeled rover.
+    FourWheel,
+}
+
+/// The robot's parameters. Every field has a documented default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RobotParams {
+    /// The model. Default: `Point`.
+    pub model: RobotModel,
+    /// Total mass, kg. Default: 35 (Kumar's robots; Axel is about 35-45 kg).
+    pub mass_kg: f64,
+    /// Tether length, m; `None` for unlimited. Default: `None`.
+    pub tether_length_m: Option<f64>,
+    /// Clearance kept around obstacles by ascent and descent paths, m. Default: 0.5.
+    pub clearance_m: f64,
+}
+
+impl Default for RobotParams {
+    fn default() -> Self {
+        RobotParams { model: RobotModel::Point, mass_kg: 35.0, tether_length_m: None, clearance_m: 0.5 }
+    }
+}
+
+/// The terrain of a scenario.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Terrain {
+    /// Planes from the top of the wall down, meeting edge to edge (may be empty).
+    pub planes: Vec<TerrainPlane>,
+}
+
+/// Why a scenario could not be loaded or used.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    /// The file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The extension names no known format.
+    #[error("{}: unknown scenario format; use a .ron or .json file", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Syntax or schema error at a position.
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    Parse {
+        /// The file (empty for strings).
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The map, start or goal is unusable.
+    #[error("{}: {source}", path.display())]
+    Map {
+        /// The file.
+        path: PathBuf,
+        /// The defect.
+        source: MapError,
+    },
+    /// The terrain planes are unusable.
+    #[error("{}: terrain: {source}", path.display())]
+    Planes {
+        /// The file.
+        path: PathBuf,
+        /// The defect.
+        source: PlaneSeriesError,
+    },
+    /// A robot parameter is out of range.
+    #[error("{}: robot: {message}", path.display())]
+    Robot {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// The two file formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Rusty Object Notation (`.ron`).
+    Ron,
+    /// JSON (`.json`).
+    Json,
+}
+
+impl Format {
+    /// The format named by a path's extension.
+    pub fn of_path(path: &Path) -> Option<Format> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "ron" => Some(Format::Ron),
+            "json" => Some(Format::Json),
+            _ => None,
+        }
+    }
+}
+
+impl Scenario {
+    /// Parses RON text (not validated).
+    pub fn from_ron_str(text: &str) -> Result<Scenario, ScenarioError> {
+        ron::de::from_str(text).map_err(|e| ScenarioError::Parse {
+            path: PathBuf::new(),
+            line: e.span.start.line,
+            column: e.span.start.col,
+            message: e.code.to_string(),
+        })
+    }
+
+    /// Parses JSON text (not validated).
+    pub fn from_json_str(text: &str) -> Result<Scenario, ScenarioError> {
+        serde_json::from_str(text).map_err(|e| ScenarioError::Parse {
+            path: PathBuf::new(),
+            line: e.line(),
+            column: e.column(),
+            message: strip_json_position(&e.to_string()),
+        })
+    }
+
+    /// Reads, parses and validates a scenario file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
+        let path = path.as_ref();
+        let format = Format::of_path(path).ok_or_else(|| ScenarioError::UnknownFormat { path: path.to_path_buf() })?;
+        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io { path: path.to_path_buf(), source })?;
+        let parsed = match format {
+            Format::Ron => Scenario::from_ron_str(&text),
+            Format::Json => Scenario::from_json_str(&text),
+        };
+        let scenario = parsed.map_err(|e| e.at(path))?;
+        scenario.validate().map_err(|e| e.at(path))?;
+        Ok(scenario)
+    }
+
+    /// Checks the map, the start and goal, the planes and the robot.
+    pub fn validate(&self) -> Result<(), ScenarioError> {
+        let path = PathBuf::new();
+        let map_err = |source| ScenarioError::Map { path: PathBuf::new(), source };
+        self.map.validate().map_err(map_err)?;
+        self.map.validate_point("start", &self.start).map_err(map_err)?;
+        self.map.validate_point("goal", &self.goal).map_err(map_err)?;
+        validate_planes(&self.terrain.planes).map_err(|source| ScenarioError::Planes { path: path.clone(), source })?;
+        let r = &self.robot;
+        let bad = |message: String| Err(ScenarioError::Robot { path: PathBuf::new(), message });
+        if !(r.mass_kg.is_finite() && r.mass_kg > 0.0) {
+            return bad(format!("mass_kg must be a positive number, got {}", r.mass_kg));
+        }
+        if !(r.clearance_m.is_finite() && r.clearance_m >= 0.0) {
+            return bad(format!("clearance_m must be >= 0, got {}", r.clearance_m));
+        }
+        if let Some(l) = r.tether_length_m
+            && !(l.is_finite() && l > 0.0)
+        {
+            return bad(format!("tether_length_m must be positive, got {l}"));
+        }
+        Ok(())
+    }
+
+    /// The scenario as text in `format`.
+    pub fn to_text(&self, format: Format) -> String {
+        match format {
+            Format::Ron => {
+                let config = ron::ser::PrettyConfig::new().depth_limit(4).indentor("    ".to_string());
+                ron::ser::to_string_pretty(self, config).unwrap_or_default() + "\n"
+            }
+            Format::Json => serde_json::to_string_pretty(self).unwrap_or_default() + "\n",
+        }
+    }
+
+    /// Writes the scenario to `path` (format by extension), atomically.
+    pub fn save(&self, path: impl AsRef<Path>) -> Result<(), ScenarioError> {
+        let path = path.as_ref();
+        let format = Format::of_path(path).ok_or_else(|| ScenarioError::UnknownFormat { path: path.to_path_buf() })?;
+        crate::io::write_atomically(path, self.to_text(format).as_bytes())
+            .map_err(|source| ScenarioError::Io { path: path.to_path_buf(), source })
+    }
+}
+
+impl ScenarioError {
+    /// The same error, attributed to `path`.
+    fn at(self, p: &Path) -> ScenarioError {
+        let p = p.to_path_buf();
+        match self {
+            ScenarioError::Parse { line, column, message, .. } => ScenarioError::Parse { path: p, line, column, message },
+            ScenarioError::Map { source, .. } => ScenarioError::Map { path: p, source },
+            ScenarioError::Planes { source, .. } => ScenarioError::Planes { path: p, source },
+            ScenarioError::Robot { message, .. } => ScenarioError::Robot { path: p, message },
+            other => other,
+        }
+    }
+}
+
+/// serde_json appends " at line L column C" to its messages; we print the position up front.
+fn strip_json_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(i) => message[..i].to_string(),
+        None => message.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TINY: &str = r#"(
+    map: (
+        boundary: [(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)],
+        obstacles: [[(4.0, 8.0), (6.0, 8.0), (5.0, 10.0)]],
+    ),
+    start: (5.0, 19.0),
+    goal: (5.0, 1.0),
+    terrain: (planes: [(y_top: 20.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]),
+)"#;
+
+    #[test]
+    fn ron_and_json_round_trip_to_the_same_scenario() {
+        let s = Scenario::from_ron_str(TINY).unwrap();
+        s.validate().unwrap();
+        let json = s.to_text(Format::Json);
+        assert_eq!(Scenario::from_json_str(&json).unwrap(), s);
+        assert_eq!(Scenario::from_ron_str(&s.to_text(Format::Ron)).unwrap(), s);
+    }
+
+    #[test]
+    fn parse_errors_carry_line_and_column() {
+        let broken = TINY.replace("goal: (5.0, 1.0)", "goal: (5.0, 1.0 oops)");
+        match Scenario::from_ron_str(&broken) {
+            Err(ScenarioError::Parse { line, .. }) => assert_eq!(line, 7),
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+        match Scenario::from_json_str("{\n  \"map\": 3\n}") {
+            Err(ScenarioError::Parse { line, column, .. }) => assert_eq!((line, column), (2, 10)), // the `3`: two spaces, "map", colon, space
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+        let typo = TINY.replace("goal:", "gaol:");
+        assert!(matches!(Scenario::from_ron_str(&typo), Err(ScenarioError::Parse { .. })));
+    }
+
+    #[test]
+    fn semantic_errors_name_the_problem() {
+        let s = Scenario::from_ron_str(&TINY.replace("goal: (5.0, 1.0)", "goal: (5.0, 9.0)")).unwrap();
+        let e = s.validate().unwrap_err().to_string();
+        assert!(e.contains("goal point (5, 9) is inside obstacle 0"), "{e}");
+        let s = Scenario::from_ron_str(&TINY.replace("slope_deg: 45.0", "slope_deg: 95.0")).unwrap();
+        assert!(matches!(s.validate(), Err(ScenarioError::Planes { .. })));
+    }
+}

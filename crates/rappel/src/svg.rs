@@ -1,0 +1,399 @@
+//! SVG pictures with one legend across every subcommand (GUIDE §5): obstacles filled grey, BTM
+//! edges thin, the sleeve shaded, the taut tether (SHP) bold, anchors as squares, friction cones as
+//! translucent wedges, ascent and descent paths in two colours, waypoints as stars, start and goal
+//! marked; a side panel carries the legend, a scale bar and the fall-line arrow.
+//!
+//! A [`Picture`] collects layers in the map frame (y up the slope; the picture puts uphill at the
+//! top) and renders them with [`Picture::finish`]. Later planners add their layers with the same
+//! primitives.
+
+use nalgebra::Point2;
+use rappel_geometry::btm::Btm;
+use rappel_geometry::dcel::HalfEdgeId;
+use rappel_geometry::map::Map;
+use rappel_geometry::polygon::Aabb;
+use std::fmt::Write;
+
+/// The legend entries, each with its fixed look.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Layer {
+    /// The map boundary.
+    Boundary,
+    /// Obstacles, filled grey.
+    Obstacle,
+    /// BTM edges, thin.
+    BtmEdge,
+    /// A sleeve, shaded.
+    Sleeve,
+    /// The taut tether (SHP), bold.
+    Shp,
+    /// Tether anchors, squares.
+    Anchor,
+    /// Friction cones, translucent wedges.
+    FrictionCone,
+    /// Visibility lines.
+    Visibility,
+    /// The ascent path.
+    Ascent,
+    /// The descent path.
+    Descent,
+    /// Waypoints, stars.
+    Waypoint,
+    /// Other paths (input paths).
+    Path,
+    /// The start.
+    Start,
+    /// The goal.
+    Goal,
+}
+
+impl Layer {
+    fn label(self) -> &'static str {
+        match self {
+            Layer::Boundary => "map boundary",
+            Layer::Obstacle => "obstacle",
+            Layer::BtmEdge => "BTM edge",
+            Layer::Sleeve => "sleeve",
+            Layer::Shp => "taut tether (SHP)",
+            Layer::Anchor => "anchor",
+            Layer::FrictionCone => "friction cone",
+            Layer::Visibility => "visibility line",
+            Layer::Ascent => "ascent path",
+            Layer::Descent => "descent path",
+            Layer::Waypoint => "waypoint",
+            Layer::Path => "path",
+            Layer::Start => "start",
+            Layer::Goal => "goal",
+        }
+    }
+
+    /// (fill, stroke, stroke width in px, fill opacity)
+    fn look(self) -> (&'static str, &'static str, f64, f64) {
+        match self {
+            Layer::Boundary => ("none", "#222222", 1.5, 0.0),
+            Layer::Obstacle => ("#8c8c8c", "#555555", 0.6, 1.0),
+            Layer::BtmEdge => ("none", "#6a8caf", 0.35, 0.0),
+            Layer::Sleeve => ("#9ecae1", "none", 0.0, 0.55),
+            Layer::Shp => ("none", "#08306b", 2.6, 0.0),
+            Layer::Anchor => ("#ffd92f", "#8a6d00", 0.8, 1.0),
+            Layer::FrictionCone => ("#41b6c4", "#1d91c0", 0.5, 0.25),
+            Layer::Visibility => ("none", "#41b6c4", 0.8, 0.0),
+            Layer::Ascent => ("none", "#d95f02", 1.6, 0.0),
+            Layer::Descent => ("none", "#7570b3", 1.6, 0.0),
+            Layer::Waypoint => ("#e7298a", "#67001f", 0.5, 1.0),
+            Layer::Path => ("none", "#e6550d", 1.2, 0.0),
+            Layer::Start => ("#d62728", "#7f0000", 0.8, 1.0),
+            Layer::Goal => ("#2ca02c", "#00441b", 0.8, 1.0),
+        }
+    }
+}
+
+/// Marker shapes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Marker {
+    /// A filled circle.
+    Circle,
+    /// A square.
+    Square,
+    /// A five-pointed star.
+    Star,
+    /// A cross.
+    Cross,
+}
+
+/// A picture being drawn.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel::svg::{Layer, Marker, Picture};
+/// use rappel::geometry::polygon::Aabb;
+/// let mut pic = Picture::new(Aabb { min: Point2::new(0.0, 0.0), max: Point2::new(10.0, 20.0) });
+/// pic.marker(Layer::Start, Point2::new(5.0, 19.0), Marker::Cross);
+/// let svg = pic.finish("example");
+/// assert!(svg.starts_with("<svg") && svg.contains("start"));
+/// ```
+#[derive(Debug, Clone)]
+pub struct Picture {
+    bounds: Aabb,
+    /// World units per pixel.
+    unit: f64,
+    body: Vec<(Layer, String)>,
+    used: Vec<Layer>,
+}
+
+/// Width of the side panel, px.
+const PANEL: f64 = 200.0;
+/// Largest drawing area, px.
+const MAX_W: f64 = 900.0;
+const MAX_H: f64 = 1400.0;
+
+fn fmt(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".to_string() } else { s.to_string() }
+}
+
+impl Picture {
+    /// An empty picture of the map-frame box `bounds` (padded a little).
+    pub fn new(bounds: Aabb) -> Self {
+        let (w, h) = bounds.size();
+        let pad = 0.02 * w.max(h).max(1e-9);
+        let bounds = Aabb {
+            min: Point2::new(bounds.min.x - pad, bounds.min.y - pad),
+            max: Point2::new(bounds.max.x + pad, bounds.max.y + pad),
+        };
+        let (w, h) = bounds.size();
+        let unit = (w / MAX_W).max(h / MAX_H).max(1e-12);
+        Picture { bounds, unit, body: Vec::new(), used: Vec::new() }
+    }
+
+    /// A picture framing a map.
+    pub fn of_map(map: &Map) -> Self {
+        Picture::new(map.aabb())
+    }
+
+    fn use_layer(&mut self, layer: Layer) {
+        if !self.used.contains(&layer) {
+            self.used.push(layer);
+        }
+    }
+
+    fn style(&self, layer: Layer) -> String {
+        let (fill, stroke, width, opacity) = layer.look();
+        format!(
+            "fill=\"{fill}\" fill-opacity=\"{}\" stroke=\"{stroke}\" stroke-width=\"{}\" stroke-linejoin=\"round\" stroke-linecap=\"round\"",
+            fmt(opacity),
+            fmt(width * self.unit)
+        )
+    }
+
+    fn points(pts: &[Point2<f64>]) -> String {
+        pts.iter().map(|p| format!("{},{}", fmt(p.x), fmt(p.y))).collect::<Vec<_>>().join(" ")
+    }
+
+    /// A closed filled polygon on `layer`.
+    pub fn polygon(&mut self, layer: Layer, pts: &[Point2<f64>]) {
+        self.use_layer(layer);
+        let s = format!("<polygon points=\"{}\" {}/>", Self::points(pts), self.style(layer));
+        self.body.push((layer, s));
+    }
+
+    /// An open polyline on `layer`.
+    pub fn polyline(&mut self, layer: Layer, pts: &[Point2<f64>]) {
+        self.use_layer(layer);
+        let mut style = self.style(layer);
+        style = style.replacen(&format!("fill=\"{}\"", layer.look().0), "fill=\"none\"", 1);
+        let s = format!("<polyline points=\"{}\" {style}/>", Self::points(pts));
+        self.body.push((layer, s));
+    }
+
+    /// Many segments on `layer` as one path element (for meshes).
+    pub fn segments(&mut self, layer: Layer, segs: impl IntoIterator<Item = (Point2<f64>, Point2<f64>)>) {
+        self.use_layer(layer);
+        let mut d = String::new();
+        for (a, b) in segs {
+            let _ = write!(d, "M{} {}L{} {}", fmt(a.x), fmt(a.y), fmt(b.x), fmt(b.y));
+        }
+        let s = format!("<path d=\"{d}\" {}/>", self.style(layer));
+        self.body.push((layer, s));
+    }
+
+    /// A marker of fixed on-screen size at `p`.
+    pub fn marker(&mut self, layer: Layer, p: Point2<f64>, shape: Marker) {
+        self.use_layer(layer);
+        let s = self.marker_svg(layer, p, shape, 5.0 * self.unit);
+        self.body.push((layer, s));
+    }
+
+    fn marker_svg(&self, layer: Layer, p: Point2<f64>, shape: Marker, r: f64) -> String {
+        let style = self.style(layer);
+        match shape {
+            Marker::Circle => format!("<circle cx=\"{}\" cy=\"{}\" r=\"{}\" {style}/>", fmt(p.x), fmt(p.y), fmt(r)),
+            Marker::Square => format!(
+                "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" {style}/>",
+                fmt(p.x - r * 0.8),
+                fmt(p.y - r * 0.8),
+                fmt(1.6 * r),
+                fmt(1.6 * r)
+            ),
+            Marker::Star => {
+                let pts: Vec<Point2<f64>> = (0..10)
+                    .map(|i| {
+                        let a = std::f64::consts::FRAC_PI_2 + i as f64 * std::f64::consts::PI / 5.0;
+                        let rr = if i % 2 == 0 { 1.3 * r } else { 0.55 * r };
+                        Point2::new(p.x + rr * a.cos(), p.y + rr * a.sin())
+                    })
+                    .collect();
+                format!("<polygon points=\"{}\" {style}/>", Self::points(&pts))
+            }
+            Marker::Cross => {
+                let w = 1.6 * r;
+                let (_, stroke, _, _) = layer.look();
+                format!(
+                    "<path d=\"M{} {}L{} {}M{} {}L{} {}\" stroke=\"{stroke}\" stroke-width=\"{}\" fill=\"none\"/>",
+                    fmt(p.x - w / 2.0),
+                    fmt(p.y - w / 2.0),
+                    fmt(p.x + w / 2.0),
+                    fmt(p.y + w / 2.0),
+                    fmt(p.x - w / 2.0),
+                    fmt(p.y + w / 2.0),
+                    fmt(p.x + w / 2.0),
+                    fmt(p.y - w / 2.0),
+                    fmt(2.5 * self.unit)
+                )
+            }
+        }
+    }
+
+    /// The map: boundary outline and grey obstacles.
+    pub fn map(&mut self, map: &Map) {
+        self.polygon(Layer::Boundary, &map.boundary.vertices);
+        for o in &map.obstacles {
+            self.polygon(Layer::Obstacle, &o.vertices);
+        }
+    }
+
+    /// Every edge of a BTM, thin.
+    pub fn btm(&mut self, btm: &Btm) {
+        let d = btm.dcel();
+        let segs: Vec<_> = btm
+            .triangles()
+            .flat_map(|t| t.half_edges())
+            .filter(|&h: &HalfEdgeId| d.twin(h).is_none_or(|g| h < g))
+            .map(|h| (d.point(d.origin(h)), d.point(d.destination(h))))
+            .collect();
+        self.segments(Layer::BtmEdge, segs);
+    }
+
+    /// Start (cross) and goal (circle) markers.
+    pub fn start_goal(&mut self, start: Point2<f64>, goal: Point2<f64>) {
+        self.marker(Layer::Start, start, Marker::Cross);
+        self.marker(Layer::Goal, goal, Marker::Circle);
+    }
+
+    /// The finished SVG document, titled `title`.
+    pub fn finish(mut self, title: &str) -> String {
+        let (w, h) = self.bounds.size();
+        let (pw, ph) = (w / self.unit, h / self.unit);
+        let total_w = pw + PANEL;
+        let total_h = ph.max(330.0);
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" font-family=\"sans-serif\">",
+            fmt(total_w),
+            fmt(total_h),
+            fmt(total_w),
+            fmt(total_h)
+        );
+        let _ = writeln!(out, "<title>{}</title>", escape(title));
+        let _ = writeln!(out, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
+        // The map, y flipped so uphill is at the top.
+        let _ = writeln!(
+            out,
+            "<svg x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">",
+            fmt(pw),
+            fmt(ph),
+            fmt(self.bounds.min.x),
+            fmt(-self.bounds.max.y),
+            fmt(w),
+            fmt(h)
+        );
+        let _ = writeln!(out, "<g transform=\"scale(1,-1)\">");
+        self.body.sort_by_key(|(layer, _)| draw_order(*layer));
+        for (_, s) in &self.body {
+            out.push_str(s);
+            out.push('\n');
+        }
+        let _ = writeln!(out, "</g></svg>");
+        self.panel(&mut out, pw);
+        out.push_str("</svg>\n");
+        out
+    }
+
+    /// Legend, scale bar and fall-line arrow, in pixels right of the map.
+    fn panel(&self, out: &mut String, x0: f64) {
+        let x = x0 + 16.0;
+        let _ = writeln!(out, "<g font-size=\"13\">");
+        let mut y = 24.0;
+        let _ = writeln!(out, "<text x=\"{}\" y=\"{}\" font-weight=\"bold\">legend</text>", fmt(x), fmt(y));
+        let mut used = self.used.clone();
+        used.sort_by_key(|l| draw_order(*l));
+        for layer in used {
+            y += 20.0;
+            let (fill, stroke, width, opacity) = layer.look();
+            let swatch = match layer {
+                Layer::Anchor => format!("<rect x=\"{}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"{fill}\" stroke=\"{stroke}\"/>", fmt(x + 5.0), fmt(y - 10.0)),
+                Layer::Waypoint | Layer::Start | Layer::Goal => {
+                    format!("<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"{fill}\" stroke=\"{stroke}\"/>", fmt(x + 10.0), fmt(y - 5.0))
+                }
+                _ if fill != "none" => format!(
+                    "<rect x=\"{}\" y=\"{}\" width=\"20\" height=\"10\" fill=\"{fill}\" fill-opacity=\"{}\" stroke=\"{stroke}\"/>",
+                    fmt(x),
+                    fmt(y - 10.0),
+                    fmt(opacity.max(0.3))
+                ),
+                _ => format!(
+                    "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{stroke}\" stroke-width=\"{}\"/>",
+                    fmt(x),
+                    fmt(y - 5.0),
+                    fmt(x + 20.0),
+                    fmt(y - 5.0),
+                    fmt(width.max(1.0))
+                ),
+            };
+            let _ = writeln!(out, "{swatch}<text x=\"{}\" y=\"{}\">{}</text>", fmt(x + 28.0), fmt(y), layer.label());
+        }
+        // Scale bar: a round length near 120 px.
+        y += 40.0;
+        let target = 120.0 * self.unit;
+        let mag = 10f64.powf(target.log10().floor());
+        let len = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).filter(|l| *l <= target).fold(mag, f64::max);
+        let px = len / self.unit;
+        let _ = writeln!(
+            out,
+            "<path d=\"M{} {}v-6v6h{}v-6\" stroke=\"black\" stroke-width=\"2\" fill=\"none\"/><text x=\"{}\" y=\"{}\">{} m</text>",
+            fmt(x),
+            fmt(y),
+            fmt(px),
+            fmt(x),
+            fmt(y + 16.0),
+            fmt(len)
+        );
+        // Fall-line arrow: downhill is -y in the map frame, down in the picture.
+        y += 40.0;
+        let _ = writeln!(
+            out,
+            "<path d=\"M{} {}v60m-7 -12l7 12l7 -12\" stroke=\"black\" stroke-width=\"2\" fill=\"none\"/><text x=\"{}\" y=\"{}\">fall line</text>",
+            fmt(x + 10.0),
+            fmt(y),
+            fmt(x + 28.0),
+            fmt(y + 34.0)
+        );
+        let _ = writeln!(out, "</g>");
+    }
+}
+
+/// Back-to-front drawing order.
+fn draw_order(layer: Layer) -> u8 {
+    match layer {
+        Layer::Sleeve => 0,
+        Layer::FrictionCone => 1,
+        Layer::BtmEdge => 2,
+        Layer::Obstacle => 3,
+        Layer::Boundary => 4,
+        Layer::Visibility => 5,
+        Layer::Path => 6,
+        Layer::Descent => 7,
+        Layer::Ascent => 8,
+        Layer::Shp => 9,
+        Layer::Anchor => 10,
+        Layer::Waypoint => 11,
+        Layer::Start => 12,
+        Layer::Goal => 13,
+    }
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
