@@ -23,13 +23,18 @@ pub struct Args {
 /// Runs `rappel btm`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let s = Scenario::load(&args.file)?;
-    let (btm, summary) = summarize_btm(&s.map).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
+    let (btm, summary) =
+        summarize_btm(&s.map).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
     if let Some(out) = &args.svg {
         let mut pic = Picture::of_map(&s.map);
         pic.btm(&btm);
         pic.map(&s.map);
         pic.start_goal(s.start, s.goal);
-        let title = if s.name.is_empty() { args.file.display().to_string() } else { s.name.clone() };
+        let title = if s.name.is_empty() {
+            args.file.display().to_string()
+        } else {
+            s.name.clone()
+        };
         write_file(out, &pic.finish(&format!("BTM of {title}")))?;
     }
     if args.json {
@@ -38,14 +43,36 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         crate::outln!("scenario              {}", args.file.display());
         crate::outln!("vertices              {}", summary.vertices);
         crate::outln!("holes                 {}", summary.holes);
-        crate::outln!("triangles             {} (n + 2h - 2 = {})", summary.triangles, summary.expected_triangles);
-        crate::outln!("constrained Delaunay  {}", if summary.constrained_delaunay { "yes (checked)" } else { "NO" });
-        crate::outln!("invariants            {}", summary.invariant_violation.as_deref().unwrap_or("all hold"));
+        crate::outln!(
+            "triangles             {} (n + 2h - 2 = {})",
+            summary.triangles,
+            summary.expected_triangles
+        );
+        crate::outln!(
+            "constrained Delaunay  {}",
+            if summary.constrained_delaunay {
+                "yes (checked)"
+            } else {
+                "NO"
+            }
+        );
+        crate::outln!(
+            "invariants            {}",
+            summary.invariant_violation.as_deref().unwrap_or("all hold")
+        );
         crate::outln!("free area             {:.1} m²", summary.free_area);
         crate::outln!("build time            {:.2} ms", summary.build_ms);
         if let Some(out) = &args.svg {
             crate::outln!("picture               {}", out.display());
         }
     }
-    if summary.invariants_hold { Ok(()) } else { Err(CliError(format!("{}: BTM invariant broken: {}", args.file.display(), summary.invariant_violation.unwrap_or_default()))) }
+    if summary.invariants_hold {
+        Ok(())
+    } else {
+        Err(CliError(format!(
+            "{}: BTM invariant broken: {}",
+            args.file.display(),
+            summary.invariant_violation.unwrap_or_default()
+        )))
+    }
 }

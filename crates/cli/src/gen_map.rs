@@ -25,16 +25,31 @@ pub struct Args {
 /// Runs `rappel gen-map`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     if Format::of_path(&args.out).is_none() {
-        return Err(CliError(format!("{}: unknown scenario format; use a .ron or .json file", args.out.display())));
+        return Err(CliError(format!(
+            "{}: unknown scenario format; use a .ron or .json file",
+            args.out.display()
+        )));
     }
     if !(args.width.is_finite() && args.width >= 20.0) {
-        return Err(CliError(format!("--width {}: must be at least 20 m", args.width)));
+        return Err(CliError(format!(
+            "--width {}: must be at least 20 m",
+            args.width
+        )));
     }
     if args.obstacles > 2_000_000 {
-        return Err(CliError(format!("--obstacles {}: at most 2,000,000", args.obstacles)));
+        return Err(CliError(format!(
+            "--obstacles {}: at most 2,000,000",
+            args.obstacles
+        )));
     }
     let s = rappel::generated::crater_strip_scenario(args.obstacles, args.seed, args.width);
     s.save(&args.out)?;
-    crate::outln!("{}: {} obstacles, {} vertices, seed {}", args.out.display(), s.map.obstacles.len(), s.map.vertex_count(), args.seed);
+    crate::outln!(
+        "{}: {} obstacles, {} vertices, seed {}",
+        args.out.display(),
+        s.map.obstacles.len(),
+        s.map.vertex_count(),
+        args.seed
+    );
     Ok(())
 }

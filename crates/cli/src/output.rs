@@ -29,7 +29,8 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
 
 /// Writes a text file atomically, naming the file in any error.
 pub fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
-    rappel::io::write_atomically(path, text.as_bytes()).map_err(|e| CliError(format!("{}: cannot write: {e}", path.display())))
+    rappel::io::write_atomically(path, text.as_bytes())
+        .map_err(|e| CliError(format!("{}: cannot write: {e}", path.display())))
 }
 
 /// Prints a line on stdout; a closed pipe (`rappel ... | head`) ends the program quietly instead

@@ -6,7 +6,10 @@ use rappel_geometry::generate::{CraterStripOptions, crater_strip};
 use std::time::Instant;
 
 fn main() {
-    let n: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(10_000);
+    let n: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(10_000);
     let g = crater_strip(&CraterStripOptions::new(n, 1));
     let t = Instant::now();
     let btm = match Btm::build(&g.map) {
@@ -19,5 +22,11 @@ fn main() {
     let build = t.elapsed();
     let t = Instant::now();
     let report = btm.check_invariants();
-    println!("{} vertices, build {:?}, check {:?}: {:?}", g.map.vertex_count(), build, t.elapsed(), report.map(|r| r.triangles));
+    println!(
+        "{} vertices, build {:?}, check {:?}: {:?}",
+        g.map.vertex_count(),
+        build,
+        t.elapsed(),
+        report.map(|r| r.triangles)
+    );
 }

@@ -77,7 +77,12 @@ pub struct RobotParams {
 
 impl Default for RobotParams {
     fn default() -> Self {
-        RobotParams { model: RobotModel::Point, mass_kg: 35.0, tether_length_m: None, clearance_m: 0.5 }
+        RobotParams {
+            model: RobotModel::Point,
+            mass_kg: 35.0,
+            tether_length_m: None,
+            clearance_m: 0.5,
+        }
     }
 }
 
@@ -188,8 +193,13 @@ impl Scenario {
     /// Reads, parses and validates a scenario file.
     pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
         let path = path.as_ref();
-        let format = Format::of_path(path).ok_or_else(|| ScenarioError::UnknownFormat { path: path.to_path_buf() })?;
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io { path: path.to_path_buf(), source })?;
+        let format = Format::of_path(path).ok_or_else(|| ScenarioError::UnknownFormat {
+            path: path.to_path_buf(),
+        })?;
+        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let parsed = match format {
             Format::Ron => Scenario::from_ron_str(&text),
             Format::Json => Scenario::from_json_str(&text),
@@ -202,15 +212,33 @@ impl Scenario {
     /// Checks the map, the start and goal, the planes and the robot.
     pub fn validate(&self) -> Result<(), ScenarioError> {
         let path = PathBuf::new();
-        let map_err = |source| ScenarioError::Map { path: PathBuf::new(), source };
+        let map_err = |source| ScenarioError::Map {
+            path: PathBuf::new(),
+            source,
+        };
         self.map.validate().map_err(map_err)?;
-        self.map.validate_point("start", &self.start).map_err(map_err)?;
-        self.map.validate_point("goal", &self.goal).map_err(map_err)?;
-        validate_planes(&self.terrain.planes).map_err(|source| ScenarioError::Planes { path: path.clone(), source })?;
+        self.map
+            .validate_point("start", &self.start)
+            .map_err(map_err)?;
+        self.map
+            .validate_point("goal", &self.goal)
+            .map_err(map_err)?;
+        validate_planes(&self.terrain.planes).map_err(|source| ScenarioError::Planes {
+            path: path.clone(),
+            source,
+        })?;
         let r = &self.robot;
-        let bad = |message: String| Err(ScenarioError::Robot { path: PathBuf::new(), message });
+        let bad = |message: String| {
+            Err(ScenarioError::Robot {
+                path: PathBuf::new(),
+                message,
+            })
+        };
         if !(r.mass_kg.is_finite() && r.mass_kg > 0.0) {
-            return bad(format!("mass_kg must be a positive number, got {}", r.mass_kg));
+            return bad(format!(
+                "mass_kg must be a positive number, got {}",
+                r.mass_kg
+            ));
         }
         if !(r.clearance_m.is_finite() && r.clearance_m >= 0.0) {
             return bad(format!("clearance_m must be >= 0, got {}", r.clearance_m));
@@ -227,7 +255,9 @@ impl Scenario {
     pub fn to_text(&self, format: Format) -> String {
         match format {
             Format::Ron => {
-                let config = ron::ser::PrettyConfig::new().depth_limit(4).indentor("    ".to_string());
+                let config = ron::ser::PrettyConfig::new()
+                    .depth_limit(4)
+                    .indentor("    ".to_string());
                 ron::ser::to_string_pretty(self, config).unwrap_or_default() + "\n"
             }
             Format::Json => serde_json::to_string_pretty(self).unwrap_or_default() + "\n",
@@ -237,9 +267,15 @@ impl Scenario {
     /// Writes the scenario to `path` (format by extension), atomically.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), ScenarioError> {
         let path = path.as_ref();
-        let format = Format::of_path(path).ok_or_else(|| ScenarioError::UnknownFormat { path: path.to_path_buf() })?;
-        crate::io::write_atomically(path, self.to_text(format).as_bytes())
-            .map_err(|source| ScenarioError::Io { path: path.to_path_buf(), source })
+        let format = Format::of_path(path).ok_or_else(|| ScenarioError::UnknownFormat {
+            path: path.to_path_buf(),
+        })?;
+        crate::io::write_atomically(path, self.to_text(format).as_bytes()).map_err(|source| {
+            ScenarioError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
+        })
     }
 }
 
@@ -248,7 +284,17 @@ impl ScenarioError {
     fn at(self, p: &Path) -> ScenarioError {
         let p = p.to_path_buf();
         match self {
-            ScenarioError::Parse { line, column, message, .. } => ScenarioError::Parse { path: p, line, column, message },
+            ScenarioError::Parse {
+                line,
+                column,
+                message,
+                ..
+            } => ScenarioError::Parse {
+                path: p,
+                line,
+                column,
+                message,
+            },
             ScenarioError::Map { source, .. } => ScenarioError::Map { path: p, source },
             ScenarioError::Planes { source, .. } => ScenarioError::Planes { path: p, source },
             ScenarioError::Robot { message, .. } => ScenarioError::Robot { path: p, message },
@@ -300,15 +346,20 @@ mod tests {
             other => panic!("expected a parse error, got {other:?}"),
         }
         let typo = TINY.replace("goal:", "gaol:");
-        assert!(matches!(Scenario::from_ron_str(&typo), Err(ScenarioError::Parse { .. })));
+        assert!(matches!(
+            Scenario::from_ron_str(&typo),
+            Err(ScenarioError::Parse { .. })
+        ));
     }
 
     #[test]
     fn semantic_errors_name_the_problem() {
-        let s = Scenario::from_ron_str(&TINY.replace("goal: (5.0, 1.0)", "goal: (5.0, 9.0)")).unwrap();
+        let s =
+            Scenario::from_ron_str(&TINY.replace("goal: (5.0, 1.0)", "goal: (5.0, 9.0)")).unwrap();
         let e = s.validate().unwrap_err().to_string();
         assert!(e.contains("goal point (5, 9) is inside obstacle 0"), "{e}");
-        let s = Scenario::from_ron_str(&TINY.replace("slope_deg: 45.0", "slope_deg: 95.0")).unwrap();
+        let s =
+            Scenario::from_ron_str(&TINY.replace("slope_deg: 45.0", "slope_deg: 95.0")).unwrap();
         assert!(matches!(s.validate(), Err(ScenarioError::Planes { .. })));
     }
 }

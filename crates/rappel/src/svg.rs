@@ -130,7 +130,11 @@ const MAX_H: f64 = 1400.0;
 fn fmt(v: f64) -> String {
     let s = format!("{v:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" { "0".to_string() } else { s.to_string() }
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
 }
 
 impl Picture {
@@ -144,7 +148,12 @@ impl Picture {
         };
         let (w, h) = bounds.size();
         let unit = (w / MAX_W).max(h / MAX_H).max(1e-12);
-        Picture { bounds, unit, body: Vec::new(), used: Vec::new() }
+        Picture {
+            bounds,
+            unit,
+            body: Vec::new(),
+            used: Vec::new(),
+        }
     }
 
     /// A picture framing a map.
@@ -168,13 +177,20 @@ impl Picture {
     }
 
     fn points(pts: &[Point2<f64>]) -> String {
-        pts.iter().map(|p| format!("{},{}", fmt(p.x), fmt(p.y))).collect::<Vec<_>>().join(" ")
+        pts.iter()
+            .map(|p| format!("{},{}", fmt(p.x), fmt(p.y)))
+            .collect::<Vec<_>>()
+            .join(" ")
     }
 
     /// A closed filled polygon on `layer`.
     pub fn polygon(&mut self, layer: Layer, pts: &[Point2<f64>]) {
         self.use_layer(layer);
-        let s = format!("<polygon points=\"{}\" {}/>", Self::points(pts), self.style(layer));
+        let s = format!(
+            "<polygon points=\"{}\" {}/>",
+            Self::points(pts),
+            self.style(layer)
+        );
         self.body.push((layer, s));
     }
 
@@ -188,7 +204,11 @@ impl Picture {
     }
 
     /// Many segments on `layer` as one path element (for meshes).
-    pub fn segments(&mut self, layer: Layer, segs: impl IntoIterator<Item = (Point2<f64>, Point2<f64>)>) {
+    pub fn segments(
+        &mut self,
+        layer: Layer,
+        segs: impl IntoIterator<Item = (Point2<f64>, Point2<f64>)>,
+    ) {
         self.use_layer(layer);
         let mut d = String::new();
         for (a, b) in segs {
@@ -208,7 +228,12 @@ impl Picture {
     fn marker_svg(&self, layer: Layer, p: Point2<f64>, shape: Marker, r: f64) -> String {
         let style = self.style(layer);
         match shape {
-            Marker::Circle => format!("<circle cx=\"{}\" cy=\"{}\" r=\"{}\" {style}/>", fmt(p.x), fmt(p.y), fmt(r)),
+            Marker::Circle => format!(
+                "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" {style}/>",
+                fmt(p.x),
+                fmt(p.y),
+                fmt(r)
+            ),
             Marker::Square => format!(
                 "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" {style}/>",
                 fmt(p.x - r * 0.8),
@@ -316,16 +341,29 @@ impl Picture {
         let x = x0 + 16.0;
         let _ = writeln!(out, "<g font-size=\"13\">");
         let mut y = 24.0;
-        let _ = writeln!(out, "<text x=\"{}\" y=\"{}\" font-weight=\"bold\">legend</text>", fmt(x), fmt(y));
+        let _ = writeln!(
+            out,
+            "<text x=\"{}\" y=\"{}\" font-weight=\"bold\">legend</text>",
+            fmt(x),
+            fmt(y)
+        );
         let mut used = self.used.clone();
         used.sort_by_key(|l| draw_order(*l));
         for layer in used {
             y += 20.0;
             let (fill, stroke, width, opacity) = layer.look();
             let swatch = match layer {
-                Layer::Anchor => format!("<rect x=\"{}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"{fill}\" stroke=\"{stroke}\"/>", fmt(x + 5.0), fmt(y - 10.0)),
+                Layer::Anchor => format!(
+                    "<rect x=\"{}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
+                    fmt(x + 5.0),
+                    fmt(y - 10.0)
+                ),
                 Layer::Waypoint | Layer::Start | Layer::Goal => {
-                    format!("<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"{fill}\" stroke=\"{stroke}\"/>", fmt(x + 10.0), fmt(y - 5.0))
+                    format!(
+                        "<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
+                        fmt(x + 10.0),
+                        fmt(y - 5.0)
+                    )
                 }
                 _ if fill != "none" => format!(
                     "<rect x=\"{}\" y=\"{}\" width=\"20\" height=\"10\" fill=\"{fill}\" fill-opacity=\"{}\" stroke=\"{stroke}\"/>",
@@ -342,13 +380,23 @@ impl Picture {
                     fmt(width.max(1.0))
                 ),
             };
-            let _ = writeln!(out, "{swatch}<text x=\"{}\" y=\"{}\">{}</text>", fmt(x + 28.0), fmt(y), layer.label());
+            let _ = writeln!(
+                out,
+                "{swatch}<text x=\"{}\" y=\"{}\">{}</text>",
+                fmt(x + 28.0),
+                fmt(y),
+                layer.label()
+            );
         }
         // Scale bar: a round length near 120 px.
         y += 40.0;
         let target = 120.0 * self.unit;
         let mag = 10f64.powf(target.log10().floor());
-        let len = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).filter(|l| *l <= target).fold(mag, f64::max);
+        let len = [1.0, 2.0, 5.0, 10.0]
+            .iter()
+            .map(|m| m * mag)
+            .filter(|l| *l <= target)
+            .fold(mag, f64::max);
         let px = len / self.unit;
         let _ = writeln!(
             out,
@@ -395,5 +443,7 @@ fn draw_order(layer: Layer) -> u8 {
 }
 
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }

@@ -1,6 +1,7 @@
 //! The regression runner: every suite returns [`Case`]s (a measured value beside its reference and a
 //! verdict); the runner prints them as one table and fails if any case failed.
 
+mod btm;
 mod mechanics;
 
 use std::path::PathBuf;
@@ -42,7 +43,7 @@ impl Case {
 /// A suite: a name and the function that runs it.
 type Suite = (&'static str, fn() -> Result<Vec<Case>, String>);
 
-const SUITES: &[Suite] = &[("mechanics", mechanics::suite)];
+const SUITES: &[Suite] = &[("btm", btm::suite), ("mechanics", mechanics::suite)];
 
 /// The workspace root (the parent of `xtask/`).
 pub fn workspace_root() -> PathBuf {

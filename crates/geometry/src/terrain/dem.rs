@@ -216,6 +216,24 @@ impl GridGeometry {
         ]
     }
 
+    /// World corners of the rectangle through the centres of the outer cells (the region where
+    /// heights are sampled), counter-clockwise from the south-west.
+    pub fn sample_corners(&self) -> [Point2<f64>; 4] {
+        let (hx, hy) = (0.5 * self.cell_x, 0.5 * self.cell_y);
+        let (w, e, s, n) = (
+            self.west + hx,
+            self.east() - hx,
+            self.south() + hy,
+            self.north - hy,
+        );
+        [
+            Point2::new(w, s),
+            Point2::new(e, s),
+            Point2::new(e, n),
+            Point2::new(w, n),
+        ]
+    }
+
     /// Fractional `(row, col)` of a world point: cell `(r, c)` spans `[r, r + 1) x [c, c + 1)`.
     pub fn world_to_grid(&self, p: &Point2<f64>) -> (f64, f64) {
         (

@@ -301,14 +301,16 @@ pub fn parse_esri_ascii(bytes: &[u8]) -> Result<HeightGrid, EsriAsciiError> {
     // NODATA may be NaN (as GDAL writes it for float grids); NaN cells are unknown anyway.
     let nodata = match header[NODATA] {
         None => None,
-        Some(e) => Some(parse_f64(e.text).filter(|v| !v.is_infinite()).ok_or_else(|| {
-            EsriAsciiError::BadHeaderValue {
-                line: e.line,
-                key: KEYS[NODATA],
-                text: quote(e.text),
-                expected: "a number",
-            }
-        })?),
+        Some(e) => Some(
+            parse_f64(e.text)
+                .filter(|v| !v.is_infinite())
+                .ok_or_else(|| EsriAsciiError::BadHeaderValue {
+                    line: e.line,
+                    key: KEYS[NODATA],
+                    text: quote(e.text),
+                    expected: "a number",
+                })?,
+        ),
     };
     let north = south + nrows as f64 * cell_y;
     let geometry = GridGeometry::new(nrows, ncols, cell_x, cell_y, west, north)?;
@@ -328,13 +330,13 @@ pub fn parse_esri_ascii(bytes: &[u8]) -> Result<HeightGrid, EsriAsciiError> {
                     line: line_no,
                 });
             }
-            let v = parse_f64(tok)
-                .filter(|v| !v.is_infinite())
-                .ok_or_else(|| EsriAsciiError::BadValue {
+            let v = parse_f64(tok).filter(|v| !v.is_infinite()).ok_or_else(|| {
+                EsriAsciiError::BadValue {
                     line: line_no,
                     index: heights.len(),
                     text: quote(tok),
-                })?;
+                }
+            })?;
             heights.push(if Some(v) == nodata { f64::NAN } else { v });
         }
     }
@@ -403,21 +405,22 @@ mod tests {
         )
         .unwrap();
         let g = dem.geometry();
-        assert_eq!((g.nrows, g.ncols, g.cell_x, g.west, g.north), (1, 3, 2.0, 5.0, 12.0));
+        assert_eq!(
+            (g.nrows, g.ncols, g.cell_x, g.west, g.north),
+            (1, 3, 2.0, 5.0, 12.0)
+        );
         assert_eq!(dem.height(0, 1), None);
         assert_eq!(dem.height(0, 2), Some(9.0));
     }
 
     #[test]
     fn centre_variant_shifts_by_half_a_cell() {
-        let corner = parse_esri_ascii(
-            b"ncols 1\nnrows 1\nxllcorner 99\nyllcorner 199\ncellsize 2\n5\n",
-        )
-        .unwrap();
-        let centre = parse_esri_ascii(
-            b"ncols 1\nnrows 1\nxllcenter 100\nyllcenter 200\ncellsize 2\n5\n",
-        )
-        .unwrap();
+        let corner =
+            parse_esri_ascii(b"ncols 1\nnrows 1\nxllcorner 99\nyllcorner 199\ncellsize 2\n5\n")
+                .unwrap();
+        let centre =
+            parse_esri_ascii(b"ncols 1\nnrows 1\nxllcenter 100\nyllcenter 200\ncellsize 2\n5\n")
+                .unwrap();
         assert_eq!(corner, centre);
     }
 
@@ -529,7 +532,9 @@ mod tests {
     #[test]
     fn huge_announced_size_is_refused_without_allocating() {
         assert!(matches!(
-            err("ncols 100000000000\nnrows 100000000000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n"),
+            err(
+                "ncols 100000000000\nnrows 100000000000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n"
+            ),
             EsriAsciiError::Grid(GridError::TooLarge { .. })
         ));
         // Within the limit but far more than the file holds: an error, quickly.
@@ -542,8 +547,10 @@ mod tests {
     #[test]
     fn round_trip_non_square_cells() {
         let g = GridGeometry::new(3, 2, 0.25, 4.0, -7.5, 1e6).unwrap();
-        let dem = HeightGrid::from_fn(g, |r, c, _| (r + c != 2).then_some(0.1 * (r * 7 + c) as f64))
-            .unwrap();
+        let dem = HeightGrid::from_fn(g, |r, c, _| {
+            (r + c != 2).then_some(0.1 * (r * 7 + c) as f64)
+        })
+        .unwrap();
         let back = parse_esri_ascii(write_esri_ascii(&dem, -32768.0).as_bytes()).unwrap();
         assert_eq!(back, dem);
     }

@@ -13,7 +13,11 @@
 //!    strike runs along `x`, this is exactly an isometry; across plane edges it is the standard
 //!    unfolding of a developable strip.
 //!
-//! The origin is placed so that the grid's footprint has `t >= 0` and `s >= 0`, touching both.
+//! The map region of a grid is its *sampled footprint*: the rectangle through the centres of the
+//! outer cells, where the heights are known (cells extend half a cell beyond it). The origin is
+//! placed so that the sampled footprint has `t >= 0` and `s >= 0`, touching both. Keeping the
+//! boundary half a cell inside the cells' outer edges also keeps it clear of the cell corners that
+//! obstacle hulls are made of, so hulls at the edge cross it cleanly.
 
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
@@ -74,11 +78,11 @@ impl PlanningFrame {
         }
     }
 
-    /// A frame for the grid `g`: its origin puts the grid's footprint at `t >= 0`, `s >= 0`.
+    /// A frame for the grid `g`: its origin puts the sampled footprint at `t >= 0`, `s >= 0`.
     pub fn for_grid(g: &GridGeometry, fall_line: &FallLine) -> Self {
         let mut f = PlanningFrame::new(fall_line, Point2::origin());
         let (mut t_min, mut s_min) = (f64::INFINITY, f64::INFINITY);
-        for c in g.corners() {
+        for c in g.sample_corners() {
             let (t, s) = f.horizontal(&c);
             t_min = t_min.min(t);
             s_min = s_min.min(s);
@@ -198,10 +202,11 @@ impl PlanningFrame {
         (lo < hi).then(|| [base + self.across * lo, base + self.across * hi])
     }
 
-    /// The grid's footprint in the planning frame, counter-clockwise, with a vertex wherever an
-    /// edge of the footprint crosses a plane edge (so that the unfolded outline is exact).
+    /// The grid's sampled footprint (see the module docs) in the planning frame,
+    /// counter-clockwise, with a vertex wherever an edge of it crosses a plane edge (so that the
+    /// unfolded outline is exact).
     pub fn footprint(&self, g: &GridGeometry) -> Vec<Point2<f64>> {
-        let corners = g.corners();
+        let corners = g.sample_corners();
         let mut out = Vec::new();
         for i in 0..4 {
             let (a, b) = (corners[i], corners[(i + 1) % 4]);
@@ -236,11 +241,18 @@ mod tests {
     fn frame_is_right_handed_and_round_trips() {
         for az in [0.0, 37.0, 90.0, 200.0, 311.0] {
             let fl = FallLine::from_azimuth(az).unwrap();
-            let f = PlanningFrame::new(&fl, Point2::new(5.0, -3.0))
-                .unfolded(&[(-10.0, 20.0), (0.0, 35.0), (12.5, 50.0)]);
+            let f = PlanningFrame::new(&fl, Point2::new(5.0, -3.0)).unfolded(&[
+                (-10.0, 20.0),
+                (0.0, 35.0),
+                (12.5, 50.0),
+            ]);
             // Cross product across x uphill = +1 (counter-clockwise from x to y).
             assert!((f.across.x * f.uphill.y - f.across.y * f.uphill.x - 1.0).abs() < 1e-12);
-            for w in [Point2::new(0.0, 0.0), Point2::new(40.0, -7.0), Point2::new(-3.0, 22.0)] {
+            for w in [
+                Point2::new(0.0, 0.0),
+                Point2::new(40.0, -7.0),
+                Point2::new(-3.0, 22.0),
+            ] {
                 let back = f.to_world(&f.to_planning(&w));
                 assert!((back - w).norm() < 1e-9, "{az} {w} {back}");
             }
@@ -268,9 +280,9 @@ mod tests {
         assert!(poly.is_counter_clockwise());
         // 4 corners plus two crossings of the break line s = 4.
         assert_eq!(fp.len(), 6);
-        let (xmin, ymin) = fp
-            .iter()
-            .fold((f64::INFINITY, f64::INFINITY), |(a, b), p| (a.min(p.x), b.min(p.y)));
+        let (xmin, ymin) = fp.iter().fold((f64::INFINITY, f64::INFINITY), |(a, b), p| {
+            (a.min(p.x), b.min(p.y))
+        });
         assert!(xmin.abs() < 1e-9 && ymin.abs() < 1e-9);
         let seg = f.level_line_in_grid(&g, 4.0).unwrap();
         for p in seg {

@@ -196,11 +196,7 @@ pub fn decode_geotiff<R: Read + Seek>(reader: R) -> Result<HeightGrid, GeoTiffEr
     let mut dec = Decoder::new(reader)?;
     let (width, height) = dec.dimensions()?;
     match dec.colortype()? {
-        ColorType::Gray(_)
-        | ColorType::Multiband {
-            num_samples: 1,
-            ..
-        } => {}
+        ColorType::Gray(_) | ColorType::Multiband { num_samples: 1, .. } => {}
         other => {
             return Err(GeoTiffError::NotSingleBand {
                 what: format!("{other:?}"),
@@ -208,14 +204,7 @@ pub fn decode_geotiff<R: Read + Seek>(reader: R) -> Result<HeightGrid, GeoTiffEr
         }
     }
     let (cell_x, cell_y, west, north) = georeference(&mut dec)?;
-    let geometry = GridGeometry::new(
-        height as usize,
-        width as usize,
-        cell_x,
-        cell_y,
-        west,
-        north,
-    )?;
+    let geometry = GridGeometry::new(height as usize, width as usize, cell_x, cell_y, west, north)?;
     let nodata = gdal_nodata(&mut dec)?;
     let heights = to_heights(dec.read_image()?, nodata);
     if heights.len() != geometry.len() {

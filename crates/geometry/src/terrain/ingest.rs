@@ -119,7 +119,9 @@ pub enum IngestError {
     Map(#[from] MapError),
     /// No free point with clearance found for a suggested start or goal. Fix: give it explicitly,
     /// or relax obstacle detection.
-    #[error("no free {what} point with {margin_m} m of clearance found in the map; give one explicitly")]
+    #[error(
+        "no free {what} point with {margin_m} m of clearance found in the map; give one explicitly"
+    )]
     NoFreeEndpoint {
         /// `start` or `goal`.
         what: &'static str,
@@ -206,8 +208,12 @@ impl Ingested {
             tether_free_planes: free,
             tether_demand_planes: self.planes.len() - free,
             obstacle_points: self.detection.classes.len()
-                - self.detection.count(super::obstacle_detection::CellClass::Ground)
-                - self.detection.count(super::obstacle_detection::CellClass::Unknown),
+                - self
+                    .detection
+                    .count(super::obstacle_detection::CellClass::Ground)
+                - self
+                    .detection
+                    .count(super::obstacle_detection::CellClass::Unknown),
             tether_clusters: self.detection.tether_clusters.len(),
             tether_obstacles: self.map.obstacles.len(),
             robot_clusters: self.detection.robot_clusters.len(),
@@ -283,7 +289,13 @@ fn clear(map: &Map, robot: &[Polygon], p: Point2<f64>, margin: f64) -> bool {
 
 /// A clear point, searching along vertical lines from the middle of the map outwards, each from the
 /// top down (`from_top`) or the bottom up.
-fn suggest(map: &Map, robot: &[Polygon], from_top: bool, step: f64, margin: f64) -> Option<Point2<f64>> {
+fn suggest(
+    map: &Map,
+    robot: &[Polygon],
+    from_top: bool,
+    step: f64,
+    margin: f64,
+) -> Option<Point2<f64>> {
     let b = map.aabb();
     let xc = 0.5 * (b.min.x + b.max.x);
     let half = ((b.max.x - b.min.x) / (2.0 * step)).ceil() as i64;
@@ -407,16 +419,17 @@ pub fn ingest(dem: &HeightGrid, options: &IngestOptions) -> Result<Ingested, Ing
     // 6. Start and goal.
     let step = g.cell_size();
     let margin = START_GOAL_MARGIN_CELLS * step;
-    let endpoint = |what: &'static str, given: Option<Point2<f64>>, from_top: bool| {
-        match given {
-            Some(p) => map.validate_point(what, &p).map(|_| p).map_err(IngestError::from),
-            None => suggest(&map, &robot_obstacles, from_top, step, margin).ok_or(
-                IngestError::NoFreeEndpoint {
-                    what,
-                    margin_m: margin,
-                },
-            ),
-        }
+    let endpoint = |what: &'static str, given: Option<Point2<f64>>, from_top: bool| match given {
+        Some(p) => map
+            .validate_point(what, &p)
+            .map(|_| p)
+            .map_err(IngestError::from),
+        None => suggest(&map, &robot_obstacles, from_top, step, margin).ok_or(
+            IngestError::NoFreeEndpoint {
+                what,
+                margin_m: margin,
+            },
+        ),
     };
     let start = endpoint("start", options.start, true)?;
     let goal = endpoint("goal", options.goal, false)?;

@@ -144,13 +144,25 @@ mod tests {
         let pts: Vec<(f64, f64, f64)> = (0..40)
             .map(|i| {
                 let (u, v) = ((i % 7) as f64, (i / 7) as f64 * 0.5);
-                (u, v, 1.0 + 0.3 * u - 0.8 * v + ((i * 37) % 11) as f64 * 0.01)
+                (
+                    u,
+                    v,
+                    1.0 + 0.3 * u - 0.8 * v + ((i * 37) % 11) as f64 * 0.01,
+                )
             })
             .collect();
-        let (mut all, mut a, mut b) = (PlaneStats::default(), PlaneStats::default(), PlaneStats::default());
+        let (mut all, mut a, mut b) = (
+            PlaneStats::default(),
+            PlaneStats::default(),
+            PlaneStats::default(),
+        );
         for (i, &(u, v, z)) in pts.iter().enumerate() {
             all.add(u, v, z);
-            if i < 17 { a.add(u, v, z) } else { b.add(u, v, z) }
+            if i < 17 {
+                a.add(u, v, z)
+            } else {
+                b.add(u, v, z)
+            }
         }
         let (f1, f2) = (all.fit().unwrap(), a.merged(&b).fit().unwrap());
         assert!((f1.grad_u - f2.grad_u).abs() < 1e-12 && (f1.rms - f2.rms).abs() < 1e-12);

@@ -244,7 +244,8 @@ struct Offset {
 /// The forward half of the search window (each unordered pair visited once).
 fn search_offsets(g: &GridGeometry, o: &ObstacleOptions) -> Vec<Offset> {
     let reach = o.h_max_m / o.theta_max_deg.to_radians().sin();
-    let floor_cells = |cell: f64| ((reach / cell).floor() as usize).max(usize::from(o.bridge_unsampled_faces));
+    let floor_cells =
+        |cell: f64| ((reach / cell).floor() as usize).max(usize::from(o.bridge_unsampled_faces));
     let (rx, ry) = (
         floor_cells(g.cell_x).min(g.ncols) as isize,
         floor_cells(g.cell_y).min(g.nrows),
@@ -378,9 +379,8 @@ pub fn detect_obstacles(
         }
     }
 
-    let window = |cell: f64| {
-        ((options.ground_window_m / cell).ceil() as usize).max(MIN_GROUND_WINDOW_CELLS)
-    };
+    let window =
+        |cell: f64| ((options.ground_window_m / cell).ceil() as usize).max(MIN_GROUND_WINDOW_CELLS);
     let w = (window(g.cell_x), window(g.cell_y));
     let threshold = RAISED_FRACTION_OF_H_MIN * options.h_min_m;
     let classes: Vec<CellClass> = (0..g.len())
@@ -428,10 +428,24 @@ mod tests {
         for (o, name) in [
             (ObstacleOptions { h_min_m: 0.0, ..ok }, "H_min"),
             (ObstacleOptions { h_max_m: 0.1, ..ok }, "H_max"),
-            (ObstacleOptions { theta_max_deg: 90.0, ..ok }, "theta_max"),
-            (ObstacleOptions { ground_window_m: f64::NAN, ..ok }, "ground_window"),
+            (
+                ObstacleOptions {
+                    theta_max_deg: 90.0,
+                    ..ok
+                },
+                "theta_max",
+            ),
+            (
+                ObstacleOptions {
+                    ground_window_m: f64::NAN,
+                    ..ok
+                },
+                "ground_window",
+            ),
         ] {
-            assert!(matches!(o.validate(), Err(ObstacleError::BadParameter { name: n, .. }) if n == name));
+            assert!(
+                matches!(o.validate(), Err(ObstacleError::BadParameter { name: n, .. }) if n == name)
+            );
         }
     }
 
@@ -441,7 +455,10 @@ mod tests {
         let o = ObstacleOptions::default();
         let reach = 2.0 / 40f64.to_radians().sin(); // 3.11 m
         let offs = search_offsets(&g, &o);
-        assert!(offs.iter().all(|k| (k.dx * k.dx + k.dy * k.dy).sqrt() < reach));
+        assert!(
+            offs.iter()
+                .all(|k| (k.dx * k.dx + k.dy * k.dy).sqrt() < reach)
+        );
         // Every forward offset within the reach is there: the count of lattice points of the half
         // disc (excluding the centre).
         let mut n = 0;

@@ -10,13 +10,19 @@
 //!    the union of two bands, and its residual, cost O(1).
 //! 3. Bands with fewer than [`MIN_CELLS_PER_PLANE`] cells, or whose cells are collinear, are merged
 //!    into a neighbour first.
-//! 4. Repeatedly, the pair of neighbouring segments whose merged plane has the smallest RMS
-//!    residual is merged, while that residual is at most the tolerance
-//!    ([`DEFAULT_PLANE_RESIDUAL_TOLERANCE_M`] by default).
+//! 4. The *merge residual* of two neighbouring segments is the RMS, over their cells, of the height
+//!    difference between their two planes and the single plane fitted to both. Least squares make
+//!    it exact and cheap: since one plane is a special case of two, Pythagoras gives
+//!    `SSE(merged) = SSE(lower) + SSE(upper) + n * merge_residual^2`. Unlike the merged plane's own
+//!    residual, it does not count the terrain's roughness (which no plane removes), only the
+//!    change of slope that merging hides: a hinge of gradient change `dg` at the middle of a run of
+//!    length `L` has a merge residual of `dg L / (8 sqrt 3)`. Repeatedly, the neighbours with the
+//!    smallest merge residual are merged, while it is at most the tolerance
+//!    ([`DEFAULT_PLANE_MERGE_TOLERANCE_M`] by default).
 //! 5. Convexity (thesis §2.1.2: the algorithms hold for "a series of progressively-steeper
 //!    tether-demand planes which form a convex surface"; a shallower plane below a steeper one lets
 //!    the taut tether lift off): while some plane is shallower than the plane above it, the
-//!    violating pair with the smallest merged residual is merged, whatever the residual (the
+//!    violating pair with the smallest merge residual is merged, whatever the residual (the
 //!    pool-adjacent-violators step of isotonic regression). The number of such merges is reported.
 //!
 //! Each plane's slope is its inclination along the fall line, `eta = atan |b|`; the cross gradient
@@ -31,11 +37,10 @@ use super::least_squares::{LsqPlane, PlaneStats};
 /// Default width of the bands, in cells (of the larger cell size).
 pub const DEFAULT_BAND_CELLS: f64 = 10.0;
 
-/// Default tolerance on the RMS residual of a merged plane, metres: neighbouring bands are merged
-/// while the merged plane fits their cells to within this (about the height of the smallest
-/// obstacle that matters at HiRISE resolution times a few: terrain undulations below it are
-/// roughness, not a change of plane).
-pub const DEFAULT_PLANE_RESIDUAL_TOLERANCE_M: f64 = 1.0;
+/// Default tolerance on the merge residual (see the module docs), metres: neighbouring planes are
+/// merged while one plane stays within this RMS of the two. Half a metre is a quarter of the
+/// thesis' `H_max`: merging moves the modelled ground by much less than an obstacle's height.
+pub const DEFAULT_PLANE_MERGE_TOLERANCE_M: f64 = 0.5;
 
 /// Fewest known cells a plane is fitted to; smaller bands are merged into a neighbour first.
 pub const MIN_CELLS_PER_PLANE: usize = 6;
@@ -45,9 +50,9 @@ pub const MIN_CELLS_PER_PLANE: usize = 6;
 pub struct PlaneFitOptions {
     /// Band width along the fall line, horizontal metres; `None`: [`DEFAULT_BAND_CELLS`] cells.
     pub band_width_m: Option<f64>,
-    /// Largest RMS residual (metres) of a plane made by merging bands.
-    /// Default [`DEFAULT_PLANE_RESIDUAL_TOLERANCE_M`].
-    pub residual_tolerance_m: f64,
+    /// Largest merge residual (metres, see the module docs) of two planes merged into one.
+    /// Default [`DEFAULT_PLANE_MERGE_TOLERANCE_M`].
+    pub merge_tolerance_m: f64,
     /// Merge planes until the series is convex (each plane at least as steep as the one above).
     /// Default `true`.
     pub enforce_convexity: bool,
@@ -57,7 +62,7 @@ impl Default for PlaneFitOptions {
     fn default() -> Self {
         PlaneFitOptions {
             band_width_m: None,
-            residual_tolerance_m: DEFAULT_PLANE_RESIDUAL_TOLERANCE_M,
+            merge_tolerance_m: DEFAULT_PLANE_MERGE_TOLERANCE_M,
             enforce_convexity: true,
         }
     }
@@ -69,8 +74,8 @@ pub enum PlaneFitError {
     /// A band width that is not a positive finite number.
     #[error("band width {0} m must be positive and finite")]
     BadBandWidth(f64),
-    /// A residual tolerance that is negative or not finite.
-    #[error("residual tolerance {0} m must be finite and >= 0")]
+    /// A merge tolerance that is negative or not finite.
+    #[error("merge tolerance {0} m must be finite and >= 0")]
     BadTolerance(f64),
     /// Too few known cells, or all on one line, to fit any plane.
     #[error(
@@ -90,8 +95,8 @@ impl PlaneFitOptions {
         {
             return Err(PlaneFitError::BadBandWidth(w));
         }
-        if !(self.residual_tolerance_m.is_finite() && self.residual_tolerance_m >= 0.0) {
-            return Err(PlaneFitError::BadTolerance(self.residual_tolerance_m));
+        if !(self.merge_tolerance_m.is_finite() && self.merge_tolerance_m >= 0.0) {
+            return Err(PlaneFitError::BadTolerance(self.merge_tolerance_m));
         }
         Ok(())
     }
@@ -184,16 +189,37 @@ fn merge_at(segs: &mut Vec<Segment>, i: usize) {
     segs.remove(i + 1);
 }
 
-/// The pair `(i, i + 1)` among those accepted by `eligible` whose merged fit has the smallest RMS.
-fn cheapest_pair(segs: &[Segment], eligible: impl Fn(&Segment, &Segment) -> bool) -> Option<(usize, f64)> {
+/// Sum of squared residuals of a segment's fit (infinite without a fit).
+fn sse(seg: &Segment) -> f64 {
+    seg.fit
+        .map_or(f64::INFINITY, |f| f.rms * f.rms * seg.stats.count() as f64)
+}
+
+/// The merge residual of segments `lower` and `upper` (see the module docs); infinite when either
+/// or the merged segment has no fit.
+fn merge_residual(lower: &Segment, upper: &Segment) -> f64 {
+    let m = lower.merged(upper);
+    let extra = sse(&m) - sse(lower) - sse(upper);
+    if extra.is_nan() {
+        f64::INFINITY
+    } else {
+        (extra.max(0.0) / m.stats.count() as f64).sqrt()
+    }
+}
+
+/// The pair `(i, i + 1)` among those accepted by `eligible` with the smallest merge residual.
+fn cheapest_pair(
+    segs: &[Segment],
+    eligible: impl Fn(&Segment, &Segment) -> bool,
+) -> Option<(usize, f64)> {
     let mut best: Option<(usize, f64)> = None;
     for i in 0..segs.len().saturating_sub(1) {
         if !eligible(&segs[i], &segs[i + 1]) {
             continue;
         }
-        let rms = segs[i].merged(&segs[i + 1]).fit.map_or(f64::INFINITY, |f| f.rms);
-        if best.is_none_or(|(_, r)| rms < r) {
-            best = Some((i, rms));
+        let cost = merge_residual(&segs[i], &segs[i + 1]);
+        if best.is_none_or(|(_, c)| cost < c) {
+            best = Some((i, cost));
         }
     }
     best
@@ -242,7 +268,11 @@ pub fn fit_plane_series(
 
     let mut segs: Vec<Segment> = (0..band_count)
         .map(|k| Segment {
-            s_bottom: if k == 0 { s_lo } else { s_lo + k as f64 * width },
+            s_bottom: if k == 0 {
+                s_lo
+            } else {
+                s_lo + k as f64 * width
+            },
             s_top: if k + 1 == band_count {
                 s_hi
             } else {
@@ -273,7 +303,12 @@ pub fn fit_plane_series(
         if segs.len() == 1 {
             return Err(PlaneFitError::TooFewCells { known });
         }
-        let cost = |j: usize| segs[j].merged(&segs[j + 1]).fit.map_or(f64::INFINITY, |f| f.rms);
+        let cost = |j: usize| {
+            segs[j]
+                .merged(&segs[j + 1])
+                .fit
+                .map_or(f64::INFINITY, |f| f.rms)
+        };
         let j = match (i.checked_sub(1), (i + 1 < segs.len()).then_some(i)) {
             (Some(below), Some(above)) => {
                 if cost(below) <= cost(above) {
@@ -289,9 +324,9 @@ pub fn fit_plane_series(
         merge_at(&mut segs, j);
     }
 
-    // Step 4: merge while the residual stays within the tolerance.
-    while let Some((i, rms)) = cheapest_pair(&segs, |_, _| true) {
-        if rms > options.residual_tolerance_m {
+    // Step 4: merge while the merge residual stays within the tolerance.
+    while let Some((i, cost)) = cheapest_pair(&segs, |_, _| true) {
+        if cost > options.merge_tolerance_m {
             break;
         }
         merge_at(&mut segs, i);
@@ -301,7 +336,8 @@ pub fn fit_plane_series(
     let mut convexity_merges = 0;
     if options.enforce_convexity {
         let gradient = |s: &Segment| s.fit.map_or(0.0, |f| f.grad_u);
-        while let Some((i, _)) = cheapest_pair(&segs, |lower, upper| gradient(lower) < gradient(upper))
+        while let Some((i, _)) =
+            cheapest_pair(&segs, |lower, upper| gradient(lower) < gradient(upper))
         {
             merge_at(&mut segs, i);
             convexity_merges += 1;
@@ -344,9 +380,12 @@ mod tests {
         };
         assert_eq!(bad.validate(), Err(PlaneFitError::BadBandWidth(0.0)));
         let bad = PlaneFitOptions {
-            residual_tolerance_m: f64::NAN,
+            merge_tolerance_m: f64::NAN,
             ..Default::default()
         };
-        assert!(matches!(bad.validate(), Err(PlaneFitError::BadTolerance(_))));
+        assert!(matches!(
+            bad.validate(),
+            Err(PlaneFitError::BadTolerance(_))
+        ));
     }
 }

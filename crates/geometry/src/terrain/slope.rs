@@ -183,13 +183,15 @@ impl SlopeField {
                     gradient.push(unknown);
                     continue;
                 }
-                let dzdx = weighted([-1, 0, 1].map(|k| {
-                    one_line(z(r + k, c - 1), z(r + k, c), z(r + k, c + 1), g.cell_x)
-                }));
+                let dzdx =
+                    weighted([-1, 0, 1].map(|k| {
+                        one_line(z(r + k, c - 1), z(r + k, c), z(r + k, c + 1), g.cell_x)
+                    }));
                 // Northward derivative: row r - 1 is north of row r.
-                let dzdy = weighted([-1, 0, 1].map(|k| {
-                    one_line(z(r + 1, c + k), z(r, c + k), z(r - 1, c + k), g.cell_y)
-                }));
+                let dzdy =
+                    weighted([-1, 0, 1].map(|k| {
+                        one_line(z(r + 1, c + k), z(r, c + k), z(r - 1, c + k), g.cell_y)
+                    }));
                 gradient.push(match (dzdx, dzdy) {
                     (Some(x), Some(y)) => Vector2::new(x, y),
                     _ => unknown,
@@ -362,6 +364,9 @@ mod tests {
         let hs = f.hillshade(&HillshadeOptions::default());
         assert!((hs.get(1, 1).unwrap() - 1.0).abs() < 1e-12);
         let away = SlopeField::horn(&plane(3, 3, d.x * 3.0, d.y * 3.0));
-        assert_eq!(away.hillshade(&HillshadeOptions::default()).get(1, 1), Some(0.0));
+        assert_eq!(
+            away.hillshade(&HillshadeOptions::default()).get(1, 1),
+            Some(0.0)
+        );
     }
 }

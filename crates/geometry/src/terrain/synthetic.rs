@@ -144,10 +144,51 @@ pub fn tiled_texture(base: &HeightGrid, texture: &HeightGrid) -> HeightGrid {
         let k = i % (2 * n);
         if k < n { k } else { 2 * n - 1 - k }
     };
-    base.map(|r, c, h| {
-        Some(h? + texture.height(mirror(r, tg.nrows), mirror(c, tg.ncols))?)
-    })
-    .expect("same grid, finite sums")
+    base.map(|r, c, h| Some(h? + texture.height(mirror(r, tg.nrows), mirror(c, tg.ncols))?))
+        .expect("same grid, finite sums")
+}
+
+/// Compass azimuth of the fall line of [`textured_wall`], degrees (deliberately off the grid axes).
+pub const TEXTURED_WALL_AZIMUTH_DEG: f64 = 200.0;
+
+/// Slopes of the three planes of [`textured_wall`], top first, degrees: a convex crater wall.
+pub const TEXTURED_WALL_SLOPES_DEG: [f64; 3] = [15.0, 25.0, 35.0];
+
+/// A large crater wall made from a small real DEM: `nrows x ncols` cells of `texture`'s size, a
+/// convex series of three planes ([`TEXTURED_WALL_SLOPES_DEG`], each a third of the run along the
+/// fall line) falling towards [`TEXTURED_WALL_AZIMUTH_DEG`], plus the roughness of `texture`
+/// ([`detrended`]) mirror-tiled over it ([`tiled_texture`]). `None` when the texture has no
+/// fittable plane or the size is unusable.
+///
+/// ```
+/// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_geometry::terrain::synthetic::textured_wall;
+/// let g = GridGeometry::new(8, 8, 1.0, 1.0, 0.0, 8.0).unwrap();
+/// let bumpy = HeightGrid::from_fn(g, |r, c, _| Some(((r * 3 + c * 5) % 7) as f64 * 0.1)).unwrap();
+/// let wall = textured_wall(&bumpy, 100, 60).unwrap();
+/// assert_eq!((wall.geometry().nrows, wall.geometry().ncols), (100, 60));
+/// ```
+pub fn textured_wall(texture: &HeightGrid, nrows: usize, ncols: usize) -> Option<HeightGrid> {
+    let tg = texture.geometry();
+    let g = GridGeometry::new(
+        nrows,
+        ncols,
+        tg.cell_x,
+        tg.cell_y,
+        0.0,
+        nrows as f64 * tg.cell_y,
+    )
+    .ok()?;
+    let fall = FallLine::from_azimuth(TEXTURED_WALL_AZIMUTH_DEG).ok()?;
+    let frame = PlanningFrame::for_grid(&g, &fall);
+    let run = g
+        .corners()
+        .iter()
+        .map(|c| frame.horizontal(c).1)
+        .fold(0.0f64, f64::max);
+    let planes = TEXTURED_WALL_SLOPES_DEG.map(|deg| ProfilePlane::new(run / 3.0, deg));
+    let base = plane_series_dem(g, &fall, 1000.0, &planes).ok()?;
+    Some(tiled_texture(&base, &detrended(texture)?))
 }
 
 #[cfg(test)]

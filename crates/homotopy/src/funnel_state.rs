@@ -1,0 +1,422 @@
+//! Funnels on the universal cover (thesis §2.3.2, Alg. 2; Guibas et al., Hershberger and
+//! Snoeyink): the primitive a shortest-path-tree search drives.
+//!
+//! # Shortest path tree nodes
+//! Every vertex a search reaches is a node of a shortest path tree rooted at the start `v_s`,
+//! whose parent is its predecessor `pred(v)` (thesis §2.3.1): the node's path to the root,
+//! reversed, is the shortest path to that lift of the vertex in the universal cover. Nodes live
+//! in an append-only arena, the [`FunnelTree`]; a node also stores its path length
+//! `g(v) = g(pred(v)) + |v - pred(v)|` (the cost of thesis eq. 2.5).
+//!
+//! # Funnel states
+//! A funnel (Fig. 2.12) is then four words, a [`FunnelState`]: the left tip node (on `alpha`),
+//! the right tip node (on `beta`), the apex node (the cusp `c`, their lowest common ancestor) and
+//! the mouth (the half-edge `d` crossed next). Its left chain is the tree path from the left tip
+//! up to the apex, its right chain likewise, its apex chain the tree path from the apex to the
+//! root. Funnel states are `Copy`; splitting one (Alg. 2) appends one node and returns two new
+//! states sharing everything else, so a priority queue of thousands of funnels costs a few words
+//! each and no funnel is ever copied or mutated.
+//!
+//! # Split (Alg. 2)
+//! Across the mouth lies triangle `(alpha, beta, v)`. The predecessor of `v` is the node of the
+//! sector containing `v`: scanning the left chain from its tip, the first node `x` with `v`
+//! strictly left of the ray `parent(x) -> x`; otherwise, scanning the right chain from its tip,
+//! the first node with `v` strictly right of its ray; otherwise the apex. Along a chain the test
+//! is monotone (false near the tip, true towards the apex: the chains of a funnel turn by less
+//! than pi), so the scan follows Myers' skew-binary jump pointers, stored in each node, and
+//! takes `O(log n)` tests. The two children are the funnels through the edges `alpha v` and
+//! `v beta`; a child whose mouth is a map edge is dead (Alg. 2 line 3). The child on the side
+//! where the predecessor was found gets it as its apex; the other keeps the old apex (Alg. 2
+//! lines 10-13).
+//!
+//! Advancing a funnel along a given sleeve, child after child, reproduces the Funnel Algorithm
+//! ([`crate::funnel::shortest_path_in_sleeve`]): both use the same exact sector tests with the
+//! same tie rules.
+
+use crate::funnel::{Side, TautPath};
+use crate::geom::{in_closed_triangle, strictly_left, strictly_right};
+use nalgebra::Point2;
+use rappel_geometry::btm::Btm;
+use rappel_geometry::dcel::{HalfEdgeId, TriangleId, VertexId};
+use serde::{Deserialize, Serialize};
+
+/// A node of a [`FunnelTree`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct NodeId(pub u32);
+
+impl NodeId {
+    /// The id as an index into per-node arrays.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FunnelNode {
+    /// Position.
+    pub point: Point2<f64>,
+    /// The map vertex it lifts (`None` for the root and for goal points).
+    pub vertex: Option<VertexId>,
+    /// Length of the shortest path from the root, `g(v)`.
+    pub length: f64,
+    parent: u32,
+    jump: u32,
+    depth: u32,
+}
+
+impl FunnelNode {
+    /// The predecessor, `None` for the root.
+    pub fn parent(&self) -> Option<NodeId> {
+        (self.depth > 0).then_some(NodeId(self.parent))
+    }
+
+    /// Number of edges on the path to the root.
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+}
+
+/// The arena of shortest-path-tree nodes shared by all funnels of one search.
+#[derive(Debug, Clone)]
+pub struct FunnelTree {
+    nodes: Vec<FunnelNode>,
+}
+
+impl FunnelTree {
+    /// A tree holding only the root `start`.
+    pub fn new(start: Point2<f64>) -> FunnelTree {
+        FunnelTree {
+            nodes: vec![FunnelNode {
+                point: start,
+                vertex: None,
+                length: 0.0,
+                parent: 0,
+                jump: 0,
+                depth: 0,
+            }],
+        }
+    }
+
+    /// The root (the start point).
+    pub fn root(&self) -> NodeId {
+        NodeId(0)
+    }
+
+    /// A node.
+    ///
+    /// # Panics
+    /// When `id` did not come from this tree.
+    pub fn node(&self, id: NodeId) -> &FunnelNode {
+        &self.nodes[id.index()]
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Always `false`: the root is always there.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Adds a node at `point` with predecessor `parent`; when `point` coincides with the parent's
+    /// position no node is added and `parent` is returned.
+    pub fn extend(
+        &mut self,
+        parent: NodeId,
+        point: Point2<f64>,
+        vertex: Option<VertexId>,
+    ) -> NodeId {
+        let p = self.nodes[parent.index()];
+        if p.point == point {
+            return parent;
+        }
+        // Myers' skew-binary jump pointers: level-ancestor and monotone searches in O(log n).
+        let j = self.nodes[p.jump as usize];
+        let jj = self.nodes[j.jump as usize];
+        let jump = if p.depth > 0 && p.depth - j.depth == j.depth - jj.depth {
+            j.jump
+        } else {
+            parent.0
+        };
+        self.nodes.push(FunnelNode {
+            point,
+            vertex,
+            length: p.length + (point - p.point).norm(),
+            parent: parent.0,
+            jump,
+            depth: p.depth + 1,
+        });
+        NodeId((self.nodes.len() - 1) as u32)
+    }
+
+    /// The nodes from the root to `id`.
+    pub fn path(&self, id: NodeId) -> Vec<NodeId> {
+        let mut out = Vec::with_capacity(self.nodes[id.index()].depth as usize + 1);
+        let mut x = id;
+        loop {
+            out.push(x);
+            match self.nodes[x.index()].parent() {
+                Some(p) => x = p,
+                None => break,
+            }
+        }
+        out.reverse();
+        out
+    }
+
+    /// The taut path from the root to `id`, with its anchors.
+    pub fn taut_path(&self, btm: &Btm, id: NodeId) -> TautPath {
+        TautPath::from_corners(
+            btm,
+            self.path(id).into_iter().map(|n| {
+                let node = &self.nodes[n.index()];
+                (node.point, node.vertex)
+            }),
+        )
+    }
+
+    /// Scans the chain from `tip` up to (excluding) `apex` for the first node whose incoming ray
+    /// has `p` strictly on `side`.
+    fn first_turn(&self, tip: NodeId, apex: NodeId, p: &Point2<f64>, side: Side) -> Option<NodeId> {
+        let apex_depth = self.nodes[apex.index()].depth;
+        let turns = |x: u32| {
+            let n = &self.nodes[x as usize];
+            let parent = &self.nodes[n.parent as usize].point;
+            match side {
+                Side::Left => strictly_left(parent, &n.point, p),
+                Side::Right => strictly_right(parent, &n.point, p),
+            }
+        };
+        let mut x = tip.0;
+        while self.nodes[x as usize].depth > apex_depth {
+            if turns(x) {
+                return Some(NodeId(x));
+            }
+            let n = &self.nodes[x as usize];
+            let j = n.jump;
+            x = if self.nodes[j as usize].depth > apex_depth && !turns(j) {
+                j
+            } else {
+                n.parent
+            };
+        }
+        None
+    }
+}
+
+/// Which part of a funnel a predecessor was found on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Found {
+    Left,
+    Right,
+    Apex,
+}
+
+/// Why a funnel operation is not possible.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum FunnelStateError {
+    /// The mouth is a map edge: nothing lies beyond it.
+    #[error("half-edge {0} is a map edge: no funnel can pass through it")]
+    ClosedMouth(HalfEdgeId),
+    /// The requested next mouth is not an edge of the triangle beyond the current mouth.
+    #[error("half-edge {next} is not an exit of the triangle beyond mouth {mouth}")]
+    NotAnExit {
+        /// The current mouth.
+        mouth: HalfEdgeId,
+        /// The requested next mouth.
+        next: HalfEdgeId,
+    },
+    /// The tree's root does not lie in the closed start triangle.
+    #[error("the root does not lie in the closed triangle {0}")]
+    RootNotInTriangle(TriangleId),
+}
+
+/// A funnel on the universal cover: left tip, right tip, apex and mouth (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FunnelState {
+    left: NodeId,
+    right: NodeId,
+    apex: NodeId,
+    mouth: HalfEdgeId,
+}
+
+/// The result of splitting a funnel at the vertex beyond its mouth (Alg. 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Split {
+    /// The vertex `v` opposite the mouth.
+    pub vertex: VertexId,
+    /// Its new tree node.
+    pub node: NodeId,
+    /// Its predecessor `t = pred(v)`.
+    pub predecessor: NodeId,
+    /// The funnel through the edge `alpha v` (`None` when it is a map edge).
+    pub left: Option<FunnelState>,
+    /// The funnel through the edge `v beta` (`None` when it is a map edge).
+    pub right: Option<FunnelState>,
+}
+
+impl FunnelState {
+    /// The funnels from the tree's root through each non-map edge of `triangle`, which must
+    /// contain the root (closed). This is the setup of Alg. 1 lines 2-5 and Alg. 3 lines 5-10.
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::{btm::{Btm, Location}, map::Map, polygon::Polygon};
+    /// use rappel_homotopy::funnel_state::{FunnelState, FunnelTree};
+    /// let p = |x, y| Point2::new(x, y);
+    /// let map = Map::new(
+    ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+    ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
+    /// );
+    /// let btm = Btm::build(&map).unwrap();
+    /// let start = p(5., 9.);
+    /// let Location::Triangle(t) = btm.locate(&start) else { unreachable!() };
+    /// let mut tree = FunnelTree::new(start);
+    /// let funnels = FunnelState::initial(&mut tree, &btm, t).unwrap();
+    /// assert!(!funnels.is_empty());
+    /// // Split the first funnel at the vertex beyond its mouth: two children at most.
+    /// let split = funnels[0].split(&mut tree, &btm).unwrap();
+    /// assert_eq!(tree.node(split.predecessor).point, start); // the start sees v directly
+    /// ```
+    pub fn initial(
+        tree: &mut FunnelTree,
+        btm: &Btm,
+        triangle: TriangleId,
+    ) -> Result<Vec<FunnelState>, FunnelStateError> {
+        let root = tree.node(tree.root()).point;
+        if !btm.is_free_triangle(triangle) || !in_closed_triangle(btm.dcel(), triangle, &root) {
+            return Err(FunnelStateError::RootNotInTriangle(triangle));
+        }
+        Ok(triangle
+            .half_edges()
+            .into_iter()
+            .filter_map(|h| FunnelState::through(tree, btm, h).ok())
+            .collect())
+    }
+
+    /// The funnel from the tree's root through the edge `mouth` of the triangle holding the root.
+    pub fn through(
+        tree: &mut FunnelTree,
+        btm: &Btm,
+        mouth: HalfEdgeId,
+    ) -> Result<FunnelState, FunnelStateError> {
+        let d = btm.dcel();
+        let root = tree.root();
+        if !in_closed_triangle(d, mouth.triangle(), &tree.node(root).point) {
+            return Err(FunnelStateError::RootNotInTriangle(mouth.triangle()));
+        }
+        d.twin(mouth).ok_or(FunnelStateError::ClosedMouth(mouth))?;
+        let (a, b) = (d.destination(mouth), d.origin(mouth));
+        let left = tree.extend(root, d.point(a), Some(a));
+        let right = tree.extend(root, d.point(b), Some(b));
+        Ok(FunnelState {
+            left,
+            right,
+            apex: root,
+            mouth,
+        })
+    }
+
+    /// The left tip node (on the mouth's left endpoint `alpha`).
+    pub fn left(&self) -> NodeId {
+        self.left
+    }
+
+    /// The right tip node (on the mouth's right endpoint `beta`).
+    pub fn right(&self) -> NodeId {
+        self.right
+    }
+
+    /// The apex (cusp) node.
+    pub fn apex(&self) -> NodeId {
+        self.apex
+    }
+
+    /// The mouth: the half-edge, in the last triangle of the funnel, crossed next.
+    pub fn mouth(&self) -> HalfEdgeId {
+        self.mouth
+    }
+
+    /// The triangle beyond the mouth (`None` when the mouth is a map edge).
+    pub fn next_triangle(&self, btm: &Btm) -> Option<TriangleId> {
+        btm.dcel().twin(self.mouth).map(|g| g.triangle())
+    }
+
+    /// The predecessor of a point `p` beyond the mouth: the funnel node of the sector holding `p`
+    /// (thesis Fig. 2.14). For the goal this is the `t_g` of thesis eq. 2.5.
+    pub fn predecessor(&self, tree: &FunnelTree, p: &Point2<f64>) -> NodeId {
+        self.locate(tree, p).0
+    }
+
+    fn locate(&self, tree: &FunnelTree, p: &Point2<f64>) -> (NodeId, Found) {
+        if let Some(x) = tree.first_turn(self.left, self.apex, p, Side::Left) {
+            (x, Found::Left)
+        } else if let Some(x) = tree.first_turn(self.right, self.apex, p, Side::Right) {
+            (x, Found::Right)
+        } else {
+            (self.apex, Found::Apex)
+        }
+    }
+
+    /// Adds the goal point `p` (beyond the mouth, in the closed triangle there) to the tree; the
+    /// node's path is the shortest path to `p` through this funnel.
+    pub fn reach(&self, tree: &mut FunnelTree, p: Point2<f64>) -> NodeId {
+        let t = self.predecessor(tree, &p);
+        tree.extend(t, p, None)
+    }
+
+    /// Splits the funnel at the vertex `v` opposite the mouth (Alg. 2): adds `v`'s node and
+    /// returns the two child funnels.
+    pub fn split(&self, tree: &mut FunnelTree, btm: &Btm) -> Result<Split, FunnelStateError> {
+        let d = btm.dcel();
+        let g = d
+            .twin(self.mouth)
+            .ok_or(FunnelStateError::ClosedMouth(self.mouth))?;
+        // g runs alpha -> beta in the next triangle (alpha, beta, v).
+        let vertex = d.origin(g.prev());
+        let vp = d.point(vertex);
+        let (t, found) = self.locate(tree, &vp);
+        let node = tree.extend(t, vp, Some(vertex));
+        let left = d.twin(g.prev()).map(|_| FunnelState {
+            left: self.left,
+            right: node,
+            apex: if found == Found::Left { t } else { self.apex },
+            mouth: g.prev(),
+        });
+        let right = d.twin(g.next()).map(|_| FunnelState {
+            left: node,
+            right: self.right,
+            apex: if found == Found::Right { t } else { self.apex },
+            mouth: g.next(),
+        });
+        Ok(Split {
+            vertex,
+            node,
+            predecessor: t,
+            left,
+            right,
+        })
+    }
+
+    /// Advances the funnel across the triangle beyond its mouth, leaving through `next` (one of
+    /// that triangle's two other edges): the child of [`FunnelState::split`] on that side.
+    pub fn advance(
+        &self,
+        tree: &mut FunnelTree,
+        btm: &Btm,
+        next: HalfEdgeId,
+    ) -> Result<FunnelState, FunnelStateError> {
+        let split = self.split(tree, btm)?;
+        [split.left, split.right]
+            .into_iter()
+            .flatten()
+            .find(|f| f.mouth == next)
+            .ok_or(FunnelStateError::NotAnExit {
+                mouth: self.mouth,
+                next,
+            })
+    }
+}

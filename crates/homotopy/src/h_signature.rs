@@ -1,0 +1,318 @@
+//! H-signatures (thesis §2.2.1, eqs. 2.2-2.3; the online paper's L-values, §II-B; Bhattacharya et
+//! al.): the homology class of a path from complex analysis, computed in a per-obstacle winding
+//! form that stays exact with any number of obstacles.
+//!
+//! # From the product form to windings
+//! With one pole `zeta_j` inside each obstacle `j = 1..N` and `z = x + iy`, eqs. 2.2-2.3 define
+//!
+//! ```text
+//! H(pi) = integral over pi of F(z) dz,   F(z) = f0(z) / ((z - zeta_1) (z - zeta_2) ... (z - zeta_N)).
+//! ```
+//!
+//! By partial fractions (for `f0` analytic, the poles distinct),
+//! `F(z) = sum_j c_j / (z - zeta_j) + E(z)` with residues
+//! `c_j = f0(zeta_j) / prod_{k != j} (zeta_j - zeta_k)` and `E` entire, so
+//!
+//! ```text
+//! H(pi) = sum_j c_j L_j(pi) + (integral of E, which depends on the endpoints only),
+//! L_j(pi) = integral over pi of dz / (z - zeta_j) = ln|b - zeta_j| - ln|a - zeta_j| + i theta_j(pi)
+//! ```
+//!
+//! for a path from `a` to `b`, where `theta_j` is the total change of `arg(z - zeta_j)` along the
+//! path. Per segment the integral is analytic: `Log(q - zeta) - Log(p - zeta)` on the principal
+//! branch (cut along the ray `zeta + t (-1, 0)`, `t > 0`), plus `2 pi i` each time the segment
+//! crosses the cut downwards (counter-clockwise) and minus `2 pi i` upwards. Summed over a path
+//! the principal logarithms telescope, leaving
+//!
+//! ```text
+//! theta_j(pi) = Arg(b - zeta_j) - Arg(a - zeta_j) + 2 pi n_j(pi),   n_j in Z,
+//! ```
+//!
+//! with `n_j` the signed count of cut crossings. For paths with the same endpoints everything but
+//! the integers `n_j` is shared, so the vector `(n_1, .., n_N)` *is* the signature: two paths
+//! have equal product-form signatures (for generic `f0`, whose residues admit no integer relation)
+//! exactly when their winding vectors are equal. [`HSignature`] stores the endpoints and the
+//! non-zero `n_j`, exactly, as integers; [`HSignature::product_form`] evaluates eq. 2.3 from them
+//! for small `N`.
+//!
+//! Why not the product form itself: each residue divides by `N - 1` pole differences, products
+//! like `100^9999` that overflow (or, for close poles, underflow) `f64` long before 10,000
+//! obstacles, and a single complex number cannot keep apart thousands of independent
+//! `2 pi i c_j n_j` terms in 53 bits. The winding form needs no arithmetic beyond exact
+//! orientation signs and integer sums.
+//!
+//! Cut crossings use the half-open rule "a point is above the cut when `y >= zeta.y`" (the
+//! symbolic perturbation that lifts the cut infinitesimally), consistent with `Arg = +pi` on the
+//! cut itself; which side of the pole a crossing is on is an exact orientation sign. Poles are
+//! sorted by `y`, so a segment only tests the poles in its `y` range: on a crater strip (long in
+//! `y`) a segment meets a handful.
+//!
+//! # Homology, not homotopy (thesis Fig. 2.4)
+//! The H-signature is a homology invariant. A loop that goes around obstacle A, then B, then A
+//! backwards, then B backwards (the commutator `A B A^-1 B^-1`) winds zero times around each
+//! obstacle, so its signature is trivial, yet it cannot be contracted: its reduced crossing
+//! sequence is not empty. Equal signatures are necessary for homotopy, not sufficient; use
+//! [`crate::homotopy`] to decide homotopy.
+
+use crate::path::Path;
+use nalgebra::{Complex, Point2};
+use rappel_geometry::btm::Btm;
+use rappel_geometry::dcel::{FaceKind, ObstacleId, TriangleId};
+use rappel_geometry::predicates::orient2d;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// One representative point (pole `zeta_j`) strictly inside each obstacle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Poles {
+    /// Pole per obstacle id (`None` for ids without an obstacle).
+    by_obstacle: Vec<Option<Point2<f64>>>,
+    /// Poles sorted by `y`, for range queries.
+    sorted: Vec<(Point2<f64>, ObstacleId)>,
+}
+
+impl Poles {
+    /// A pole inside each obstacle of `btm`: the centroid of the largest triangle of the
+    /// obstacle's triangulation whose centroid is verified (exactly) to lie strictly inside it.
+    pub fn new(btm: &Btm) -> Poles {
+        let d = btm.dcel();
+        let mut best: Vec<Option<(f64, Point2<f64>)>> = Vec::new();
+        for t in (0..d.triangle_capacity() as u32).map(TriangleId) {
+            let FaceKind::Obstacle(o) = d.face_kind(t) else {
+                continue;
+            };
+            let [a, b, c] = d.triangle_points(t);
+            let area = orient2d(&a, &b, &c).abs();
+            let centroid = Point2::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0);
+            let inside = [(a, b), (b, c), (c, a)]
+                .iter()
+                .all(|(u, v)| orient2d(u, v, &centroid) * orient2d(&a, &b, &c) > 0.0);
+            if !inside {
+                continue;
+            }
+            if best.len() <= o.index() {
+                best.resize(o.index() + 1, None);
+            }
+            if best[o.index()].is_none_or(|(area0, _)| area > area0) {
+                best[o.index()] = Some((area, centroid));
+            }
+        }
+        Poles::from_points(
+            best.iter()
+                .enumerate()
+                .filter_map(|(i, b)| b.map(|(_, p)| (ObstacleId(i as u32), p))),
+        )
+    }
+
+    /// Poles from explicit points (one per obstacle id; later duplicates win).
+    pub fn from_points(points: impl IntoIterator<Item = (ObstacleId, Point2<f64>)>) -> Poles {
+        let mut by_obstacle: Vec<Option<Point2<f64>>> = Vec::new();
+        for (o, p) in points {
+            if by_obstacle.len() <= o.index() {
+                by_obstacle.resize(o.index() + 1, None);
+            }
+            by_obstacle[o.index()] = Some(p);
+        }
+        let mut sorted: Vec<(Point2<f64>, ObstacleId)> = by_obstacle
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| p.map(|p| (p, ObstacleId(i as u32))))
+            .collect();
+        sorted.sort_by(|a, b| a.0.y.total_cmp(&b.0.y).then(a.1.cmp(&b.1)));
+        Poles {
+            by_obstacle,
+            sorted,
+        }
+    }
+
+    /// The pole of obstacle `o`.
+    pub fn pole(&self, o: ObstacleId) -> Option<Point2<f64>> {
+        self.by_obstacle.get(o.index()).copied().flatten()
+    }
+
+    /// Number of poles.
+    pub fn len(&self) -> usize {
+        self.sorted.len()
+    }
+
+    /// `true` when there are no obstacles.
+    pub fn is_empty(&self) -> bool {
+        self.sorted.is_empty()
+    }
+
+    /// All poles with their obstacles, sorted by `y`.
+    pub fn iter(&self) -> impl Iterator<Item = (ObstacleId, Point2<f64>)> + '_ {
+        self.sorted.iter().map(|(p, o)| (*o, *p))
+    }
+
+    /// The poles whose cut a segment from `a` to `b` might cross: `min y < zeta.y <= max y`.
+    fn in_band(&self, a: &Point2<f64>, b: &Point2<f64>) -> &[(Point2<f64>, ObstacleId)] {
+        let (lo, hi) = (a.y.min(b.y), a.y.max(b.y));
+        let from = self.sorted.partition_point(|(p, _)| p.y <= lo);
+        let to = self.sorted.partition_point(|(p, _)| p.y <= hi);
+        &self.sorted[from..to.max(from)]
+    }
+}
+
+/// The H-signature of a path in winding form: its endpoints and, per obstacle, the signed number
+/// of times it crosses the obstacle's branch cut (module docs). Equal signatures of paths with
+/// the same endpoints mean equal homology classes.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
+/// use rappel_homotopy::{h_signature::{HSignature, Poles}, path::Path};
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
+/// );
+/// let btm = Btm::build(&map).unwrap();
+/// let poles = Poles::new(&btm);
+/// let west = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
+/// let east = Path::new(vec![p(5., 9.), p(9., 5.), p(5., 1.)]).unwrap();
+/// let (hw, he) = (HSignature::of_path(&poles, &west), HSignature::of_path(&poles, &east));
+/// assert_ne!(hw, he);
+/// // The two ways around differ by one full turn: theta_west - theta_east = 2 pi.
+/// let o = rappel_geometry::dcel::ObstacleId(0);
+/// let turn = hw.angle(&poles, o).unwrap() - he.angle(&poles, o).unwrap();
+/// assert!((turn - 2.0 * std::f64::consts::PI).abs() < 1e-12);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HSignature {
+    start: Point2<f64>,
+    end: Point2<f64>,
+    /// Non-zero winding counts `n_j`, sorted by obstacle id.
+    windings: Vec<(ObstacleId, i64)>,
+}
+
+impl HSignature {
+    /// The signature of the trivial path at `start`; extend it with [`HSignature::push`].
+    pub fn new(start: Point2<f64>) -> HSignature {
+        HSignature {
+            start,
+            end: start,
+            windings: Vec::new(),
+        }
+    }
+
+    /// The signature of a path.
+    pub fn of_path(poles: &Poles, path: &Path) -> HSignature {
+        let mut h = HSignature::new(path.start());
+        for q in &path.points()[1..] {
+            h.push(poles, *q);
+        }
+        h
+    }
+
+    /// Extends the path by a segment from its current end to `q`. A segment through a pole
+    /// (impossible for paths in free space) counts no crossing for it.
+    pub fn push(&mut self, poles: &Poles, q: Point2<f64>) {
+        let a = self.end;
+        for (zeta, o) in poles.in_band(&a, &q) {
+            let (a_above, q_above) = (a.y >= zeta.y, q.y >= zeta.y);
+            let turn = orient2d(&a, &q, zeta);
+            let delta = if a_above && !q_above && turn > 0.0 {
+                1
+            } else if !a_above && q_above && turn < 0.0 {
+                -1
+            } else {
+                0
+            };
+            if delta != 0 {
+                self.add(*o, delta);
+            }
+        }
+        self.end = q;
+    }
+
+    fn add(&mut self, o: ObstacleId, delta: i64) {
+        match self.windings.binary_search_by_key(&o, |(id, _)| *id) {
+            Ok(i) => {
+                self.windings[i].1 += delta;
+                if self.windings[i].1 == 0 {
+                    self.windings.remove(i);
+                }
+            }
+            Err(i) => self.windings.insert(i, (o, delta)),
+        }
+    }
+
+    /// The path's start.
+    pub fn start(&self) -> Point2<f64> {
+        self.start
+    }
+
+    /// The path's end.
+    pub fn end(&self) -> Point2<f64> {
+        self.end
+    }
+
+    /// The non-zero winding counts `n_j`, sorted by obstacle id.
+    pub fn windings(&self) -> &[(ObstacleId, i64)] {
+        &self.windings
+    }
+
+    /// The winding count `n_j` of one obstacle (zero for most).
+    pub fn winding(&self, o: ObstacleId) -> i64 {
+        self.windings
+            .binary_search_by_key(&o, |(id, _)| *id)
+            .map_or(0, |i| self.windings[i].1)
+    }
+
+    /// `true` when every winding count is zero. For a loop this means it is null-homologous
+    /// (winds zero times around every obstacle); it may still not be contractible (module docs).
+    pub fn is_trivial(&self) -> bool {
+        self.windings.is_empty()
+    }
+
+    /// The total change of `arg(z - zeta_o)` along the path, `theta_o`, in radians.
+    pub fn angle(&self, poles: &Poles, o: ObstacleId) -> Option<f64> {
+        let zeta = poles.pole(o)?;
+        let arg = |p: &Point2<f64>| (p.y - zeta.y).atan2(p.x - zeta.x);
+        Some(arg(&self.end) - arg(&self.start) + 2.0 * PI * self.winding(o) as f64)
+    }
+
+    /// `L_o = integral of dz / (z - zeta_o)` along the path (module docs).
+    pub fn integral(&self, poles: &Poles, o: ObstacleId) -> Option<Complex<f64>> {
+        let zeta = poles.pole(o)?;
+        let theta = self.angle(poles, o)?;
+        let re = (self.end - zeta).norm().ln() - (self.start - zeta).norm().ln();
+        Some(Complex::new(re, theta))
+    }
+
+    /// Eq. 2.3's H-signature `sum_j c_j L_j` for the analytic numerator `f0` (the entire part of
+    /// the partial fractions is omitted: it is the same for all paths with these endpoints).
+    /// `O(N^2)` and, as the module docs explain, numerically meaningless beyond a few dozen
+    /// obstacles: for illustration and tests; compare signatures with `==`.
+    pub fn product_form(
+        &self,
+        poles: &Poles,
+        f0: impl Fn(Complex<f64>) -> Complex<f64>,
+    ) -> Complex<f64> {
+        let zs: Vec<(ObstacleId, Complex<f64>)> = poles
+            .iter()
+            .map(|(o, p)| (o, Complex::new(p.x, p.y)))
+            .collect();
+        zs.iter()
+            .map(|&(o, zj)| {
+                let denominator: Complex<f64> = zs
+                    .iter()
+                    .filter(|(k, _)| *k != o)
+                    .map(|&(_, zk)| zj - zk)
+                    .product();
+                let l = self.integral(poles, o).unwrap_or_default();
+                f0(zj) / denominator * l
+            })
+            .sum()
+    }
+
+    /// The signature of the reversed path.
+    pub fn reversed(&self) -> HSignature {
+        HSignature {
+            start: self.end,
+            end: self.start,
+            windings: self.windings.iter().map(|&(o, n)| (o, -n)).collect(),
+        }
+    }
+}
