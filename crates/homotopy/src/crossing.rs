@@ -65,8 +65,8 @@ use serde::{Deserialize, Serialize};
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
 /// let btm = Btm::build(&map).unwrap();
-/// // There and back again: the raw sequence is a palindrome of twins, the reduced one is empty.
-/// let there_and_back = Path::new(vec![p(1., 1.), p(9., 9.4), p(1., 1.)]).unwrap();
+/// // A loop beside the obstacle: it crosses diagonals, but reduces to nothing.
+/// let there_and_back = Path::new(vec![p(7., 1.), p(9., 1.), p(9., 9.), p(7., 9.), p(7., 1.)]).unwrap();
 /// let chi = CrossingSequence::of_path(&btm, &there_and_back).unwrap();
 /// assert!(!chi.is_empty());
 /// assert!(chi.reduced(&btm).is_empty());

@@ -1,0 +1,187 @@
+//! H-signatures: agreement with the analytic angle sum and with eq. 2.3's product form evaluated
+//! by quadrature, exact winding counts among 10,000 poles, and the homology-versus-homotopy
+//! caveat of thesis Fig. 2.4.
+
+mod common;
+
+use common::p;
+use nalgebra::{Complex, Point2};
+use rappel_geometry::btm::Btm;
+use rappel_geometry::dcel::ObstacleId;
+use rappel_geometry::map::Map;
+use rappel_geometry::polygon::{PointInPolygon, Polygon};
+use rappel_homotopy::crossing::CrossingSequence;
+use rappel_homotopy::h_signature::{HSignature, Poles};
+use rappel_homotopy::homotopy::is_contractible;
+use rappel_homotopy::path::Path;
+use std::f64::consts::{PI, TAU};
+
+/// Tolerance for comparing two ways of computing the same angle sum (a few hundred terms of
+/// `atan2`, each exact to an ulp).
+const ANGLE_TOLERANCE: f64 = 1e-9;
+
+/// Two square obstacles A = [2, 4] x [4, 6] and B = [6, 8] x [4, 6] in a 10 x 10 map.
+fn two_squares() -> Btm {
+    let sq = |x0: f64, y0: f64| {
+        Polygon::new(vec![p(x0, y0), p(x0 + 2., y0), p(x0 + 2., y0 + 2.), p(x0, y0 + 2.)])
+    };
+    let map = Map::new(
+        Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+        vec![sq(2., 4.), sq(6., 4.)],
+    );
+    Btm::build(&map).unwrap()
+}
+
+/// The angle `arg(z - zeta)` sweeps along a polyline, summed segment by segment (each segment
+/// subtends less than pi): an independent evaluation of `theta`.
+fn subtended(points: &[Point2<f64>], zeta: Point2<f64>) -> f64 {
+    points
+        .windows(2)
+        .map(|w| {
+            let (u, v) = (w[0] - zeta, w[1] - zeta);
+            (u.x * v.y - u.y * v.x).atan2(u.dot(&v))
+        })
+        .sum()
+}
+
+#[test]
+fn fig_2_4_commutator_loop_has_trivial_signature_but_is_not_contractible() {
+    let btm = two_squares();
+    let poles = Poles::new(&btm);
+    // Basepoint (5, 2), between and below A and B. Loop around A counter-clockwise, then around B
+    // counter-clockwise, then A clockwise, then B clockwise.
+    let base = p(5., 2.);
+    let around_a = [p(5., 3.), p(5., 7.), p(1., 7.), p(1., 3.), p(5., 3.)];
+    let around_b = [p(5., 3.), p(9., 3.), p(9., 7.), p(5., 7.), p(5., 3.)];
+    let rev = |v: &[Point2<f64>]| v.iter().rev().copied().collect::<Vec<_>>();
+    let mut points = vec![base];
+    for piece in [around_a.to_vec(), around_b.to_vec(), rev(&around_a), rev(&around_b)] {
+        points.extend(piece);
+        points.push(base);
+    }
+    let commutator = Path::new(points).unwrap();
+    let h = HSignature::of_path(&poles, &commutator);
+    assert!(h.is_trivial());
+    assert_eq!(h.winding(ObstacleId(0)), 0);
+    let chi = CrossingSequence::reduced_of_path(&btm, &commutator).unwrap();
+    assert!(!chi.is_empty());
+    assert!(!is_contractible(&btm, &commutator).unwrap());
+    // Each piece alone winds once.
+    let mut a_loop = vec![base];
+    a_loop.extend(around_a);
+    a_loop.push(base);
+    let ha = HSignature::of_path(&poles, &Path::new(a_loop).unwrap());
+    assert_eq!(ha.windings(), &[(ObstacleId(0), 1)]);
+}
+
+#[test]
+fn angles_match_the_segment_by_segment_sum() {
+    let btm = two_squares();
+    let poles = Poles::new(&btm);
+    // A path that winds around A twice and B once, clockwise.
+    let pts = vec![
+        p(5., 9.),
+        p(1., 9.),
+        p(1., 1.),
+        p(5., 1.),
+        p(5., 9.),
+        p(1., 9.),
+        p(1., 1.),
+        p(9., 1.),
+        p(9., 9.),
+        p(5., 8.),
+    ];
+    let h = HSignature::of_path(&poles, &Path::new(pts.clone()).unwrap());
+    for (o, zeta) in poles.iter() {
+        let expected = subtended(&pts, zeta);
+        let got = h.angle(&poles, o).unwrap();
+        assert!((got - expected).abs() < ANGLE_TOLERANCE, "{o}: {got} vs {expected}");
+    }
+    assert_eq!(h.winding(ObstacleId(0)), 2);
+    assert_eq!(h.winding(ObstacleId(1)), 1);
+    assert_eq!(h.reversed().winding(ObstacleId(0)), -2);
+}
+
+#[test]
+fn product_form_equals_quadrature_of_eq_2_3() {
+    // Three poles; f0 = 1 (numerator degree below N, so F is exactly the sum of its partial
+    // fractions). Composite Simpson along each segment, far from the poles.
+    let poles = Poles::from_points([
+        (ObstacleId(0), p(3., 5.)),
+        (ObstacleId(1), p(7., 5.)),
+        (ObstacleId(2), p(5., 2.)),
+    ]);
+    let zetas: Vec<Complex<f64>> = poles.iter().map(|(_, z)| Complex::new(z.x, z.y)).collect();
+    let f = |z: Complex<f64>| {
+        Complex::new(1.0, 0.0) / zetas.iter().map(|zj| z - zj).product::<Complex<f64>>()
+    };
+    let pts = vec![p(5., 9.), p(1., 9.), p(1., 1.), p(9., 0.5), p(9., 8.), p(5., 7.)];
+    let mut quad = Complex::new(0.0, 0.0);
+    let m = 4000;
+    for w in pts.windows(2) {
+        let (a, b) = (Complex::new(w[0].x, w[0].y), Complex::new(w[1].x, w[1].y));
+        let dz = (b - a) / m as f64;
+        let mut s = f(a) + f(b);
+        for k in 1..m {
+            s += f(a + dz * k as f64) * if k % 2 == 1 { 4.0 } else { 2.0 };
+        }
+        quad += s * dz / 3.0;
+    }
+    let h = HSignature::of_path(&poles, &Path::new(pts).unwrap());
+    let closed = h.product_form(&poles, |_| Complex::new(1.0, 0.0));
+    assert!((closed - quad).norm() < 1e-8, "{closed} vs {quad}");
+}
+
+#[test]
+fn windings_are_exact_among_ten_thousand_poles() {
+    // 10,000 poles on a jittered grid; a star-shaped loop; every pole inside winds exactly once
+    // (the loop is counter-clockwise), every pole outside zero times.
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let poles = Poles::from_points((0..10_000u32).map(|i| {
+        let (gx, gy) = ((i % 100) as f64, (i / 100) as f64);
+        (ObstacleId(i), p(gx + 0.1 + 0.8 * next(), gy + 0.1 + 0.8 * next()))
+    }));
+    let n = 200;
+    let ring: Vec<Point2<f64>> = (0..n)
+        .map(|k| {
+            let t = TAU * k as f64 / n as f64;
+            let r = 20.0 + 25.0 * next();
+            p(50.0 + r * t.cos(), 50.0 + r * t.sin())
+        })
+        .collect();
+    let mut closed = ring.clone();
+    closed.push(ring[0]);
+    let h = HSignature::of_path(&poles, &Path::new(closed).unwrap());
+    let polygon = Polygon::new(ring);
+    let mut inside = 0;
+    for (o, zeta) in poles.iter() {
+        let expected = match polygon.locate(&zeta) {
+            PointInPolygon::Inside => 1,
+            PointInPolygon::Outside => 0,
+            PointInPolygon::Boundary => continue,
+        };
+        inside += expected;
+        assert_eq!(h.winding(o), expected, "pole {o} at {zeta:?}");
+    }
+    assert!(inside > 1000);
+    assert_eq!(h.windings().len(), inside as usize);
+    // And the loop's angle around a pole inside is exactly one turn.
+    let (o, _) = h.windings()[0];
+    assert!((h.angle(&poles, o).unwrap() - 2.0 * PI).abs() < ANGLE_TOLERANCE);
+}
+
+#[test]
+fn poles_lie_inside_their_obstacles() {
+    let (g, btm) = common::small_strip(8, 3);
+    let poles = Poles::new(&btm);
+    assert_eq!(poles.len(), g.map.obstacles.len());
+    for (o, zeta) in poles.iter() {
+        assert_eq!(btm.locate(&zeta), rappel_geometry::btm::Location::Obstacle(o));
+    }
+}
