@@ -4,6 +4,7 @@
 mod btm;
 mod gen_map;
 mod output;
+mod stability;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -25,6 +26,8 @@ enum Command {
     Btm(btm::Args),
     /// Generate a random crater-strip scenario with non-overlapping convex obstacles.
     GenMap(gen_map::Args),
+    /// Map where the robot can stand on the scenario's planes: wheel/tether QP or tension-limited LP.
+    Stability(stability::Args),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +36,7 @@ fn main() -> ExitCode {
         Command::Validate(args) => validate::run(&args),
         Command::Btm(args) => btm::run(&args),
         Command::GenMap(args) => gen_map::run(&args),
+        Command::Stability(args) => stability::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -108,3 +108,20 @@ fn gen_map_is_reproducible_from_its_seed() {
     assert!(String::from_utf8_lossy(&o.stdout).contains("40 obstacles"));
     check_error(&["gen-map", "--obstacles", "3", "--out", dir.join("x.yaml").to_str().unwrap_or_default()], "unknown scenario format");
 }
+
+#[test]
+fn stability_map_dots_carry_margins_and_tighter_limits_shrink_the_stable_set() {
+    let stable_with = |limit: &str| -> (usize, serde_json::Value) {
+        let o = rappel(&["stability", &fixture("online-example.ron"), "--grid", "4", "--tension-limit", limit, "--json"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        (v["stable"].as_u64().unwrap_or(0) as usize, v)
+    };
+    let (loose, v) = stable_with("500");
+    let (tight, _) = stable_with("100");
+    // 45 degrees, mu 0.4, 35 kg: holding straight below the anchor needs m g (sin - mu cos) = 145.6 N.
+    assert!(loose > 0 && tight < loose, "{tight} !< {loose}");
+    let dots = v["dots"].as_array().cloned().unwrap_or_default();
+    assert!(dots.iter().any(|d| d["stable"] == true && d["margin"].as_f64().is_some()));
+    check_error(&["stability", &fixture("online-example.ron"), "--grid", "0"], "step must be finite and positive");
+}

@@ -23,7 +23,12 @@ const ANGLE_TOLERANCE: f64 = 1e-9;
 /// Two square obstacles A = [2, 4] x [4, 6] and B = [6, 8] x [4, 6] in a 10 x 10 map.
 fn two_squares() -> Btm {
     let sq = |x0: f64, y0: f64| {
-        Polygon::new(vec![p(x0, y0), p(x0 + 2., y0), p(x0 + 2., y0 + 2.), p(x0, y0 + 2.)])
+        Polygon::new(vec![
+            p(x0, y0),
+            p(x0 + 2., y0),
+            p(x0 + 2., y0 + 2.),
+            p(x0, y0 + 2.),
+        ])
     };
     let map = Map::new(
         Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
@@ -55,7 +60,12 @@ fn fig_2_4_commutator_loop_has_trivial_signature_but_is_not_contractible() {
     let around_b = [p(5., 3.), p(9., 3.), p(9., 7.), p(5., 7.), p(5., 3.)];
     let rev = |v: &[Point2<f64>]| v.iter().rev().copied().collect::<Vec<_>>();
     let mut points = vec![base];
-    for piece in [around_a.to_vec(), around_b.to_vec(), rev(&around_a), rev(&around_b)] {
+    for piece in [
+        around_a.to_vec(),
+        around_b.to_vec(),
+        rev(&around_a),
+        rev(&around_b),
+    ] {
         points.extend(piece);
         points.push(base);
     }
@@ -95,7 +105,10 @@ fn angles_match_the_segment_by_segment_sum() {
     for (o, zeta) in poles.iter() {
         let expected = subtended(&pts, zeta);
         let got = h.angle(&poles, o).unwrap();
-        assert!((got - expected).abs() < ANGLE_TOLERANCE, "{o}: {got} vs {expected}");
+        assert!(
+            (got - expected).abs() < ANGLE_TOLERANCE,
+            "{o}: {got} vs {expected}"
+        );
     }
     assert_eq!(h.winding(ObstacleId(0)), 2);
     assert_eq!(h.winding(ObstacleId(1)), 1);
@@ -115,7 +128,14 @@ fn product_form_equals_quadrature_of_eq_2_3() {
     let f = |z: Complex<f64>| {
         Complex::new(1.0, 0.0) / zetas.iter().map(|zj| z - zj).product::<Complex<f64>>()
     };
-    let pts = vec![p(5., 9.), p(1., 9.), p(1., 1.), p(9., 0.5), p(9., 8.), p(5., 7.)];
+    let pts = vec![
+        p(5., 9.),
+        p(1., 9.),
+        p(1., 1.),
+        p(9., 0.5),
+        p(9., 8.),
+        p(5., 7.),
+    ];
     let mut quad = Complex::new(0.0, 0.0);
     let m = 4000;
     for w in pts.windows(2) {
@@ -145,7 +165,10 @@ fn windings_are_exact_among_ten_thousand_poles() {
     };
     let poles = Poles::from_points((0..10_000u32).map(|i| {
         let (gx, gy) = ((i % 100) as f64, (i / 100) as f64);
-        (ObstacleId(i), p(gx + 0.1 + 0.8 * next(), gy + 0.1 + 0.8 * next()))
+        (
+            ObstacleId(i),
+            p(gx + 0.1 + 0.8 * next(), gy + 0.1 + 0.8 * next()),
+        )
     }));
     let n = 200;
     let ring: Vec<Point2<f64>> = (0..n)
@@ -164,7 +187,7 @@ fn windings_are_exact_among_ten_thousand_poles() {
         let expected = match polygon.locate(&zeta) {
             PointInPolygon::Inside => 1,
             PointInPolygon::Outside => 0,
-            PointInPolygon::Boundary => continue,
+            PointInPolygon::OnBoundary => continue,
         };
         inside += expected;
         assert_eq!(h.winding(o), expected, "pole {o} at {zeta:?}");
@@ -182,6 +205,9 @@ fn poles_lie_inside_their_obstacles() {
     let poles = Poles::new(&btm);
     assert_eq!(poles.len(), g.map.obstacles.len());
     for (o, zeta) in poles.iter() {
-        assert_eq!(btm.locate(&zeta), rappel_geometry::btm::Location::Obstacle(o));
+        assert_eq!(
+            btm.locate(&zeta),
+            rappel_geometry::btm::Location::Obstacle(o)
+        );
     }
 }

@@ -21,8 +21,10 @@ pub mod btm_summary;
 pub mod generated;
 pub mod io;
 pub mod scenario;
+pub mod stability;
 pub mod svg;
 
+pub use nalgebra;
 pub use rappel_geometry as geometry;
 pub use rappel_homotopy as homotopy;
 pub use rappel_mechanics as mechanics;

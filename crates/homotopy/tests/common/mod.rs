@@ -23,7 +23,12 @@ pub fn p(x: f64, y: f64) -> Point2<f64> {
 pub fn square_map() -> (Map, Btm) {
     let map = Map::new(
         Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
-        vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
+        vec![Polygon::new(vec![
+            p(4., 4.),
+            p(6., 4.),
+            p(6., 6.),
+            p(4., 6.),
+        ])],
     );
     let btm = Btm::build(&map).expect("valid map");
     (map, btm)
@@ -120,7 +125,10 @@ pub fn random_walk(map: &Map, start: Point2<f64>, steps: &[Step]) -> Vec<Point2<
             near.sort_by(|u, v| (u - a).norm().total_cmp(&(v - a).norm()));
             near[s.pick % near.len().min(6)]
         } else {
-            Point2::new(a.x + s.length * s.angle.cos(), a.y + s.length * s.angle.sin())
+            Point2::new(
+                a.x + s.length * s.angle.cos(),
+                a.y + s.length * s.angle.sin(),
+            )
         };
         if segment_clear(map, &a, &b) {
             points.push(b);

@@ -1,0 +1,60 @@
+//! `rappel stability FILE [--tension-limit N] [--grid STEP] [--json] [--svg OUT]`: a stability map
+//! over the scenario's terrain planes, stable poses green and unstable red (Kumar Fig. 5); the
+//! JSON lists each dot with its margin.
+
+use crate::output::{CliError, print_json, write_file};
+use rappel::scenario::Scenario;
+use rappel::stability::{StabilityOptions, stability_over_scenario};
+use rappel::svg::{Layer, Marker, Picture};
+use std::path::PathBuf;
+
+/// Arguments of `rappel stability`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scenario file (.ron or .json).
+    file: PathBuf,
+    /// Largest tether tension, N (uses Kumar's tension-limited LP; default: Paton's QP).
+    #[arg(long, value_name = "N")]
+    tension_limit: Option<f64>,
+    /// Grid step, m.
+    #[arg(long, value_name = "STEP", default_value_t = 1.0)]
+    grid: f64,
+    /// Print every dot as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Draw the map with the dots to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    svg: Option<PathBuf>,
+}
+
+/// Runs `rappel stability`.
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let s = Scenario::load(&args.file)?;
+    let options = StabilityOptions { grid_step: args.grid, tension_limit: args.tension_limit };
+    let report = stability_over_scenario(&s, &options).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
+    if let Some(out) = &args.svg {
+        let mut pic = Picture::of_map(&s.map);
+        pic.map(&s.map);
+        for d in &report.dots {
+            let layer = if d.stable { Layer::Goal } else { Layer::Start };
+            pic.marker(layer, rappel::nalgebra::Point2::new(d.x, d.y), Marker::Circle);
+        }
+        write_file(out, &pic.finish(&format!("stability of {}", args.file.display())))?;
+    }
+    if args.json {
+        return print_json(&report);
+    }
+    crate::outln!("scenario    {}", args.file.display());
+    crate::outln!("robot       {} ({})", report.robot, report.criterion);
+    crate::outln!("grid step   {} m", report.grid_step);
+    if let Some(t) = report.tension_limit {
+        crate::outln!("tension     <= {t} N");
+    }
+    for (i, p) in s.terrain.planes.iter().enumerate() {
+        let on: Vec<_> = report.dots.iter().filter(|d| d.plane == i).collect();
+        let stable = on.iter().filter(|d| d.stable).count();
+        crate::outln!("plane {i}     {:.1} deg, mu {}: {stable} of {} poses stable", p.slope_deg, p.friction, on.len());
+    }
+    crate::outln!("stable      {} of {} poses", report.stable, report.assessed);
+    Ok(())
+}

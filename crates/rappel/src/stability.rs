@@ -1,0 +1,184 @@
+//! Stability maps over a scenario's terrain planes (Kumar Fig. 5; `rappel stability`): the robot
+//! is placed on a square grid over each plane's band of the map, facing away from its tether
+//! anchor, and every free-space pose is assessed by the wheel/tether stability QP (Paton eqs. 1-9)
+//! or, when a tether tension limit is given, by the tension-limited LP (Kumar eqs. 1-3).
+//!
+//! The tether runs straight in the unfolded frame from the robot to the scenario's start (the
+//! anchor), parallel to the plane at the height where it leaves the robot: on a convex series of
+//! planes the taut tether lies on the ground, so in the robot's own plane it pulls along the
+//! unfolded direction to the anchor. Obstacles that the tether would wrap are not yet taken into
+//! account (the last anchor is always the start); poses inside obstacles are skipped.
+
+use crate::scenario::{RobotModel as ModelKind, Scenario};
+use nalgebra::{Point2, Point3};
+use rappel_geometry::polygon::{PointInPolygon, Polygon};
+use rappel_mechanics::axel::{Axel, AxelParams};
+use rappel_mechanics::four_wheel::{FourWheelParams, FourWheelRover};
+use rappel_mechanics::robot::{RobotModel, SlopePlane, TetherSpec};
+use rappel_mechanics::stability_map::{AnchorSource, GridSpec, Heading, MapPlane, PoseOutcome, stability_map};
+use rappel_mechanics::stability_qp::StabilityQp;
+use rappel_mechanics::tension_lp::TensionLimitedLp;
+use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
+use serde::Serialize;
+
+/// Options of a stability map.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StabilityOptions {
+    /// Grid step, m.
+    pub grid_step: f64,
+    /// Largest tether tension, N: switches to Kumar's tension-limited LP. `None`: Paton's QP with
+    /// an unlimited tether.
+    pub tension_limit: Option<f64>,
+}
+
+impl Default for StabilityOptions {
+    fn default() -> Self {
+        StabilityOptions { grid_step: 1.0, tension_limit: None }
+    }
+}
+
+/// One pose of the map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StabilityDot {
+    /// Plane index (top first).
+    pub plane: usize,
+    /// Position in the unfolded map frame.
+    pub x: f64,
+    /// Position in the unfolded map frame.
+    pub y: f64,
+    /// Heading, radians counter-clockwise from up-slope.
+    pub heading: f64,
+    /// Stable or not.
+    pub stable: bool,
+    /// Stability margin (larger is safer; QP: eq. 9 normalised, LP: tension headroom), when stable.
+    pub margin: Option<f64>,
+    /// Tether tension the solution uses, N.
+    pub tether_tension: Option<f64>,
+    /// Why the pose could not be assessed, if it could not.
+    pub failure: Option<String>,
+}
+
+/// A stability map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StabilityReport {
+    /// The criterion used: `"paton-qp"` or `"kumar-lp"`.
+    pub criterion: String,
+    /// The robot model's name.
+    pub robot: String,
+    /// Grid step, m.
+    pub grid_step: f64,
+    /// Tension limit, N, if any.
+    pub tension_limit: Option<f64>,
+    /// Stable poses.
+    pub stable: usize,
+    /// Poses assessed (in free space).
+    pub assessed: usize,
+    /// Every assessed pose.
+    pub dots: Vec<StabilityDot>,
+}
+
+/// Why a stability map could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum StabilityError {
+    /// The scenario has no terrain planes.
+    #[error("the scenario has no terrain planes: add terrain.planes (slope and friction per plane)")]
+    NoPlanes,
+    /// A setting is out of range.
+    #[error("{0}")]
+    Setting(String),
+    /// The mechanics refused the input.
+    #[error(transparent)]
+    Grid(#[from] rappel_mechanics::stability_map::MapError),
+}
+
+/// The tether of every pose runs to the scenario's start.
+struct StraightToStart {
+    anchor: Point3<f64>,
+    limit: Option<f64>,
+}
+
+impl AnchorSource for StraightToStart {
+    fn tether_at(&self, _: usize, _: &Point2<f64>) -> Option<TetherSpec> {
+        Some(TetherSpec { anchor: self.anchor, max_tension: self.limit })
+    }
+}
+
+/// The stability map of `scenario` (see the module docs).
+///
+/// ```
+/// use rappel::scenario::Scenario;
+/// use rappel::stability::{stability_over_scenario, StabilityOptions};
+/// let s = Scenario::from_ron_str(r#"(
+///     map: (boundary: [(0.0, 0.0), (4.0, 0.0), (4.0, 20.0), (0.0, 20.0)]),
+///     start: (2.0, 19.5), goal: (2.0, 0.5),
+///     terrain: (planes: [(y_top: 20.0, y_bottom: 0.0, slope_deg: 30.0, friction: 0.6)]))"#).unwrap();
+/// let r = stability_over_scenario(&s, &StabilityOptions { grid_step: 2.0, tension_limit: None }).unwrap();
+/// assert!(r.assessed > 0 && r.stable > 0);
+/// ```
+pub fn stability_over_scenario(scenario: &Scenario, options: &StabilityOptions) -> Result<StabilityReport, StabilityError> {
+    if scenario.terrain.planes.is_empty() {
+        return Err(StabilityError::NoPlanes);
+    }
+    if let Some(t) = options.tension_limit
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(StabilityError::Setting(format!("tension limit {t} N: must be a positive number")));
+    }
+    let mass = scenario.robot.mass_kg;
+    let robot: Box<dyn RobotModel> = match scenario.robot.model {
+        ModelKind::Axel => {
+            let defaults = AxelParams::default();
+            let body_mass = (mass - defaults.boom_mass).max(1.0);
+            Box::new(Axel::new(AxelParams { body_mass, ..defaults }).map_err(|e| StabilityError::Setting(e.to_string()))?)
+        }
+        // A point robot has no contacts: its stability is judged as a four-wheel rover's.
+        ModelKind::Point | ModelKind::FourWheel => Box::new(
+            FourWheelRover::new(FourWheelParams { mass, ..Default::default() }).map_err(|e| StabilityError::Setting(e.to_string()))?,
+        ),
+    };
+    let (criterion, name): (Box<dyn StabilityCriterion>, &str) = match options.tension_limit {
+        Some(_) => (Box::new(TensionLimitedLp::default()), "kumar-lp"),
+        None => (Box::new(StabilityQp::new(StabilitySettings::default())), "paton-qp"),
+    };
+    let b = scenario.map.aabb();
+    let mut planes = Vec::with_capacity(scenario.terrain.planes.len());
+    for p in &scenario.terrain.planes {
+        let plane = SlopePlane::new(p.slope_rad(), p.friction).map_err(|e| StabilityError::Setting(e.to_string()))?;
+        let (y0, y1) = (p.y_bottom.max(b.min.y), p.y_top.min(b.max.y));
+        if y0 <= y1 {
+            planes.push(MapPlane { plane, x_range: [b.min.x, b.max.x], y_range: [y0, y1] });
+        }
+    }
+    let exit_height = robot.configuration(None).map_err(|e| StabilityError::Setting(e.to_string()))?.tether_exit.z;
+    let anchors = StraightToStart {
+        anchor: Point3::new(scenario.start.x, scenario.start.y, exit_height),
+        limit: options.tension_limit,
+    };
+    let grid = GridSpec::new(options.grid_step, Heading::AwayFromAnchor)?;
+    let verdicts = stability_map(robot.as_ref(), criterion.as_ref(), &planes, &anchors, &grid)?;
+    let free = |p: &Point2<f64>| {
+        scenario.map.boundary.locate(p) == PointInPolygon::Inside
+            && scenario.map.obstacles.iter().all(|o: &Polygon| !o.aabb().contains(p) || o.locate(p) == PointInPolygon::Outside)
+    };
+    let dots: Vec<StabilityDot> = verdicts
+        .into_iter()
+        .filter(|v| free(&v.pose.position))
+        .map(|v| {
+            let (stable, margin, tether_tension, failure) = match v.outcome {
+                PoseOutcome::Stable { margin, tether_tension } => (true, Some(margin), tether_tension, None),
+                PoseOutcome::Unstable => (false, None, None, None),
+                PoseOutcome::Failed { reason } => (false, None, None, Some(reason)),
+            };
+            StabilityDot { plane: v.plane, x: v.pose.position.x, y: v.pose.position.y, heading: v.pose.heading, stable, margin, tether_tension, failure }
+        })
+        .collect();
+    Ok(StabilityReport {
+        criterion: name.to_string(),
+        robot: robot.name().to_string(),
+        grid_step: options.grid_step,
+        tension_limit: options.tension_limit,
+        stable: dots.iter().filter(|d| d.stable).count(),
+        assessed: dots.len(),
+        dots,
+    })
+}
