@@ -4,6 +4,7 @@
 mod btm;
 mod gen_map;
 mod output;
+mod shp;
 mod stability;
 mod validate;
 
@@ -28,6 +29,10 @@ enum Command {
     GenMap(gen_map::Args),
     /// Map where the robot can stand on the scenario's planes: wheel/tether QP or tension-limited LP.
     Stability(stability::Args),
+    /// The shortest homotopic path (taut tether) of a path: length, anchors, crossings, H-signature.
+    Shp(shp::Args),
+    /// Whether two paths with the same endpoints are homotopic.
+    Homotopic(shp::HomotopicArgs),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +42,8 @@ fn main() -> ExitCode {
         Command::Btm(args) => btm::run(&args),
         Command::GenMap(args) => gen_map::run(&args),
         Command::Stability(args) => stability::run(&args),
+        Command::Shp(args) => shp::run(&args),
+        Command::Homotopic(args) => shp::run_homotopic(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

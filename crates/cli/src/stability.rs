@@ -30,16 +30,32 @@ pub struct Args {
 /// Runs `rappel stability`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let s = Scenario::load(&args.file)?;
-    let options = StabilityOptions { grid_step: args.grid, tension_limit: args.tension_limit };
-    let report = stability_over_scenario(&s, &options).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
+    let options = StabilityOptions {
+        grid_step: args.grid,
+        tension_limit: args.tension_limit,
+    };
+    let report = stability_over_scenario(&s, &options)
+        .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
     if let Some(out) = &args.svg {
         let mut pic = Picture::of_map(&s.map);
         pic.map(&s.map);
         for d in &report.dots {
-            let layer = if d.stable { Layer::Goal } else { Layer::Start };
-            pic.marker(layer, rappel::nalgebra::Point2::new(d.x, d.y), Marker::Circle);
+            let layer = if d.stable {
+                Layer::Stable
+            } else {
+                Layer::Unstable
+            };
+            pic.marker(
+                layer,
+                rappel::nalgebra::Point2::new(d.x, d.y),
+                Marker::Circle,
+            );
         }
-        write_file(out, &pic.finish(&format!("stability of {}", args.file.display())))?;
+        pic.marker(Layer::Start, s.start, Marker::Cross);
+        write_file(
+            out,
+            &pic.finish(&format!("stability of {}", args.file.display())),
+        )?;
     }
     if args.json {
         return print_json(&report);
@@ -53,7 +69,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     for (i, p) in s.terrain.planes.iter().enumerate() {
         let on: Vec<_> = report.dots.iter().filter(|d| d.plane == i).collect();
         let stable = on.iter().filter(|d| d.stable).count();
-        crate::outln!("plane {i}     {:.1} deg, mu {}: {stable} of {} poses stable", p.slope_deg, p.friction, on.len());
+        crate::outln!(
+            "plane {i}     {:.1} deg, mu {}: {stable} of {} poses stable",
+            p.slope_deg,
+            p.friction,
+            on.len()
+        );
     }
     crate::outln!("stable      {} of {} poses", report.stable, report.assessed);
     Ok(())

@@ -5,11 +5,18 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn rappel(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rappel")).args(args).output().expect("the binary runs")
+    Command::new(env!("CARGO_BIN_EXE_rappel"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
 }
 
 fn fixture(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures").join(name).display().to_string()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures")
+        .join(name)
+        .display()
+        .to_string()
 }
 
 fn temp_dir(tag: &str) -> PathBuf {
@@ -30,7 +37,10 @@ fn check_error(args: &[&str], expected: &str) {
     let err = stderr(&o);
     let lines: Vec<_> = err.lines().collect();
     assert_eq!(lines.len(), 1, "{args:?}: {err}");
-    assert!(lines[0].starts_with("error: ") && lines[0].contains(expected), "{args:?}: {err}");
+    assert!(
+        lines[0].starts_with("error: ") && lines[0].contains(expected),
+        "{args:?}: {err}"
+    );
 }
 
 #[test]
@@ -49,7 +59,12 @@ fn btm_json_reports_the_checked_invariants() {
 fn btm_writes_an_svg_with_the_legend() {
     let dir = temp_dir("svg");
     let out = dir.join("btm.svg");
-    let o = rappel(&["btm", &fixture("online-example.ron"), "--svg", out.to_str().unwrap_or_default()]);
+    let o = rappel(&[
+        "btm",
+        &fixture("online-example.ron"),
+        "--svg",
+        out.to_str().unwrap_or_default(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let svg = std::fs::read_to_string(&out).expect("svg written");
     for needle in ["<svg", "BTM edge", "obstacle", "fall line", " m</text>"] {
@@ -65,31 +80,66 @@ fn bad_inputs_exit_2_with_one_located_error() {
         std::fs::write(&p, text).expect("write");
         p.display().to_string()
     };
-    let syntax = write("syntax.ron", "(\n  map: (boundary: [(0.0, 0.0), (1.0 0.0)]),\n)");
+    let syntax = write(
+        "syntax.ron",
+        "(\n  map: (boundary: [(0.0, 0.0), (1.0 0.0)]),\n)",
+    );
     check_error(&["validate", &syntax], "syntax.ron:2:");
     let overlap = write(
         "overlap.json",
         r#"{"map": {"boundary": [[0,0],[10,0],[10,10],[0,10]], "obstacles": [[[2,2],[4,2],[4,4],[2,4]], [[3,3],[5,3],[5,5],[3,5]]]}, "start": [1,9], "goal": [9,1]}"#,
     );
     check_error(&["validate", &overlap], "obstacles 0 and 1 overlap near");
-    let goal = write("goal.json", r#"{"map": {"boundary": [[0,0],[10,0],[10,10],[0,10]]}, "start": [1,9], "goal": [11,1]}"#);
-    check_error(&["btm", &goal], "goal point (11, 1) is outside the map boundary");
-    check_error(&["validate", &dir.join("missing.ron").display().to_string()], "missing.ron");
-    check_error(&["validate", &write("x.txt", "")], "unknown scenario format");
+    let goal = write(
+        "goal.json",
+        r#"{"map": {"boundary": [[0,0],[10,0],[10,10],[0,10]]}, "start": [1,9], "goal": [11,1]}"#,
+    );
+    check_error(
+        &["btm", &goal],
+        "goal point (11, 1) is outside the map boundary",
+    );
+    check_error(
+        &["validate", &dir.join("missing.ron").display().to_string()],
+        "missing.ron",
+    );
+    check_error(
+        &["validate", &write("x.txt", "")],
+        "unknown scenario format",
+    );
 }
 
 #[test]
 fn failed_runs_leave_no_output_file() {
     let dir = temp_dir("atomic");
     let out = dir.join("nope").join("btm.svg");
-    check_error(&["btm", &fixture("online-example.ron"), "--svg", out.to_str().unwrap_or_default()], "cannot write");
+    check_error(
+        &[
+            "btm",
+            &fixture("online-example.ron"),
+            "--svg",
+            out.to_str().unwrap_or_default(),
+        ],
+        "cannot write",
+    );
     assert!(!out.exists());
     let bad = dir.join("bad.ron");
     std::fs::write(&bad, "(map: 1)").expect("write");
     let svg = dir.join("x.svg");
-    check_error(&["btm", bad.to_str().unwrap_or_default(), "--svg", svg.to_str().unwrap_or_default()], "bad.ron:1:");
+    check_error(
+        &[
+            "btm",
+            bad.to_str().unwrap_or_default(),
+            "--svg",
+            svg.to_str().unwrap_or_default(),
+        ],
+        "bad.ron:1:",
+    );
     assert!(!svg.exists());
-    assert_eq!(std::fs::read_dir(&dir).map(|d| d.count()).unwrap_or(0), 1, "stray temporary files");
+    assert_eq!(
+        std::fs::read_dir(&dir).map(|d| d.count()).unwrap_or(0),
+        1,
+        "stray temporary files"
+    );
 }
 
 #[test]
@@ -97,22 +147,50 @@ fn gen_map_is_reproducible_from_its_seed() {
     let dir = temp_dir("gen");
     let (a, b, c) = (dir.join("a.ron"), dir.join("b.ron"), dir.join("c.json"));
     for (p, seed) in [(&a, "5"), (&b, "5"), (&c, "6")] {
-        let o = rappel(&["gen-map", "--obstacles", "40", "--seed", seed, "--out", p.to_str().unwrap_or_default()]);
+        let o = rappel(&[
+            "gen-map",
+            "--obstacles",
+            "40",
+            "--seed",
+            seed,
+            "--out",
+            p.to_str().unwrap_or_default(),
+        ]);
         assert!(o.status.success(), "{}", stderr(&o));
     }
-    let (ta, tb) = (std::fs::read_to_string(&a).unwrap_or_default(), std::fs::read_to_string(&b).unwrap_or_default());
+    let (ta, tb) = (
+        std::fs::read_to_string(&a).unwrap_or_default(),
+        std::fs::read_to_string(&b).unwrap_or_default(),
+    );
     assert!(!ta.is_empty());
     assert_eq!(ta, tb);
     let o = rappel(&["validate", c.to_str().unwrap_or_default()]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("40 obstacles"));
-    check_error(&["gen-map", "--obstacles", "3", "--out", dir.join("x.yaml").to_str().unwrap_or_default()], "unknown scenario format");
+    check_error(
+        &[
+            "gen-map",
+            "--obstacles",
+            "3",
+            "--out",
+            dir.join("x.yaml").to_str().unwrap_or_default(),
+        ],
+        "unknown scenario format",
+    );
 }
 
 #[test]
 fn stability_map_dots_carry_margins_and_tighter_limits_shrink_the_stable_set() {
     let stable_with = |limit: &str| -> (usize, serde_json::Value) {
-        let o = rappel(&["stability", &fixture("online-example.ron"), "--grid", "4", "--tension-limit", limit, "--json"]);
+        let o = rappel(&[
+            "stability",
+            &fixture("online-example.ron"),
+            "--grid",
+            "4",
+            "--tension-limit",
+            limit,
+            "--json",
+        ]);
         assert!(o.status.success(), "{}", stderr(&o));
         let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
         (v["stable"].as_u64().unwrap_or(0) as usize, v)
@@ -122,6 +200,12 @@ fn stability_map_dots_carry_margins_and_tighter_limits_shrink_the_stable_set() {
     // 45 degrees, mu 0.4, 35 kg: holding straight below the anchor needs m g (sin - mu cos) = 145.6 N.
     assert!(loose > 0 && tight < loose, "{tight} !< {loose}");
     let dots = v["dots"].as_array().cloned().unwrap_or_default();
-    assert!(dots.iter().any(|d| d["stable"] == true && d["margin"].as_f64().is_some()));
-    check_error(&["stability", &fixture("online-example.ron"), "--grid", "0"], "step must be finite and positive");
+    assert!(
+        dots.iter()
+            .any(|d| d["stable"] == true && d["margin"].as_f64().is_some())
+    );
+    check_error(
+        &["stability", &fixture("online-example.ron"), "--grid", "0"],
+        "step must be finite and positive",
+    );
 }

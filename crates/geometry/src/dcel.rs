@@ -78,7 +78,7 @@ impl HalfEdgeId {
     /// The previous half-edge around the same triangle.
     #[inline]
     pub fn prev(self) -> HalfEdgeId {
-        HalfEdgeId(if self.0 % 3 == 0 {
+        HalfEdgeId(if self.0.is_multiple_of(3) {
             self.0 + 2
         } else {
             self.0 - 1

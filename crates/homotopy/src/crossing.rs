@@ -368,9 +368,7 @@ impl<'a> Tracer<'a> {
                 self.fill_fan(v);
                 if let Some(k) = self.fan.iter().position(|h| h.triangle() == self.tri) {
                     // Clockwise down to the first triangle of the fan.
-                    for i in (1..=k).rev() {
-                        self.crossings.push(self.fan[i]);
-                    }
+                    self.crossings.extend(self.fan[1..=k].iter().rev());
                     self.tri = self.fan[0].triangle();
                 }
             }
@@ -469,14 +467,10 @@ impl<'a> Tracer<'a> {
         let j = target.ok_or(Leave::Vertex(v))?;
         if j > k {
             // Counter-clockwise: leave each triangle through its edge entering `v`.
-            for i in k..j {
-                self.crossings.push(fan[i].prev());
-            }
+            self.crossings.extend(fan[k..j].iter().map(|h| h.prev()));
         } else {
             // Clockwise: leave each triangle through its edge leaving `v`.
-            for i in ((j + 1)..=k).rev() {
-                self.crossings.push(fan[i]);
-            }
+            self.crossings.extend(fan[j + 1..=k].iter().rev());
         }
         Ok(fan[j].triangle())
     }

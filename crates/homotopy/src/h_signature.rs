@@ -307,6 +307,27 @@ impl HSignature {
             .sum()
     }
 
+    /// A 64-bit digest of the signature (FNV-1a over the endpoints' bits and the winding
+    /// counts), the same on every platform: a short label for printing and bucketing classes.
+    /// Equal signatures have equal digests; compare signatures with `==` to decide equality.
+    pub fn digest(&self) -> u64 {
+        const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+        const PRIME: u64 = 0x0000_0100_0000_01b3;
+        let words = [self.start.x, self.start.y, self.end.x, self.end.y]
+            .into_iter()
+            .map(f64::to_bits)
+            .chain(
+                self.windings
+                    .iter()
+                    .flat_map(|&(o, n)| [u64::from(o.0), n as u64]),
+            );
+        words.fold(OFFSET, |h, w| {
+            w.to_le_bytes()
+                .iter()
+                .fold(h, |h, b| (h ^ u64::from(*b)).wrapping_mul(PRIME))
+        })
+    }
+
     /// The signature of the reversed path.
     pub fn reversed(&self) -> HSignature {
         HSignature {

@@ -113,6 +113,9 @@ fn angles_match_the_segment_by_segment_sum() {
     assert_eq!(h.winding(ObstacleId(0)), 2);
     assert_eq!(h.winding(ObstacleId(1)), 1);
     assert_eq!(h.reversed().winding(ObstacleId(0)), -2);
+    assert_eq!(h.reversed().reversed(), h);
+    assert_eq!(h.reversed().reversed().digest(), h.digest());
+    assert_ne!(h.reversed().digest(), h.digest());
 }
 
 #[test]

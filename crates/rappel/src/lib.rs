@@ -23,6 +23,7 @@ pub mod io;
 pub mod scenario;
 pub mod stability;
 pub mod svg;
+pub mod tether;
 
 pub use nalgebra;
 pub use rappel_geometry as geometry;

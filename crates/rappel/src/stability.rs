@@ -15,7 +15,9 @@ use rappel_geometry::polygon::{PointInPolygon, Polygon};
 use rappel_mechanics::axel::{Axel, AxelParams};
 use rappel_mechanics::four_wheel::{FourWheelParams, FourWheelRover};
 use rappel_mechanics::robot::{RobotModel, SlopePlane, TetherSpec};
-use rappel_mechanics::stability_map::{AnchorSource, GridSpec, Heading, MapPlane, PoseOutcome, stability_map};
+use rappel_mechanics::stability_map::{
+    AnchorSource, GridSpec, Heading, MapPlane, PoseOutcome, stability_map,
+};
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
@@ -33,7 +35,10 @@ pub struct StabilityOptions {
 
 impl Default for StabilityOptions {
     fn default() -> Self {
-        StabilityOptions { grid_step: 1.0, tension_limit: None }
+        StabilityOptions {
+            grid_step: 1.0,
+            tension_limit: None,
+        }
     }
 }
 
@@ -81,7 +86,9 @@ pub struct StabilityReport {
 #[derive(Debug, thiserror::Error)]
 pub enum StabilityError {
     /// The scenario has no terrain planes.
-    #[error("the scenario has no terrain planes: add terrain.planes (slope and friction per plane)")]
+    #[error(
+        "the scenario has no terrain planes: add terrain.planes (slope and friction per plane)"
+    )]
     NoPlanes,
     /// A setting is out of range.
     #[error("{0}")]
@@ -99,7 +106,10 @@ struct StraightToStart {
 
 impl AnchorSource for StraightToStart {
     fn tether_at(&self, _: usize, _: &Point2<f64>) -> Option<TetherSpec> {
-        Some(TetherSpec { anchor: self.anchor, max_tension: self.limit })
+        Some(TetherSpec {
+            anchor: self.anchor,
+            max_tension: self.limit,
+        })
     }
 }
 
@@ -115,61 +125,103 @@ impl AnchorSource for StraightToStart {
 /// let r = stability_over_scenario(&s, &StabilityOptions { grid_step: 2.0, tension_limit: None }).unwrap();
 /// assert!(r.assessed > 0 && r.stable > 0);
 /// ```
-pub fn stability_over_scenario(scenario: &Scenario, options: &StabilityOptions) -> Result<StabilityReport, StabilityError> {
+pub fn stability_over_scenario(
+    scenario: &Scenario,
+    options: &StabilityOptions,
+) -> Result<StabilityReport, StabilityError> {
     if scenario.terrain.planes.is_empty() {
         return Err(StabilityError::NoPlanes);
     }
     if let Some(t) = options.tension_limit
         && !(t.is_finite() && t > 0.0)
     {
-        return Err(StabilityError::Setting(format!("tension limit {t} N: must be a positive number")));
+        return Err(StabilityError::Setting(format!(
+            "tension limit {t} N: must be a positive number"
+        )));
     }
     let mass = scenario.robot.mass_kg;
     let robot: Box<dyn RobotModel> = match scenario.robot.model {
         ModelKind::Axel => {
             let defaults = AxelParams::default();
             let body_mass = (mass - defaults.boom_mass).max(1.0);
-            Box::new(Axel::new(AxelParams { body_mass, ..defaults }).map_err(|e| StabilityError::Setting(e.to_string()))?)
+            Box::new(
+                Axel::new(AxelParams {
+                    body_mass,
+                    ..defaults
+                })
+                .map_err(|e| StabilityError::Setting(e.to_string()))?,
+            )
         }
         // A point robot has no contacts: its stability is judged as a four-wheel rover's.
         ModelKind::Point | ModelKind::FourWheel => Box::new(
-            FourWheelRover::new(FourWheelParams { mass, ..Default::default() }).map_err(|e| StabilityError::Setting(e.to_string()))?,
+            FourWheelRover::new(FourWheelParams {
+                mass,
+                ..Default::default()
+            })
+            .map_err(|e| StabilityError::Setting(e.to_string()))?,
         ),
     };
     let (criterion, name): (Box<dyn StabilityCriterion>, &str) = match options.tension_limit {
         Some(_) => (Box::new(TensionLimitedLp::default()), "kumar-lp"),
-        None => (Box::new(StabilityQp::new(StabilitySettings::default())), "paton-qp"),
+        None => (
+            Box::new(StabilityQp::new(StabilitySettings::default())),
+            "paton-qp",
+        ),
     };
     let b = scenario.map.aabb();
     let mut planes = Vec::with_capacity(scenario.terrain.planes.len());
     for p in &scenario.terrain.planes {
-        let plane = SlopePlane::new(p.slope_rad(), p.friction).map_err(|e| StabilityError::Setting(e.to_string()))?;
+        let plane = SlopePlane::new(p.slope_rad(), p.friction)
+            .map_err(|e| StabilityError::Setting(e.to_string()))?;
         let (y0, y1) = (p.y_bottom.max(b.min.y), p.y_top.min(b.max.y));
         if y0 <= y1 {
-            planes.push(MapPlane { plane, x_range: [b.min.x, b.max.x], y_range: [y0, y1] });
+            planes.push(MapPlane {
+                plane,
+                x_range: [b.min.x, b.max.x],
+                y_range: [y0, y1],
+            });
         }
     }
-    let exit_height = robot.configuration(None).map_err(|e| StabilityError::Setting(e.to_string()))?.tether_exit.z;
+    let exit_height = robot
+        .configuration(None)
+        .map_err(|e| StabilityError::Setting(e.to_string()))?
+        .tether_exit
+        .z;
     let anchors = StraightToStart {
         anchor: Point3::new(scenario.start.x, scenario.start.y, exit_height),
         limit: options.tension_limit,
     };
     let grid = GridSpec::new(options.grid_step, Heading::AwayFromAnchor)?;
     let verdicts = stability_map(robot.as_ref(), criterion.as_ref(), &planes, &anchors, &grid)?;
-    let free = |p: &Point2<f64>| {
-        scenario.map.boundary.locate(p) == PointInPolygon::Inside
-            && scenario.map.obstacles.iter().all(|o: &Polygon| !o.aabb().contains(p) || o.locate(p) == PointInPolygon::Outside)
-    };
+    let free =
+        |p: &Point2<f64>| {
+            scenario.map.boundary.locate(p) == PointInPolygon::Inside
+                && scenario.map.obstacles.iter().all(|o: &Polygon| {
+                    !o.aabb().contains(p) || o.locate(p) == PointInPolygon::Outside
+                })
+        };
     let dots: Vec<StabilityDot> = verdicts
         .into_iter()
         .filter(|v| free(&v.pose.position))
         .map(|v| {
             let (stable, margin, tether_tension, failure) = match v.outcome {
-                PoseOutcome::Stable { margin, tether_tension } => (true, Some(margin), tether_tension, None),
+                PoseOutcome::Stable {
+                    margin,
+                    tether_tension,
+                } => (true, Some(margin), tether_tension, None),
                 PoseOutcome::Unstable => (false, None, None, None),
                 PoseOutcome::Failed { reason } => (false, None, None, Some(reason)),
             };
-            StabilityDot { plane: v.plane, x: v.pose.position.x, y: v.pose.position.y, heading: v.pose.heading, stable, margin, tether_tension, failure }
+            StabilityDot {
+                plane: v.plane,
+                x: v.pose.position.x,
+                y: v.pose.position.y,
+                heading: v.pose.heading,
+                stable,
+                margin,
+                tether_tension,
+                failure,
+            }
         })
         .collect();
     Ok(StabilityReport {

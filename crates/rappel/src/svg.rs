@@ -45,6 +45,10 @@ pub enum Layer {
     Start,
     /// The goal.
     Goal,
+    /// A stable pose (stability maps), green dot.
+    Stable,
+    /// An unstable pose (stability maps), red dot.
+    Unstable,
 }
 
 impl Layer {
@@ -64,6 +68,8 @@ impl Layer {
             Layer::Path => "path",
             Layer::Start => "start",
             Layer::Goal => "goal",
+            Layer::Stable => "stable pose",
+            Layer::Unstable => "unstable pose",
         }
     }
 
@@ -84,6 +90,8 @@ impl Layer {
             Layer::Path => ("none", "#e6550d", 1.2, 0.0),
             Layer::Start => ("#d62728", "#7f0000", 0.8, 1.0),
             Layer::Goal => ("#2ca02c", "#00441b", 0.8, 1.0),
+            Layer::Stable => ("#31a354", "#006d2c", 0.4, 0.9),
+            Layer::Unstable => ("#e34a33", "#b30000", 0.4, 0.9),
         }
     }
 }
@@ -358,7 +366,12 @@ impl Picture {
                     fmt(x + 5.0),
                     fmt(y - 10.0)
                 ),
-                Layer::Waypoint | Layer::Start | Layer::Goal => {
+                Layer::Start => format!(
+                    "<path d=\"M{} {}l10 10m0 -10l-10 10\" stroke=\"{stroke}\" stroke-width=\"2.5\"/>",
+                    fmt(x + 5.0),
+                    fmt(y - 10.0)
+                ),
+                Layer::Waypoint | Layer::Goal | Layer::Stable | Layer::Unstable => {
                     format!(
                         "<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
                         fmt(x + 10.0),
@@ -437,8 +450,10 @@ fn draw_order(layer: Layer) -> u8 {
         Layer::Shp => 9,
         Layer::Anchor => 10,
         Layer::Waypoint => 11,
-        Layer::Start => 12,
-        Layer::Goal => 13,
+        Layer::Stable => 12,
+        Layer::Unstable => 13,
+        Layer::Start => 14,
+        Layer::Goal => 15,
     }
 }
 

@@ -1,0 +1,132 @@
+//! `rappel shp FILE --path PATH.json [--json] [--svg OUT]`: the shortest homotopic path (taut
+//! tether) of a path, with its length, anchors, reduced crossing sequence and H-signature; and
+//! `rappel homotopic FILE --path A.json --path B.json`: `homotopic` or `not homotopic` (exit 0
+//! either way). A path file is a JSON array of `[x, y]` points; a path that leaves free space is
+//! bad input (exit 2, the segment named).
+
+use crate::output::{CliError, print_json, write_file};
+use rappel::geometry::btm::Btm;
+use rappel::homotopy::funnel::Side;
+use rappel::homotopy::homotopy::are_homotopic;
+use rappel::scenario::Scenario;
+use rappel::svg::Picture;
+use rappel::tether::{load_path, shp_report};
+use std::path::PathBuf;
+
+/// Arguments of `rappel shp`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scenario file (.ron or .json); its map is used.
+    file: PathBuf,
+    /// The path file: a JSON array of [x, y] points.
+    #[arg(long, value_name = "PATH.json")]
+    path: PathBuf,
+    /// Print the result as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Draw the BTM, the path, its sleeve, the SHP and its anchors to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    svg: Option<PathBuf>,
+}
+
+/// Arguments of `rappel homotopic`.
+#[derive(clap::Args)]
+pub struct HomotopicArgs {
+    /// The scenario file (.ron or .json); its map is used.
+    file: PathBuf,
+    /// The two path files (JSON arrays of [x, y] points), with the same endpoints.
+    #[arg(long, value_name = "PATH.json", num_args = 1, required = true)]
+    path: Vec<PathBuf>,
+}
+
+fn load_btm(file: &std::path::Path) -> Result<(Scenario, Btm), CliError> {
+    let s = Scenario::load(file)?;
+    let btm = Btm::build(&s.map).map_err(|e| CliError(format!("{}: {e}", file.display())))?;
+    Ok((s, btm))
+}
+
+/// Runs `rappel shp`.
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let (s, btm) = load_btm(&args.file)?;
+    let path = load_path(&args.path, &btm)?;
+    let (shp, report) =
+        shp_report(&btm, &path).map_err(|e| CliError(format!("{}: {e}", args.path.display())))?;
+    if let Some(out) = &args.svg {
+        let mut pic = Picture::of_map(&s.map);
+        pic.sleeve(&btm, &shp.sleeve);
+        pic.btm(&btm);
+        pic.map(&s.map);
+        pic.path(path.points());
+        pic.taut_path(&shp.taut);
+        pic.start_goal(path.start(), path.end());
+        write_file(out, &pic.finish(&format!("SHP of {}", args.path.display())))?;
+    }
+    if args.json {
+        return print_json(&report);
+    }
+    crate::outln!("scenario             {}", args.file.display());
+    crate::outln!(
+        "path                 {} ({} points, {:.3} m)",
+        args.path.display(),
+        report.path_points,
+        report.path_length
+    );
+    crate::outln!("SHP length           {:.3} m", report.length);
+    crate::outln!(
+        "crossing sequence    {} crossings, {} after reduction",
+        report.crossings,
+        report.reduced_crossings
+    );
+    crate::outln!(
+        "H-signature          {} ({} obstacles with non-zero winding)",
+        report.h_signature.digest,
+        report.h_signature.windings.len()
+    );
+    crate::outln!("SHP                  {} points", report.points.len());
+    for (i, q) in report.points.iter().enumerate() {
+        crate::outln!("  {i:>4}  ({:.3}, {:.3})", q.x, q.y);
+    }
+    crate::outln!("anchors              {}", report.anchors.len());
+    if !report.anchors.is_empty() {
+        crate::outln!("     #  vertex  obstacle  side   turning   position");
+        for (i, a) in report.anchors.iter().enumerate() {
+            let obstacle = a
+                .obstacle
+                .map_or_else(|| "boundary".to_string(), |o| o.to_string());
+            let side = match a.side {
+                Side::Left => "left",
+                Side::Right => "right",
+            };
+            crate::outln!(
+                "  {:>4}  {:>6}  {:>8}  {:<5}  {:>6.2}°   ({:.3}, {:.3})",
+                i + 1,
+                a.vertex,
+                obstacle,
+                side,
+                a.turning_angle.to_degrees(),
+                a.point.x,
+                a.point.y
+            );
+        }
+    }
+    if let Some(out) = &args.svg {
+        crate::outln!("picture              {}", out.display());
+    }
+    Ok(())
+}
+
+/// Runs `rappel homotopic`.
+pub fn run_homotopic(args: &HomotopicArgs) -> Result<(), CliError> {
+    let [a, b] = args.path.as_slice() else {
+        return Err(CliError(format!(
+            "give exactly two --path files, not {}",
+            args.path.len()
+        )));
+    };
+    let (_, btm) = load_btm(&args.file)?;
+    let (pa, pb) = (load_path(a, &btm)?, load_path(b, &btm)?);
+    let same = are_homotopic(&btm, &pa, &pb)
+        .map_err(|e| CliError(format!("{} and {}: {e}", a.display(), b.display())))?;
+    crate::outln!("{}", if same { "homotopic" } else { "not homotopic" });
+    Ok(())
+}

@@ -1,0 +1,149 @@
+//! End-to-end tests of `rappel shp` and `rappel homotopic` on the thesis Fig. 2.7 fixture.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn rappel(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rappel"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn fixture() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/thesis-fig-2-7.ron")
+        .display()
+        .to_string()
+}
+
+/// Writes path files into a fresh temporary directory.
+fn path_files(tag: &str, paths: &[(&str, &str)]) -> (PathBuf, Vec<String>) {
+    let d = std::env::temp_dir().join(format!("rappel-shp-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    let files = paths
+        .iter()
+        .map(|(name, json)| {
+            let f = d.join(name);
+            std::fs::write(&f, json).expect("write path file");
+            f.display().to_string()
+        })
+        .collect();
+    (d, files)
+}
+
+/// Down the west side of obstacles 3 and 6, then east of obstacle 7's west end.
+const WEST: &str = "[[31, 98], [30, 70], [20, 68], [20, 40], [38, 36], [38, 10], [33, 4]]";
+/// The same class, drawn differently.
+const WEST2: &str = "[[31, 98], [22, 72], [21, 50], [36, 37], [37, 8], [33, 4]]";
+/// Down the east edge of the plane.
+const EAST: &str = "[[31, 98], [56, 90], [58, 30], [55, 8], [33, 4]]";
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn shp_json_reports_a_taut_tether_no_longer_than_the_path() {
+    let (dir, files) = path_files("json", &[("west.json", WEST)]);
+    let svg = dir.join("shp.svg");
+    let o = rappel(&[
+        "shp",
+        &fixture(),
+        "--path",
+        &files[0],
+        "--json",
+        "--svg",
+        svg.to_str().unwrap_or_default(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let (len, path_len) = (
+        v["length"].as_f64().unwrap(),
+        v["path_length"].as_f64().unwrap(),
+    );
+    assert!(len > 0.0 && len < path_len);
+    let anchors = v["anchors"].as_array().unwrap();
+    assert!(!anchors.is_empty());
+    assert!(anchors.iter().all(|a| a["obstacle"].is_u64()));
+    assert_eq!(v["points"].as_array().unwrap().len(), anchors.len() + 2);
+    assert!(v["reduced_crossings"].as_u64().unwrap() <= v["crossings"].as_u64().unwrap());
+    assert_eq!(v["h_signature"]["digest"].as_str().unwrap().len(), 16);
+    let picture = std::fs::read_to_string(&svg).expect("svg written");
+    for needle in ["sleeve", "taut tether (SHP)", "anchor", "BTM edge", "path"] {
+        assert!(picture.contains(needle), "missing {needle}");
+    }
+    // The table names the anchors.
+    let o = rappel(&["shp", &fixture(), "--path", &files[0]]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("SHP length") && out.contains("anchors"),
+        "{out}"
+    );
+}
+
+#[test]
+fn homotopic_answers_both_ways_with_exit_zero() {
+    let (_, files) = path_files(
+        "homotopic",
+        &[("w.json", WEST), ("w2.json", WEST2), ("e.json", EAST)],
+    );
+    for (a, b, expected) in [(0, 1, "homotopic"), (0, 2, "not homotopic")] {
+        let o = rappel(&[
+            "homotopic",
+            &fixture(),
+            "--path",
+            &files[a],
+            "--path",
+            &files[b],
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert_eq!(String::from_utf8_lossy(&o.stdout).trim(), expected);
+    }
+}
+
+#[test]
+fn bad_paths_exit_two_naming_the_segment_or_position() {
+    let (_, files) = path_files(
+        "bad",
+        &[
+            ("through.json", "[[31, 98], [31, 70], [31, 4]]"),
+            ("garbled.json", "[[31, 98], [31 70]]"),
+            ("west.json", WEST),
+            ("short.json", "[[31, 98], [30, 70]]"),
+        ],
+    );
+    for (args, expected) in [
+        (vec!["shp", &fixture(), "--path", &files[0]], "segment 1"),
+        (
+            vec!["shp", &fixture(), "--path", &files[1]],
+            "garbled.json:1:",
+        ),
+        (
+            vec![
+                "homotopic",
+                &fixture(),
+                "--path",
+                &files[2],
+                "--path",
+                &files[3],
+            ],
+            "do not share their endpoints",
+        ),
+        (
+            vec!["homotopic", &fixture(), "--path", &files[2]],
+            "exactly two",
+        ),
+    ] {
+        let o = rappel(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        let err = stderr(&o);
+        let lines: Vec<_> = err.lines().collect();
+        assert_eq!(lines.len(), 1, "{err}");
+        assert!(
+            lines[0].starts_with("error: ") && lines[0].contains(expected),
+            "{err}"
+        );
+    }
+}

@@ -1,0 +1,171 @@
+//! Taut tethers for `rappel shp` and `rappel homotopic` (issue 3): path files, the shortest
+//! homotopic path (SHP) of a path with its summary, and the picture layers for sleeves, SHPs and
+//! anchors.
+//!
+//! A path file is a JSON array of `[x, y]` points in the map frame, for example
+//! `[[100.0, 290.0], [80.0, 150.0], [100.0, 5.0]]`.
+
+use crate::svg::{Layer, Marker, Picture};
+use nalgebra::Point2;
+use rappel_geometry::btm::Btm;
+use rappel_homotopy::crossing::CrossingSequence;
+use rappel_homotopy::funnel::{Anchor, TautPath};
+use rappel_homotopy::h_signature::{HSignature, Poles};
+use rappel_homotopy::homotopy::HomotopyError;
+use rappel_homotopy::path::{Path, PathError};
+use rappel_homotopy::shp::{ShortestHomotopicPath, shortest_homotopic_path};
+use rappel_homotopy::sleeve::Sleeve;
+use serde::Serialize;
+
+/// Why a path file could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum PathFileError {
+    /// The file could not be read.
+    #[error("{file}: cannot read: {source}")]
+    Read {
+        /// The file.
+        file: String,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The file is not a JSON array of `[x, y]` points.
+    #[error("{file}:{line}:{column}: not a JSON array of [x, y] points: {message}")]
+    Parse {
+        /// The file.
+        file: String,
+        /// Line of the problem (1-based).
+        line: usize,
+        /// Column of the problem (1-based).
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The points do not make a path in the map's free space.
+    #[error("{file}: {source}")]
+    Invalid {
+        /// The file.
+        file: String,
+        /// What is wrong, with the point or segment named.
+        source: PathError,
+    },
+}
+
+/// Reads a path file and checks it against the free space of `btm`.
+pub fn load_path(file: &std::path::Path, btm: &Btm) -> Result<Path, PathFileError> {
+    let name = file.display().to_string();
+    let text = std::fs::read_to_string(file).map_err(|source| PathFileError::Read {
+        file: name.clone(),
+        source,
+    })?;
+    let points: Vec<Point2<f64>> =
+        serde_json::from_str(&text).map_err(|e| PathFileError::Parse {
+            file: name.clone(),
+            line: e.line(),
+            column: e.column(),
+            message: e.to_string(),
+        })?;
+    let invalid = |source| PathFileError::Invalid {
+        file: name.clone(),
+        source,
+    };
+    let path = Path::new(points).map_err(invalid)?;
+    path.validate(btm).map_err(invalid)?;
+    Ok(path)
+}
+
+/// The H-signature in a report: its digest and the non-zero winding counts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HSignatureReport {
+    /// [`HSignature::digest`] in hexadecimal.
+    pub digest: String,
+    /// `(obstacle id, winding count)` for every obstacle with a non-zero count.
+    pub windings: Vec<(u32, i64)>,
+}
+
+/// What `rappel shp` prints.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ShpReport {
+    /// Number of points of the input path.
+    pub path_points: usize,
+    /// Length of the input path, m.
+    pub path_length: f64,
+    /// The SHP polyline.
+    pub points: Vec<Point2<f64>>,
+    /// The SHP's length, m.
+    pub length: f64,
+    /// The anchors, in path order.
+    pub anchors: Vec<Anchor>,
+    /// Length of the raw crossing sequence.
+    pub crossings: usize,
+    /// Length of the reduced crossing sequence (the homotopy class's word).
+    pub reduced_crossings: usize,
+    /// The H-signature of the path (and of its SHP).
+    pub h_signature: HSignatureReport,
+}
+
+/// The SHP of `path` with its report.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel::geometry::{btm::Btm, map::Map, polygon::Polygon};
+/// use rappel::homotopy::path::Path;
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
+/// );
+/// let btm = Btm::build(&map).unwrap();
+/// let path = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
+/// let (shp, report) = rappel::tether::shp_report(&btm, &path).unwrap();
+/// assert_eq!(report.anchors.len(), 2);
+/// assert_eq!(report.reduced_crossings, shp.crossings.len());
+/// let mut pic = rappel::svg::Picture::of_map(&map);
+/// pic.sleeve(&btm, &shp.sleeve);
+/// pic.taut_path(&shp.taut);
+/// assert!(pic.finish("shp").contains("anchor"));
+/// ```
+pub fn shp_report(
+    btm: &Btm,
+    path: &Path,
+) -> Result<(ShortestHomotopicPath, ShpReport), HomotopyError> {
+    let shp = shortest_homotopic_path(btm, path)?;
+    let raw = CrossingSequence::of_path(btm, path)?;
+    let h = HSignature::of_path(&Poles::new(btm), path);
+    let report = ShpReport {
+        path_points: path.points().len(),
+        path_length: path.length(),
+        points: shp.taut.points.clone(),
+        length: shp.taut.length,
+        anchors: shp.taut.anchors.clone(),
+        crossings: raw.len(),
+        reduced_crossings: shp.crossings.len(),
+        h_signature: HSignatureReport {
+            digest: format!("{:016x}", h.digest()),
+            windings: h.windings().iter().map(|&(o, n)| (o.0, n)).collect(),
+        },
+    };
+    Ok((shp, report))
+}
+
+impl Picture {
+    /// A sleeve's triangles, shaded.
+    pub fn sleeve(&mut self, btm: &Btm, sleeve: &Sleeve) {
+        let d = btm.dcel();
+        for &t in sleeve.triangles() {
+            self.polygon(Layer::Sleeve, &d.triangle_points(t));
+        }
+    }
+
+    /// A taut tether, bold, with its anchors as squares.
+    pub fn taut_path(&mut self, taut: &TautPath) {
+        self.polyline(Layer::Shp, &taut.points);
+        for a in &taut.anchors {
+            self.marker(Layer::Anchor, a.point, Marker::Square);
+        }
+    }
+
+    /// An input path, thin.
+    pub fn path(&mut self, points: &[Point2<f64>]) {
+        self.polyline(Layer::Path, points);
+    }
+}
