@@ -128,16 +128,15 @@ pub fn normalize(
             boundary.clone(),
             obstacles.iter().map(|(p, _)| p.clone()).collect(),
         );
-        let groups = contact_groups(&candidate);
-        if groups
-            .iter()
-            .all(|g| g.len() == 1 && !self_intersecting(&candidate, g[0]))
-        {
+        let contacts = candidate.edge_contacts();
+        let broken = self_intersecting_obstacles(&contacts, obstacles.len());
+        let groups = contact_groups(&candidate, &contacts);
+        if groups.iter().all(|g| g.len() == 1 && !broken[g[0]]) {
             break;
         }
         let mut next = Vec::with_capacity(groups.len());
         for group in groups {
-            let needs_repair = group.len() > 1 || self_intersecting(&candidate, group[0]);
+            let needs_repair = group.len() > 1 || broken[group[0]];
             if !needs_repair {
                 next.push(obstacles[group[0]].clone());
                 continue;
@@ -251,13 +250,32 @@ fn clean_ring(ring: &Polygon) -> Polygon {
     Polygon::new(v)
 }
 
-/// `true` when obstacle `k` of `map` meets itself.
-fn self_intersecting(map: &Map, k: usize) -> bool {
-    map.edge_contacts().iter().any(|(_, e)| matches!(e, MapError::SelfIntersecting { ring: RingId::Obstacle(j), .. } if *j == k))
+/// For each obstacle, whether one of `contacts` (from [`Map::edge_contacts`]) says it meets
+/// itself.
+fn self_intersecting_obstacles(
+    contacts: &[((u32, u32, u32, u32), MapError)],
+    n: usize,
+) -> Vec<bool> {
+    let mut broken = vec![false; n];
+    for (_, e) in contacts {
+        if let MapError::SelfIntersecting {
+            ring: RingId::Obstacle(j),
+            ..
+        } = e
+            && *j < n
+        {
+            broken[*j] = true;
+        }
+    }
+    broken
 }
 
-/// Groups of obstacle indices that meet (edges touching or crossing, or nested), by union-find.
-fn contact_groups(map: &Map) -> Vec<Vec<usize>> {
+/// Groups of obstacle indices that meet (edges touching or crossing per `contacts`, or nested),
+/// transitively, by union-find; each group sorted, groups ordered by their first member.
+pub(crate) fn contact_groups(
+    map: &Map,
+    contacts: &[((u32, u32, u32, u32), MapError)],
+) -> Vec<Vec<usize>> {
     let n = map.obstacles.len();
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(parent: &mut [usize], mut i: usize) -> usize {
@@ -273,11 +291,11 @@ fn contact_groups(map: &Map) -> Vec<Vec<usize>> {
             parent[ra.max(rb)] = ra.min(rb);
         }
     };
-    for (_, e) in map.edge_contacts() {
+    for (_, e) in contacts {
         if let MapError::ObstaclesOverlap { first, second, .. }
         | MapError::ObstaclesTouch { first, second, .. } = e
         {
-            join(first, second);
+            join(*first, *second);
         }
     }
     for (i, j, _) in map.nested_obstacles() {
