@@ -196,6 +196,35 @@ pub enum MapError {
     },
 }
 
+impl MapError {
+    /// The same single-ring defect attributed to `ring` (for a ring validated on its own, e.g. an
+    /// obstacle checked as if it were a boundary); defects between rings are returned unchanged.
+    pub fn for_ring(self, ring: RingId) -> MapError {
+        match self {
+            MapError::NonFinite { vertex, x, y, .. } => MapError::NonFinite { ring, vertex, x, y },
+            MapError::TooFewVertices { distinct, at, .. } => {
+                MapError::TooFewVertices { ring, distinct, at }
+            }
+            MapError::RepeatedVertex { vertex, at, .. } => {
+                MapError::RepeatedVertex { ring, vertex, at }
+            }
+            MapError::ZeroArea { at, .. } => MapError::ZeroArea { ring, at },
+            MapError::SelfIntersecting {
+                first_edge,
+                second_edge,
+                at,
+                ..
+            } => MapError::SelfIntersecting {
+                ring,
+                first_edge,
+                second_edge,
+                at,
+            },
+            other => other,
+        }
+    }
+}
+
 impl Map {
     /// A map from its boundary and obstacles (not validated).
     pub fn new(boundary: Polygon, obstacles: Vec<Polygon>) -> Self {

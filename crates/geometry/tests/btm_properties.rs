@@ -39,7 +39,7 @@ fn grid_of_squares(k: usize) -> Map {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
     #[test]
     fn fresh_build_satisfies_invariants(n in 0usize..120, seed in any::<u64>()) {

@@ -7,6 +7,7 @@ use super::{Case, workspace_root};
 use crate::fixtures::{GENERATED, generated_path};
 use rappel::btm_summary::summarize_btm;
 use rappel::geometry::btm::Btm;
+use rappel::geometry::dcel::{TriangleId, VertexId};
 use rappel::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
@@ -113,13 +114,7 @@ fn update_cases(s: &Scenario, cases: &mut Vec<Case>) -> Result<(), String> {
         let poly = btm.obstacle_polygon(id).ok_or("missing obstacle")?;
         let before = snapshot(&btm);
         let report = btm.remove_obstacle(id).map_err(|e| e.to_string())?;
-        unreported_changes += before
-            .iter()
-            .filter(|(t, v)| {
-                !report.removed.contains(t)
-                    && !(btm.is_free_triangle(*t) && btm.dcel().triangle_vertices(*t) == *v)
-            })
-            .count();
+        unreported_changes += unreported(&btm, &before, &report.removed);
         removed.push(poly);
         step += 1;
         check(&btm, step, &mut broken);
@@ -127,13 +122,7 @@ fn update_cases(s: &Scenario, cases: &mut Vec<Case>) -> Result<(), String> {
     for poly in removed {
         let before = snapshot(&btm);
         let (_, report) = btm.insert_obstacle(&poly).map_err(|e| e.to_string())?;
-        unreported_changes += before
-            .iter()
-            .filter(|(t, v)| {
-                !report.removed.contains(t)
-                    && !(btm.is_free_triangle(*t) && btm.dcel().triangle_vertices(*t) == *v)
-            })
-            .count();
+        unreported_changes += unreported(&btm, &before, &report.removed);
         step += 1;
         check(&btm, step, &mut broken);
     }
@@ -163,4 +152,15 @@ fn update_cases(s: &Scenario, cases: &mut Vec<Case>) -> Result<(), String> {
         btm.triangle_count() == original,
     ));
     Ok(())
+}
+
+/// Triangles of `before` that are not reported removed yet are gone or changed in `btm`.
+fn unreported(btm: &Btm, before: &[(TriangleId, [VertexId; 3])], removed: &[TriangleId]) -> usize {
+    before
+        .iter()
+        .filter(|(t, v)| {
+            !removed.contains(t)
+                && !(btm.is_free_triangle(*t) && btm.dcel().triangle_vertices(*t) == *v)
+        })
+        .count()
 }

@@ -283,62 +283,12 @@ impl Btm {
     /// Checks a new obstacle before anything changes: a valid ring, strictly inside free space,
     /// touching and enclosing nothing.
     fn check_new_obstacle(&self, polygon: &Polygon, index: usize) -> Result<(), BtmError> {
-        let relabel = |e: MapError| -> MapError {
-            match e {
-                MapError::NonFinite { vertex, x, y, .. } => MapError::NonFinite {
-                    ring: RingId::Obstacle(index),
-                    vertex,
-                    x,
-                    y,
-                },
-                MapError::TooFewVertices { distinct, at, .. } => MapError::TooFewVertices {
-                    ring: RingId::Obstacle(index),
-                    distinct,
-                    at,
-                },
-                MapError::RepeatedVertex { vertex, at, .. } => MapError::RepeatedVertex {
-                    ring: RingId::Obstacle(index),
-                    vertex,
-                    at,
-                },
-                MapError::ZeroArea { at, .. } => MapError::ZeroArea {
-                    ring: RingId::Obstacle(index),
-                    at,
-                },
-                MapError::SelfIntersecting {
-                    first_edge,
-                    second_edge,
-                    at,
-                    ..
-                } => MapError::SelfIntersecting {
-                    ring: RingId::Obstacle(index),
-                    first_edge,
-                    second_edge,
-                    at,
-                },
-                other => other,
-            }
-        };
         Map::new(polygon.clone(), Vec::new())
             .validate()
-            .map_err(relabel)?;
+            .map_err(|e| e.for_ring(RingId::Obstacle(index)))?;
 
         let d = &self.dcel;
-        let contact = |kind: EdgeKind, at| -> BtmError {
-            match kind {
-                EdgeKind::Obstacle(o) => MapError::ObstaclesTouch {
-                    first: o.index().min(index),
-                    second: o.index().max(index),
-                    at,
-                }
-                .into(),
-                _ => MapError::ObstacleCrossesBoundary {
-                    obstacle: index,
-                    at,
-                }
-                .into(),
-            }
-        };
+        let contact = |kind: EdgeKind, at, overlap: bool| contact_error(kind, index, at, overlap);
         let ring_kind = |v: u32| {
             d.ring[v as usize]
                 .map(|r| r.kind)
@@ -350,20 +300,13 @@ impl Btm {
                 Location::Triangle(t) => seeds.push(t.0),
                 Location::Edge(h) => {
                     if d.constrained[h.index()] {
-                        return Err(contact(d.edge_kind(h), *p));
+                        return Err(contact(d.edge_kind(h), *p, false));
                     }
                     seeds.push(h.0 / 3);
                     seeds.push(d.twin[h.index()] / 3);
                 }
-                Location::Vertex(v) => return Err(contact(ring_kind(v.0), *p)),
-                Location::Obstacle(o) => {
-                    return Err(MapError::ObstaclesOverlap {
-                        first: o.index().min(index),
-                        second: o.index().max(index),
-                        at: *p,
-                    }
-                    .into());
-                }
+                Location::Vertex(v) => return Err(contact(ring_kind(v.0), *p, false)),
+                Location::Obstacle(o) => return Err(contact(EdgeKind::Obstacle(o), *p, true)),
                 Location::Outside => {
                     return Err(MapError::ObstacleOutsideBoundary {
                         obstacle: index,
@@ -393,17 +336,7 @@ impl Btm {
                         let c = segment_contact(p, q, d.pt(a), d.pt(b));
                         if c != SegmentContact::Disjoint {
                             let kind = d.edge_kind(HalfEdgeId(h));
-                            return Err(match (kind, c) {
-                                (EdgeKind::Obstacle(o), SegmentContact::Crossing) => {
-                                    MapError::ObstaclesOverlap {
-                                        first: o.index().min(index),
-                                        second: o.index().max(index),
-                                        at: *p,
-                                    }
-                                    .into()
-                                }
-                                _ => contact(kind, *p),
-                            });
+                            return Err(contact(kind, *p, c == SegmentContact::Crossing));
                         }
                     }
                 } else {
@@ -415,23 +348,35 @@ impl Btm {
                 if d.ring[a as usize].is_some()
                     && polygon.locate(d.pt(a)) != PointInPolygon::Outside
                 {
-                    let at = *d.pt(a);
-                    return Err(match ring_kind(a) {
-                        EdgeKind::Obstacle(o) => MapError::ObstaclesOverlap {
-                            first: o.index().min(index),
-                            second: o.index().max(index),
-                            at,
-                        }
-                        .into(),
-                        _ => MapError::ObstacleCrossesBoundary {
-                            obstacle: index,
-                            at,
-                        }
-                        .into(),
-                    });
+                    return Err(contact(ring_kind(a), *d.pt(a), true));
                 }
             }
         }
         Ok(())
+    }
+}
+
+/// The error for new obstacle `index` meeting a map edge or vertex of `kind` at `at`: overlapping
+/// or touching another obstacle, or reaching the boundary.
+fn contact_error(
+    kind: EdgeKind,
+    index: usize,
+    at: nalgebra::Point2<f64>,
+    overlap: bool,
+) -> BtmError {
+    match kind {
+        EdgeKind::Obstacle(o) => {
+            let (first, second) = (o.index().min(index), o.index().max(index));
+            if overlap {
+                MapError::ObstaclesOverlap { first, second, at }.into()
+            } else {
+                MapError::ObstaclesTouch { first, second, at }.into()
+            }
+        }
+        _ => MapError::ObstacleCrossesBoundary {
+            obstacle: index,
+            at,
+        }
+        .into(),
     }
 }
