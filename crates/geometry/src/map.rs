@@ -234,11 +234,11 @@ impl Map {
         }
     }
 
-    /// The ring with the given id.
-    pub fn ring(&self, id: RingId) -> &Polygon {
+    /// The ring with the given id (`None` for an obstacle index out of range).
+    pub fn ring(&self, id: RingId) -> Option<&Polygon> {
         match id {
-            RingId::Boundary => &self.boundary,
-            RingId::Obstacle(i) => &self.obstacles[i],
+            RingId::Boundary => Some(&self.boundary),
+            RingId::Obstacle(i) => self.obstacles.get(i),
         }
     }
 

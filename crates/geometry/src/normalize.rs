@@ -177,27 +177,27 @@ pub fn normalize(
 
     // Step 5: the boundary.
     let mut boundary = boundary;
-    let touching: Vec<usize> = {
-        let candidate = Map::new(
-            boundary.clone(),
-            obstacles.iter().map(|(p, _)| p.clone()).collect(),
-        );
-        let mut t: Vec<usize> = candidate
-            .edge_contacts()
-            .into_iter()
-            .filter_map(|(_, e)| match e {
-                MapError::ObstacleCrossesBoundary { obstacle, .. } => Some(obstacle),
-                _ => None,
-            })
-            .collect();
-        t.dedup();
-        t
-    };
-    if !touching.is_empty() {
+    let contacts: Vec<MapError> = Map::new(
+        boundary.clone(),
+        obstacles.iter().map(|(p, _)| p.clone()).collect(),
+    )
+    .edge_contacts()
+    .into_iter()
+    .map(|(_, e)| e)
+    .filter(|e| matches!(e, MapError::ObstacleCrossesBoundary { .. }))
+    .collect();
+    let mut touching: Vec<usize> = contacts
+        .iter()
+        .filter_map(|e| match e {
+            MapError::ObstacleCrossesBoundary { obstacle, .. } => Some(*obstacle),
+            _ => None,
+        })
+        .collect();
+    touching.sort_unstable();
+    touching.dedup();
+    if let Some(first) = contacts.into_iter().next() {
         if !options.carve_boundary {
-            let candidate = Map::new(boundary, obstacles.into_iter().map(|(p, _)| p).collect());
-            candidate.validate()?;
-            unreachable!("an obstacle touching the boundary always fails validation");
+            return Err(first);
         }
         let cut: Vec<&Polygon> = touching.iter().map(|&k| &obstacles[k].0).collect();
         boundary = carve(&boundary, &cut).ok_or(MapError::ZeroArea {
