@@ -37,6 +37,10 @@ pub struct Map {
     pub obstacles: Vec<Polygon>,
 }
 
+/// A contact found by [`Map::edge_contacts`]: the key `(ring, edge, ring, edge)` (rings numbered
+/// boundary first) and the defect it is.
+pub(crate) type EdgeContact = ((u32, u32, u32, u32), MapError);
+
 /// Which ring of a map something refers to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum RingId {
@@ -330,7 +334,7 @@ impl Map {
 
     /// Every pair of edges (within a ring or across rings) that meet where they must not, as
     /// errors keyed by `(ring, edge, ring, edge)` with rings numbered boundary first, sorted.
-    pub(crate) fn edge_contacts(&self) -> Vec<((u32, u32, u32, u32), MapError)> {
+    pub(crate) fn edge_contacts(&self) -> Vec<EdgeContact> {
         // Segment table: (ring, edge index). Ring 0 is the boundary, ring k + 1 obstacle k.
         let rings: Vec<&Polygon> = std::iter::once(&self.boundary)
             .chain(&self.obstacles)
@@ -366,7 +370,7 @@ impl Map {
                 RingId::Obstacle(r as usize - 1)
             }
         };
-        let mut found: Vec<((u32, u32, u32, u32), MapError)> = Vec::new();
+        let mut found: Vec<EdgeContact> = Vec::new();
         let mut seen = std::collections::HashSet::new();
         for bucket in grid.buckets() {
             for (k, &i) in bucket.iter().enumerate() {

@@ -20,7 +20,7 @@
 //! coordinates to a 64-bit integer grid spanning the input: only obstacles that are merged or
 //! carved pass through it; every other vertex keeps its exact input coordinates.
 
-use crate::map::{Map, MapError, RingId};
+use crate::map::{EdgeContact, Map, MapError, RingId};
 use crate::polygon::{Polygon, convex_hull};
 use i_overlay::core::fill_rule::FillRule;
 use i_overlay::core::overlay_rule::OverlayRule;
@@ -252,10 +252,7 @@ fn clean_ring(ring: &Polygon) -> Polygon {
 
 /// For each obstacle, whether one of `contacts` (from [`Map::edge_contacts`]) says it meets
 /// itself.
-fn self_intersecting_obstacles(
-    contacts: &[((u32, u32, u32, u32), MapError)],
-    n: usize,
-) -> Vec<bool> {
+fn self_intersecting_obstacles(contacts: &[EdgeContact], n: usize) -> Vec<bool> {
     let mut broken = vec![false; n];
     for (_, e) in contacts {
         if let MapError::SelfIntersecting {
@@ -272,10 +269,7 @@ fn self_intersecting_obstacles(
 
 /// Groups of obstacle indices that meet (edges touching or crossing per `contacts`, or nested),
 /// transitively, by union-find; each group sorted, groups ordered by their first member.
-pub(crate) fn contact_groups(
-    map: &Map,
-    contacts: &[((u32, u32, u32, u32), MapError)],
-) -> Vec<Vec<usize>> {
+pub(crate) fn contact_groups(map: &Map, contacts: &[EdgeContact]) -> Vec<Vec<usize>> {
     let n = map.obstacles.len();
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(parent: &mut [usize], mut i: usize) -> usize {

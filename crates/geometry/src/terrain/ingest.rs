@@ -11,10 +11,11 @@
 //! 3. obstacle detection relative to the plane under each cell
 //!    ([`crate::terrain::obstacle_detection`]);
 //! 4. each cluster replaced by the convex hull of its cells' corners in the planning frame; the
-//!    tether obstacles, inside the unfolded footprint of the grid, normalised into a valid [`Map`]
-//!    ([`crate::normalize`], hull mode: overlapping hulls merged into the hull of their union,
-//!    hulls touching the edge carved out of the boundary); the negative obstacles merged likewise
-//!    into the separate robot-obstacle layer;
+//!    tether obstacles, inside the unfolded sampled footprint of the grid (see
+//!    [`crate::terrain::frame`]), normalised into a valid [`Map`] ([`crate::normalize`] in hull
+//!    mode: overlapping hulls merged into the hull of their union, hulls touching the edge carved
+//!    out of the boundary); the negative obstacles merged likewise into the separate
+//!    robot-obstacle layer;
 //! 5. the planes classified tether-free or tether-demand for the given friction
 //!    ([`crate::terrain::plane_class`]);
 //! 6. a suggested start near the top and goal near the bottom, in free space (or the given ones,
@@ -136,8 +137,8 @@ pub enum IngestError {
 pub struct Ingested {
     /// The grid the rasters are on.
     pub grid: GridGeometry,
-    /// The planning map: the unfolded footprint of the grid and the tether obstacles, normalised
-    /// (valid: [`Map::validate`] passes).
+    /// The planning map: the unfolded sampled footprint of the grid (the rectangle through the
+    /// outer cell centres) and the tether obstacles, normalised (valid: [`Map::validate`] passes).
     pub map: Map,
     /// The plane series, top first, with the friction given.
     pub planes: Vec<TerrainPlane>,
@@ -251,6 +252,13 @@ fn cluster_hull(g: &GridGeometry, frame: &PlanningFrame, cells: &[usize]) -> Pol
     convex_hull(&pts)
 }
 
+/// Normalisation in hull mode (thesis §2.1.2: obstacles replaced by their convex hulls; overlapping
+/// hulls merged into the hull of their union), carving hulls that touch the boundary out of it.
+const HULL_MODE: NormalizeOptions = NormalizeOptions {
+    convex_hulls: true,
+    carve_boundary: true,
+};
+
 /// Merges overlapping polygons of a layer (hull mode), inside a frame that holds them all.
 fn merge_layer(polys: Vec<Polygon>) -> Result<Vec<Polygon>, MapError> {
     if polys.is_empty() {
@@ -265,11 +273,7 @@ fn merge_layer(polys: Vec<Polygon>) -> Result<Vec<Polygon>, MapError> {
         Point2::new(b.max.x + pad, b.max.y + pad),
         Point2::new(b.min.x - pad, b.max.y + pad),
     ]);
-    let options = NormalizeOptions {
-        convex_hulls: true,
-        carve_boundary: false,
-    };
-    Ok(normalize(&Map::new(frame, polys), &options)?.0.obstacles)
+    Ok(normalize(&Map::new(frame, polys), &HULL_MODE)?.0.obstacles)
 }
 
 /// `true` when `p` and the eight points at distance `margin` around it are in the map's free
@@ -329,7 +333,7 @@ fn suggest(
 /// let g = GridGeometry::new(60, 40, 1.0, 1.0, 0.0, 60.0).unwrap();
 /// let south = FallLine::from_azimuth(180.0).unwrap();
 /// let wall = plane_series_dem(g, &south, 300.0, &[ProfilePlane::new(100.0, 45.0)]).unwrap();
-/// let dem = with_box(&wall, 20..24, 18..22, 1.0); // a boulder
+/// let dem = with_box(&wall, 20..24, 18..22, 1.0).unwrap(); // a boulder
 /// let out = ingest(&dem, &IngestOptions::default()).unwrap();
 /// out.map.validate().unwrap();
 /// assert_eq!(out.planes.len(), 1);
@@ -406,13 +410,9 @@ pub fn ingest(dem: &HeightGrid, options: &IngestOptions) -> Result<Ingested, Ing
         UnknownPolicy::Ignore => {}
     }
     let raw = Map::new(Polygon::new(frame.footprint(&g)), tether);
-    let (map, normalize_report) = normalize(
-        &raw,
-        &NormalizeOptions {
-            convex_hulls: true,
-            carve_boundary: true,
-        },
-    )?;
+    let (map, mut normalize_report) = normalize(&raw, &HULL_MODE)?;
+    // A hull touching two edges of the boundary is listed twice.
+    normalize_report.carved_into_boundary.dedup();
     let robot_obstacles = merge_layer(robot)?;
     let unknown_regions = merge_layer(unknown)?;
 

@@ -25,7 +25,8 @@
 //! **Positive and negative obstacles** (§2.1.2: "negative obstacles that sink below the plane of
 //! the ground, such as potholes and craters ... pose no obstacle to the tether"). Each obstacle
 //! point is compared with the local ground: the least-squares plane through the known cells of a
-//! window around it that are *not* obstacle points (window half-width
+//! window around it that are neither obstacle points nor enclosed by them, like the flat top of a
+//! boulder or the floor of a pit (window half-width
 //! [`ObstacleOptions::ground_window_m`]; with fewer than [`MIN_GROUND_CELLS`] such cells, the plane
 //! of the series is used instead). A point at least `RAISED_FRACTION_OF_H_MIN * H_min` above that
 //! ground (measured perpendicular to it) *rises above the plane* ([`CellClass::Raised`]); as far
@@ -57,6 +58,13 @@ pub const MIN_GROUND_WINDOW_CELLS: usize = 2;
 /// Fewest ground cells (known, not obstacle points) in the window for a local ground plane; with
 /// fewer, the plane of the series is the ground.
 pub const MIN_GROUND_CELLS: usize = 6;
+/// Largest radius, in cells, of the search for compatible partners (`H_max / sin(theta_max)` over
+/// the cell size). A finer grid, or a larger `H_max`, is refused
+/// ([`ObstacleError::SearchTooWide`]) rather than left to run for hours: resample the DEM or lower
+/// `H_max`.
+pub const MAX_SEARCH_RADIUS_CELLS: usize = 32;
+/// Largest half-width, in cells, of the local ground window; wider windows are clamped to it.
+pub const MAX_GROUND_WINDOW_CELLS: usize = 64;
 /// An obstacle point rises above (sinks below) the ground when it is at least this fraction of
 /// `H_min` above (below) it; closer, it is the foot of an obstacle.
 pub const RAISED_FRACTION_OF_H_MIN: f64 = 0.5;
@@ -95,6 +103,16 @@ impl Default for ObstacleOptions {
 /// An unusable detection parameter.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ObstacleError {
+    /// The compatibility cone spans too many cells (see [`MAX_SEARCH_RADIUS_CELLS`]).
+    #[error(
+        "H_max / sin(theta_max) = {reach_m:.3} m spans {cells} cells of the grid, more than {MAX_SEARCH_RADIUS_CELLS}: resample the DEM or lower H_max"
+    )]
+    SearchTooWide {
+        /// The cone's reach, metres.
+        reach_m: f64,
+        /// Cells it spans.
+        cells: usize,
+    },
     /// A parameter outside its range.
     #[error("obstacle detection parameter {name} = {value} must be {requirement}")]
     BadParameter {
@@ -242,8 +260,15 @@ struct Offset {
 }
 
 /// The forward half of the search window (each unordered pair visited once).
-fn search_offsets(g: &GridGeometry, o: &ObstacleOptions) -> Vec<Offset> {
+fn search_offsets(g: &GridGeometry, o: &ObstacleOptions) -> Result<Vec<Offset>, ObstacleError> {
     let reach = o.h_max_m / o.theta_max_deg.to_radians().sin();
+    let cells = (reach / g.cell_x.min(g.cell_y)).floor();
+    if cells > MAX_SEARCH_RADIUS_CELLS as f64 {
+        return Err(ObstacleError::SearchTooWide {
+            reach_m: reach,
+            cells: cells as usize,
+        });
+    }
     let floor_cells =
         |cell: f64| ((reach / cell).floor() as usize).max(usize::from(o.bridge_unsampled_faces));
     let (rx, ry) = (
@@ -267,14 +292,52 @@ fn search_offsets(g: &GridGeometry, o: &ObstacleOptions) -> Vec<Offset> {
             }
         }
     }
-    out
+    Ok(out)
+}
+
+/// Cells that are not ground for the local ground planes: obstacle points, and the cells they
+/// enclose (the flat top of a boulder, the floor of a pit), i.e. those not reachable from the
+/// grid's border by 4-connected steps through non-obstacle cells.
+fn not_ground(g: &GridGeometry, point: &[bool]) -> Vec<bool> {
+    let mut reached = vec![false; g.len()];
+    let mut stack: Vec<usize> = Vec::new();
+    let visit = |i: usize, reached: &mut Vec<bool>, stack: &mut Vec<usize>| {
+        if !point[i] && !reached[i] {
+            reached[i] = true;
+            stack.push(i);
+        }
+    };
+    for r in 0..g.nrows {
+        visit(g.index(r, 0), &mut reached, &mut stack);
+        visit(g.index(r, g.ncols - 1), &mut reached, &mut stack);
+    }
+    for c in 0..g.ncols {
+        visit(g.index(0, c), &mut reached, &mut stack);
+        visit(g.index(g.nrows - 1, c), &mut reached, &mut stack);
+    }
+    while let Some(i) = stack.pop() {
+        let (r, c) = g.row_col(i);
+        if r > 0 {
+            visit(i - g.ncols, &mut reached, &mut stack);
+        }
+        if r + 1 < g.nrows {
+            visit(i + g.ncols, &mut reached, &mut stack);
+        }
+        if c > 0 {
+            visit(i - 1, &mut reached, &mut stack);
+        }
+        if c + 1 < g.ncols {
+            visit(i + 1, &mut reached, &mut stack);
+        }
+    }
+    reached.into_iter().map(|r| !r).collect()
 }
 
 /// Height of cell `(r, c)` above its local ground, perpendicular to the ground (see the module
-/// docs), given which cells are obstacle points.
+/// docs), given which cells are not ground.
 fn height_above_ground(
     dem: &HeightGrid,
-    point: &[bool],
+    excluded: &[bool],
     r: usize,
     c: usize,
     (wx, wy): (usize, usize),
@@ -285,7 +348,7 @@ fn height_above_ground(
     let mut st = PlaneStats::default();
     for rr in r.saturating_sub(wy)..=(r + wy).min(g.nrows - 1) {
         for cc in c.saturating_sub(wx)..=(c + wx).min(g.ncols - 1) {
-            if point[g.index(rr, cc)] {
+            if excluded[g.index(rr, cc)] {
                 continue;
             }
             if let Some(z) = dem.height(rr, cc) {
@@ -317,7 +380,7 @@ fn height_above_ground(
 /// let g = GridGeometry::new(30, 30, 1.0, 1.0, 0.0, 30.0).unwrap();
 /// let south = FallLine::from_azimuth(180.0).unwrap();
 /// let slope = plane_series_dem(g, &south, 100.0, &[ProfilePlane::new(100.0, 30.0)]).unwrap();
-/// let boulder = with_box(&slope, 10..14, 12..15, 1.0);
+/// let boulder = with_box(&slope, 10..14, 12..15, 1.0).unwrap();
 /// let tan = 30f64.to_radians().tan();
 /// let plane = |r: usize, c: usize| ReferencePlane {
 ///     gradient: Vector2::new(0.0, tan),
@@ -337,7 +400,7 @@ pub fn detect_obstacles(
     let heights = dem.heights();
     let sin_t = options.theta_max_deg.to_radians().sin();
     let sin2 = sin_t * sin_t;
-    let offsets = search_offsets(&g, options);
+    let offsets = search_offsets(&g, options)?;
     let mut point = vec![false; g.len()];
     let mut compatible_pairs = 0usize;
     for r in 0..g.nrows {
@@ -379,10 +442,15 @@ pub fn detect_obstacles(
         }
     }
 
-    let window =
-        |cell: f64| ((options.ground_window_m / cell).ceil() as usize).max(MIN_GROUND_WINDOW_CELLS);
+    let window = |cell: f64| {
+        ((options.ground_window_m / cell)
+            .ceil()
+            .min(MAX_GROUND_WINDOW_CELLS as f64) as usize)
+            .max(MIN_GROUND_WINDOW_CELLS)
+    };
     let w = (window(g.cell_x), window(g.cell_y));
     let threshold = RAISED_FRACTION_OF_H_MIN * options.h_min_m;
+    let excluded = not_ground(&g, &point);
     let classes: Vec<CellClass> = (0..g.len())
         .map(|i| {
             if heights[i].is_nan() {
@@ -392,7 +460,7 @@ pub fn detect_obstacles(
                 return CellClass::Ground;
             }
             let (r, c) = g.row_col(i);
-            let h = height_above_ground(dem, &point, r, c, w, &reference);
+            let h = height_above_ground(dem, &excluded, r, c, w, &reference);
             if h >= threshold {
                 CellClass::Raised
             } else if h <= -threshold {
@@ -454,7 +522,7 @@ mod tests {
         let g = GridGeometry::new(50, 50, 1.0, 1.0, 0.0, 50.0).unwrap();
         let o = ObstacleOptions::default();
         let reach = 2.0 / 40f64.to_radians().sin(); // 3.11 m
-        let offs = search_offsets(&g, &o);
+        let offs = search_offsets(&g, &o).unwrap();
         assert!(
             offs.iter()
                 .all(|k| (k.dx * k.dx + k.dy * k.dy).sqrt() < reach)
@@ -472,11 +540,17 @@ mod tests {
         assert_eq!(offs.len(), n);
         // A 10 m grid cannot hold a compatible pair within the cone: only the bridging neighbours.
         let coarse = GridGeometry::new(5, 5, 10.0, 10.0, 0.0, 50.0).unwrap();
-        assert_eq!(search_offsets(&coarse, &o).len(), 4);
+        assert_eq!(search_offsets(&coarse, &o).unwrap().len(), 4);
         let no_bridge = ObstacleOptions {
             bridge_unsampled_faces: false,
             ..o
         };
-        assert_eq!(search_offsets(&coarse, &no_bridge).len(), 0);
+        assert_eq!(search_offsets(&coarse, &no_bridge).unwrap().len(), 0);
+        // A 5 cm grid would need a window of 62 cells each way: refused.
+        let fine = GridGeometry::new(5, 5, 0.05, 0.05, 0.0, 50.0).unwrap();
+        assert!(matches!(
+            search_offsets(&fine, &o),
+            Err(ObstacleError::SearchTooWide { cells: 62, .. })
+        ));
     }
 }

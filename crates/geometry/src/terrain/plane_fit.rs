@@ -254,8 +254,9 @@ pub fn fit_plane_series(
     let width = options
         .band_width_m
         .unwrap_or(DEFAULT_BAND_CELLS * g.cell_size());
+    // The bands span the sampled footprint (cell centres), which the map covers.
     let (mut s_lo, mut s_hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for c in g.corners() {
+    for c in g.sample_corners() {
         let s = frame.horizontal(&c).1;
         s_lo = s_lo.min(s);
         s_hi = s_hi.max(s);

@@ -258,7 +258,7 @@ impl SlopeField {
         }
         let mean = sum / n as f64;
         let mean_slope_deg = mean.norm().atan().to_degrees();
-        if !(mean_slope_deg >= MIN_FALL_LINE_SLOPE_DEG) {
+        if mean_slope_deg.is_nan() || mean_slope_deg < MIN_FALL_LINE_SLOPE_DEG {
             return Err(SlopeError::NoFallLine { mean_slope_deg });
         }
         Ok(FallLine {

@@ -55,7 +55,8 @@ pub fn profile_drop(planes: &[ProfilePlane], d: f64) -> f64 {
 }
 
 /// A DEM of the profile `planes` (top first) falling along `fall_line`, at height `top_height`
-/// along the grid's uphill-most point.
+/// at the uphill-most cell centre (distances along the profile are measured from there, as in the
+/// planning frame of [`crate::terrain::frame`]).
 ///
 /// ```
 /// use rappel_geometry::terrain::dem::GridGeometry;
@@ -64,8 +65,8 @@ pub fn profile_drop(planes: &[ProfilePlane], d: f64) -> f64 {
 /// let g = GridGeometry::new(10, 10, 1.0, 1.0, 0.0, 10.0).unwrap();
 /// let south = FallLine::from_azimuth(180.0).unwrap();
 /// let dem = plane_series_dem(g, &south, 100.0, &[ProfilePlane::new(100.0, 45.0)]).unwrap();
-/// assert!((dem.height(0, 3).unwrap() - 99.5).abs() < 1e-12);
-/// assert!((dem.height(9, 3).unwrap() - 90.5).abs() < 1e-12);
+/// assert!((dem.height(0, 3).unwrap() - 100.0).abs() < 1e-12);
+/// assert!((dem.height(9, 3).unwrap() - 91.0).abs() < 1e-12);
 /// ```
 pub fn plane_series_dem(
     geometry: GridGeometry,
@@ -76,7 +77,7 @@ pub fn plane_series_dem(
     geometry.validate()?;
     let frame = PlanningFrame::for_grid(&geometry, fall_line);
     let s_top = geometry
-        .corners()
+        .sample_corners()
         .iter()
         .map(|c| frame.horizontal(c).1)
         .fold(f64::NEG_INFINITY, f64::max);
@@ -88,12 +89,23 @@ pub fn plane_series_dem(
 
 /// A copy of `dem` with the cells of `rows x cols` raised by `rise_m` (a boulder or mesa) or, with
 /// a negative `rise_m`, sunk (a pit). Heights change vertically; unknown cells stay unknown.
+/// Errors when a raised height is not finite.
+///
+/// ```
+/// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_geometry::terrain::synthetic::with_box;
+/// let g = GridGeometry::new(4, 4, 1.0, 1.0, 0.0, 4.0).unwrap();
+/// let flat = HeightGrid::from_fn(g, |_, _, _| Some(0.0)).unwrap();
+/// let pit = with_box(&flat, 1..3, 1..3, -2.0).unwrap();
+/// assert_eq!((pit.height(1, 1), pit.height(0, 0)), (Some(-2.0), Some(0.0)));
+/// assert!(with_box(&flat, 0..1, 0..1, f64::INFINITY).is_err());
+/// ```
 pub fn with_box(
     dem: &HeightGrid,
     rows: Range<usize>,
     cols: Range<usize>,
     rise_m: f64,
-) -> HeightGrid {
+) -> Result<HeightGrid, GridError> {
     dem.map(|r, c, h| {
         h.map(|h| {
             if rows.contains(&r) && cols.contains(&c) {
@@ -103,7 +115,6 @@ pub fn with_box(
             }
         })
     })
-    .expect("same grid, finite change")
 }
 
 /// The roughness of `dem`: its heights minus their least-squares plane (unknown cells stay
@@ -124,7 +135,7 @@ pub fn detrended(dem: &HeightGrid) -> Option<HeightGrid> {
 }
 
 /// `base` plus `texture` tiled over it cell by cell, every other tile mirrored so that the tiling
-/// is continuous. Cells where either is unknown are unknown.
+/// is continuous. Cells where either is unknown are unknown. Errors when a sum is not finite.
 ///
 /// ```
 /// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
@@ -133,19 +144,18 @@ pub fn detrended(dem: &HeightGrid) -> Option<HeightGrid> {
 /// let tex = HeightGrid::new(g, vec![1., 2., 3., 4., 5., 6.]).unwrap();
 /// let big = GridGeometry::new(4, 7, 1.0, 1.0, 0.0, 4.0).unwrap();
 /// let flat = HeightGrid::from_fn(big, |_, _, _| Some(0.0)).unwrap();
-/// let t = tiled_texture(&flat, &tex);
+/// let t = tiled_texture(&flat, &tex).unwrap();
 /// // Columns 0 1 2 | 2 1 0 | 0 ... of the texture; rows 0 1 | 1 0.
 /// assert_eq!((0..7).map(|c| t.height(0, c).unwrap()).collect::<Vec<_>>(), [1., 2., 3., 3., 2., 1., 1.]);
 /// assert_eq!(t.height(2, 0), Some(4.0));
 /// ```
-pub fn tiled_texture(base: &HeightGrid, texture: &HeightGrid) -> HeightGrid {
+pub fn tiled_texture(base: &HeightGrid, texture: &HeightGrid) -> Result<HeightGrid, GridError> {
     let tg = *texture.geometry();
     let mirror = |i: usize, n: usize| {
         let k = i % (2 * n);
         if k < n { k } else { 2 * n - 1 - k }
     };
     base.map(|r, c, h| Some(h? + texture.height(mirror(r, tg.nrows), mirror(c, tg.ncols))?))
-        .expect("same grid, finite sums")
 }
 
 /// Compass azimuth of the fall line of [`textured_wall`], degrees (deliberately off the grid axes).
@@ -182,13 +192,13 @@ pub fn textured_wall(texture: &HeightGrid, nrows: usize, ncols: usize) -> Option
     let fall = FallLine::from_azimuth(TEXTURED_WALL_AZIMUTH_DEG).ok()?;
     let frame = PlanningFrame::for_grid(&g, &fall);
     let run = g
-        .corners()
+        .sample_corners()
         .iter()
         .map(|c| frame.horizontal(c).1)
         .fold(0.0f64, f64::max);
     let planes = TEXTURED_WALL_SLOPES_DEG.map(|deg| ProfilePlane::new(run / 3.0, deg));
     let base = plane_series_dem(g, &fall, 1000.0, &planes).ok()?;
-    Some(tiled_texture(&base, &detrended(texture)?))
+    tiled_texture(&base, &detrended(texture)?).ok()
 }
 
 #[cfg(test)]
@@ -216,7 +226,7 @@ mod tests {
         let dem = plane_series_dem(g, &fall, 10.0, &[ProfilePlane::new(50.0, 25.0)]).unwrap();
         let flat = detrended(&dem).unwrap();
         assert!(flat.heights().iter().all(|h| h.abs() < 1e-9));
-        let b = with_box(&dem, 1..3, 2..4, 1.5);
+        let b = with_box(&dem, 1..3, 2..4, 1.5).unwrap();
         for r in 0..6 {
             for c in 0..5 {
                 let d = b.height(r, c).unwrap() - dem.height(r, c).unwrap();
