@@ -238,6 +238,36 @@ impl Map {
         }
     }
 
+    /// A map holding `obstacles` inside a square-cornered frame padded by their extent (at least
+    /// 1 m) on every side: for working on a set of polygons (merging, checking they are apart)
+    /// without a real boundary.
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::{map::Map, polygon::Polygon};
+    /// let tri = Polygon::new(vec![Point2::new(0., 0.), Point2::new(2., 0.), Point2::new(1., 1.)]);
+    /// Map::framing(vec![tri]).validate().unwrap();
+    /// ```
+    pub fn framing(obstacles: Vec<Polygon>) -> Map {
+        let b = if obstacles.is_empty() {
+            Aabb {
+                min: Point2::origin(),
+                max: Point2::new(1.0, 1.0),
+            }
+        } else {
+            Aabb::of_points(obstacles.iter().flat_map(|p| p.vertices.iter()))
+        };
+        let (w, h) = b.size();
+        let pad = w.max(h).max(1.0);
+        let frame = Polygon::new(vec![
+            Point2::new(b.min.x - pad, b.min.y - pad),
+            Point2::new(b.max.x + pad, b.min.y - pad),
+            Point2::new(b.max.x + pad, b.max.y + pad),
+            Point2::new(b.min.x - pad, b.max.y + pad),
+        ]);
+        Map::new(frame, obstacles)
+    }
+
     /// The ring with the given id (`None` for an obstacle index out of range).
     pub fn ring(&self, id: RingId) -> Option<&Polygon> {
         match id {

@@ -333,20 +333,7 @@ fn pieces_are_simple_and_apart(pieces: &[Polygon]) -> bool {
     {
         return false;
     }
-    let all: Vec<Point2<f64>> = pieces
-        .iter()
-        .flat_map(|p| p.vertices.iter().copied())
-        .collect();
-    let b = crate::polygon::Aabb::of_points(&all);
-    let (w, h) = b.size();
-    let pad = w.max(h).max(1.0);
-    let frame = Polygon::new(vec![
-        Point2::new(b.min.x - pad, b.min.y - pad),
-        Point2::new(b.max.x + pad, b.min.y - pad),
-        Point2::new(b.max.x + pad, b.max.y + pad),
-        Point2::new(b.min.x - pad, b.max.y + pad),
-    ]);
-    Map::new(frame, pieces.to_vec()).validate().is_ok()
+    Map::framing(pieces.to_vec()).validate().is_ok()
 }
 
 /// The largest piece of `boundary` minus `cut`, or `None` when nothing is left.

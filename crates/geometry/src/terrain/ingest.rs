@@ -38,7 +38,7 @@ use super::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
 use super::slope::{FallLine, HillshadeOptions, SlopeError, SlopeField};
 use crate::map::{Map, MapError};
 use crate::normalize::{NormalizeOptions, NormalizeReport, normalize};
-use crate::polygon::{Aabb, PointInPolygon, Polygon, convex_hull};
+use crate::polygon::{PointInPolygon, Polygon, convex_hull};
 
 /// Default wheel-terrain friction `mu` (thesis §2.5.4, Fig. 2.36: `mu = 0.4`).
 pub const DEFAULT_FRICTION: f64 = 0.4;
@@ -264,16 +264,7 @@ fn merge_layer(polys: Vec<Polygon>) -> Result<Vec<Polygon>, MapError> {
     if polys.is_empty() {
         return Ok(polys);
     }
-    let b = Aabb::of_points(polys.iter().flat_map(|p| p.vertices.iter()));
-    let (w, h) = b.size();
-    let pad = w.max(h).max(1.0);
-    let frame = Polygon::new(vec![
-        Point2::new(b.min.x - pad, b.min.y - pad),
-        Point2::new(b.max.x + pad, b.min.y - pad),
-        Point2::new(b.max.x + pad, b.max.y + pad),
-        Point2::new(b.min.x - pad, b.max.y + pad),
-    ]);
-    Ok(normalize(&Map::new(frame, polys), &HULL_MODE)?.0.obstacles)
+    Ok(normalize(&Map::framing(polys), &HULL_MODE)?.0.obstacles)
 }
 
 /// `true` when `p` and the eight points at distance `margin` around it are in the map's free
