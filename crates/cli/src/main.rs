@@ -2,6 +2,7 @@
 //! Every subcommand lives in its own module; errors print one `error:` line on stderr and exit 2.
 
 mod btm;
+mod dem;
 mod gen_map;
 mod output;
 mod shp;
@@ -27,6 +28,8 @@ enum Command {
     Btm(btm::Args),
     /// Generate a random crater-strip scenario with non-overlapping convex obstacles.
     GenMap(gen_map::Args),
+    /// Turn a digital elevation model (.asc or .tif) into a planning scenario.
+    Dem(dem::Args),
     /// Map where the robot can stand on the scenario's planes: wheel/tether QP or tension-limited LP.
     Stability(stability::Args),
     /// The shortest homotopic path (taut tether) of a path: length, anchors, crossings, H-signature.
@@ -41,6 +44,7 @@ fn main() -> ExitCode {
         Command::Validate(args) => validate::run(&args),
         Command::Btm(args) => btm::run(&args),
         Command::GenMap(args) => gen_map::run(&args),
+        Command::Dem(args) => dem::run(&args),
         Command::Stability(args) => stability::run(&args),
         Command::Shp(args) => shp::run(&args),
         Command::Homotopic(args) => shp::run_homotopic(&args),

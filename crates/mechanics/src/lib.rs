@@ -24,6 +24,8 @@
 //! | [`tension_limit`] | holding limit, winding angles, capstan amplification | Kumar eqs. 1-2 |
 //! | [`tension_lp`] | tension-limited stability LP | Kumar eqs. 3a-3e |
 //! | [`stability_map`] | parallel pose grids over planes | Kumar Fig. 5 |
+//! | [`anchor_traversability`] | the tether-limit seam of the Chapter-2 planner | thesis §2.4 |
+//! | [`friction_cone`] | point-robot tether friction cone | thesis eq. 2.7 |
 //!
 //! Sign convention: surface normals point out of the ground, and normal curvatures are
 //! `ρ''·n`, so a tether over a hump has `κ_n < 0` (see [`darboux`]).
@@ -32,6 +34,7 @@
 /// version.
 pub use nalgebra;
 
+pub mod anchor_traversability;
 pub mod axel;
 pub mod capstan;
 pub mod conic;
@@ -39,6 +42,7 @@ pub mod curvature;
 pub mod darboux;
 pub mod four_wheel;
 pub mod friction;
+pub mod friction_cone;
 pub mod heavy_rope;
 pub mod ode;
 pub mod ptfo;

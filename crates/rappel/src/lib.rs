@@ -18,6 +18,7 @@
 //! ```
 
 pub mod btm_summary;
+pub mod dem;
 pub mod generated;
 pub mod io;
 pub mod scenario;

@@ -45,6 +45,12 @@ pub enum Layer {
     Start,
     /// The goal.
     Goal,
+    /// Terrain shading (hillshade) under the map.
+    Terrain,
+    /// Edges between terrain planes.
+    PlaneEdge,
+    /// Robot obstacles the tether passes over (negative obstacles), outlined.
+    RobotObstacle,
     /// A stable pose (stability maps), green dot.
     Stable,
     /// An unstable pose (stability maps), red dot.
@@ -68,6 +74,9 @@ impl Layer {
             Layer::Path => "path",
             Layer::Start => "start",
             Layer::Goal => "goal",
+            Layer::Terrain => "hillshade",
+            Layer::PlaneEdge => "plane edge",
+            Layer::RobotObstacle => "robot obstacle",
             Layer::Stable => "stable pose",
             Layer::Unstable => "unstable pose",
         }
@@ -90,6 +99,9 @@ impl Layer {
             Layer::Path => ("none", "#e6550d", 1.2, 0.0),
             Layer::Start => ("#d62728", "#7f0000", 0.8, 1.0),
             Layer::Goal => ("#2ca02c", "#00441b", 0.8, 1.0),
+            Layer::Terrain => ("#bbbbbb", "none", 0.0, 1.0),
+            Layer::PlaneEdge => ("none", "#b15928", 1.4, 0.0),
+            Layer::RobotObstacle => ("#fdbf6f", "#ff7f00", 0.8, 0.35),
             Layer::Stable => ("#31a354", "#006d2c", 0.4, 0.9),
             Layer::Unstable => ("#e34a33", "#b30000", 0.4, 0.9),
         }
@@ -199,6 +211,13 @@ impl Picture {
             Self::points(pts),
             self.style(layer)
         );
+        self.body.push((layer, s));
+    }
+
+    /// A filled polygon on `layer` with its own fill colour (`#rrggbb`), for shaded terrain.
+    pub fn shaded_polygon(&mut self, layer: Layer, pts: &[Point2<f64>], fill: &str) {
+        self.use_layer(layer);
+        let s = format!("<polygon points=\"{}\" fill=\"{fill}\" stroke=\"{fill}\" stroke-width=\"{}\"/>", Self::points(pts), fmt(0.3 * self.unit));
         self.body.push((layer, s));
     }
 
@@ -438,6 +457,9 @@ impl Picture {
 /// Back-to-front drawing order.
 fn draw_order(layer: Layer) -> u8 {
     match layer {
+        Layer::Terrain => 0,
+        Layer::RobotObstacle => 1,
+        Layer::PlaneEdge => 5,
         Layer::Sleeve => 0,
         Layer::FrictionCone => 1,
         Layer::BtmEdge => 2,

@@ -1,0 +1,79 @@
+//! `rappel dem FILE.(asc|tif) --out SCENARIO [--hmin M] [--hmax M] [--theta-max DEG] [--friction MU]
+//! [--svg OUT]`: turns a digital elevation model into a planning scenario (planes, tether
+//! obstacles, start and goal) and optionally draws it over a hillshade.
+
+use crate::output::{CliError, print_json, write_file};
+use rappel::dem::{dem_picture, dem_scenario};
+use rappel::geometry::terrain::ingest::IngestOptions;
+use rappel::scenario::Format;
+use std::path::PathBuf;
+
+/// Arguments of `rappel dem`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The elevation model: ESRI ASCII grid (.asc) or single-band GeoTIFF (.tif, .tiff).
+    file: PathBuf,
+    /// Output scenario (.ron or .json).
+    #[arg(long)]
+    out: PathBuf,
+    /// H_min: smallest height difference that makes an obstacle, m.
+    #[arg(long, value_name = "M")]
+    hmin: Option<f64>,
+    /// H_max: largest height difference between two cells of one obstacle, m.
+    #[arg(long, value_name = "M")]
+    hmax: Option<f64>,
+    /// theta_max: slope above which two cells belong to one obstacle, degrees.
+    #[arg(long, value_name = "DEG")]
+    theta_max: Option<f64>,
+    /// Wheel-terrain friction mu used to classify planes.
+    #[arg(long, value_name = "MU")]
+    friction: Option<f64>,
+    /// Print the ingestion summary as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Draw the hillshade with planes and obstacles to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    svg: Option<PathBuf>,
+}
+
+/// Runs `rappel dem`.
+pub fn run(args: &Args) -> Result<(), CliError> {
+    if Format::of_path(&args.out).is_none() {
+        return Err(CliError(format!("{}: unknown scenario format; use a .ron or .json file", args.out.display())));
+    }
+    let mut options = IngestOptions::default();
+    if let Some(v) = args.hmin {
+        options.obstacles.h_min_m = v;
+    }
+    if let Some(v) = args.hmax {
+        options.obstacles.h_max_m = v;
+    }
+    if let Some(v) = args.theta_max {
+        options.obstacles.theta_max_deg = v;
+    }
+    if let Some(v) = args.friction {
+        options.friction = v;
+    }
+    let d = dem_scenario(&args.file, &options)?;
+    d.scenario.validate().map_err(|e| CliError(format!("{}: the ingested scenario is invalid: {e}", args.file.display())))?;
+    if let Some(out) = &args.svg {
+        write_file(out, &dem_picture(&d, &format!("rappel dem {}", args.file.display())))?;
+    }
+    d.scenario.save(&args.out)?;
+    let s = d.summary();
+    if args.json {
+        return print_json(&s);
+    }
+    crate::outln!("dem                {}", args.file.display());
+    crate::outln!("scenario           {}", args.out.display());
+    crate::outln!("fall line          azimuth {:.1} deg", d.ingested.frame.fall_line_azimuth_deg());
+    for (i, (p, class)) in d.scenario.terrain.planes.iter().zip(&d.ingested.plane_classes).enumerate() {
+        crate::outln!("plane {i}            {:.2} deg, y {:.1} .. {:.1} m, {:?}", p.slope_deg, p.y_bottom, p.y_top, class);
+    }
+    crate::outln!("tether obstacles   {} (from {} clusters)", s.tether_obstacles, s.tether_clusters);
+    crate::outln!("robot obstacles    {}", s.robot_obstacles);
+    crate::outln!("unknown regions    {}", s.unknown_regions);
+    crate::outln!("start              ({:.2}, {:.2})", d.scenario.start.x, d.scenario.start.y);
+    crate::outln!("goal               ({:.2}, {:.2})", d.scenario.goal.x, d.scenario.goal.y);
+    Ok(())
+}

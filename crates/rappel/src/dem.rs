@@ -1,0 +1,118 @@
+//! From a digital elevation model to a planning scenario (thesis §2.1.2-2.1.3, §2.5.1-2.5.2; the
+//! work of `rappel dem`): read the grid, ingest it (fall line, plane series, obstacle detection on
+//! slopes, normalised convex obstacles in the unfolded frame), wrap the result as a [`Scenario`],
+//! and draw it over a hillshade.
+
+use crate::scenario::{RobotParams, Scenario, Terrain};
+use crate::svg::{Layer, Marker, Picture};
+use rappel_geometry::terrain::dem::{DemError, read_dem};
+use rappel_geometry::terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
+use std::path::Path;
+
+/// Largest number of shaded cells drawn per picture side; bigger grids are drawn subsampled.
+pub const MAX_DRAWN_CELLS_PER_SIDE: usize = 160;
+
+/// Why a DEM could not become a scenario.
+#[derive(Debug, thiserror::Error)]
+pub enum DemScenarioError {
+    /// The file could not be read or decoded.
+    #[error(transparent)]
+    Read(#[from] DemError),
+    /// The grid could not be ingested.
+    #[error("{path}: {source}")]
+    Ingest {
+        /// The file.
+        path: String,
+        /// The cause.
+        source: IngestError,
+    },
+}
+
+/// A scenario made from a DEM, with what ingestion found.
+pub struct DemScenario {
+    /// The scenario (map, start, goal, planes).
+    pub scenario: Scenario,
+    /// Everything ingestion computed (rasters, frame, robot obstacles, reports).
+    pub ingested: Ingested,
+}
+
+impl DemScenario {
+    /// Counts for printing and golden files.
+    pub fn summary(&self) -> IngestSummary {
+        self.ingested.summary()
+    }
+}
+
+/// Reads the DEM at `path` and turns it into a scenario.
+///
+/// ```
+/// use rappel::dem::dem_scenario;
+/// use rappel::geometry::terrain::ingest::IngestOptions;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
+/// let d = dem_scenario(path.as_ref(), &IngestOptions::default()).unwrap();
+/// d.scenario.validate().unwrap();
+/// assert!(!d.scenario.terrain.planes.is_empty());
+/// ```
+pub fn dem_scenario(path: &Path, options: &IngestOptions) -> Result<DemScenario, DemScenarioError> {
+    let grid = read_dem(path)?;
+    let ingested = ingest(&grid, options).map_err(|source| DemScenarioError::Ingest { path: path.display().to_string(), source })?;
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let s = ingested.summary();
+    let scenario = Scenario {
+        name: name.clone(),
+        description: format!(
+            "Ingested from {} by rappel dem: {} planes ({} tether-demand), {} tether obstacles, {} robot obstacles (H_min {} m, H_max {} m, theta_max {} deg, mu {}).",
+            path.display(),
+            s.planes,
+            s.tether_demand_planes,
+            s.tether_obstacles,
+            s.robot_obstacles,
+            options.obstacles.h_min_m,
+            options.obstacles.h_max_m,
+            options.obstacles.theta_max_deg,
+            options.friction
+        ),
+        map: ingested.map.clone(),
+        start: ingested.start,
+        goal: ingested.goal,
+        robot: RobotParams::default(),
+        terrain: Terrain { planes: ingested.planes.clone() },
+    };
+    Ok(DemScenario { scenario, ingested })
+}
+
+/// The picture of a DEM scenario in the planning frame: hillshade, plane edges, tether obstacles
+/// (grey), robot obstacles (orange outlines), start and goal.
+pub fn dem_picture(d: &DemScenario, title: &str) -> String {
+    let ing = &d.ingested;
+    let g = &ing.hillshade.geometry;
+    let mut pic = Picture::of_map(&d.scenario.map);
+    let step = g.nrows.max(g.ncols).div_ceil(MAX_DRAWN_CELLS_PER_SIDE).max(1);
+    for r in (0..g.nrows).step_by(step) {
+        for c in (0..g.ncols).step_by(step) {
+            let v = ing.hillshade.values[g.index(r, c)];
+            if !v.is_finite() {
+                continue;
+            }
+            let (r1, c1) = ((r + step - 1).min(g.nrows - 1), (c + step - 1).min(g.ncols - 1));
+            let corners = [g.cell_corners(r, c)[0], g.cell_corners(r, c1)[1], g.cell_corners(r1, c1)[2], g.cell_corners(r1, c)[3]];
+            let pts: Vec<_> = corners.iter().map(|w| ing.frame.to_planning(w)).collect();
+            // A light hillshade, so the grey obstacles stand out on it.
+            let level = (v.clamp(0.0, 1.0) * 105.0 + 150.0) as u8;
+            pic.shaded_polygon(Layer::Terrain, &pts, &format!("#{level:02x}{level:02x}{level:02x}"));
+        }
+    }
+    for o in &ing.robot_obstacles {
+        pic.polygon(Layer::RobotObstacle, &o.vertices);
+    }
+    let b = d.scenario.map.aabb();
+    for p in &d.scenario.terrain.planes {
+        for y in [p.y_top, p.y_bottom] {
+            pic.polyline(Layer::PlaneEdge, &[nalgebra::Point2::new(b.min.x, y), nalgebra::Point2::new(b.max.x, y)]);
+        }
+    }
+    pic.map(&d.scenario.map);
+    pic.marker(Layer::Start, d.scenario.start, Marker::Cross);
+    pic.marker(Layer::Goal, d.scenario.goal, Marker::Circle);
+    pic.finish(title)
+}
