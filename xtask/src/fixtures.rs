@@ -1,6 +1,7 @@
 //! `cargo xtask gen-fixtures`: regenerates the generated fixtures (random crater-strip maps) from
-//! their seeds, so that anyone can check they are exactly what the seeds produce. The regression
-//! suite compares the committed files with a fresh generation.
+//! their seeds, so that anyone can check they are exactly what the seeds produce, and rewrites the
+//! terrain golden counts after a deliberate change. The regression suite compares the committed
+//! files with a fresh generation.
 
 use crate::regress::workspace_root;
 use std::path::PathBuf;
@@ -29,5 +30,10 @@ pub fn generate() -> Result<ExitCode, String> {
             s.map.obstacles.len()
         );
     }
+    let golden = crate::regress::terrain::write_golden()?;
+    println!(
+        "wrote {} (terrain ingestion golden counts)",
+        golden.display()
+    );
     Ok(ExitCode::SUCCESS)
 }

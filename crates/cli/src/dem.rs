@@ -39,7 +39,10 @@ pub struct Args {
 /// Runs `rappel dem`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     if Format::of_path(&args.out).is_none() {
-        return Err(CliError(format!("{}: unknown scenario format; use a .ron or .json file", args.out.display())));
+        return Err(CliError(format!(
+            "{}: unknown scenario format; use a .ron or .json file",
+            args.out.display()
+        )));
     }
     let mut options = IngestOptions::default();
     if let Some(v) = args.hmin {
@@ -55,9 +58,17 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         options.friction = v;
     }
     let d = dem_scenario(&args.file, &options)?;
-    d.scenario.validate().map_err(|e| CliError(format!("{}: the ingested scenario is invalid: {e}", args.file.display())))?;
+    d.scenario.validate().map_err(|e| {
+        CliError(format!(
+            "{}: the ingested scenario is invalid: {e}",
+            args.file.display()
+        ))
+    })?;
     if let Some(out) = &args.svg {
-        write_file(out, &dem_picture(&d, &format!("rappel dem {}", args.file.display())))?;
+        write_file(
+            out,
+            &dem_picture(&d, &format!("rappel dem {}", args.file.display())),
+        )?;
     }
     d.scenario.save(&args.out)?;
     let s = d.summary();
@@ -66,14 +77,42 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     crate::outln!("dem                {}", args.file.display());
     crate::outln!("scenario           {}", args.out.display());
-    crate::outln!("fall line          azimuth {:.1} deg", d.ingested.frame.fall_line_azimuth_deg());
-    for (i, (p, class)) in d.scenario.terrain.planes.iter().zip(&d.ingested.plane_classes).enumerate() {
-        crate::outln!("plane {i}            {:.2} deg, y {:.1} .. {:.1} m, {:?}", p.slope_deg, p.y_bottom, p.y_top, class);
+    crate::outln!(
+        "fall line          azimuth {:.1} deg",
+        d.ingested.frame.fall_line_azimuth_deg()
+    );
+    for (i, (p, class)) in d
+        .scenario
+        .terrain
+        .planes
+        .iter()
+        .zip(&d.ingested.plane_classes)
+        .enumerate()
+    {
+        crate::outln!(
+            "plane {i}            {:.2} deg, y {:.1} .. {:.1} m, {:?}",
+            p.slope_deg,
+            p.y_bottom,
+            p.y_top,
+            class
+        );
     }
-    crate::outln!("tether obstacles   {} (from {} clusters)", s.tether_obstacles, s.tether_clusters);
+    crate::outln!(
+        "tether obstacles   {} (from {} clusters)",
+        s.tether_obstacles,
+        s.tether_clusters
+    );
     crate::outln!("robot obstacles    {}", s.robot_obstacles);
     crate::outln!("unknown regions    {}", s.unknown_regions);
-    crate::outln!("start              ({:.2}, {:.2})", d.scenario.start.x, d.scenario.start.y);
-    crate::outln!("goal               ({:.2}, {:.2})", d.scenario.goal.x, d.scenario.goal.y);
+    crate::outln!(
+        "start              ({:.2}, {:.2})",
+        d.scenario.start.x,
+        d.scenario.start.y
+    );
+    crate::outln!(
+        "goal               ({:.2}, {:.2})",
+        d.scenario.goal.x,
+        d.scenario.goal.y
+    );
     Ok(())
 }

@@ -216,16 +216,40 @@ fn dem_makes_a_valid_scenario_from_real_terrain_and_refuses_bad_files() {
     let out = dir.join("mars.ron");
     let svg = dir.join("mars.svg");
     let dem = fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc");
-    let o = rappel(&["dem", &dem, "--out", out.to_str().unwrap_or_default(), "--svg", svg.to_str().unwrap_or_default(), "--json"]);
+    let o = rappel(&[
+        "dem",
+        &dem,
+        "--out",
+        out.to_str().unwrap_or_default(),
+        "--svg",
+        svg.to_str().unwrap_or_default(),
+        "--json",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     assert!(v["planes"].as_u64().unwrap_or(0) >= 1);
     let o = rappel(&["btm", out.to_str().unwrap_or_default(), "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(std::fs::read_to_string(&svg).unwrap_or_default().contains("hillshade"));
+    assert!(
+        std::fs::read_to_string(&svg)
+            .unwrap_or_default()
+            .contains("hillshade")
+    );
     let bad = dir.join("bad.asc");
-    std::fs::write(&bad, "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4 five 6\n").expect("write");
+    std::fs::write(
+        &bad,
+        "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4 five 6\n",
+    )
+    .expect("write");
     let target = dir.join("never.ron");
-    check_error(&["dem", bad.to_str().unwrap_or_default(), "--out", target.to_str().unwrap_or_default()], "bad.asc");
+    check_error(
+        &[
+            "dem",
+            bad.to_str().unwrap_or_default(),
+            "--out",
+            target.to_str().unwrap_or_default(),
+        ],
+        "bad.asc",
+    );
     assert!(!target.exists());
 }

@@ -79,7 +79,13 @@ mod tests {
 
     #[test]
     fn the_cone_matches_the_force_balance() {
-        for &(eta_deg, mu) in &[(45.0, 0.4), (45.0, 0.3), (60.0, 0.3), (35.0, 0.5), (70.0, 0.8)] {
+        for &(eta_deg, mu) in &[
+            (45.0, 0.4),
+            (45.0, 0.3),
+            (60.0, 0.3),
+            (35.0, 0.5),
+            (70.0, 0.8),
+        ] {
             let eta: f64 = f64::to_radians(eta_deg);
             let plane = SlopePlane::new(eta, mu).unwrap();
             let theta_max = TetherFrictionCone::max_tether_angle(&plane).expect("tether-demand");

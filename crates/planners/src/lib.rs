@@ -1,3 +1,23 @@
 //! Planners for tethered robots: A* over the shortest path tree (thesis Alg. 3-4), ascent
 //! feasibility and path pairs (Alg. 5-6), frictional and online planning (Ch. 3), and an
 //! ABIT*-style sampler with anchor histories (Paton §V). Depends on terrain and robot traits only.
+//!
+//! The Chapter-2 planner (thesis §2.3.3-2.4, the operator's "show me the ways down, shortest
+//! first, and tell me which ones I can climb back up"):
+//!
+//! | module | computes | source |
+//! |---|---|---|
+//! | [`spt`] | SHPs in non-decreasing length, one per homotopy class; termination rules | Alg. 3-4, eq. 2.5 |
+//! | [`terrain`] | the plane series under the map and each plane's tether limit | §2.1.2, §2.4.4 |
+//! | [`feasibility`] | anchors, anchor reachable sets, passability, waypoints | Alg. 5, Defs. 2.1-2.4, eq. 2.7 |
+//! | [`path_pair`] | homotopic ascent/descent path pairs, next class on failure | Alg. 6, §2.2.4 |
+//! | [`visibility_graph`] | brute-force Euclidean shortest paths, the independent test oracle | Lozano-Pérez and Wesley |
+//!
+//! The robot enters only through the [`rappel_mechanics::anchor_traversability::AnchorTraversability`]
+//! trait; definitions and choices are collected in `docs/planner.md`.
+
+pub mod feasibility;
+pub mod path_pair;
+pub mod spt;
+pub mod terrain;
+pub mod visibility_graph;

@@ -6,7 +6,9 @@
 use crate::scenario::{RobotParams, Scenario, Terrain};
 use crate::svg::{Layer, Marker, Picture};
 use rappel_geometry::terrain::dem::{DemError, read_dem};
-use rappel_geometry::terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
+use rappel_geometry::terrain::ingest::{
+    IngestError, IngestOptions, IngestSummary, Ingested, ingest,
+};
 use std::path::Path;
 
 /// Largest number of shaded cells drawn per picture side; bigger grids are drawn subsampled.
@@ -55,8 +57,14 @@ impl DemScenario {
 /// ```
 pub fn dem_scenario(path: &Path, options: &IngestOptions) -> Result<DemScenario, DemScenarioError> {
     let grid = read_dem(path)?;
-    let ingested = ingest(&grid, options).map_err(|source| DemScenarioError::Ingest { path: path.display().to_string(), source })?;
-    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let ingested = ingest(&grid, options).map_err(|source| DemScenarioError::Ingest {
+        path: path.display().to_string(),
+        source,
+    })?;
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let s = ingested.summary();
     let scenario = Scenario {
         name: name.clone(),
@@ -76,7 +84,9 @@ pub fn dem_scenario(path: &Path, options: &IngestOptions) -> Result<DemScenario,
         start: ingested.start,
         goal: ingested.goal,
         robot: RobotParams::default(),
-        terrain: Terrain { planes: ingested.planes.clone() },
+        terrain: Terrain {
+            planes: ingested.planes.clone(),
+        },
     };
     Ok(DemScenario { scenario, ingested })
 }
@@ -87,19 +97,35 @@ pub fn dem_picture(d: &DemScenario, title: &str) -> String {
     let ing = &d.ingested;
     let g = &ing.hillshade.geometry;
     let mut pic = Picture::of_map(&d.scenario.map);
-    let step = g.nrows.max(g.ncols).div_ceil(MAX_DRAWN_CELLS_PER_SIDE).max(1);
+    let step = g
+        .nrows
+        .max(g.ncols)
+        .div_ceil(MAX_DRAWN_CELLS_PER_SIDE)
+        .max(1);
     for r in (0..g.nrows).step_by(step) {
         for c in (0..g.ncols).step_by(step) {
             let v = ing.hillshade.values[g.index(r, c)];
             if !v.is_finite() {
                 continue;
             }
-            let (r1, c1) = ((r + step - 1).min(g.nrows - 1), (c + step - 1).min(g.ncols - 1));
-            let corners = [g.cell_corners(r, c)[0], g.cell_corners(r, c1)[1], g.cell_corners(r1, c1)[2], g.cell_corners(r1, c)[3]];
+            let (r1, c1) = (
+                (r + step - 1).min(g.nrows - 1),
+                (c + step - 1).min(g.ncols - 1),
+            );
+            let corners = [
+                g.cell_corners(r, c)[0],
+                g.cell_corners(r, c1)[1],
+                g.cell_corners(r1, c1)[2],
+                g.cell_corners(r1, c)[3],
+            ];
             let pts: Vec<_> = corners.iter().map(|w| ing.frame.to_planning(w)).collect();
             // A light hillshade, so the grey obstacles stand out on it.
             let level = (v.clamp(0.0, 1.0) * 105.0 + 150.0) as u8;
-            pic.shaded_polygon(Layer::Terrain, &pts, &format!("#{level:02x}{level:02x}{level:02x}"));
+            pic.shaded_polygon(
+                Layer::Terrain,
+                &pts,
+                &format!("#{level:02x}{level:02x}{level:02x}"),
+            );
         }
     }
     for o in &ing.robot_obstacles {
@@ -108,7 +134,13 @@ pub fn dem_picture(d: &DemScenario, title: &str) -> String {
     let b = d.scenario.map.aabb();
     for p in &d.scenario.terrain.planes {
         for y in [p.y_top, p.y_bottom] {
-            pic.polyline(Layer::PlaneEdge, &[nalgebra::Point2::new(b.min.x, y), nalgebra::Point2::new(b.max.x, y)]);
+            pic.polyline(
+                Layer::PlaneEdge,
+                &[
+                    nalgebra::Point2::new(b.min.x, y),
+                    nalgebra::Point2::new(b.max.x, y),
+                ],
+            );
         }
     }
     pic.map(&d.scenario.map);

@@ -217,7 +217,11 @@ impl Picture {
     /// A filled polygon on `layer` with its own fill colour (`#rrggbb`), for shaded terrain.
     pub fn shaded_polygon(&mut self, layer: Layer, pts: &[Point2<f64>], fill: &str) {
         self.use_layer(layer);
-        let s = format!("<polygon points=\"{}\" fill=\"{fill}\" stroke=\"{fill}\" stroke-width=\"{}\"/>", Self::points(pts), fmt(0.3 * self.unit));
+        let s = format!(
+            "<polygon points=\"{}\" fill=\"{fill}\" stroke=\"{fill}\" stroke-width=\"{}\"/>",
+            Self::points(pts),
+            fmt(0.3 * self.unit)
+        );
         self.body.push((layer, s));
     }
 

@@ -3,6 +3,7 @@
 
 mod btm;
 mod mechanics;
+pub mod terrain;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -43,7 +44,11 @@ impl Case {
 /// A suite: a name and the function that runs it.
 type Suite = (&'static str, fn() -> Result<Vec<Case>, String>);
 
-const SUITES: &[Suite] = &[("btm", btm::suite), ("mechanics", mechanics::suite)];
+const SUITES: &[Suite] = &[
+    ("btm", btm::suite),
+    ("mechanics", mechanics::suite),
+    ("terrain", terrain::suite),
+];
 
 /// The workspace root (the parent of `xtask/`).
 pub fn workspace_root() -> PathBuf {

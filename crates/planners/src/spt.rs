@@ -1,0 +1,885 @@
+//! A* search of the shortest path tree (thesis §2.3.3, Algorithms 3-4; Guibas et al., Hershberger
+//! and Snoeyink): the shortest homotopic paths (SHPs) from a start to a goal, one per homotopy
+//! class, lazily and in non-decreasing length.
+//!
+//! # The search space
+//! Lifted to the universal cover of the BTM (thesis §2.2.2, Fig. 2.6) the dual graph of the
+//! triangulation is a tree, and the shortest path tree (SPT) from the start is the tree of all
+//! shortest paths to all lifts of all points. A search state is a funnel on the cover
+//! ([`FunnelState`]: two chains, an apex and a mouth, thesis Fig. 2.12); expanding it (Alg. 4,
+//! "Expand Kite") splits it at the vertex beyond its mouth into at most two children (Alg. 2), and
+//! the sequence of mouths crossed is a reduced crossing sequence, so every funnel reaches a
+//! different lift of its triangle. Whenever a funnel enters a lift of the goal's triangle the
+//! goal's lift is reached through that funnel, and its shortest path there is the SHP of one
+//! homotopy class (the class whose reduced crossing sequence is the funnel's mouth sequence). Each
+//! class is reached exactly once. Start and goal triangles are chosen by the canonical-endpoint
+//! rule of [`rappel_homotopy::crossing`] (the triangle [`Tracer::new`] starts in), so a class's
+//! sleeve equals the reduced crossing sequence of any path in it.
+//!
+//! # The key (eq. 2.5, made admissible everywhere)
+//! The thesis keys a funnel by `f = g(t_g) + |t_g - v_g|` where `t_g = pred(v_g)` is the funnel
+//! node whose sector holds the goal (eq. 2.5). When the goal lies beyond the line of the funnel's
+//! mouth `d` this is exactly `min over x in d of (g(x) + |x - v_g|)`, the length of the shortest
+//! path through the funnel to the goal with every obstacle beyond `d` ignored: an admissible,
+//! consistent A* key. When the goal lies *behind* the mouth's line (a funnel leading away from
+//! the goal, to come back around an obstacle) eq. 2.5 can overestimate that minimum. rappel then
+//! evaluates eq. 2.5 at the goal's mirror image across the mouth's line, which gives the same
+//! minimum (reflection preserves `|x - v_g|` for `x` on the line), so the key is always the exact
+//! relaxed distance. Keys are made monotone (`max` with the parent's key), so popped keys never
+//! decrease; a goal entry's key is its path length, and SHPs come out in non-decreasing length
+//! (up to the rounding of the lengths themselves, about 1e-15 relative).
+//!
+//! # Termination (the thesis leaves it open: Alg. 3 can run forever)
+//! The search stops, whichever comes first ([`Termination`]):
+//! - **count**: `max_classes` classes found;
+//! - **length**: the next candidate is longer than `max_length_factor` times the first SHP;
+//! - **expansions**: `max_expansions` funnels expanded;
+//! - **exhausted**: no funnel left (the cover is finite only without obstacles, or when a length
+//!   bound or the simple-classes mode cuts it);
+//! - **disconnected**: start and goal lie in different connected components of free space. This
+//!   is answered before any search from component labels of the dual graph ([`SptPlanner::new`]).
+//!
+//! # Dominance pruning with a class count
+//! When at most `K` classes are wanted, a funnel whose apex is a lift `v'` of a map vertex `v`
+//! reached with `g(v')` is pruned as soon as `K` other lifts of `v` are known with strictly
+//! smaller `g`. Every SHP found below the funnel passes through `v'` (the apex chain is a prefix of
+//! every path in the funnel), so it is `p' . s` for the tree path `p'` to `v'` and some suffix
+//! `s`; each shorter lift gives a different class `p_i . s` no longer than `g_i + |s| < g(v') +
+//! |s|`: `K` strictly shorter classes, so the pruned one is not among the `K` shortest. This is the
+//! homotopy-aware form of Polyanya's root-level pruning and keeps the search near-linear on large
+//! maps; without a count (or in the simple-classes mode, whose dominating classes need not be
+//! simple) no funnel is pruned this way.
+//!
+//! # Simple classes
+//! A class is **simple** when, in its SHP's list of anchors (the map vertices the taut tether
+//! wraps, in order), no map vertex occurs twice and the anchors on each obstacle are consecutive:
+//! the tether touches every obstacle in one contiguous stretch and turns there by less than a full
+//! turn (around a convex hull, a full turn would repeat a vertex). So no tether winds around any
+//! obstacle more than once, and none comes back to an obstacle it has left (which also excludes
+//! the commutator classes that H-signatures cannot tell from the trivial class, module
+//! [`rappel_homotopy::h_signature`]). The test is combinatorial and exact ([`is_simple_class`]).
+//! In the simple-classes mode funnels whose apex chain is already not simple are pruned (the apex
+//! chain's anchors are anchors of every SHP below), so only finitely many funnels are ever
+//! expanded and the search always ends.
+
+use nalgebra::Point2;
+use rappel_geometry::btm::Btm;
+use rappel_geometry::dcel::{HalfEdgeId, ObstacleId, TriangleId, VertexId};
+use rappel_geometry::predicates::orient2d;
+use rappel_homotopy::crossing::Tracer;
+use rappel_homotopy::funnel::TautPath;
+use rappel_homotopy::funnel_state::{FunnelNode, FunnelState, FunnelStateError, FunnelTree, NodeId};
+use rappel_homotopy::h_signature::{HSignature, Poles};
+use rappel_homotopy::path::PathError;
+use rappel_homotopy::shp::ShortestHomotopicPath;
+use rappel_homotopy::sleeve::{Sleeve, SleeveError};
+use serde::{Deserialize, Serialize};
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashSet};
+
+/// Default number of classes a search returns.
+pub const DEFAULT_MAX_CLASSES: usize = 10;
+/// Default budget of funnel expansions (about 130 bytes of search state each).
+pub const DEFAULT_MAX_EXPANSIONS: usize = 1_000_000;
+
+/// Marks "no parent" in the trail of mouths and "no component" in the labels.
+const NONE: u32 = u32::MAX;
+
+/// Why a search could not be set up or run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SearchError {
+    /// The start or the goal is not a finite point of free space.
+    #[error("the {which} point ({}, {}) is not usable: {source}", point.x, point.y)]
+    Endpoint {
+        /// `"start"` or `"goal"`.
+        which: &'static str,
+        /// The point.
+        point: Point2<f64>,
+        /// What is wrong with it.
+        source: PathError,
+    },
+    /// A search option is out of range; the message says which and the valid range.
+    #[error("invalid search option: {0}")]
+    Option(&'static str),
+    /// A funnel or sleeve operation failed: a bug, reported instead of a panic.
+    #[error("internal search error: {0}")]
+    Internal(String),
+}
+
+impl From<FunnelStateError> for SearchError {
+    fn from(e: FunnelStateError) -> Self {
+        SearchError::Internal(e.to_string())
+    }
+}
+
+impl From<SleeveError> for SearchError {
+    fn from(e: SleeveError) -> Self {
+        SearchError::Internal(e.to_string())
+    }
+}
+
+/// Settings of an SPT search (module docs, "Termination"), with validated setters.
+///
+/// ```
+/// use rappel_planners::spt::SearchOptions;
+/// let o = SearchOptions::default()
+///     .with_max_classes(Some(3)).unwrap()
+///     .with_max_length_factor(Some(1.5)).unwrap()
+///     .with_simple_only(true);
+/// assert_eq!(o.max_classes(), Some(3));
+/// assert!(SearchOptions::default().with_max_length_factor(Some(0.5)).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SearchOptions {
+    max_classes: Option<usize>,
+    max_length_factor: Option<f64>,
+    max_expansions: usize,
+    simple_only: bool,
+}
+
+impl Default for SearchOptions {
+    /// [`DEFAULT_MAX_CLASSES`] classes, no length bound, [`DEFAULT_MAX_EXPANSIONS`] expansions,
+    /// every class.
+    fn default() -> Self {
+        SearchOptions {
+            max_classes: Some(DEFAULT_MAX_CLASSES),
+            max_length_factor: None,
+            max_expansions: DEFAULT_MAX_EXPANSIONS,
+            simple_only: false,
+        }
+    }
+}
+
+impl SearchOptions {
+    /// Stop after `k` classes (`None`: no count; at least 1).
+    pub fn with_max_classes(mut self, k: Option<usize>) -> Result<Self, SearchError> {
+        if k == Some(0) {
+            return Err(SearchError::Option("max_classes must be at least 1"));
+        }
+        self.max_classes = k;
+        Ok(self)
+    }
+
+    /// Stop before the first class longer than `factor` times the shortest (`None`: no bound;
+    /// finite and at least 1).
+    pub fn with_max_length_factor(mut self, factor: Option<f64>) -> Result<Self, SearchError> {
+        if let Some(f) = factor
+            && !(f.is_finite() && f >= 1.0)
+        {
+            return Err(SearchError::Option(
+                "max_length_factor must be a finite number >= 1",
+            ));
+        }
+        self.max_length_factor = factor;
+        Ok(self)
+    }
+
+    /// Stop after `n` funnel expansions (at least 1).
+    pub fn with_max_expansions(mut self, n: usize) -> Result<Self, SearchError> {
+        if n == 0 {
+            return Err(SearchError::Option("max_expansions must be at least 1"));
+        }
+        self.max_expansions = n;
+        Ok(self)
+    }
+
+    /// Return simple classes only (module docs, "Simple classes").
+    pub fn with_simple_only(mut self, simple_only: bool) -> Self {
+        self.simple_only = simple_only;
+        self
+    }
+
+    /// The class count, if any.
+    pub fn max_classes(&self) -> Option<usize> {
+        self.max_classes
+    }
+
+    /// The length factor, if any.
+    pub fn max_length_factor(&self) -> Option<f64> {
+        self.max_length_factor
+    }
+
+    /// The expansion budget.
+    pub fn max_expansions(&self) -> usize {
+        self.max_expansions
+    }
+
+    /// Whether only simple classes are returned.
+    pub fn simple_only(&self) -> bool {
+        self.simple_only
+    }
+}
+
+/// Why a search stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Termination {
+    /// `max_classes` classes were found.
+    ClassCount,
+    /// The next candidate is longer than `max_length_factor` times the shortest.
+    LengthFactor,
+    /// The expansion budget ran out.
+    Expansions,
+    /// No funnel is left: every class (within the bounds) has been returned.
+    Exhausted,
+    /// Start and goal lie in different connected components of free space: no path exists.
+    Disconnected,
+}
+
+impl Termination {
+    /// A short phrase for reports.
+    pub fn describe(&self) -> &'static str {
+        match self {
+            Termination::ClassCount => "the requested number of classes was found",
+            Termination::LengthFactor => "the next class would exceed the length factor",
+            Termination::Expansions => "the expansion budget ran out",
+            Termination::Exhausted => "no further class exists within the bounds",
+            Termination::Disconnected => {
+                "start and goal lie in different connected components of free space"
+            }
+        }
+    }
+}
+
+/// Counters of a search.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SearchStats {
+    /// Funnels expanded (Alg. 4 calls).
+    pub expansions: usize,
+    /// Funnels dropped by dominance pruning.
+    pub pruned_dominated: usize,
+    /// Funnels dropped by the length bound.
+    pub pruned_length: usize,
+    /// Funnels dropped because their apex chain is not simple (simple-classes mode).
+    pub pruned_simple: usize,
+    /// Goal lifts reached whose class was not simple (simple-classes mode).
+    pub skipped_not_simple: usize,
+    /// Nodes in the shortest path tree.
+    pub tree_nodes: usize,
+    /// Largest number of queued entries.
+    pub queue_peak: usize,
+    /// Peak bytes held by the search's own structures (tree nodes, queue, trail, pruning lists),
+    /// counting allocated capacity where it is visible and live length for the tree.
+    pub peak_bytes: usize,
+}
+
+/// One class found by the search: its rank, its SHP with crossing sequence and sleeve, and its
+/// H-signature.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RankedShp {
+    /// 1 for the shortest class, then 2, 3, ...
+    pub rank: usize,
+    /// The SHP (taut tether: polyline, anchors, length), its reduced crossing sequence and sleeve.
+    pub shp: ShortestHomotopicPath,
+    /// The H-signature of the SHP (thesis eqs. 2.2-2.3, winding form).
+    pub h_signature: HSignature,
+    /// Whether the class is simple (module docs).
+    pub simple: bool,
+    /// Funnels expanded when the class was found.
+    pub expansions: usize,
+}
+
+impl RankedShp {
+    /// The SHP's length, m.
+    pub fn length(&self) -> f64 {
+        self.shp.taut.length
+    }
+}
+
+/// What a completed search returns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SearchOutcome {
+    /// The classes, shortest first.
+    pub classes: Vec<RankedShp>,
+    /// Why the search stopped.
+    pub termination: Termination,
+    /// Its counters.
+    pub stats: SearchStats,
+}
+
+/// Per-BTM preparation shared by searches: connected-component labels of the dual graph (for the
+/// quick "not connected" answer) and the H-signature poles.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
+/// use rappel_planners::spt::{SearchOptions, SptPlanner, Termination};
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
+/// );
+/// let btm = Btm::build(&map).unwrap();
+/// let planner = SptPlanner::new(&btm);
+/// // The classic single query: the globally shortest path.
+/// let best = planner.shortest_path(p(5., 9.), p(5., 1.)).unwrap().unwrap();
+/// assert!((best.length() - (2.0 * 10f64.sqrt() + 2.0)).abs() < 1e-12);
+/// // Lazily, the next classes in non-decreasing length.
+/// let options = SearchOptions::default().with_max_classes(Some(3)).unwrap();
+/// let mut search = planner.search(p(5., 9.), p(5., 1.), &options).unwrap();
+/// let first = search.next_best().unwrap().unwrap();
+/// let second = search.next_best().unwrap().unwrap();
+/// assert!(first.length() <= second.length());
+/// assert_ne!(first.shp.crossings, second.shp.crossings);
+/// let third = search.next_best().unwrap().unwrap();
+/// assert!(search.next_best().unwrap().is_none());
+/// assert_eq!(search.termination(), Some(Termination::ClassCount));
+/// assert!(third.length() >= second.length());
+/// ```
+#[derive(Debug, Clone)]
+pub struct SptPlanner<'b> {
+    btm: &'b Btm,
+    component: Vec<u32>,
+    poles: Poles,
+}
+
+impl<'b> SptPlanner<'b> {
+    /// Prepares searches on `btm`: labels the connected components of its dual graph and places
+    /// the H-signature poles. Linear in the size of the BTM.
+    pub fn new(btm: &'b Btm) -> SptPlanner<'b> {
+        let d = btm.dcel();
+        let mut component = vec![NONE; d.triangle_capacity()];
+        let mut label = 0;
+        let mut stack = Vec::new();
+        for t in btm.triangles() {
+            if component[t.index()] != NONE {
+                continue;
+            }
+            component[t.index()] = label;
+            stack.push(t);
+            while let Some(u) = stack.pop() {
+                for h in u.half_edges() {
+                    if let Some(g) = d.twin(h)
+                        && component[g.triangle().index()] == NONE
+                    {
+                        component[g.triangle().index()] = label;
+                        stack.push(g.triangle());
+                    }
+                }
+            }
+            label += 1;
+        }
+        SptPlanner {
+            btm,
+            component,
+            poles: Poles::new(btm),
+        }
+    }
+
+    /// The BTM searched.
+    pub fn btm(&self) -> &'b Btm {
+        self.btm
+    }
+
+    /// The H-signature poles.
+    pub fn poles(&self) -> &Poles {
+        &self.poles
+    }
+
+    /// `true` when the two free triangles are connected in free space.
+    pub fn connected(&self, a: TriangleId, b: TriangleId) -> bool {
+        let (ca, cb) = (self.component[a.index()], self.component[b.index()]);
+        ca != NONE && ca == cb
+    }
+
+    /// A search from `start` to `goal` (Alg. 3 set-up). Both must be finite points of the closed
+    /// free space.
+    pub fn search(
+        &self,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+        options: &SearchOptions,
+    ) -> Result<SptSearch<'_>, SearchError> {
+        SptSearch::new(self, start, goal, *options)
+    }
+
+    /// The classic single query: the globally shortest path from `start` to `goal` (the first
+    /// class), or `None` when they are not connected.
+    pub fn shortest_path(
+        &self,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+    ) -> Result<Option<RankedShp>, SearchError> {
+        let options = SearchOptions::default().with_max_classes(Some(1))?;
+        self.search(start, goal, &options)?.next_best()
+    }
+}
+
+/// The SHPs from `start` to `goal` under `options`, collected: a convenience over
+/// [`SptPlanner::search`].
+pub fn shortest_homotopic_paths(
+    btm: &Btm,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    options: &SearchOptions,
+) -> Result<SearchOutcome, SearchError> {
+    SptPlanner::new(btm).search(start, goal, options)?.run()
+}
+
+/// The triangle a path starting (or ending) at `p` is assigned to: the canonical-endpoint rule of
+/// [`rappel_homotopy::crossing`], as used by [`Tracer::new`].
+pub fn canonical_triangle(btm: &Btm, p: Point2<f64>) -> Result<TriangleId, PathError> {
+    Tracer::new(btm, p).map(|t| t.triangle())
+}
+
+/// `true` when the class of `taut` is simple (module docs): no map vertex occurs twice among its
+/// anchors and the anchors on each obstacle are consecutive.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
+/// use rappel_homotopy::{path::Path, shp::shortest_homotopic_path};
+/// use rappel_planners::spt::is_simple_class;
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
+/// );
+/// let btm = Btm::build(&map).unwrap();
+/// let west = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
+/// assert!(is_simple_class(&shortest_homotopic_path(&btm, &west).unwrap().taut));
+/// // Once around the obstacle before going down: the tether wraps it a full turn.
+/// let wound = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.), p(9., 5.), p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
+/// assert!(!is_simple_class(&shortest_homotopic_path(&btm, &wound).unwrap().taut));
+/// ```
+pub fn is_simple_class(taut: &TautPath) -> bool {
+    anchors_are_simple(taut.anchors.iter().map(|a| (a.vertex, a.obstacle)))
+}
+
+/// The simplicity test on a sequence of anchors `(vertex, obstacle)`.
+fn anchors_are_simple(anchors: impl Iterator<Item = (VertexId, Option<ObstacleId>)>) -> bool {
+    let mut vertices = HashSet::new();
+    let mut left_behind = HashSet::new();
+    let mut current: Option<ObstacleId> = None;
+    for (v, o) in anchors {
+        if !vertices.insert(v) {
+            return false;
+        }
+        if o != current {
+            if let Some(c) = current {
+                left_behind.insert(c);
+            }
+            if o.is_some_and(|o| left_behind.contains(&o)) {
+                return false;
+            }
+            current = o;
+        }
+    }
+    true
+}
+
+/// A queued search state.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    key: f64,
+    kind: Kind,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Kind {
+    /// The goal, reached through the funnel whose mouth is `trail`.
+    Goal { node: NodeId, trail: u32 },
+    /// A funnel to expand; `trail` indexes its mouth in the trail.
+    Funnel { funnel: FunnelState, trail: u32 },
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Entry {}
+
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Entry {
+    /// Smallest key first (`BinaryHeap` is a max-heap); on equal keys a goal before a funnel.
+    fn cmp(&self, other: &Self) -> Ordering {
+        let rank = |e: &Entry| matches!(e.kind, Kind::Goal { .. }) as u8;
+        other
+            .key
+            .total_cmp(&self.key)
+            .then_with(|| rank(self).cmp(&rank(other)))
+    }
+}
+
+/// The `K` smallest path lengths known per map vertex, for dominance pruning.
+#[derive(Debug, Clone)]
+struct Lifts {
+    k: usize,
+    slot: Vec<u32>,
+    lists: Vec<Vec<f64>>,
+}
+
+impl Lifts {
+    fn new(k: usize, vertices: usize) -> Lifts {
+        Lifts {
+            k,
+            slot: vec![NONE; vertices],
+            lists: Vec::new(),
+        }
+    }
+
+    fn record(&mut self, v: VertexId, g: f64) {
+        let Some(s) = self.slot.get_mut(v.index()) else {
+            return;
+        };
+        if *s == NONE {
+            *s = self.lists.len() as u32;
+            self.lists.push(Vec::with_capacity(self.k.min(4)));
+        }
+        let list = &mut self.lists[*s as usize];
+        if list.len() == self.k && list[self.k - 1] <= g {
+            return;
+        }
+        let at = list.partition_point(|&x| x <= g);
+        list.insert(at, g);
+        list.truncate(self.k);
+    }
+
+    /// `true` when `k` lifts of `v` are known strictly shorter than `g`.
+    fn dominates(&self, v: VertexId, g: f64) -> bool {
+        match self.slot.get(v.index()) {
+            Some(&s) if s != NONE => {
+                let list = &self.lists[s as usize];
+                list.len() == self.k && list[self.k - 1] < g
+            }
+            _ => false,
+        }
+    }
+
+    fn bytes(&self) -> usize {
+        self.slot.capacity() * 4
+            + self.lists.capacity() * std::mem::size_of::<Vec<f64>>()
+            + self.lists.iter().map(|l| l.capacity() * 8).sum::<usize>()
+    }
+}
+
+/// A running SPT search (Alg. 3's loop, one SHP per [`SptSearch::next_best`]).
+#[derive(Debug, Clone)]
+pub struct SptSearch<'a> {
+    planner: &'a SptPlanner<'a>,
+    goal: Point2<f64>,
+    start_triangle: TriangleId,
+    goal_triangle: TriangleId,
+    options: SearchOptions,
+    tree: FunnelTree,
+    queue: BinaryHeap<Entry>,
+    /// Mouth of every queued funnel and the index of its parent funnel's mouth.
+    trail: Vec<(HalfEdgeId, u32)>,
+    lifts: Option<Lifts>,
+    /// Simple-prefix verdicts per tree node: 0 unknown, 1 simple, 2 not simple.
+    simple_prefix: Vec<u8>,
+    emitted: usize,
+    shortest: Option<f64>,
+    termination: Option<Termination>,
+    stats: SearchStats,
+}
+
+impl<'a> SptSearch<'a> {
+    fn new(
+        planner: &'a SptPlanner<'a>,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+        options: SearchOptions,
+    ) -> Result<SptSearch<'a>, SearchError> {
+        let btm = planner.btm;
+        let endpoint = |which, point| {
+            canonical_triangle(btm, point).map_err(|source| SearchError::Endpoint {
+                which,
+                point,
+                source,
+            })
+        };
+        let start_triangle = endpoint("start", start)?;
+        let goal_triangle = endpoint("goal", goal)?;
+        let lifts = match options.max_classes {
+            Some(k) if !options.simple_only => {
+                Some(Lifts::new(k, btm.dcel().vertex_capacity()))
+            }
+            _ => None,
+        };
+        let mut search = SptSearch {
+            planner,
+            goal,
+            start_triangle,
+            goal_triangle,
+            options,
+            tree: FunnelTree::new(start),
+            queue: BinaryHeap::new(),
+            trail: Vec::new(),
+            lifts,
+            simple_prefix: Vec::new(),
+            emitted: 0,
+            shortest: None,
+            termination: None,
+            stats: SearchStats::default(),
+        };
+        if !planner.connected(start_triangle, goal_triangle) {
+            search.termination = Some(Termination::Disconnected);
+            return Ok(search);
+        }
+        if start_triangle == goal_triangle {
+            // The trivial class: the straight segment inside the (convex) start triangle.
+            let root = search.tree.root();
+            let node = search.tree.extend(root, goal, None);
+            let key = search.tree.node(node).length;
+            search.push(key, Kind::Goal { node, trail: NONE });
+        }
+        let funnels = FunnelState::initial(&mut search.tree, btm, start_triangle)?;
+        let mut corners = Vec::with_capacity(3);
+        for f in &funnels {
+            for tip in [f.left(), f.right()] {
+                let n = *search.tree.node(tip);
+                if let Some(v) = n.vertex
+                    && !corners.contains(&v)
+                {
+                    corners.push(v);
+                    if let Some(l) = &mut search.lifts {
+                        l.record(v, n.length);
+                    }
+                }
+            }
+        }
+        for f in funnels {
+            let key = search.lower_bound(&f);
+            search.offer(key, f, NONE);
+        }
+        Ok(search)
+    }
+
+    /// Why the search stopped (`None` while it can go on).
+    pub fn termination(&self) -> Option<Termination> {
+        self.termination
+    }
+
+    /// The search's counters so far.
+    pub fn stats(&self) -> SearchStats {
+        let mut s = self.stats;
+        s.tree_nodes = self.tree.len();
+        s
+    }
+
+    /// The options in force.
+    pub fn options(&self) -> &SearchOptions {
+        &self.options
+    }
+
+    /// The next SHP in non-decreasing length, each in a new homotopy class (Alg. 3 lines 15-20);
+    /// `Ok(None)` once the search has stopped ([`SptSearch::termination`] says why).
+    pub fn next_best(&mut self) -> Result<Option<RankedShp>, SearchError> {
+        if self.termination.is_some() {
+            return Ok(None);
+        }
+        loop {
+            let Some(entry) = self.queue.pop() else {
+                self.termination = Some(Termination::Exhausted);
+                return Ok(None);
+            };
+            if self.length_limit().is_some_and(|limit| entry.key > limit) {
+                self.termination = Some(Termination::LengthFactor);
+                return Ok(None);
+            }
+            match entry.kind {
+                Kind::Goal { node, trail } => {
+                    if let Some(found) = self.emit(node, trail)? {
+                        if self.options.max_classes == Some(self.emitted) {
+                            self.termination = Some(Termination::ClassCount);
+                        }
+                        return Ok(Some(found));
+                    }
+                }
+                Kind::Funnel { funnel, trail } => {
+                    if self.dominated(&funnel) {
+                        self.stats.pruned_dominated += 1;
+                        continue;
+                    }
+                    if self.stats.expansions >= self.options.max_expansions {
+                        self.termination = Some(Termination::Expansions);
+                        return Ok(None);
+                    }
+                    self.expand(entry.key, funnel, trail)?;
+                }
+            }
+        }
+    }
+
+    /// Runs the search to its end and collects every class.
+    pub fn run(mut self) -> Result<SearchOutcome, SearchError> {
+        let mut classes = Vec::new();
+        while let Some(c) = self.next_best()? {
+            classes.push(c);
+        }
+        Ok(SearchOutcome {
+            classes,
+            termination: self.termination.unwrap_or(Termination::Exhausted),
+            stats: self.stats(),
+        })
+    }
+
+    /// Alg. 4: reach the goal if it lies beyond the mouth, split, key and queue the children.
+    fn expand(&mut self, key: f64, f: FunnelState, trail: u32) -> Result<(), SearchError> {
+        let btm = self.planner.btm;
+        self.stats.expansions += 1;
+        let next = f
+            .next_triangle(btm)
+            .ok_or_else(|| SearchError::Internal("a queued funnel has a closed mouth".into()))?;
+        if next == self.goal_triangle {
+            let node = f.reach(&mut self.tree, self.goal);
+            let goal_key = self.tree.node(node).length.max(key);
+            self.push(goal_key, Kind::Goal { node, trail });
+        }
+        let split = f.split(&mut self.tree, btm)?;
+        if let Some(l) = &mut self.lifts {
+            l.record(split.vertex, self.tree.node(split.node).length);
+        }
+        for child in [split.left, split.right].into_iter().flatten() {
+            let child_key = self.lower_bound(&child).max(key);
+            self.offer(child_key, child, trail);
+        }
+        self.stats.queue_peak = self.stats.queue_peak.max(self.queue.len());
+        self.stats.peak_bytes = self.stats.peak_bytes.max(self.bytes());
+        Ok(())
+    }
+
+    /// Queues a funnel unless a bound or a pruning rule drops it.
+    fn offer(&mut self, key: f64, f: FunnelState, parent_trail: u32) {
+        if self.length_limit().is_some_and(|limit| key > limit) {
+            self.stats.pruned_length += 1;
+            return;
+        }
+        if self.dominated(&f) {
+            self.stats.pruned_dominated += 1;
+            return;
+        }
+        if self.options.simple_only && !self.prefix_is_simple(f.apex()) {
+            self.stats.pruned_simple += 1;
+            return;
+        }
+        let trail = self.trail.len() as u32;
+        self.trail.push((f.mouth(), parent_trail));
+        self.push(key, Kind::Funnel { funnel: f, trail });
+    }
+
+    fn push(&mut self, key: f64, kind: Kind) {
+        self.queue.push(Entry { key, kind });
+    }
+
+    /// `f * L_1` once the first class is known.
+    fn length_limit(&self) -> Option<f64> {
+        Some(self.shortest? * self.options.max_length_factor?)
+    }
+
+    /// Dominance pruning (module docs): `K` lifts of the apex's vertex are strictly shorter.
+    fn dominated(&self, f: &FunnelState) -> bool {
+        let Some(lifts) = &self.lifts else {
+            return false;
+        };
+        let apex = self.tree.node(f.apex());
+        apex.vertex
+            .is_some_and(|v| lifts.dominates(v, apex.length))
+    }
+
+    /// The A* key of a funnel (module docs): eq. 2.5 at the goal, or at its mirror image across
+    /// the mouth's line when the goal lies behind it.
+    fn lower_bound(&self, f: &FunnelState) -> f64 {
+        let d = self.planner.btm.dcel();
+        let m = f.mouth();
+        let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
+        // The funnel's last triangle lies left of its mouth; beyond is the right side.
+        let target = if orient2d(&a, &b, &self.goal) <= 0.0 {
+            self.goal
+        } else {
+            mirror(&self.goal, &a, &b)
+        };
+        let t: &FunnelNode = self.tree.node(f.predecessor(&self.tree, &target));
+        t.length + (target - t.point).norm()
+    }
+
+    /// Builds the class reached at goal node `node` through the funnel mouths of `trail`.
+    fn emit(&mut self, node: NodeId, trail: u32) -> Result<Option<RankedShp>, SearchError> {
+        let btm = self.planner.btm;
+        let taut = self.tree.taut_path(btm, node);
+        let simple = is_simple_class(&taut);
+        if self.options.simple_only && !simple {
+            self.stats.skipped_not_simple += 1;
+            return Ok(None);
+        }
+        let mut portals = Vec::new();
+        let mut t = trail;
+        while t != NONE {
+            let (mouth, parent) = self.trail[t as usize];
+            portals.push(mouth);
+            t = parent;
+        }
+        portals.reverse();
+        let sleeve = Sleeve::from_portals(btm, self.start_triangle, portals)?;
+        let crossings = sleeve.crossing_sequence();
+        let h_signature = HSignature::of_path(&self.planner.poles, &taut.to_path());
+        self.emitted += 1;
+        self.shortest.get_or_insert(taut.length);
+        Ok(Some(RankedShp {
+            rank: self.emitted,
+            shp: ShortestHomotopicPath {
+                taut,
+                crossings,
+                sleeve,
+            },
+            h_signature,
+            simple,
+            expansions: self.stats.expansions,
+        }))
+    }
+
+    /// `true` when the anchors on the tree path to `apex` (strict turns strictly between the root
+    /// and `apex`) form a simple sequence. Cached per node.
+    fn prefix_is_simple(&mut self, apex: NodeId) -> bool {
+        if self.simple_prefix.len() < self.tree.len() {
+            self.simple_prefix.resize(self.tree.len(), 0);
+        }
+        match self.simple_prefix[apex.index()] {
+            1 => return true,
+            2 => return false,
+            _ => {}
+        }
+        let path = self.tree.path(apex);
+        let btm = self.planner.btm;
+        let anchors = path.windows(3).filter_map(|w| {
+            let [a, b, c] = [w[0], w[1], w[2]].map(|n| self.tree.node(n));
+            let v = b.vertex?;
+            (orient2d(&a.point, &b.point, &c.point) != 0.0).then(|| (v, btm.obstacle_of_vertex(v)))
+        });
+        let simple = anchors_are_simple(anchors);
+        self.simple_prefix[apex.index()] = if simple { 1 } else { 2 };
+        simple
+    }
+
+    /// Bytes held by the search's structures (see [`SearchStats::peak_bytes`]).
+    fn bytes(&self) -> usize {
+        self.tree.len() * std::mem::size_of::<FunnelNode>()
+            + self.queue.capacity() * std::mem::size_of::<Entry>()
+            + self.trail.capacity() * std::mem::size_of::<(HalfEdgeId, u32)>()
+            + self.lifts.as_ref().map_or(0, Lifts::bytes)
+            + self.simple_prefix.capacity()
+    }
+}
+
+impl Iterator for SptSearch<'_> {
+    type Item = Result<RankedShp, SearchError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_best().transpose()
+    }
+}
+
+/// The mirror image of `p` across the line through `a` and `b` (`a != b`).
+fn mirror(p: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>) -> Point2<f64> {
+    let d = b - a;
+    let t = (p - a).dot(&d) / d.norm_squared();
+    let foot = a + d * t;
+    foot + (foot - p)
+}
