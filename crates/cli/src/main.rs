@@ -5,6 +5,7 @@ mod btm;
 mod dem;
 mod gen_map;
 mod output;
+mod plan;
 mod shp;
 mod stability;
 mod validate;
@@ -36,6 +37,8 @@ enum Command {
     Shp(shp::Args),
     /// Whether two paths with the same endpoints are homotopic.
     Homotopic(shp::HomotopicArgs),
+    /// Homotopy classes shortest first, ascent feasibility and an ascent/descent path pair.
+    Plan(plan::Args),
 }
 
 fn main() -> ExitCode {
@@ -48,6 +51,7 @@ fn main() -> ExitCode {
         Command::Stability(args) => stability::run(&args),
         Command::Shp(args) => shp::run(&args),
         Command::Homotopic(args) => shp::run_homotopic(&args),
+        Command::Plan(args) => plan::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -27,10 +27,16 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Writes a text file atomically, naming the file in any error.
+/// Writes a text file atomically, creating missing parent directories (so that `--svg out/x.svg`
+/// works in a fresh checkout), naming the file in any error.
 pub fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
-    rappel::io::write_atomically(path, text.as_bytes())
-        .map_err(|e| CliError(format!("{}: cannot write: {e}", path.display())))
+    let cannot = |e: std::io::Error| CliError(format!("{}: cannot write: {e}", path.display()));
+    if let Some(dir) = path.parent()
+        && !dir.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(dir).map_err(cannot)?;
+    }
+    rappel::io::write_atomically(path, text.as_bytes()).map_err(cannot)
 }
 
 /// Prints a line on stdout; a closed pipe (`rappel ... | head`) ends the program quietly instead

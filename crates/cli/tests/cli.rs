@@ -111,6 +111,8 @@ fn bad_inputs_exit_2_with_one_located_error() {
 #[test]
 fn failed_runs_leave_no_output_file() {
     let dir = temp_dir("atomic");
+    // A regular file where a directory should be: nothing can be written below it.
+    std::fs::write(dir.join("nope"), "not a directory").expect("write");
     let out = dir.join("nope").join("btm.svg");
     check_error(
         &[
@@ -135,9 +137,10 @@ fn failed_runs_leave_no_output_file() {
         "bad.ron:1:",
     );
     assert!(!svg.exists());
+    // Only `nope` and `bad.ron`: no temporary file left behind.
     assert_eq!(
         std::fs::read_dir(&dir).map(|d| d.count()).unwrap_or(0),
-        1,
+        2,
         "stray temporary files"
     );
 }

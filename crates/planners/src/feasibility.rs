@@ -1,1 +1,644 @@
-//! placeholder
+//! Ascent feasibility of an SHP (thesis §2.4, Algorithm 5, Definitions 2.1-2.4, eq. 2.7): can the
+//! robot climb back from the goal to the start with the tether drawn taut along the SHP, passing
+//! its anchors one by one?
+//!
+//! # Anchors and angles
+//! The SHP's anchors are `A = (a_0, a_1, .., a_n)`: the start `a_0` (the initial anchor) and the
+//! map vertices the taut tether wraps, in order (thesis §2.4). `psi_j` is the SHP angle of anchor
+//! `a_j`: the angle between the fall line (`-y`) and the tether segment from `a_{j-1}` down to
+//! `a_j`, in `[0, pi]`. `theta_max_j` is the tether limit ([`TetherLimit`], eq. 2.7 for the point
+//! robot) of the plane holding `a_j`.
+//!
+//! # Anchor reachable sets (Def. 2.1-2.2)
+//! While `a_j` is the proximal anchor the robot holds at `q` when
+//! - `q` lies in the **friction-cone wedge** of `a_j`: the angle between the fall line and
+//!   `q - a_j` is below the tether limit of the plane holding `q` (on a convex series the wedge
+//!   narrows band by band down the slope; a tether-free band admits every direction);
+//! - `q` lies in the **visibility half-plane** of `a_j` (`j >= 1`): on the side of the line
+//!   `L_j` through `a_{j-1}` and `a_j` to which the SHP turns at `a_j`; across `L_j` the tether
+//!   leaves `a_j` and `a_{j-1}` becomes proximal (the visibility edge);
+//! - `q` is in **free space and visible** from `a_j`: the tether runs straight from `a_j` to `q`.
+//!
+//! [`AnchorReachableSet`] stores the convex pieces "wedge ∩ half-plane ∩ plane band ∩ map box" as
+//! polygons, for pictures; membership of a robot motion is decided as below.
+//!
+//! # Passability (Def. 2.3, §2.4.2) and Algorithm 5
+//! Ascending, the robot starts at the goal with `a_n` proximal (the goal must lie in the wedge of
+//! `a_n`: the taut tether must hold it there) and passes `a_n, a_{n-1}, .., a_1` in turn. Anchor
+//! `a_j` is passable when
+//! 1. `C_j` has a visibility edge: `theta_max_j > psi_j` (the ray `L_j` beyond `a_j` lies in the
+//!    wedge of `a_j`);
+//! 2. the robot crossing it stays held by `a_{j-1}`: `theta_max_{j-1} > psi_j` (plane of
+//!    `a_{j-1}`);
+//! 3. Alg. 5 lines 13-19: some point `q'` of the visibility edge `V = L_j ∩ C_j ∩ C_{j-1}` can be
+//!    reached from the robot's position `q` inside `C_j`. rappel tries points of `V` kept
+//!    `clearance` away from `a_j` and from the first obstacle the ray meets: a ladder of doubling
+//!    distances from `a_j`, then the projection of `q`, the middle and the far end; it accepts
+//!    the first `q'` such that the straight
+//!    move `q -> q'` stays in the wedge of `a_j` band by band and the triangle `(a_j, q, q')` swept
+//!    by the tether is obstacle-free (its boundary lies in free space and is a contractible loop,
+//!    exact); waypoints `clearance` away from every anchor, reached by moves that keep
+//!    `clearance` from the anchors not yet released, are preferred.
+//!
+//! The waypoints `q'` are the waypoints of the ascent (Alg. 5 line 19). An SHP is feasible
+//! (Def. 2.4) when every intermediate anchor is passable; otherwise the report names the first
+//! impassable one met on the way up and why ([`Impassability`]).
+
+use crate::terrain::PlaneSeries;
+use nalgebra::{Point2, Vector2};
+use rappel_geometry::btm::Btm;
+use rappel_geometry::polygon::{Aabb, Polygon};
+use rappel_homotopy::crossing::Tracer;
+use rappel_homotopy::funnel::{Anchor, Side, TautPath};
+use rappel_homotopy::homotopy::is_contractible;
+use rappel_homotopy::path::{Path, PathError};
+use rappel_mechanics::anchor_traversability::TetherLimit;
+use serde::{Deserialize, Serialize};
+
+/// Relative slack on clearance comparisons (distances are computed in floating point).
+pub const CLEARANCE_TOLERANCE: f64 = 1e-9;
+/// Smallest first step of the ladder of waypoint candidates along a visibility line, m (used when
+/// the clearance is zero).
+pub const MIN_WAYPOINT_STEP: f64 = 0.05;
+
+/// The angle between the fall line (`-y`) and the direction `v`, radians in `[0, pi]`.
+pub fn angle_from_fall_line(v: &Vector2<f64>) -> f64 {
+    v.x.abs().atan2(-v.y)
+}
+
+/// Distance from `p` to the closed segment `ab`.
+pub fn distance_to_segment(p: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>) -> f64 {
+    let d = b - a;
+    let len2 = d.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + d * t - p).norm()
+}
+
+/// Why an anchor (or the goal) cannot be passed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Impassability {
+    /// The taut tether cannot hold the robot at the goal: the last tether segment is at `psi`
+    /// from the fall line, beyond the limit `max_angle` of the goal's plane.
+    GoalOutsideReachableSet {
+        /// Angle of the last tether segment from the fall line, radians.
+        psi: f64,
+        /// The limit, radians.
+        max_angle: f64,
+    },
+    /// Condition 1 of §2.4.2 fails: `theta_max_j <= psi_j`, the anchor reachable set of `a_j` has
+    /// no visibility edge.
+    NoVisibilityEdge {
+        /// `psi_j`, radians.
+        psi: f64,
+        /// `theta_max_j`, radians.
+        max_angle: f64,
+    },
+    /// Condition 2 of §2.4.2 fails: `theta_max_{j-1} <= psi_j`, crossing the visibility edge the
+    /// robot would not be held by `a_{j-1}`.
+    OutsidePreviousReachableSet {
+        /// `psi_j`, radians.
+        psi: f64,
+        /// `theta_max_{j-1}`, radians.
+        max_angle: f64,
+    },
+    /// Alg. 5 line 14: no point of the visibility edge can be reached from the robot's position
+    /// inside the anchor reachable set (obstacles in the way, or the wedge too narrow).
+    NoReachableWaypoint {
+        /// Candidate points tried.
+        candidates: usize,
+    },
+}
+
+impl Impassability {
+    /// One line for reports.
+    pub fn describe(&self) -> String {
+        let deg = f64::to_degrees;
+        match *self {
+            Impassability::GoalOutsideReachableSet { psi, max_angle } => format!(
+                "the taut tether cannot hold the robot at the goal: last segment at {:.2}° from the fall line >= theta_max {:.2}°",
+                deg(psi),
+                deg(max_angle)
+            ),
+            Impassability::NoVisibilityEdge { psi, max_angle } => format!(
+                "no visibility edge: psi {:.2}° >= theta_max {:.2}° of its plane",
+                deg(psi),
+                deg(max_angle)
+            ),
+            Impassability::OutsidePreviousReachableSet { psi, max_angle } => format!(
+                "crossing its visibility edge leaves the previous anchor's reachable set: psi {:.2}° >= theta_max {:.2}° of the previous anchor's plane",
+                deg(psi),
+                deg(max_angle)
+            ),
+            Impassability::NoReachableWaypoint { candidates } => {
+                format!("no point of its visibility edge is reachable ({candidates} tried)")
+            }
+        }
+    }
+}
+
+/// Whether an anchor can be passed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Passability {
+    /// Passed, at this waypoint.
+    Passable {
+        /// The waypoint on the visibility edge.
+        waypoint: Point2<f64>,
+        /// A point the robot moves to first, straight towards the anchor along its tether, when
+        /// the direct move would sweep the tether across an obstacle.
+        via: Option<Point2<f64>>,
+    },
+    /// Not passable.
+    Impassable(Impassability),
+    /// Not examined: the ascent failed lower down.
+    NotReached,
+}
+
+/// One intermediate anchor `a_j` examined by Alg. 5.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AnchorAssessment {
+    /// `j`, from 1 (the anchor nearest the start) to `n`.
+    pub index: usize,
+    /// The anchor (vertex, obstacle, side, turning angle).
+    pub anchor: Anchor,
+    /// The plane holding it (`None` without planes).
+    pub plane: Option<usize>,
+    /// `psi_j`, radians.
+    pub psi: f64,
+    /// `theta_max_j`: the limit of its plane.
+    pub limit: TetherLimit,
+    /// `theta_max_{j-1}`: the limit of the previous anchor's plane.
+    pub previous_limit: TetherLimit,
+    /// The usable part of the visibility edge (`V ∩ R_{j-1}`), if examined and not empty.
+    pub visibility_edge: Option<[Point2<f64>; 2]>,
+    /// The verdict.
+    pub passability: Passability,
+}
+
+/// An anchor reachable set `C_{i,j}` as convex polygons (module docs) with its visibility line.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AnchorReachableSet {
+    /// `j` (0 for the start).
+    pub anchor: usize,
+    /// The anchor's position.
+    pub apex: Point2<f64>,
+    /// Convex pieces: wedge ∩ visibility half-plane ∩ band ∩ map box, one per band, each with its
+    /// band's tether limit.
+    pub pieces: Vec<(Polygon, TetherLimit)>,
+    /// The visibility line `L_j` from `a_j` to the first obstacle along it (`j >= 1`).
+    pub visibility_line: Option<[Point2<f64>; 2]>,
+}
+
+/// A corner of the ascent route.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RouteCorner {
+    /// Its position.
+    pub point: Point2<f64>,
+    /// The lowest anchor index already released when the robot leaves this corner: `n + 1` at
+    /// the goal and at a via point of `a_n`, `j` at the waypoint of `a_j`.
+    pub released_from: usize,
+}
+
+/// The first thing that stops the ascent.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Blockage {
+    /// The anchor index `j`, or `None` for the goal itself.
+    pub anchor: Option<usize>,
+    /// Why.
+    pub reason: Impassability,
+}
+
+/// The outcome of Alg. 5 for one SHP.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FeasibilityReport {
+    /// `psi` of the last tether segment (from `a_n` to the goal), radians.
+    pub goal_psi: f64,
+    /// The tether limit at the goal.
+    pub goal_limit: TetherLimit,
+    /// The intermediate anchors `a_1 .. a_n` in tether order.
+    pub anchors: Vec<AnchorAssessment>,
+    /// The anchor reachable sets `C_0 .. C_n`.
+    pub reachable_sets: Vec<AnchorReachableSet>,
+    /// The waypoints in ascent order (passing `a_n` first).
+    pub waypoints: Vec<Point2<f64>>,
+    /// The ascent route found on the way: the goal, then for each anchor from `a_n` down to `a_1`
+    /// its via point (if any) and its waypoint, then the start.
+    pub route: Vec<RouteCorner>,
+    /// `None` when feasible (Def. 2.4), else the first blockage met on the way up.
+    pub blockage: Option<Blockage>,
+}
+
+impl FeasibilityReport {
+    /// `true` when every anchor is passable.
+    pub fn feasible(&self) -> bool {
+        self.blockage.is_none()
+    }
+
+    /// One line: `feasible` or what blocks the ascent.
+    pub fn describe(&self) -> String {
+        match &self.blockage {
+            None => "feasible".to_string(),
+            Some(Blockage {
+                anchor: None,
+                reason,
+            }) => reason.describe(),
+            Some(Blockage {
+                anchor: Some(j),
+                reason,
+            }) => {
+                let a = &self.anchors[j - 1].anchor;
+                let on = a.obstacle.map_or_else(
+                    || "the map boundary".to_string(),
+                    |o| format!("obstacle {o}"),
+                );
+                format!(
+                    "anchor {j} (vertex {} on {on}): {}",
+                    a.vertex,
+                    reason.describe()
+                )
+            }
+        }
+    }
+}
+
+/// What Alg. 5 needs besides the SHP.
+#[derive(Debug, Clone, Copy)]
+pub struct FeasibilityContext<'a> {
+    /// The BTM of the map.
+    pub btm: &'a Btm,
+    /// The planes and their tether limits.
+    pub terrain: &'a PlaneSeries,
+    /// Clearance kept by waypoints from anchors and obstacles along the visibility line, m.
+    pub clearance: f64,
+}
+
+/// What [`Climb::pass`] finds for one anchor: the usable visibility edge, the chosen waypoint with
+/// its optional via point, and the number of candidates tried.
+type Crossing = (
+    Option<[Point2<f64>; 2]>,
+    Option<(Point2<f64>, Option<Point2<f64>>)>,
+    usize,
+);
+
+/// Where the ascent stands while Alg. 5 walks up the anchors.
+struct Climb<'c, 'a> {
+    ctx: &'c FeasibilityContext<'a>,
+    /// `a_0 .. a_n`.
+    points: Vec<Point2<f64>>,
+    /// Map box, for rays and polygons.
+    bounds: Aabb,
+}
+
+/// Runs Alg. 5 on the taut path `taut` (thesis §2.4.1-2.4.2; module docs).
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
+/// use rappel_geometry::terrain::plane_series::TerrainPlane;
+/// use rappel_mechanics::friction_cone::TetherFrictionCone;
+/// use rappel_planners::feasibility::{check_feasibility, FeasibilityContext};
+/// use rappel_planners::spt::SptPlanner;
+/// use rappel_planners::terrain::PlaneSeries;
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(40., 0.), p(40., 100.), p(0., 100.)]),
+///     vec![Polygon::new(vec![p(18., 50.), p(22., 50.), p(22., 54.), p(18., 54.)])],
+/// );
+/// let btm = Btm::build(&map).unwrap();
+/// let plane = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
+/// let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
+/// let best = SptPlanner::new(&btm).shortest_path(p(21., 95.), p(20., 5.)).unwrap().unwrap();
+/// let ctx = FeasibilityContext { btm: &btm, terrain: &terrain, clearance: 0.5 };
+/// let report = check_feasibility(&ctx, &best.shp.taut);
+/// assert!(report.feasible(), "{}", report.describe());
+/// assert_eq!(report.waypoints.len(), best.shp.taut.anchors.len());
+/// ```
+pub fn check_feasibility(ctx: &FeasibilityContext<'_>, taut: &TautPath) -> FeasibilityReport {
+    let d = ctx.btm.dcel();
+    let bounds = Aabb::of_points(
+        ctx.btm
+            .boundary_vertices()
+            .iter()
+            .map(|&v| d.point(v))
+            .collect::<Vec<_>>()
+            .iter(),
+    );
+    let mut points = vec![taut.start()];
+    points.extend(taut.anchors.iter().map(|a| a.point));
+    let climb = Climb {
+        ctx,
+        points,
+        bounds,
+    };
+    climb.run(taut)
+}
+
+impl Climb<'_, '_> {
+    fn run(&self, taut: &TautPath) -> FeasibilityReport {
+        let terrain = self.ctx.terrain;
+        let n = taut.anchors.len();
+        let goal = taut.goal();
+        let goal_psi = if goal == self.points[n] {
+            0.0
+        } else {
+            angle_from_fall_line(&(goal - self.points[n]))
+        };
+        let goal_limit = terrain.limit_at(&goal);
+        let mut anchors: Vec<AnchorAssessment> = taut
+            .anchors
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                let j = i + 1;
+                AnchorAssessment {
+                    index: j,
+                    anchor: *a,
+                    plane: terrain.plane_index(a.point.y),
+                    psi: angle_from_fall_line(&(self.points[j] - self.points[j - 1])),
+                    limit: terrain.limit_at(&self.points[j]),
+                    previous_limit: terrain.limit_at(&self.points[j - 1]),
+                    visibility_edge: None,
+                    passability: Passability::NotReached,
+                }
+            })
+            .collect();
+        let mut reachable_sets: Vec<AnchorReachableSet> =
+            (0..=n).map(|j| self.reachable_set(j, taut)).collect();
+        let mut waypoints = Vec::with_capacity(n);
+        let mut route = vec![RouteCorner {
+            point: goal,
+            released_from: n + 1,
+        }];
+        let mut blockage = None;
+        if !goal_limit.admits(goal_psi) {
+            blockage = Some(Blockage {
+                anchor: None,
+                reason: Impassability::GoalOutsideReachableSet {
+                    psi: goal_psi,
+                    max_angle: goal_limit.max_angle().unwrap_or(std::f64::consts::PI),
+                },
+            });
+        }
+        let mut q = goal;
+        for j in (1..=n).rev() {
+            if blockage.is_some() {
+                break;
+            }
+            let a = &mut anchors[j - 1];
+            let (psi, limit, previous) = (a.psi, a.limit, a.previous_limit);
+            let reason = if !limit.admits(psi) {
+                Some(Impassability::NoVisibilityEdge {
+                    psi,
+                    max_angle: limit.max_angle().unwrap_or(std::f64::consts::PI),
+                })
+            } else if !previous.admits(psi) {
+                Some(Impassability::OutsidePreviousReachableSet {
+                    psi,
+                    max_angle: previous.max_angle().unwrap_or(std::f64::consts::PI),
+                })
+            } else {
+                None
+            };
+            if let Some(reason) = reason {
+                a.passability = Passability::Impassable(reason);
+                blockage = Some(Blockage {
+                    anchor: Some(j),
+                    reason,
+                });
+                break;
+            }
+            let (edge, choice, tried) = self.pass(j, q, psi, &reachable_sets[j]);
+            a.visibility_edge = edge;
+            match choice {
+                Some((w, via)) => {
+                    a.passability = Passability::Passable { waypoint: w, via };
+                    if let Some(v) = via {
+                        route.push(RouteCorner {
+                            point: v,
+                            released_from: j + 1,
+                        });
+                    }
+                    route.push(RouteCorner {
+                        point: w,
+                        released_from: j,
+                    });
+                    waypoints.push(w);
+                    q = w;
+                }
+                None => {
+                    let reason = Impassability::NoReachableWaypoint { candidates: tried };
+                    a.passability = Passability::Impassable(reason);
+                    blockage = Some(Blockage {
+                        anchor: Some(j),
+                        reason,
+                    });
+                }
+            }
+        }
+        for set in &mut reachable_sets {
+            set.pieces.retain(|(poly, _)| poly.len() >= 3);
+        }
+        route.push(RouteCorner {
+            point: taut.start(),
+            released_from: 1,
+        });
+        FeasibilityReport {
+            goal_psi,
+            goal_limit,
+            anchors,
+            reachable_sets,
+            waypoints,
+            route,
+            blockage,
+        }
+    }
+
+    /// Alg. 5 lines 9-19 for anchor `j` with the robot at `q`: the visibility edge and the first
+    /// reachable waypoint on it (with the number of candidates tried).
+    fn pass(&self, j: usize, q: Point2<f64>, psi: f64, set: &AnchorReachableSet) -> Crossing {
+        let (apex, prev) = (self.points[j], self.points[j - 1]);
+        let dir = (apex - prev).normalize();
+        let reach = set.visibility_line.map_or(0.0, |[a, b]| (b - a).norm());
+        // V ∩ R_{j-1}: the parts of the visible ray whose band admits psi (both wedges see the ray
+        // at psi from the fall line).
+        let intervals: Vec<(f64, f64)> = self
+            .ctx
+            .terrain
+            .pieces(apex, apex + dir * reach)
+            .into_iter()
+            .filter(|(_, _, limit)| limit.admits(psi))
+            .map(|(a, b, _)| ((a - apex).norm(), (b - apex).norm()))
+            .filter(|(t0, t1)| t1 > t0)
+            .collect();
+        let (Some(first), Some(last)) = (intervals.first(), intervals.last()) else {
+            return (None, None, 0);
+        };
+        let edge = [apex + dir * first.0, apex + dir * last.1];
+        let c = self.ctx.clearance;
+        let mut candidates = Vec::new();
+        for &(t0, t1) in &intervals {
+            let margin = c.min((t1 - t0) / 4.0);
+            let (lo, hi) = (t0 + margin, t1 - margin);
+            // Near the anchor first (a ladder of doubling distances), then the projection of the
+            // robot's position, the middle and the far end.
+            let mut step = margin.max(MIN_WAYPOINT_STEP);
+            while lo + step < hi {
+                candidates.push(lo + step);
+                step *= 2.0;
+            }
+            candidates.extend([lo, (q - apex).dot(&dir).clamp(lo, hi), (lo + hi) / 2.0, hi]);
+        }
+        let mut fallback = None;
+        let mut tried = 0;
+        for t in candidates {
+            if t <= 0.0 {
+                continue;
+            }
+            tried += 1;
+            let w = apex + dir * t;
+            // Straight to `w`, or first in along the tether towards `a_j` and then across.
+            let via = {
+                let r = (q - apex).norm();
+                let s = t.max(self.ctx.clearance);
+                (s < r).then(|| apex + (q - apex) * (s / r))
+            };
+            for route in std::iter::once(None).chain(via.map(Some)) {
+                let from = route.unwrap_or(q);
+                if !self.reachable(j, &from, &w) {
+                    continue;
+                }
+                if self.clear_of_anchors(j, &from, &w) {
+                    return (Some(edge), Some((w, route)), tried);
+                }
+                fallback.get_or_insert((w, route));
+            }
+        }
+        (Some(edge), fallback, tried)
+    }
+
+    /// `true` when the straight move `q -> w` with `a_j` proximal stays in `C_j` (module docs).
+    fn reachable(&self, j: usize, q: &Point2<f64>, w: &Point2<f64>) -> bool {
+        let apex = self.points[j];
+        if !in_wedge(self.ctx.terrain, &apex, q, w) {
+            return false;
+        }
+        Path::new(vec![apex, *q, *w, apex])
+            .ok()
+            .and_then(|loop_| is_contractible(self.ctx.btm, &loop_).ok())
+            .unwrap_or(false)
+    }
+
+    /// `true` when the waypoint `w` keeps the clearance from every intermediate anchor and the
+    /// move `q -> w` from the anchors not yet released (`a_1 .. a_j`; a path pair bends around
+    /// the released ones).
+    fn clear_of_anchors(&self, j: usize, q: &Point2<f64>, w: &Point2<f64>) -> bool {
+        let c = self.ctx.clearance * (1.0 - CLEARANCE_TOLERANCE);
+        self.points[1..].iter().all(|a| (a - w).norm() >= c)
+            && self.points[1..=j]
+                .iter()
+                .all(|a| distance_to_segment(a, q, w) >= c)
+    }
+
+    /// `C_j` as convex pieces, with its visibility line.
+    fn reachable_set(&self, j: usize, taut: &TautPath) -> AnchorReachableSet {
+        let apex = self.points[j];
+        let b = &self.bounds;
+        let bands: Vec<(f64, f64, TetherLimit)> = if self.ctx.terrain.planes().is_empty() {
+            vec![(b.min.y, b.max.y, TetherLimit::TetherFree)]
+        } else {
+            let planes = self.ctx.terrain.planes();
+            let last = planes.len() - 1;
+            planes
+                .iter()
+                .zip(self.ctx.terrain.limits())
+                .enumerate()
+                .map(|(k, (p, l))| {
+                    let top = if k == 0 { b.max.y } else { p.y_top };
+                    let bottom = if k == last { b.min.y } else { p.y_bottom };
+                    (bottom.max(b.min.y), top.min(b.max.y), *l)
+                })
+                .filter(|(lo, hi, _)| hi > lo)
+                .collect()
+        };
+        let half_plane = (j >= 1).then(|| {
+            let (from, to) = (self.points[j - 1], apex);
+            match taut.anchors[j - 1].side {
+                Side::Left => (from, to - from),
+                Side::Right => (to, from - to),
+            }
+        });
+        let pieces = bands
+            .into_iter()
+            .map(|(lo, hi, limit)| {
+                let mut poly = vec![
+                    Point2::new(b.min.x, lo),
+                    Point2::new(b.max.x, lo),
+                    Point2::new(b.max.x, hi),
+                    Point2::new(b.min.x, hi),
+                ];
+                if let TetherLimit::Cone { max_angle } = limit {
+                    let (s, c) = max_angle.sin_cos();
+                    poly = clip(&poly, &apex, &Vector2::new(-s, -c));
+                    poly = clip(&poly, &apex, &-Vector2::new(s, -c));
+                }
+                if let Some((origin, dir)) = half_plane {
+                    poly = clip(&poly, &origin, &dir);
+                }
+                (Polygon::new(poly), limit)
+            })
+            .collect();
+        let visibility_line = (j >= 1).then(|| {
+            let dir = (apex - self.points[j - 1]).normalize();
+            let (w, h) = b.size();
+            let far = apex + dir * (2.0 * (w + h) + 1.0);
+            let end = match Tracer::new(self.ctx.btm, apex).map(|mut t| t.push(far)) {
+                Ok(Err(PathError::LeavesFreeSpace { near, .. })) => near,
+                Ok(Ok(())) => far,
+                _ => apex,
+            };
+            [apex, end]
+        });
+        AnchorReachableSet {
+            anchor: j,
+            apex,
+            pieces,
+            visibility_line,
+        }
+    }
+}
+
+/// `true` when every point of the segment `q -> w` lies in the friction-cone wedge of `apex`,
+/// band by band (each band's wedge is convex, so each piece's ends decide).
+pub fn in_wedge(
+    terrain: &PlaneSeries,
+    apex: &Point2<f64>,
+    q: &Point2<f64>,
+    w: &Point2<f64>,
+) -> bool {
+    terrain.pieces(*q, *w).into_iter().all(|(a, b, limit)| {
+        [a, b]
+            .iter()
+            .all(|x| x == apex || limit.admits(angle_from_fall_line(&(x - apex))))
+    })
+}
+
+/// Sutherland-Hodgman: the part of the convex polygon `poly` left of the line through `origin`
+/// along `dir` (closed). Floating point, for reachable-set polygons and pictures only.
+pub fn clip(poly: &[Point2<f64>], origin: &Point2<f64>, dir: &Vector2<f64>) -> Vec<Point2<f64>> {
+    let side = |p: &Point2<f64>| dir.x * (p.y - origin.y) - dir.y * (p.x - origin.x);
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let (sa, sb) = (side(&a), side(&b));
+        if sa >= 0.0 {
+            out.push(a);
+        }
+        if (sa >= 0.0) != (sb >= 0.0) {
+            out.push(a + (b - a) * (sa / (sa - sb)));
+        }
+    }
+    out
+}

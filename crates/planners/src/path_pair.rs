@@ -1,1 +1,476 @@
-//! placeholder
+//! Ascent/descent path pairs (thesis §2.2.4, §2.4.3, Algorithm 6): for the shortest homotopy
+//! class whose ascent is feasible, a descent path and an ascent path, homotopic to each other and
+//! to the class's SHP, in free space and keeping a clearance around the anchors.
+//!
+//! # Construction
+//! - **Descent** `start -> goal`: the SHP pushed off each anchor `a_j` to the mitre point
+//!   `o_j = a_j + m_j b_j`, where `b_j` is the unit bisector of the tether's outer angle at `a_j`
+//!   (pointing away from the obstacle) and `m_j = clearance / cos(phi_j / 2)` for the turning
+//!   angle `phi_j` (capped at [`MITRE_LIMIT`] times the clearance): the point at distance
+//!   `clearance` from both tether lines through `a_j`, which is also the clearance from the
+//!   obstacle corner.
+//! - **Ascent** `goal -> start`: the route of Alg. 5 (one waypoint per anchor on its visibility
+//!   edge, sometimes preceded by a via point towards the anchor), in order. A leg that passes closer than the clearance to an anchor `a_k`
+//!   it has already released is bent through `o_k` (which lies on the released side of `L_k`).
+//!   On planes that are all tether-free any homotopic pair will do (§2.2.4): the ascent is the
+//!   descent reversed.
+//!
+//! # Checks (all exact except the distances)
+//! Both paths lie in free space ([`Path::validate`]); both have the SHP's reduced crossing
+//! sequence (the descent's, and the reversed ascent's), so they are homotopic to each other and
+//! to the tether (thesis §2.1.1); both keep at least `clearance` (less [`CLEARANCE_TOLERANCE`])
+//! from every anchor; and on tether-demand planes the ascent is walked with its proximal anchor
+//! tracked (it drops from `a_j` to `a_{j-1}` where the path crosses the visibility line `L_j`
+//! beyond `a_j`), each stretch inside the wedge of its proximal anchor, band by band. The descent
+//! is walked the same way (the proximal anchor rises where it crosses into the next visibility
+//! half-plane); when it leaves a wedge the descent falls back to the ascent reversed, as the
+//! thesis suggests ("the descent path could also be generated with those same waypoints").
+//!
+//! Algorithm 6 then takes the classes of the SPT search in order and returns the first with a
+//! feasible ascent and a valid pair ([`plan_path_pair`]); the clearance is the scenario's
+//! `robot.clearance_m`.
+
+use crate::feasibility::{
+    CLEARANCE_TOLERANCE, FeasibilityContext, FeasibilityReport, RouteCorner, check_feasibility,
+    distance_to_segment,
+};
+use crate::spt::{RankedShp, SearchError, SearchOptions, SptPlanner, Termination};
+use crate::terrain::PlaneSeries;
+use nalgebra::{Point2, Vector2};
+use rappel_geometry::btm::Btm;
+use rappel_geometry::predicates::orient2d;
+use rappel_homotopy::crossing::CrossingSequence;
+use rappel_homotopy::funnel::{Side, TautPath};
+use rappel_homotopy::path::{Path, PathError};
+use serde::{Deserialize, Serialize};
+
+/// Largest mitre offset, in clearances (a sharp turn would push the mitre point far away).
+pub const MITRE_LIMIT: f64 = 4.0;
+
+/// An ascent/descent pair for one homotopy class.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PathPair {
+    /// The class's rank in the SPT search.
+    pub rank: usize,
+    /// Ascent, from the goal to the start.
+    pub ascent: Vec<Point2<f64>>,
+    /// Descent, from the start to the goal.
+    pub descent: Vec<Point2<f64>>,
+    /// Length of the ascent, m.
+    pub ascent_length: f64,
+    /// Length of the descent, m.
+    pub descent_length: f64,
+    /// `true` when the descent is the ascent reversed (the offset SHP left a friction cone, or
+    /// the planes are tether-free and the ascent is the descent reversed).
+    pub descent_is_reversed_ascent: bool,
+    /// The smallest distance from either path to an anchor, m (infinite without anchors).
+    pub min_anchor_distance: f64,
+    /// The reduced crossing sequence both paths share with the SHP.
+    pub crossings: CrossingSequence,
+}
+
+/// Why no pair was built for a feasible class.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, thiserror::Error)]
+pub enum PairFailure {
+    /// A path leaves free space.
+    #[error("the {which} path leaves free space: {message}")]
+    LeavesFreeSpace {
+        /// `"ascent"` or `"descent"`.
+        which: String,
+        /// Where.
+        message: String,
+    },
+    /// A path is not homotopic to the SHP.
+    #[error("the {which} path is not homotopic to the taut tether")]
+    NotHomotopic {
+        /// `"ascent"` or `"descent"`.
+        which: String,
+    },
+    /// A path comes closer to an anchor than the clearance.
+    #[error("the {which} path passes {distance:.3} m from anchor {anchor}, inside the clearance")]
+    TooClose {
+        /// `"ascent"` or `"descent"`.
+        which: String,
+        /// The anchor index `j`.
+        anchor: usize,
+        /// The distance, m.
+        distance: f64,
+    },
+    /// The ascent leaves the friction cone of its proximal anchor.
+    #[error("the ascent leaves the friction cone of anchor {anchor}")]
+    OutsideCone {
+        /// The proximal anchor index `j` (0 = start).
+        anchor: usize,
+    },
+}
+
+/// The pair for one feasible class (module docs). `report` must be the class's feasibility.
+pub fn path_pair(
+    ctx: &FeasibilityContext<'_>,
+    class: &RankedShp,
+    report: &FeasibilityReport,
+) -> Result<PathPair, PairFailure> {
+    let taut = &class.shp.taut;
+    let anchors: Vec<Point2<f64>> = taut.anchors.iter().map(|a| a.point).collect();
+    let offsets = mitre_offsets(taut, ctx.clearance);
+    let mut descent = vec![Corner::fixed(taut.start())];
+    descent.extend(offsets.iter().copied());
+    descent.push(Corner::fixed(taut.goal()));
+    let descent = keep_clear("descent", descent, &anchors, ctx.clearance);
+    let tether_free = ctx.terrain.all_tether_free();
+    let ascent = if tether_free {
+        descent.clone().map(|d| d.into_iter().rev().collect())
+    } else {
+        let bent = bend_around_released(&report.route, &anchors, &offsets, ctx.clearance);
+        keep_clear("ascent", bent, &anchors, ctx.clearance)
+    };
+    let ascent = ascent?;
+    let word = &class.shp.crossings;
+    check_path(ctx.btm, "ascent", &ascent, word, true)?;
+    if !tether_free && let Some(j) = walk(ctx.terrain, taut, &ascent, true) {
+        return Err(PairFailure::OutsideCone { anchor: j });
+    }
+    let descent_ok = descent.and_then(|d| {
+        check_path(ctx.btm, "descent", &d, word, false)?;
+        Ok((tether_free || walk(ctx.terrain, taut, &d, false).is_none()).then_some(d))
+    });
+    let (descent, reversed) = match descent_ok {
+        Ok(Some(d)) => (d, tether_free),
+        _ => (ascent.iter().rev().copied().collect(), true),
+    };
+    let length = |p: &[Point2<f64>]| p.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
+    let min_anchor_distance = anchors
+        .iter()
+        .flat_map(|a| {
+            ascent
+                .windows(2)
+                .chain(descent.windows(2))
+                .map(move |w| distance_to_segment(a, &w[0], &w[1]))
+        })
+        .fold(f64::INFINITY, f64::min);
+    Ok(PathPair {
+        rank: class.rank,
+        ascent_length: length(&ascent),
+        descent_length: length(&descent),
+        ascent,
+        descent,
+        descent_is_reversed_ascent: reversed,
+        min_anchor_distance,
+        crossings: word.clone(),
+    })
+}
+
+/// A corner of a path being built: a fixed point (start, goal, waypoint), or a point pushed off
+/// anchor `k` along the unit direction `dir` by `m` metres.
+#[derive(Debug, Clone, Copy)]
+struct Corner {
+    base: Point2<f64>,
+    owner: Option<(usize, Vector2<f64>, f64)>,
+}
+
+impl Corner {
+    fn fixed(p: Point2<f64>) -> Corner {
+        Corner {
+            base: p,
+            owner: None,
+        }
+    }
+
+    fn point(&self) -> Point2<f64> {
+        match self.owner {
+            Some((_, dir, m)) => self.base + dir * m,
+            None => self.base,
+        }
+    }
+}
+
+/// The mitre corners `o_j` (module docs), owned by their anchors.
+fn mitre_offsets(taut: &TautPath, clearance: f64) -> Vec<Corner> {
+    let p = &taut.points;
+    taut.anchors
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let i = p.iter().position(|x| *x == a.point).unwrap_or(1);
+            let (prev, next) = (p[i.saturating_sub(1)], p[(i + 1).min(p.len() - 1)]);
+            let outer = (a.point - prev).normalize() - (next - a.point).normalize();
+            if clearance == 0.0 || outer.norm() == 0.0 {
+                return Corner::fixed(a.point);
+            }
+            let m = (clearance / (a.turning_angle / 2.0).cos()).min(MITRE_LIMIT * clearance);
+            Corner {
+                base: a.point,
+                owner: Some((k + 1, outer.normalize(), m)),
+            }
+        })
+        .collect()
+}
+
+/// Bends every ascent leg that passes within the clearance of an anchor it has already released
+/// through that anchor's mitre corner (which lies on the released side of its visibility line).
+fn bend_around_released(
+    route: &[RouteCorner],
+    anchors: &[Point2<f64>],
+    offsets: &[Corner],
+    clearance: f64,
+) -> Vec<Corner> {
+    let n = anchors.len();
+    let c = clearance * (1.0 - CLEARANCE_TOLERANCE);
+    let mut out = vec![Corner::fixed(route[0].point)];
+    for w in route.windows(2) {
+        let released = w[0].released_from.max(1)..=n;
+        let (mut from, to) = (w[0].point, w[1].point);
+        let mut bent: Vec<usize> = Vec::new();
+        while let Some(k) = released
+            .clone()
+            .filter(|k| !bent.contains(k))
+            .map(|k| (k, distance_to_segment(&anchors[k - 1], &from, &to)))
+            .filter(|(_, d)| *d < c)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(k, _)| k)
+        {
+            bent.push(k);
+            from = offsets[k - 1].point();
+            out.push(offsets[k - 1]);
+        }
+        out.push(Corner::fixed(to));
+    }
+    out
+}
+
+/// Largest number of rounds [`keep_clear`] pushes corners outwards.
+const PUSH_ROUNDS: usize = 32;
+
+/// Pushes owned corners away from their anchors until every segment keeps the clearance from
+/// every anchor; fails naming the anchor when a segment that no owned corner can move is too
+/// close.
+fn keep_clear(
+    which: &str,
+    mut corners: Vec<Corner>,
+    anchors: &[Point2<f64>],
+    clearance: f64,
+) -> Result<Vec<Point2<f64>>, PairFailure> {
+    let c = clearance * (1.0 - CLEARANCE_TOLERANCE);
+    for round in 0..=PUSH_ROUNDS {
+        let mut worst: Option<(usize, usize, f64)> = None;
+        for i in 0..corners.len().saturating_sub(1) {
+            let (p, q) = (corners[i].point(), corners[i + 1].point());
+            for (k, a) in anchors.iter().enumerate() {
+                let d = distance_to_segment(a, &p, &q);
+                if d < c && worst.is_none_or(|w| d < w.2) {
+                    worst = Some((i, k + 1, d));
+                }
+            }
+        }
+        let Some((i, k, d)) = worst else {
+            let mut points: Vec<Point2<f64>> = corners.iter().map(Corner::point).collect();
+            points.dedup();
+            return Ok(points);
+        };
+        let mut moved = false;
+        for corner in &mut corners[i..=i + 1] {
+            if let Some((owner, _, m)) = &mut corner.owner
+                && *owner == k
+                && round < PUSH_ROUNDS
+            {
+                *m *= (clearance / d.max(1e-3 * clearance)).min(2.0) * (1.0 + 1e-6);
+                moved = true;
+            }
+        }
+        if !moved {
+            return Err(PairFailure::TooClose {
+                which: which.to_string(),
+                anchor: k,
+                distance: d,
+            });
+        }
+    }
+    // Every round returns: the last one cannot move a corner.
+    Err(PairFailure::TooClose {
+        which: which.to_string(),
+        anchor: 0,
+        distance: 0.0,
+    })
+}
+
+/// Free space and homotopy checks of one path (`reversed`: it runs goal to start).
+fn check_path(
+    btm: &Btm,
+    which: &str,
+    points: &[Point2<f64>],
+    word: &CrossingSequence,
+    reversed: bool,
+) -> Result<(), PairFailure> {
+    let forward: Vec<Point2<f64>> = if reversed {
+        points.iter().rev().copied().collect()
+    } else {
+        points.to_vec()
+    };
+    let leaves = |e: PathError| PairFailure::LeavesFreeSpace {
+        which: which.to_string(),
+        message: e.to_string(),
+    };
+    let path = Path::new(forward).map_err(leaves)?;
+    let chi = CrossingSequence::reduced_of_path(btm, &path).map_err(leaves)?;
+    if &chi != word {
+        return Err(PairFailure::NotHomotopic {
+            which: which.to_string(),
+        });
+    }
+    Ok(())
+}
+
+/// Walks `points` tracking the proximal anchor (`up`: an ascent from the goal, starting at `a_n`;
+/// else a descent from the start, at `a_0`) and checks every stretch against the wedge of its
+/// proximal anchor. The proximal anchor changes where the path crosses a visibility line `L_k`
+/// past `a_k`: upwards out of the half-plane of `a_k` (releasing it), downwards into the
+/// half-plane of `a_{k+1}`. Returns the first anchor whose wedge a stretch leaves.
+fn walk(terrain: &PlaneSeries, taut: &TautPath, points: &[Point2<f64>], up: bool) -> Option<usize> {
+    let mut corners = vec![taut.start()];
+    corners.extend(taut.anchors.iter().map(|a| a.point));
+    let n = corners.len() - 1;
+    // Positive inside the visibility half-plane of `a_k`, negative on its released side.
+    let side = |k: usize, x: &Point2<f64>| {
+        let o = orient2d(&corners[k - 1], &corners[k], x);
+        match taut.anchors[k - 1].side {
+            Side::Left => o,
+            Side::Right => -o,
+        }
+    };
+    let beyond =
+        |k: usize, x: &Point2<f64>| (x - corners[k]).dot(&(corners[k] - corners[k - 1])) > 0.0;
+    let mut j = if up { n } else { 0 };
+    for w in points.windows(2) {
+        let (mut s, e) = (w[0], w[1]);
+        while up && j >= 1 && side(j, &s) < 0.0 && beyond(j, &s) {
+            j -= 1;
+        }
+        while !up && j < n && side(j + 1, &s) > 0.0 && beyond(j + 1, &s) {
+            j += 1;
+        }
+        loop {
+            let line = if up {
+                (j >= 1).then_some(j)
+            } else {
+                (j < n).then_some(j + 1)
+            };
+            let crossing = line.and_then(|k| {
+                let (vs, ve) = (side(k, &s), side(k, &e));
+                let crosses = if up {
+                    vs >= 0.0 && ve < 0.0
+                } else {
+                    vs <= 0.0 && ve > 0.0
+                };
+                let x = s + (e - s) * (vs / (vs - ve));
+                (crosses && beyond(k, &x)).then_some(x)
+            });
+            let end = crossing.unwrap_or(e);
+            if !held(terrain, &corners[j], &s, &end) {
+                return Some(j);
+            }
+            match crossing {
+                Some(x) => {
+                    j = if up { j - 1 } else { j + 1 };
+                    s = x;
+                }
+                None => break,
+            }
+        }
+    }
+    None
+}
+
+/// `true` when the leg `a -> b` stays in the wedge of `apex`.
+fn held(terrain: &PlaneSeries, apex: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>) -> bool {
+    crate::feasibility::in_wedge(terrain, apex, a, b)
+}
+
+/// One homotopy class examined by Alg. 6.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ClassOutcome {
+    /// The class and its SHP.
+    pub class: RankedShp,
+    /// Alg. 5 on its SHP.
+    pub feasibility: FeasibilityReport,
+    /// Why no pair was built although the class is feasible (`None` when a pair was built or the
+    /// class is infeasible).
+    pub pair_failure: Option<PairFailure>,
+}
+
+/// What Alg. 6 returns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PairPlan {
+    /// Every class examined, shortest first.
+    pub classes: Vec<ClassOutcome>,
+    /// The chosen pair: the shortest feasible class with a valid pair.
+    pub pair: Option<PathPair>,
+    /// Why the SPT search stopped.
+    pub termination: Termination,
+    /// The search's counters.
+    pub stats: crate::spt::SearchStats,
+}
+
+/// Algorithm 6: search the classes in order (under `options`), check each for feasibility and
+/// build the pair of the first feasible one. Examines every class the options allow (so that a
+/// report can list them), and stops early only when `stop_at_first` is set.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
+/// use rappel_geometry::terrain::plane_series::TerrainPlane;
+/// use rappel_mechanics::friction_cone::TetherFrictionCone;
+/// use rappel_planners::feasibility::FeasibilityContext;
+/// use rappel_planners::path_pair::plan_path_pair;
+/// use rappel_planners::spt::{SearchOptions, SptPlanner};
+/// use rappel_planners::terrain::PlaneSeries;
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(40., 0.), p(40., 100.), p(0., 100.)]),
+///     vec![Polygon::new(vec![p(18., 50.), p(22., 50.), p(22., 54.), p(18., 54.)])],
+/// );
+/// let btm = Btm::build(&map).unwrap();
+/// let plane = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
+/// let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
+/// let ctx = FeasibilityContext { btm: &btm, terrain: &terrain, clearance: 0.5 };
+/// let options = SearchOptions::default().with_max_classes(Some(3)).unwrap();
+/// let plan = plan_path_pair(&SptPlanner::new(&btm), p(21., 95.), p(20., 5.), &options, &ctx, false).unwrap();
+/// let pair = plan.pair.expect("a feasible class");
+/// assert_eq!(pair.rank, 1);
+/// assert!(pair.min_anchor_distance >= 0.5 * (1.0 - 1e-9));
+/// ```
+pub fn plan_path_pair(
+    planner: &SptPlanner<'_>,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    options: &SearchOptions,
+    ctx: &FeasibilityContext<'_>,
+    stop_at_first: bool,
+) -> Result<PairPlan, SearchError> {
+    let mut search = planner.search(start, goal, options)?;
+    let mut classes = Vec::new();
+    let mut pair = None;
+    while let Some(class) = search.next_best()? {
+        let feasibility = check_feasibility(ctx, &class.shp.taut);
+        let mut pair_failure = None;
+        if pair.is_none() && feasibility.feasible() {
+            match path_pair(ctx, &class, &feasibility) {
+                Ok(p) => pair = Some(p),
+                Err(e) => pair_failure = Some(e),
+            }
+        }
+        classes.push(ClassOutcome {
+            class,
+            feasibility,
+            pair_failure,
+        });
+        if stop_at_first && pair.is_some() {
+            break;
+        }
+    }
+    Ok(PairPlan {
+        classes,
+        pair,
+        termination: search.termination().unwrap_or(Termination::ClassCount),
+        stats: search.stats(),
+    })
+}

@@ -1,1 +1,165 @@
-//! placeholder
+//! The terrain under the Chapter-2 planner (thesis §2.1.2, §2.4.4; Kumar's multi-surface
+//! environment): a series of planes down the fall line, unfolded isometrically into the map frame
+//! ([`rappel_geometry::terrain::plane_series`]: `x` across the slope, `y` up it, plane bands listed
+//! top first and meeting edge to edge), with the tether limit of each plane from a traversability
+//! model ([`AnchorTraversability`]).
+//!
+//! A plane is **tether-demand** when the robot needs the tether to hold on it, **tether-free**
+//! otherwise (thesis §2.1.2; for the point robot, `mu cot eta >= 1`). Unfolding keeps distances, so
+//! SHPs, sleeves and funnels are computed in the map frame unchanged; only the anchor reachable
+//! sets depend on the plane (§2.4.4). The tether stays on the ground only over a **convex** series,
+//! each plane at least as steep as the one above (`eta_k >= eta_{k-1}`); a shallower plane below a
+//! steeper one is reported by [`PlaneSeries::concave_edges`], since the taut tether may lift off
+//! there and the Chapter-2 model no longer holds.
+//!
+//! A point above the top band or below the bottom band belongs to the nearest band. A scenario
+//! without planes is flat ground: one tether-free plane (thesis §2.2.4).
+
+use nalgebra::Point2;
+use rappel_geometry::terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
+use rappel_mechanics::anchor_traversability::{AnchorTraversability, TetherLimit};
+use rappel_mechanics::robot::{RobotError, SlopePlane};
+
+/// Why a plane series cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TerrainError {
+    /// The series is malformed (gap, empty band, slope or friction out of range).
+    #[error(transparent)]
+    Planes(#[from] PlaneSeriesError),
+    /// The traversability model refuses a plane (for example a slope above 89 degrees).
+    #[error("plane {plane}: {source}")]
+    Plane {
+        /// Plane index (0 = top).
+        plane: usize,
+        /// The model's objection.
+        source: RobotError,
+    },
+}
+
+/// A validated plane series with each plane's tether limit.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::terrain::plane_series::TerrainPlane;
+/// use rappel_mechanics::friction_cone::TetherFrictionCone;
+/// use rappel_planners::terrain::PlaneSeries;
+/// let planes = [
+///     TerrainPlane { y_top: 100.0, y_bottom: 50.0, slope_deg: 20.0, friction: 0.4 },
+///     TerrainPlane { y_top: 50.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 },
+/// ];
+/// let series = PlaneSeries::new(&planes, &TetherFrictionCone).unwrap();
+/// assert!(!series.limit_at(&Point2::new(0.0, 80.0)).is_tether_demand());
+/// let lower = series.limit_at(&Point2::new(0.0, 10.0)).max_angle().unwrap();
+/// assert!((lower - 0.4f64.asin()).abs() < 1e-12);
+/// assert!(series.concave_edges().is_empty());
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlaneSeries {
+    planes: Vec<TerrainPlane>,
+    limits: Vec<TetherLimit>,
+}
+
+impl PlaneSeries {
+    /// The series `planes` (top first; may be empty for flat ground) under `model`.
+    pub fn new(
+        planes: &[TerrainPlane],
+        model: &dyn AnchorTraversability,
+    ) -> Result<PlaneSeries, TerrainError> {
+        validate_planes(planes)?;
+        let limits = planes
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                SlopePlane::new(p.slope_rad(), p.friction)
+                    .map(|s| model.tether_limit(&s))
+                    .map_err(|source| TerrainError::Plane { plane: i, source })
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(PlaneSeries {
+            planes: planes.to_vec(),
+            limits,
+        })
+    }
+
+    /// Flat ground: no planes, tether-free everywhere.
+    pub fn flat() -> PlaneSeries {
+        PlaneSeries {
+            planes: Vec::new(),
+            limits: Vec::new(),
+        }
+    }
+
+    /// The planes, top first.
+    pub fn planes(&self) -> &[TerrainPlane] {
+        &self.planes
+    }
+
+    /// Each plane's tether limit.
+    pub fn limits(&self) -> &[TetherLimit] {
+        &self.limits
+    }
+
+    /// The index of the plane holding map height `y`: the top-most band containing it, else the
+    /// nearest band; `None` without planes.
+    pub fn plane_index(&self, y: f64) -> Option<usize> {
+        if self.planes.is_empty() {
+            return None;
+        }
+        Some(self.planes.iter().position(|p| p.contains_y(y)).unwrap_or(
+            if y > self.planes[0].y_top {
+                0
+            } else {
+                self.planes.len() - 1
+            },
+        ))
+    }
+
+    /// The tether limit at map point `p` (tether-free without planes).
+    pub fn limit_at(&self, p: &Point2<f64>) -> TetherLimit {
+        self.plane_index(p.y)
+            .map_or(TetherLimit::TetherFree, |i| self.limits[i])
+    }
+
+    /// `true` when every plane is tether-free (or there are none).
+    pub fn all_tether_free(&self) -> bool {
+        self.limits.iter().all(|l| !l.is_tether_demand())
+    }
+
+    /// Indices `k` where plane `k + 1` is shallower than plane `k` above it: a concave edge over
+    /// which the taut tether may lift off the ground (module docs).
+    pub fn concave_edges(&self) -> Vec<usize> {
+        self.planes
+            .windows(2)
+            .enumerate()
+            .filter(|(_, w)| w[1].slope_deg < w[0].slope_deg)
+            .map(|(k, _)| k)
+            .collect()
+    }
+
+    /// The segment `a -> b` cut at the band edges it crosses: consecutive pieces with the tether
+    /// limit of the band each lies in.
+    pub fn pieces(
+        &self,
+        a: Point2<f64>,
+        b: Point2<f64>,
+    ) -> Vec<(Point2<f64>, Point2<f64>, TetherLimit)> {
+        let mut cuts: Vec<f64> = self
+            .planes
+            .iter()
+            .skip(1)
+            .map(|p| p.y_top)
+            .filter(|&y| (y - a.y) * (y - b.y) < 0.0)
+            .map(|y| (y - a.y) / (b.y - a.y))
+            .collect();
+        cuts.sort_by(f64::total_cmp);
+        let mut out = Vec::with_capacity(cuts.len() + 1);
+        let mut from = a;
+        for t in cuts.into_iter().chain([1.0]) {
+            let to = if t == 1.0 { b } else { a + (b - a) * t };
+            let mid = Point2::from((from.coords + to.coords) / 2.0);
+            out.push((from, to, self.limit_at(&mid)));
+            from = to;
+        }
+        out
+    }
+}

@@ -16,15 +16,33 @@
 //! pic.start_goal(s.start, s.goal);
 //! assert!(pic.finish("tiny").contains("BTM edge"));
 //! ```
+//!
+//! The Chapter-2 planner in one call ([`plan()`]): homotopy classes shortest first, ascent
+//! feasibility, and the chosen ascent/descent pair.
+//!
+//! ```
+//! use rappel::plan::PlanOptions;
+//! let s = rappel::scenario::Scenario::from_ron_str(r#"(
+//!     map: (boundary: [(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)],
+//!           obstacles: [[(4.0, 8.0), (6.0, 8.0), (5.0, 10.0)]]),
+//!     start: (5.0, 19.0), goal: (5.0, 1.0),
+//!     terrain: (planes: [(y_top: 20.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]))"#).unwrap();
+//! let report = rappel::plan(&s, &PlanOptions::default()).unwrap();
+//! assert_eq!(report.classes[0].rank, 1);
+//! assert!(report.chosen.is_some(), "{}", report.verdict);
+//! ```
 
 pub mod btm_summary;
 pub mod dem;
 pub mod generated;
 pub mod io;
+pub mod plan;
 pub mod scenario;
 pub mod stability;
 pub mod svg;
 pub mod tether;
+
+pub use plan::plan;
 
 pub use nalgebra;
 pub use rappel_geometry as geometry;

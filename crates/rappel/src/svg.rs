@@ -91,7 +91,7 @@ impl Layer {
             Layer::Sleeve => ("#9ecae1", "none", 0.0, 0.55),
             Layer::Shp => ("none", "#08306b", 2.6, 0.0),
             Layer::Anchor => ("#ffd92f", "#8a6d00", 0.8, 1.0),
-            Layer::FrictionCone => ("#41b6c4", "#1d91c0", 0.5, 0.25),
+            Layer::FrictionCone => ("#74c476", "#238b45", 0.5, 0.22),
             Layer::Visibility => ("none", "#41b6c4", 0.8, 0.0),
             Layer::Ascent => ("none", "#d95f02", 1.6, 0.0),
             Layer::Descent => ("none", "#7570b3", 1.6, 0.0),
@@ -394,7 +394,25 @@ impl Picture {
                     fmt(x + 5.0),
                     fmt(y - 10.0)
                 ),
-                Layer::Waypoint | Layer::Goal | Layer::Stable | Layer::Unstable => {
+                Layer::Waypoint => {
+                    let star: Vec<String> = (0..10)
+                        .map(|i| {
+                            let a =
+                                std::f64::consts::FRAC_PI_2 + i as f64 * std::f64::consts::PI / 5.0;
+                            let r = if i % 2 == 0 { 6.5 } else { 2.75 };
+                            format!(
+                                "{},{}",
+                                fmt(x + 10.0 + r * a.cos()),
+                                fmt(y - 5.0 - r * a.sin())
+                            )
+                        })
+                        .collect();
+                    format!(
+                        "<polygon points=\"{}\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
+                        star.join(" ")
+                    )
+                }
+                Layer::Goal | Layer::Stable | Layer::Unstable => {
                     format!(
                         "<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
                         fmt(x + 10.0),

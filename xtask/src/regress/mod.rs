@@ -3,6 +3,7 @@
 
 mod btm;
 mod mechanics;
+mod planner;
 pub mod terrain;
 
 use std::path::PathBuf;
@@ -48,6 +49,7 @@ const SUITES: &[Suite] = &[
     ("btm", btm::suite),
     ("mechanics", mechanics::suite),
     ("terrain", terrain::suite),
+    ("planner", planner::suite),
 ];
 
 /// The workspace root (the parent of `xtask/`).

@@ -1,0 +1,164 @@
+//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json] [--svg OUT]`:
+//! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
+//! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
+//! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths.
+//! A scenario without a feasible class is an answer, not an error (exit 0, the reason printed).
+
+use crate::output::{CliError, print_json, write_file};
+use rappel::plan::{PlanOptions, PlanReport, plan_detailed};
+use rappel::scenario::Scenario;
+use std::path::PathBuf;
+
+/// Arguments of `rappel plan`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scenario file (.ron or .json).
+    file: PathBuf,
+    /// How many homotopy classes to list, shortest first.
+    #[arg(long, value_name = "K", default_value_t = rappel::plan::DEFAULT_CLASSES)]
+    classes: usize,
+    /// List only classes at most F times longer than the shortest (F >= 1).
+    #[arg(long, value_name = "F")]
+    max_length_factor: Option<f64>,
+    /// List only simple classes: no tether winds around an obstacle or returns to one.
+    #[arg(long)]
+    simple_only: bool,
+    /// Print the report as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Draw the plan to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    svg: Option<PathBuf>,
+}
+
+/// Runs `rappel plan`.
+pub fn run(args: &Args) -> Result<(), CliError> {
+    if args.classes == 0 {
+        return Err(CliError("--classes 0: list at least one class".into()));
+    }
+    if let Some(f) = args.max_length_factor
+        && !(f.is_finite() && f >= 1.0)
+    {
+        return Err(CliError(format!(
+            "--max-length-factor {f}: must be a number >= 1"
+        )));
+    }
+    let s = Scenario::load(&args.file)?;
+    let options = PlanOptions {
+        classes: args.classes,
+        max_length_factor: args.max_length_factor,
+        simple_only: args.simple_only,
+        ..Default::default()
+    };
+    let plan = plan_detailed(&s, &options)
+        .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
+    if let Some(out) = &args.svg {
+        write_file(out, &plan.picture(&s))?;
+    }
+    if args.json {
+        return print_json(&plan.report);
+    }
+    print_report(&args.file.display().to_string(), &plan.report);
+    if let Some(out) = &args.svg {
+        crate::outln!("picture      {}", out.display());
+    }
+    Ok(())
+}
+
+fn degrees(v: Option<f64>) -> String {
+    v.map_or_else(|| "free".to_string(), |d| format!("{d:.2}°"))
+}
+
+fn print_report(file: &str, r: &PlanReport) {
+    crate::outln!("scenario     {file}");
+    crate::outln!("model        {}", r.traversability);
+    if r.planes.is_empty() {
+        crate::outln!("planes       none (flat, tether-free ground)");
+    }
+    for p in &r.planes {
+        crate::outln!(
+            "plane {}      y {:.1}..{:.1}  slope {:.1}°  mu {:.2}  {}",
+            p.index,
+            p.y_bottom,
+            p.y_top,
+            p.slope_deg,
+            p.friction,
+            if p.tether_demand {
+                format!("tether-demand, cone {}", degrees(p.max_tether_angle_deg))
+            } else {
+                "tether-free".to_string()
+            }
+        );
+    }
+    for w in &r.warnings {
+        crate::outln!("warning      {w}");
+    }
+    crate::outln!(
+        "classes      {} ({}; {} expansions)",
+        r.classes.len(),
+        r.termination.describe(),
+        r.stats.expansions
+    );
+    for c in &r.classes {
+        crate::outln!(
+            "class {:<3}    length {:.3} m, {} anchors{}: {}",
+            c.rank,
+            c.length,
+            c.anchors.len(),
+            if c.simple { "" } else { ", not simple" },
+            c.verdict
+        );
+        for a in &c.anchors {
+            let on = a
+                .obstacle
+                .map_or_else(|| "boundary".to_string(), |o| format!("obstacle {o}"));
+            crate::outln!(
+                "  a{:<3} ({:.3}, {:.3}) {on}, psi {:.2}°, theta_max {} (previous {}), {}",
+                a.index,
+                a.point.x,
+                a.point.y,
+                a.psi_deg,
+                degrees(a.theta_max_deg),
+                degrees(a.previous_theta_max_deg),
+                a.passability
+            );
+        }
+        if !c.waypoints.is_empty() {
+            let list: Vec<String> = c
+                .waypoints
+                .iter()
+                .map(|w| format!("({:.3}, {:.3})", w.x, w.y))
+                .collect();
+            crate::outln!("  waypoints  {}", list.join(" "));
+        }
+        if let Some(f) = &c.pair_failure {
+            crate::outln!("  no pair    {f}");
+        }
+    }
+    crate::outln!("verdict      {}", r.verdict);
+    if let Some(p) = &r.chosen {
+        let fmt = |pts: &[rappel::nalgebra::Point2<f64>]| {
+            pts.iter()
+                .map(|q| format!("({:.3}, {:.3})", q.x, q.y))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        crate::outln!("ascent       {:.3} m: {}", p.ascent_length, fmt(&p.ascent));
+        crate::outln!(
+            "descent      {:.3} m{}: {}",
+            p.descent_length,
+            if p.descent_is_reversed_ascent {
+                " (the ascent reversed)"
+            } else {
+                ""
+            },
+            fmt(&p.descent)
+        );
+        if let Some(d) = p.min_anchor_distance {
+            crate::outln!(
+                "clearance    {d:.3} m from the nearest anchor (asked {:.3} m)",
+                r.clearance_m
+            );
+        }
+    }
+}

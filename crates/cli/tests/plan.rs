@@ -1,0 +1,160 @@
+//! End-to-end tests of `rappel plan` on the plan fixtures: the table, the JSON report, the
+//! picture, and one-line errors with exit code 2.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn rappel(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rappel"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn fixture(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rappel-plan-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn the_table_lists_classes_and_the_chosen_pair() {
+    let o = rappel(&[
+        "plan",
+        &fixture("plan/shortest-infeasible.ron"),
+        "--classes",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("class 1 "), "{out}");
+    assert!(out.contains("no visibility edge: psi 33.69°"), "{out}");
+    assert!(out.contains("class 2 "), "{out}");
+    assert!(
+        out.contains("verdict      class 2 is the shortest feasible class"),
+        "{out}"
+    );
+    assert!(out.contains("ascent ") && out.contains("descent "), "{out}");
+    assert!(out.contains("waypoints"), "{out}");
+}
+
+#[test]
+fn json_and_svg_report_the_plan() {
+    let dir = temp_dir("json");
+    let svg = dir.join("plan.svg");
+    let o = rappel(&[
+        "plan",
+        &fixture("plan/golden-queen-two-anchors.ron"),
+        "--classes",
+        "3",
+        "--max-length-factor",
+        "1.5",
+        "--json",
+        "--svg",
+        svg.to_str().unwrap_or_default(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let classes = v["classes"].as_array().expect("classes");
+    assert_eq!(classes.len(), 3);
+    assert_eq!(classes[0]["anchors"].as_array().map(Vec::len), Some(2));
+    assert_eq!(classes[0]["feasible"], true);
+    assert_eq!(v["chosen"]["rank"], 1);
+    assert!(v["chosen"]["min_anchor_distance"].as_f64().unwrap() >= 0.5 * (1.0 - 1e-9));
+    let lengths: Vec<f64> = classes
+        .iter()
+        .map(|c| c["length"].as_f64().unwrap())
+        .collect();
+    assert!(lengths.windows(2).all(|w| w[0] <= w[1]));
+    let picture = std::fs::read_to_string(&svg).expect("picture written");
+    for label in [
+        "sleeve",
+        "friction cone",
+        "taut tether (SHP)",
+        "anchor",
+        "waypoint",
+        "ascent path",
+        "descent path",
+        "visibility line",
+    ] {
+        assert!(picture.contains(label), "legend lacks {label}");
+    }
+}
+
+#[test]
+fn no_feasible_class_is_an_answer_with_the_reason() {
+    let o = rappel(&["plan", &fixture("plan/none-feasible.ron"), "--simple-only"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(
+        out.contains("classes      2 (no further class exists"),
+        "{out}"
+    );
+    assert!(
+        out.contains("verdict      no feasible class among the 2 found"),
+        "{out}"
+    );
+    assert!(out.contains("cannot hold the robot at the goal"), "{out}");
+}
+
+#[test]
+fn bad_options_are_one_error_line_with_exit_2() {
+    for (args, expected) in [
+        (vec!["--classes", "0"], "--classes 0"),
+        (
+            vec!["--max-length-factor", "0.5"],
+            "--max-length-factor 0.5",
+        ),
+    ] {
+        let mut all = vec!["plan".to_string(), fixture("plan/multi-plane.ron")];
+        all.extend(args.iter().map(ToString::to_string));
+        let refs: Vec<&str> = all.iter().map(String::as_str).collect();
+        let o = rappel(&refs);
+        assert_eq!(o.status.code(), Some(2));
+        let err = stderr(&o);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.starts_with("error: ") && err.contains(expected),
+            "{err}"
+        );
+    }
+    let o = rappel(&["plan", "no-such-file.ron"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).starts_with("error: no-such-file.ron"));
+}
+
+#[test]
+fn the_readme_main_job_writes_into_a_missing_directory() {
+    let dir = temp_dir("readme");
+    let out = dir.join("out").join("default.svg");
+    let o = rappel(&[
+        "plan",
+        &fixture("thesis-fig-2-7.ron"),
+        "--svg",
+        out.to_str().unwrap_or_default(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("verdict      class 1 is the shortest feasible class"));
+    assert!(
+        std::fs::read_to_string(&out)
+            .expect("written")
+            .starts_with("<svg")
+    );
+}

@@ -1,0 +1,499 @@
+//! The Chapter-2 planner on a scenario (`rappel plan`; thesis §2.3.3-2.4, Algorithms 3-6): "show
+//! me the ways down, shortest first, and tell me which ones I can climb back up".
+//!
+//! [`plan`] builds the scenario's BTM, lists its homotopy classes shortest first with the SPT A*
+//! search ([`rappel_planners::spt`]), checks each class's ascent for feasibility with anchor
+//! reachable sets ([`rappel_planners::feasibility`], Alg. 5) on the scenario's terrain planes, and
+//! returns the first feasible class's ascent/descent path pair ([`rappel_planners::path_pair`],
+//! Alg. 6), with the clearance `robot.clearance_m`. The robot enters through the
+//! [`AnchorTraversability`] trait; every robot model is planned with the point-robot tether
+//! friction cone (thesis eq. 2.7) for now, and the report says so for the wheeled models.
+//! [`PlanReport`] is plain data (serde); [`Plan::picture`] draws it like thesis Figs. 2.31-2.44.
+
+use crate::scenario::{RobotModel, Scenario};
+use crate::svg::{Layer, Marker, Picture};
+use crate::tether::HSignatureReport;
+use nalgebra::Point2;
+use rappel_geometry::btm::{Btm, BtmError};
+use rappel_homotopy::funnel::Side;
+use rappel_mechanics::anchor_traversability::{AnchorTraversability, TetherLimit};
+use rappel_mechanics::friction_cone::TetherFrictionCone;
+use rappel_planners::feasibility::{self, FeasibilityContext, Passability};
+use rappel_planners::path_pair::{PairPlan, plan_path_pair};
+use rappel_planners::spt::{
+    DEFAULT_MAX_EXPANSIONS, SearchError, SearchOptions, SearchStats, SptPlanner, Termination,
+};
+use rappel_planners::terrain::{PlaneSeries, TerrainError};
+use serde::Serialize;
+
+/// Default number of classes listed.
+pub const DEFAULT_CLASSES: usize = 5;
+
+/// Options of [`plan`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanOptions {
+    /// How many classes to list (at least 1).
+    pub classes: usize,
+    /// List only classes at most this factor longer than the shortest (at least 1).
+    pub max_length_factor: Option<f64>,
+    /// List only simple classes (no tether winds around an obstacle; see `docs/planner.md`).
+    pub simple_only: bool,
+    /// Funnel expansion budget of the search.
+    pub max_expansions: usize,
+}
+
+impl Default for PlanOptions {
+    /// [`DEFAULT_CLASSES`] classes, no length bound, every class, the search's default budget.
+    fn default() -> Self {
+        PlanOptions {
+            classes: DEFAULT_CLASSES,
+            max_length_factor: None,
+            simple_only: false,
+            max_expansions: DEFAULT_MAX_EXPANSIONS,
+        }
+    }
+}
+
+/// Why a plan could not be made (a scenario that has no feasible class is not an error: the
+/// report says why).
+#[derive(Debug, thiserror::Error)]
+pub enum PlanError {
+    /// The map does not triangulate.
+    #[error(transparent)]
+    Btm(#[from] BtmError),
+    /// The terrain planes are unusable.
+    #[error("terrain: {0}")]
+    Terrain(#[from] TerrainError),
+    /// The search refused its input or options.
+    #[error(transparent)]
+    Search(#[from] SearchError),
+}
+
+/// One terrain plane in a report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlaneReport {
+    /// Index, 0 at the top.
+    pub index: usize,
+    /// Band top, m.
+    pub y_top: f64,
+    /// Band bottom, m.
+    pub y_bottom: f64,
+    /// Slope, degrees.
+    pub slope_deg: f64,
+    /// Wheel friction.
+    pub friction: f64,
+    /// `true` when the robot needs the tether to hold on it.
+    pub tether_demand: bool,
+    /// The friction cone's half-angle, degrees (`None` when tether-free).
+    pub max_tether_angle_deg: Option<f64>,
+}
+
+/// One anchor of a class in a report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AnchorReport {
+    /// `j`, from 1 at the start's end of the tether.
+    pub index: usize,
+    /// The map vertex.
+    pub vertex: u32,
+    /// Its obstacle (`None` on the map boundary).
+    pub obstacle: Option<u32>,
+    /// Its position.
+    pub point: Point2<f64>,
+    /// The side of the tether the obstacle lies on.
+    pub side: Side,
+    /// The plane holding it.
+    pub plane: Option<usize>,
+    /// `psi_j`, degrees from the fall line.
+    pub psi_deg: f64,
+    /// `theta_max_j`, degrees (`None`: tether-free).
+    pub theta_max_deg: Option<f64>,
+    /// `theta_max_{j-1}`, degrees (`None`: tether-free).
+    pub previous_theta_max_deg: Option<f64>,
+    /// `passable`, `impassable: ...` or `not reached`.
+    pub passability: String,
+    /// Its waypoint on the visibility edge, when passable.
+    pub waypoint: Option<Point2<f64>>,
+}
+
+/// One homotopy class in a report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ClassReport {
+    /// 1 for the shortest.
+    pub rank: usize,
+    /// SHP length, m.
+    pub length: f64,
+    /// Simple (no tether winds around an obstacle).
+    pub simple: bool,
+    /// The SHP polyline.
+    pub points: Vec<Point2<f64>>,
+    /// Its anchors.
+    pub anchors: Vec<AnchorReport>,
+    /// Length of its reduced crossing sequence.
+    pub reduced_crossings: usize,
+    /// Its H-signature.
+    pub h_signature: HSignatureReport,
+    /// Angle of the last tether segment at the goal, degrees from the fall line.
+    pub goal_psi_deg: f64,
+    /// Ascent feasible (thesis Def. 2.4).
+    pub feasible: bool,
+    /// `feasible` or the first impassable anchor and why.
+    pub verdict: String,
+    /// Waypoints in ascent order.
+    pub waypoints: Vec<Point2<f64>>,
+    /// Why a feasible class got no path pair, if it did not.
+    pub pair_failure: Option<String>,
+}
+
+/// The chosen ascent/descent pair.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PairReport {
+    /// The class's rank.
+    pub rank: usize,
+    /// Ascent, goal to start.
+    pub ascent: Vec<Point2<f64>>,
+    /// Descent, start to goal.
+    pub descent: Vec<Point2<f64>>,
+    /// Ascent length, m.
+    pub ascent_length: f64,
+    /// Descent length, m.
+    pub descent_length: f64,
+    /// The descent is the ascent reversed.
+    pub descent_is_reversed_ascent: bool,
+    /// Smallest distance from either path to an anchor, m (`null` without anchors).
+    pub min_anchor_distance: Option<f64>,
+}
+
+/// What `rappel plan` reports.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlanReport {
+    /// The scenario's name.
+    pub scenario: String,
+    /// Start.
+    pub start: Point2<f64>,
+    /// Goal.
+    pub goal: Point2<f64>,
+    /// The traversability model.
+    pub traversability: String,
+    /// Clearance around anchors, m.
+    pub clearance_m: f64,
+    /// The planes (empty: flat, tether-free ground).
+    pub planes: Vec<PlaneReport>,
+    /// The classes, shortest first.
+    pub classes: Vec<ClassReport>,
+    /// The chosen pair (the shortest feasible class with a valid pair).
+    pub chosen: Option<PairReport>,
+    /// One line: which class was chosen, or why none was.
+    pub verdict: String,
+    /// Why the search stopped.
+    pub termination: Termination,
+    /// The search's counters.
+    pub stats: SearchStats,
+    /// Warnings (concave plane edges, approximated robot models).
+    pub warnings: Vec<String>,
+}
+
+/// A plan with what its picture needs.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// The report.
+    pub report: PlanReport,
+    /// The BTM of the scenario's map.
+    pub btm: Btm,
+    /// The planner's full outcome (sleeves, reachable sets, pairs).
+    pub outcome: PairPlan,
+}
+
+/// Plans `scenario` (module docs).
+///
+/// ```
+/// use rappel::plan::PlanOptions;
+/// use rappel::scenario::Scenario;
+/// let s = Scenario::from_ron_str(r#"(
+///     map: (boundary: [(0.0, 0.0), (40.0, 0.0), (40.0, 100.0), (0.0, 100.0)],
+///           obstacles: [[(18.0, 50.0), (22.0, 50.0), (22.0, 54.0), (18.0, 54.0)]]),
+///     start: (21.0, 95.0), goal: (20.0, 5.0),
+///     terrain: (planes: [(y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]))"#).unwrap();
+/// let report = rappel::plan(&s, &PlanOptions { classes: 3, ..Default::default() }).unwrap();
+/// assert_eq!(report.classes.len(), 3);
+/// assert!(report.classes[0].length <= report.classes[1].length);
+/// let pair = report.chosen.expect("the shortest class is feasible");
+/// assert_eq!(pair.rank, 1);
+/// ```
+pub fn plan(scenario: &Scenario, options: &PlanOptions) -> Result<PlanReport, PlanError> {
+    Ok(plan_detailed(scenario, options)?.report)
+}
+
+/// Plans `scenario` and keeps the BTM and the planner's outcome for pictures.
+pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan, PlanError> {
+    let btm = Btm::build(&scenario.map)?;
+    let model = TetherFrictionCone;
+    let terrain = PlaneSeries::new(&scenario.terrain.planes, &model)?;
+    let search = SearchOptions::default()
+        .with_max_classes(Some(options.classes))?
+        .with_max_length_factor(options.max_length_factor)?
+        .with_max_expansions(options.max_expansions)?
+        .with_simple_only(options.simple_only);
+    let ctx = FeasibilityContext {
+        btm: &btm,
+        terrain: &terrain,
+        clearance: scenario.robot.clearance_m,
+    };
+    let planner = SptPlanner::new(&btm);
+    let outcome = plan_path_pair(
+        &planner,
+        scenario.start,
+        scenario.goal,
+        &search,
+        &ctx,
+        false,
+    )?;
+    let report = report_of(scenario, &model, &terrain, &outcome);
+    Ok(Plan {
+        report,
+        btm,
+        outcome,
+    })
+}
+
+fn degrees(limit: TetherLimit) -> Option<f64> {
+    limit.max_angle().map(f64::to_degrees)
+}
+
+fn report_of(
+    scenario: &Scenario,
+    model: &dyn AnchorTraversability,
+    terrain: &PlaneSeries,
+    outcome: &PairPlan,
+) -> PlanReport {
+    let planes = terrain
+        .planes()
+        .iter()
+        .zip(terrain.limits())
+        .enumerate()
+        .map(|(index, (p, l))| PlaneReport {
+            index,
+            y_top: p.y_top,
+            y_bottom: p.y_bottom,
+            slope_deg: p.slope_deg,
+            friction: p.friction,
+            tether_demand: l.is_tether_demand(),
+            max_tether_angle_deg: degrees(*l),
+        })
+        .collect();
+    let classes: Vec<ClassReport> = outcome
+        .classes
+        .iter()
+        .map(|c| {
+            let f = &c.feasibility;
+            let taut = &c.class.shp.taut;
+            let h = &c.class.h_signature;
+            ClassReport {
+                rank: c.class.rank,
+                length: taut.length,
+                simple: c.class.simple,
+                points: taut.points.clone(),
+                anchors: f
+                    .anchors
+                    .iter()
+                    .map(|a| AnchorReport {
+                        index: a.index,
+                        vertex: a.anchor.vertex.0,
+                        obstacle: a.anchor.obstacle.map(|o| o.0),
+                        point: a.anchor.point,
+                        side: a.anchor.side,
+                        plane: a.plane,
+                        psi_deg: a.psi.to_degrees(),
+                        theta_max_deg: degrees(a.limit),
+                        previous_theta_max_deg: degrees(a.previous_limit),
+                        passability: match a.passability {
+                            Passability::Passable { .. } => "passable".to_string(),
+                            Passability::Impassable(r) => format!("impassable: {}", r.describe()),
+                            Passability::NotReached => "not reached".to_string(),
+                        },
+                        waypoint: match a.passability {
+                            Passability::Passable { waypoint, .. } => Some(waypoint),
+                            _ => None,
+                        },
+                    })
+                    .collect(),
+                reduced_crossings: c.class.shp.crossings.len(),
+                h_signature: HSignatureReport {
+                    digest: format!("{:016x}", h.digest()),
+                    windings: h.windings().iter().map(|&(o, n)| (o.0, n)).collect(),
+                },
+                goal_psi_deg: f.goal_psi.to_degrees(),
+                feasible: f.feasible(),
+                verdict: f.describe(),
+                waypoints: f.waypoints.clone(),
+                pair_failure: c.pair_failure.as_ref().map(ToString::to_string),
+            }
+        })
+        .collect();
+    let chosen = outcome.pair.as_ref().map(|p| PairReport {
+        rank: p.rank,
+        ascent: p.ascent.clone(),
+        descent: p.descent.clone(),
+        ascent_length: p.ascent_length,
+        descent_length: p.descent_length,
+        descent_is_reversed_ascent: p.descent_is_reversed_ascent,
+        min_anchor_distance: p
+            .min_anchor_distance
+            .is_finite()
+            .then_some(p.min_anchor_distance),
+    });
+    let verdict = match (&chosen, classes.first()) {
+        (Some(p), _) => format!(
+            "class {} is the shortest feasible class: ascent {:.2} m, descent {:.2} m",
+            p.rank, p.ascent_length, p.descent_length
+        ),
+        (None, None) => format!("no class found: {}", outcome.termination.describe()),
+        (None, Some(first)) => format!(
+            "no feasible class among the {} found ({}); class 1: {}",
+            classes.len(),
+            outcome.termination.describe(),
+            first
+                .pair_failure
+                .clone()
+                .unwrap_or_else(|| first.verdict.clone())
+        ),
+    };
+    let mut warnings = Vec::new();
+    for k in terrain.concave_edges() {
+        warnings.push(format!(
+            "planes {k} and {} form a concave edge (the lower plane is shallower): the taut tether may lift off the ground there, which the Chapter-2 model does not cover",
+            k + 1
+        ));
+    }
+    if scenario.robot.model != RobotModel::Point {
+        warnings.push(format!(
+            "robot model {:?}: ascent feasibility uses the point-robot tether friction cone (thesis eq. 2.7)",
+            scenario.robot.model
+        ));
+    }
+    if terrain.planes().is_empty() {
+        warnings.push(
+            "no terrain planes: planned as flat, tether-free ground (thesis §2.2.4)".to_string(),
+        );
+    }
+    PlanReport {
+        scenario: scenario.name.clone(),
+        start: scenario.start,
+        goal: scenario.goal,
+        traversability: model.name().to_string(),
+        clearance_m: scenario.robot.clearance_m,
+        planes,
+        classes,
+        chosen,
+        verdict,
+        termination: outcome.termination,
+        stats: outcome.stats,
+        warnings,
+    }
+}
+
+/// How far down a friction-cone wedge is drawn, in multiples of the tether segment below its
+/// anchor (the wedges of the reachable sets reach the map's edge; drawn whole they swamp a tall
+/// strip).
+const CONE_DRAW_FACTOR: f64 = 1.25;
+
+impl Plan {
+    /// The picture (thesis Figs. 2.31-2.44): BTM, the sleeve and SHP of the chosen class (the
+    /// shortest when none is feasible), its anchors, friction cones of the tether-demand planes,
+    /// visibility edges, waypoints, the ascent and descent paths, start and goal.
+    pub fn picture(&self, scenario: &Scenario) -> String {
+        let mut pic = Picture::of_map(&scenario.map);
+        let shown = self
+            .outcome
+            .pair
+            .as_ref()
+            .and_then(|p| self.outcome.classes.iter().find(|c| c.class.rank == p.rank))
+            .or_else(|| self.outcome.classes.first());
+        if let Some(c) = shown {
+            pic.sleeve(&self.btm, &c.class.shp.sleeve);
+        }
+        pic.btm(&self.btm);
+        pic.map(&scenario.map);
+        if let Some(c) = shown {
+            let taut = &c.class.shp.taut;
+            let corners: Vec<Point2<f64>> = std::iter::once(taut.start())
+                .chain(taut.anchors.iter().map(|a| a.point))
+                .chain(std::iter::once(taut.goal()))
+                .collect();
+            for set in &c.feasibility.reachable_sets {
+                let reach = CONE_DRAW_FACTOR * (corners[set.anchor + 1] - set.apex).norm();
+                for (poly, limit) in &set.pieces {
+                    if let TetherLimit::Cone { max_angle } = limit {
+                        pic.friction_cone(&set.apex, *max_angle, reach, &poly.vertices);
+                    }
+                }
+            }
+            for a in &c.feasibility.anchors {
+                if let Some([p, q]) = a.visibility_edge {
+                    pic.polyline(Layer::Visibility, &[p, q]);
+                }
+            }
+            if let Some(pair) = &self.outcome.pair {
+                pic.polyline(Layer::Descent, &pair.descent);
+                pic.polyline(Layer::Ascent, &pair.ascent);
+            }
+            pic.taut_path(taut);
+            for w in &c.feasibility.waypoints {
+                pic.marker(Layer::Waypoint, *w, Marker::Star);
+            }
+        }
+        pic.start_goal(scenario.start, scenario.goal);
+        let title = match &self.outcome.pair {
+            Some(p) => format!("{}: class {} (ascent/descent pair)", scenario.name, p.rank),
+            None => format!("{}: no feasible class", scenario.name),
+        };
+        pic.finish(&title)
+    }
+}
+
+impl Picture {
+    /// A friction-cone wedge of half-angle `max_angle` below `apex`, `reach` long, clipped to the
+    /// convex reachable-set piece `piece` (translucent).
+    pub fn friction_cone(
+        &mut self,
+        apex: &Point2<f64>,
+        max_angle: f64,
+        reach: f64,
+        piece: &[Point2<f64>],
+    ) {
+        let fan: Vec<Point2<f64>> = (0..=8)
+            .map(|i| {
+                let t = -1.0 + 2.0 * i as f64 / 8.0;
+                let a = t * max_angle;
+                Point2::new(apex.x + reach * a.sin(), apex.y - reach * a.cos())
+            })
+            .collect();
+        let mut wedge = vec![*apex];
+        wedge.extend(fan);
+        let clipped = clip_convex(&wedge, piece);
+        if clipped.len() >= 3 {
+            self.polygon(Layer::FrictionCone, &clipped);
+        }
+    }
+}
+
+/// The part of the convex polygon `subject` inside the convex polygon `clip` (either orientation),
+/// for drawing only.
+fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>> {
+    let n = clip.len();
+    let twice_area: f64 = (0..n)
+        .map(|i| {
+            let (a, b) = (clip[i], clip[(i + 1) % n]);
+            a.x * b.y - a.y * b.x
+        })
+        .sum();
+    let mut out = subject.to_vec();
+    for i in 0..n {
+        let (a, b) = (clip[i], clip[(i + 1) % n]);
+        let dir = if twice_area >= 0.0 { b - a } else { a - b };
+        out = feasibility::clip(&out, &a, &dir);
+        if out.is_empty() {
+            break;
+        }
+    }
+    out
+}
