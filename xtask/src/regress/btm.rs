@@ -99,7 +99,7 @@ fn update_cases(s: &Scenario, cases: &mut Vec<Case>) -> Result<(), String> {
     let mut step = 0;
     let check = |btm: &Btm, step: usize, broken: &mut Option<String>| {
         if broken.is_none()
-            && (step % 20 == 0)
+            && step.is_multiple_of(20)
             && let Err(e) = btm.check_invariants()
         {
             *broken = Some(format!("after update {step}: {e}"));
@@ -159,8 +159,8 @@ fn unreported(btm: &Btm, before: &[(TriangleId, [VertexId; 3])], removed: &[Tria
     before
         .iter()
         .filter(|(t, v)| {
-            !removed.contains(t)
-                && !(btm.is_free_triangle(*t) && btm.dcel().triangle_vertices(*t) == *v)
+            let intact = btm.is_free_triangle(*t) && btm.dcel().triangle_vertices(*t) == *v;
+            !removed.contains(t) && !intact
         })
         .count()
 }
