@@ -1,13 +1,17 @@
 //! Regression suite `terrain`: each real elevation model in `fixtures/terrain/` goes DEM ->
-//! scenario -> BTM; the counts (planes and their classes, obstacle clusters, tether and robot
-//! obstacles, unknown regions) are compared with the golden file `fixtures/terrain/golden.json`,
-//! and the ingested map must build a BTM whose invariants hold. The golden file is rewritten by
+//! scenario -> BTM -> plan; the counts (planes and their classes, obstacle clusters, tether and
+//! robot obstacles, unknown regions) and the plan (classes found, feasible classes, the chosen
+//! class, the shortest SHP's length to the millimetre) are compared with the golden file
+//! `fixtures/terrain/golden.json`, and the ingested map must build a BTM whose invariants hold. The golden file is rewritten by
 //! `cargo xtask gen-fixtures` after a deliberate change; a diff in review shows what moved.
 
 use super::{Case, workspace_root};
 use rappel::btm_summary::summarize_btm;
 use rappel::dem::dem_scenario;
 use rappel::geometry::terrain::ingest::{IngestOptions, IngestSummary};
+use rappel::plan::{PlanOptions, plan};
+use rappel::scenario::Scenario;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -27,13 +31,46 @@ fn golden_path() -> PathBuf {
         .join("golden.json")
 }
 
-/// The summaries of every grid with default options, keyed by file name.
-pub fn summaries() -> Result<BTreeMap<String, IngestSummary>, String> {
+/// What the pipeline produces for one grid with default options.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Golden {
+    /// Ingestion counts.
+    pub ingest: IngestSummary,
+    /// Homotopy classes the planner listed (default options).
+    pub classes: usize,
+    /// How many of them are feasible.
+    pub feasible_classes: usize,
+    /// Rank of the class the planner chose, if any.
+    pub chosen_rank: Option<usize>,
+    /// Length of the shortest SHP, millimetres.
+    pub shortest_mm: i64,
+}
+
+/// Runs the pipeline on one grid; also returns the scenario for further checks.
+fn run_pipeline(grid: &str) -> Result<(Golden, Scenario), String> {
     let dir = workspace_root().join("fixtures").join("terrain");
+    let d = dem_scenario(&dir.join(grid), &IngestOptions::default()).map_err(|e| e.to_string())?;
+    let report =
+        plan(&d.scenario, &PlanOptions::default()).map_err(|e| format!("{grid}: plan: {e}"))?;
+    let golden = Golden {
+        ingest: d.summary(),
+        classes: report.classes.len(),
+        feasible_classes: report.classes.iter().filter(|c| c.feasible).count(),
+        chosen_rank: report.chosen.as_ref().map(|c| c.rank),
+        shortest_mm: report
+            .classes
+            .first()
+            .map(|c| (c.length * 1000.0).round() as i64)
+            .unwrap_or(-1),
+    };
+    Ok((golden, d.scenario))
+}
+
+/// The pipeline's results for every grid, keyed by file name.
+pub fn summaries() -> Result<BTreeMap<String, Golden>, String> {
     let mut out = BTreeMap::new();
     for g in GRIDS {
-        let d = dem_scenario(&dir.join(g), &IngestOptions::default()).map_err(|e| e.to_string())?;
-        out.insert((*g).to_string(), d.summary());
+        out.insert((*g).to_string(), run_pipeline(g)?.0);
     }
     Ok(out)
 }
@@ -51,47 +88,79 @@ pub fn write_golden() -> Result<PathBuf, String> {
 pub fn suite() -> Result<Vec<Case>, String> {
     let text = std::fs::read_to_string(golden_path())
         .map_err(|e| format!("{}: {e}", golden_path().display()))?;
-    let golden: BTreeMap<String, IngestSummary> =
+    let golden: BTreeMap<String, Golden> =
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", golden_path().display()))?;
-    let dir = workspace_root().join("fixtures").join("terrain");
     let mut cases = Vec::new();
     for g in GRIDS {
-        let d = dem_scenario(&dir.join(g), &IngestOptions::default()).map_err(|e| e.to_string())?;
-        let got = d.summary();
+        let (got, scenario) = run_pipeline(g)?;
         let want = golden
             .get(*g)
             .ok_or_else(|| format!("{g}: missing from the golden file"))?;
-        let rows: [(&str, usize, usize); 7] = [
-            ("planes", got.planes, want.planes),
+        let (gi, wi) = (&got.ingest, &want.ingest);
+        let rows: [(&str, String, String); 11] = [
+            ("planes", gi.planes.to_string(), wi.planes.to_string()),
             (
                 "tether-demand planes",
-                got.tether_demand_planes,
-                want.tether_demand_planes,
+                gi.tether_demand_planes.to_string(),
+                wi.tether_demand_planes.to_string(),
             ),
             (
                 "tether obstacle clusters",
-                got.tether_clusters,
-                want.tether_clusters,
+                gi.tether_clusters.to_string(),
+                wi.tether_clusters.to_string(),
             ),
             (
                 "tether obstacles in the map",
-                got.tether_obstacles,
-                want.tether_obstacles,
+                gi.tether_obstacles.to_string(),
+                wi.tether_obstacles.to_string(),
             ),
-            ("robot obstacles", got.robot_obstacles, want.robot_obstacles),
-            ("unknown regions", got.unknown_regions, want.unknown_regions),
-            ("obstacle cells", got.obstacle_points, want.obstacle_points),
+            (
+                "robot obstacles",
+                gi.robot_obstacles.to_string(),
+                wi.robot_obstacles.to_string(),
+            ),
+            (
+                "unknown regions",
+                gi.unknown_regions.to_string(),
+                wi.unknown_regions.to_string(),
+            ),
+            (
+                "obstacle cells",
+                gi.obstacle_points.to_string(),
+                wi.obstacle_points.to_string(),
+            ),
+            (
+                "plan: classes found",
+                got.classes.to_string(),
+                want.classes.to_string(),
+            ),
+            (
+                "plan: feasible classes",
+                got.feasible_classes.to_string(),
+                want.feasible_classes.to_string(),
+            ),
+            (
+                "plan: chosen class",
+                format!("{:?}", got.chosen_rank),
+                format!("{:?}", want.chosen_rank),
+            ),
+            (
+                "plan: shortest SHP, mm",
+                got.shortest_mm.to_string(),
+                want.shortest_mm.to_string(),
+            ),
         ];
         for (what, measured, reference) in rows {
+            let pass = measured == reference;
             cases.push(Case::new(
                 SUITE,
                 format!("{g}: {what}"),
-                measured.to_string(),
+                measured,
                 format!("{reference} (golden)"),
-                measured == reference,
+                pass,
             ));
         }
-        let (_, btm) = summarize_btm(&d.scenario.map).map_err(|e| format!("{g}: {e}"))?;
+        let (_, btm) = summarize_btm(&scenario.map).map_err(|e| format!("{g}: {e}"))?;
         cases.push(Case::new(
             SUITE,
             format!("{g}: BTM of the ingested map"),
