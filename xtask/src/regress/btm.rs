@@ -57,6 +57,10 @@ fn scenario_files(dir: &Path) -> Vec<PathBuf> {
     for e in entries.flatten() {
         let p = e.path();
         if p.is_dir() {
+            // fixtures/terrain holds elevation models and golden counts, not scenarios.
+            if p.file_name().is_some_and(|n| n == "terrain") {
+                continue;
+            }
             out.extend(scenario_files(&p));
         } else if rappel::scenario::Format::of_path(&p).is_some() {
             out.push(p);
