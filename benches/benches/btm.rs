@@ -9,6 +9,7 @@
 //! triangulates and inserts the edges (no validation, no face labels).
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
+use rappel_benches::spade_input;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::generate::{CraterStripOptions, crater_strip};
 use rappel_geometry::map::Map;
@@ -17,20 +18,6 @@ use std::hint::black_box;
 
 fn big_map() -> Map {
     crater_strip(&CraterStripOptions::new(10_000, 1)).map
-}
-
-fn spade_input(map: &Map) -> (Vec<SpadePoint<f64>>, Vec<[usize; 2]>) {
-    let mut pts = Vec::with_capacity(map.vertex_count());
-    let mut edges = Vec::with_capacity(map.vertex_count());
-    for (_, ring) in map.rings() {
-        let first = pts.len();
-        let n = ring.len();
-        for (i, p) in ring.vertices.iter().enumerate() {
-            pts.push(SpadePoint::new(p.x, p.y));
-            edges.push([first + i, first + (i + 1) % n]);
-        }
-    }
-    (pts, edges)
 }
 
 fn build(c: &mut Criterion) {

@@ -30,16 +30,7 @@ fn rappel_triangles(map: &Map) -> Vec<Tri> {
 }
 
 fn spade_triangles(map: &Map) -> Vec<Tri> {
-    let mut pts = Vec::new();
-    let mut edges = Vec::new();
-    for (_, ring) in map.rings() {
-        let first = pts.len();
-        let n = ring.len();
-        for (i, p) in ring.vertices.iter().enumerate() {
-            pts.push(SpadePoint::new(p.x, p.y));
-            edges.push([first + i, first + (i + 1) % n]);
-        }
-    }
+    let (pts, edges) = rappel_benches::spade_input(map);
     let cdt = ConstrainedDelaunayTriangulation::<SpadePoint<f64>>::bulk_load_cdt(pts, edges)
         .expect("spade accepts the map");
     let mut out: Vec<Tri> = cdt

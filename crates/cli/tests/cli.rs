@@ -1,47 +1,9 @@
 //! End-to-end tests of the `rappel` binary: outputs, exit codes, one-line errors naming the place,
 //! and no half-written files.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn rappel(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rappel"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn fixture(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../fixtures")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rappel-cli-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// One `check` per bad input: exit code 2 and exactly one `error:` line containing `expected`.
-fn check_error(args: &[&str], expected: &str) {
-    let o = rappel(args);
-    assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-    let err = stderr(&o);
-    let lines: Vec<_> = err.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: {err}");
-    assert!(
-        lines[0].starts_with("error: ") && lines[0].contains(expected),
-        "{args:?}: {err}"
-    );
-}
+use common::*;
 
 #[test]
 fn btm_json_reports_the_checked_invariants() {

@@ -1,14 +1,9 @@
 //! End-to-end tests of `rappel shp` and `rappel homotopic` on the thesis Fig. 2.7 fixture.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn rappel(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rappel"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use common::{rappel, stderr};
+use std::path::{Path, PathBuf};
 
 fn fixture() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -39,10 +34,6 @@ const WEST: &str = "[[31, 98], [30, 70], [20, 68], [20, 40], [38, 36], [38, 10],
 const WEST2: &str = "[[31, 98], [22, 72], [21, 50], [36, 37], [37, 8], [33, 4]]";
 /// Down the east edge of the plane.
 const EAST: &str = "[[31, 98], [56, 90], [58, 30], [55, 8], [33, 4]]";
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 #[test]
 fn shp_json_reports_a_taut_tether_no_longer_than_the_path() {
