@@ -169,6 +169,31 @@ fn stability_map_dots_carry_margins_and_tighter_limits_shrink_the_stable_set() {
         dots.iter()
             .any(|d| d["stable"] == true && d["margin"].as_f64().is_some())
     );
+    // Below the obstacles the taut tether wraps an obstacle vertex: its last anchor is a vertex of
+    // one of the two triangles (fixtures/online-example.ron), never another point.
+    let vertices = [
+        (10.0, 40.0),
+        (22.0, 40.0),
+        (15.0, 31.0),
+        (20.0, 24.0),
+        (31.0, 24.0),
+        (26.0, 15.0),
+    ];
+    let mut wrapped = 0;
+    for d in &dots {
+        let a = (
+            d["last_anchor"][0].as_f64().unwrap_or(f64::NAN),
+            d["last_anchor"][1].as_f64().unwrap_or(f64::NAN),
+        );
+        if a != (18.0, 57.0) {
+            assert!(
+                vertices.contains(&a),
+                "last anchor {a:?} is neither the start nor an obstacle vertex"
+            );
+            wrapped += 1;
+        }
+    }
+    assert!(wrapped > 0);
     check_error(
         &["stability", &fixture("online-example.ron"), "--grid", "0"],
         "step must be finite and positive",

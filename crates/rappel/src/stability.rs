@@ -3,14 +3,18 @@
 //! anchor, and every free-space pose is assessed by the wheel/tether stability QP (Paton eqs. 1-9)
 //! or, when a tether tension limit is given, by the tension-limited LP (Kumar eqs. 1-3).
 //!
-//! The tether runs straight in the unfolded frame from the robot to the scenario's start (the
-//! anchor), parallel to the plane at the height where it leaves the robot: on a convex series of
-//! planes the taut tether lies on the ground, so in the robot's own plane it pulls along the
-//! unfolded direction to the anchor. Obstacles that the tether would wrap are not yet taken into
-//! account (the last anchor is always the start); poses inside obstacles are skipped.
+//! The tether at each pose is taut along the shortest path from the scenario's start (where it is
+//! anchored) to the robot, found by the SPT search (thesis §2.3): it pulls the robot towards its
+//! **last anchor** — the start itself in open ground, or the last obstacle vertex it wraps — parallel
+//! to the plane at the height where it leaves the robot (on a convex series of planes the taut
+//! tether lies on the ground, so in the robot's plane it pulls along the unfolded direction to
+//! that anchor). Each pose's last anchor is reported. Poses inside obstacles are skipped. The
+//! tension limit, when given, applies at the robot: capstan friction at wrapped anchors (Kumar
+//! eq. 2) would raise it, and is not modelled here.
 
 use crate::scenario::{RobotModel as ModelKind, Scenario};
 use nalgebra::{Point2, Point3};
+use rappel_geometry::btm::Btm;
 use rappel_geometry::polygon::{PointInPolygon, Polygon};
 use rappel_mechanics::axel::{Axel, AxelParams};
 use rappel_mechanics::four_wheel::{FourWheelParams, FourWheelRover};
@@ -21,6 +25,7 @@ use rappel_mechanics::stability_map::{
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
+use rappel_planners::spt::SptPlanner;
 use serde::Serialize;
 
 /// Options of a stability map.
@@ -61,6 +66,8 @@ pub struct StabilityDot {
     pub tether_tension: Option<f64>,
     /// Why the pose could not be assessed, if it could not.
     pub failure: Option<String>,
+    /// The tether's last anchor (the start, or the last obstacle vertex the taut tether wraps).
+    pub last_anchor: Option<Point2<f64>>,
 }
 
 /// A stability map.
@@ -98,16 +105,29 @@ pub enum StabilityError {
     Grid(#[from] rappel_mechanics::stability_map::MapError),
 }
 
-/// The tether of every pose runs to the scenario's start.
-struct StraightToStart {
-    anchor: Point3<f64>,
+/// The tether of every pose runs taut along the shortest path from the start to the pose; its
+/// last anchor is the point before the robot on that path.
+struct ShortestTether<'b> {
+    planner: SptPlanner<'b>,
+    start: Point2<f64>,
+    exit_height: f64,
     limit: Option<f64>,
 }
 
-impl AnchorSource for StraightToStart {
-    fn tether_at(&self, _: usize, _: &Point2<f64>) -> Option<TetherSpec> {
+impl ShortestTether<'_> {
+    /// The last anchor of the taut tether to `position` (`None` if no path reaches it).
+    fn last_anchor(&self, position: &Point2<f64>) -> Option<Point2<f64>> {
+        let shp = self.planner.shortest_path(self.start, *position).ok()??;
+        let points = &shp.shp.taut.points;
+        points.len().checked_sub(2).map(|i| points[i])
+    }
+}
+
+impl AnchorSource for ShortestTether<'_> {
+    fn tether_at(&self, _: usize, position: &Point2<f64>) -> Option<TetherSpec> {
+        let a = self.last_anchor(position)?;
         Some(TetherSpec {
-            anchor: self.anchor,
+            anchor: Point3::new(a.x, a.y, self.exit_height),
             max_tension: self.limit,
         })
     }
@@ -187,8 +207,11 @@ pub fn stability_over_scenario(
         .map_err(|e| StabilityError::Setting(e.to_string()))?
         .tether_exit
         .z;
-    let anchors = StraightToStart {
-        anchor: Point3::new(scenario.start.x, scenario.start.y, exit_height),
+    let btm = Btm::build(&scenario.map).map_err(|e| StabilityError::Setting(e.to_string()))?;
+    let anchors = ShortestTether {
+        planner: SptPlanner::new(&btm),
+        start: scenario.start,
+        exit_height,
         limit: options.tension_limit,
     };
     let grid = GridSpec::new(options.grid_step, Heading::AwayFromAnchor)?;
@@ -221,6 +244,7 @@ pub fn stability_over_scenario(
                 margin,
                 tether_tension,
                 failure,
+                last_anchor: anchors.last_anchor(&v.pose.position),
             }
         })
         .collect();
