@@ -341,6 +341,11 @@ impl Dcel {
         self.face.len()
     }
 
+    /// Number of live triangles of any kind (free, obstacle, exterior scaffold).
+    pub fn face_count_alive(&self) -> usize {
+        self.face.iter().filter(|f| **f != FaceKind::Dead).count()
+    }
+
     /// `true` for a vertex of the map (not scaffold, not removed).
     pub fn is_map_vertex(&self, v: VertexId) -> bool {
         self.ring.get(v.index()).is_some_and(|r| r.is_some())

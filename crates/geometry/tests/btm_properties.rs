@@ -205,3 +205,37 @@ fn navigation_walks_around_vertices_and_faces() {
         assert!(d.is_map_edge(d.prev(*fan.last().unwrap())));
     }
 }
+
+#[test]
+fn compaction_after_many_updates_keeps_every_triangle() {
+    let generated = strip(60, 11);
+    let mut map = generated.clone();
+    let pending: Vec<Polygon> = map.obstacles.split_off(40);
+    let mut btm = Btm::build(&map).unwrap();
+    for poly in &pending {
+        let (id, _) = btm.insert_obstacle(poly).unwrap();
+        btm.remove_obstacle(id).unwrap();
+        btm.insert_obstacle(poly).unwrap();
+    }
+    let before: Vec<_> = btm
+        .triangles()
+        .map(|t| (t, btm.dcel().triangle_vertices(t)))
+        .collect();
+    let dead = btm.dcel().triangle_capacity() - btm.dcel().face_count_alive();
+    assert!(dead > 0, "updates retire ids");
+    let renumber = btm.compact();
+    btm.check_invariants().unwrap();
+    assert_eq!(
+        btm.dcel().triangle_capacity(),
+        btm.dcel().face_count_alive()
+    );
+    for (t, verts) in before {
+        let new = renumber[t.index()].expect("live triangles keep an id");
+        assert_eq!(btm.dcel().triangle_vertices(new), verts);
+        assert!(btm.is_free_triangle(new));
+    }
+    // Updates keep working on the compacted structure.
+    let id = btm.obstacle_ids().next().unwrap();
+    btm.remove_obstacle(id).unwrap();
+    btm.check_invariants().unwrap();
+}

@@ -380,3 +380,70 @@ fn contact_error(
         .into(),
     }
 }
+
+impl Btm {
+    /// Renumbers the triangles densely, dropping the ids retired by local updates (which are
+    /// never reused, so a long online session accumulates them). Returns, for every old triangle
+    /// id, its new id (`None` for retired ids). All triangle and half-edge ids change: callers
+    /// that keep ids must translate them with the returned table. Vertex and obstacle ids do not
+    /// change.
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::btm::Btm;
+    /// use rappel_geometry::{map::Map, polygon::Polygon};
+    /// let p = |x, y| Point2::new(x, y);
+    /// let map = Map::new(Polygon::new(vec![p(0., 0.), p(20., 0.), p(20., 20.), p(0., 20.)]), vec![]);
+    /// let mut btm = Btm::build(&map).unwrap();
+    /// let (id, _) = btm.insert_obstacle(&Polygon::new(vec![p(5., 5.), p(8., 5.), p(6., 8.)])).unwrap();
+    /// btm.remove_obstacle(id).unwrap();
+    /// let renumbered = btm.compact();
+    /// assert_eq!(btm.dcel().triangle_capacity(), renumbered.iter().flatten().count());
+    /// btm.check_invariants().unwrap();
+    /// ```
+    pub fn compact(&mut self) -> Vec<Option<TriangleId>> {
+        let d = &mut self.dcel;
+        let mut renumber = vec![None; d.face.len()];
+        let mut next = 0u32;
+        for (t, f) in d.face.iter().enumerate() {
+            if *f != FaceKind::Dead {
+                renumber[t] = Some(TriangleId(next));
+                next += 1;
+            }
+        }
+        let half = |h: u32| -> u32 {
+            if h == NONE {
+                return NONE;
+            }
+            match renumber[(h / 3) as usize] {
+                Some(t) => 3 * t.0 + h % 3,
+                None => NONE,
+            }
+        };
+        let live = next as usize;
+        let (mut origin, mut twin, mut constrained, mut face) = (
+            Vec::with_capacity(3 * live),
+            Vec::with_capacity(3 * live),
+            Vec::with_capacity(3 * live),
+            Vec::with_capacity(live),
+        );
+        for (t, f) in d.face.iter().enumerate() {
+            if *f == FaceKind::Dead {
+                continue;
+            }
+            for i in 0..3 {
+                let h = 3 * t + i;
+                origin.push(d.origin[h]);
+                twin.push(half(d.twin[h]));
+                constrained.push(d.constrained[h]);
+            }
+            face.push(*f);
+        }
+        for e in d.vertex_edge.iter_mut() {
+            *e = half(*e);
+        }
+        (d.origin, d.twin, d.constrained, d.face) = (origin, twin, constrained, face);
+        d.retired.clear();
+        renumber
+    }
+}
