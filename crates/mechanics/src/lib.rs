@@ -55,3 +55,4 @@ pub mod surface_curve;
 pub mod tension_limit;
 pub mod tension_lp;
 pub mod traversability;
+pub mod wheeled_tether_cone;

@@ -37,6 +37,7 @@ pub mod dem;
 pub mod generated;
 pub mod io;
 pub mod plan;
+pub mod robot;
 pub mod scenario;
 pub mod stability;
 pub mod svg;

@@ -6,11 +6,12 @@
 //! reachable sets ([`rappel_planners::feasibility`], Alg. 5) on the scenario's terrain planes, and
 //! returns the first feasible class's ascent/descent path pair ([`rappel_planners::path_pair`],
 //! Alg. 6), with the clearance `robot.clearance_m`. The robot enters through the
-//! [`AnchorTraversability`] trait; every robot model is planned with the point-robot tether
-//! friction cone (thesis eq. 2.7) for now, and the report says so for the wheeled models.
+//! [`AnchorTraversability`] trait: a point robot with the thesis' tether friction cone (eq. 2.7),
+//! Axel and the four-wheel rover with the cone their own stability QP allows (Paton §IV-C;
+//! [`rappel_mechanics::wheeled_tether_cone`]).
 //! [`PlanReport`] is plain data (serde); [`Plan::picture`] draws it like thesis Figs. 2.31-2.44.
 
-use crate::scenario::{RobotModel, Scenario};
+use crate::scenario::Scenario;
 use crate::svg::{Layer, Marker, Picture};
 use crate::tether::HSignatureReport;
 use nalgebra::Point2;
@@ -18,6 +19,9 @@ use rappel_geometry::btm::{Btm, BtmError};
 use rappel_homotopy::funnel::Side;
 use rappel_mechanics::anchor_traversability::{AnchorTraversability, TetherLimit};
 use rappel_mechanics::friction_cone::TetherFrictionCone;
+use rappel_mechanics::stability_qp::StabilityQp;
+use rappel_mechanics::traversability::StabilitySettings;
+use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
 use rappel_planners::feasibility::{self, FeasibilityContext, Passability};
 use rappel_planners::path_pair::{PairPlan, plan_path_pair};
 use rappel_planners::spt::{
@@ -67,6 +71,9 @@ pub enum PlanError {
     /// The search refused its input or options.
     #[error(transparent)]
     Search(#[from] SearchError),
+    /// The robot's parameters do not make a valid model.
+    #[error("robot: {0}")]
+    Robot(String),
 }
 
 /// One terrain plane in a report.
@@ -226,8 +233,18 @@ pub fn plan(scenario: &Scenario, options: &PlanOptions) -> Result<PlanReport, Pl
 /// Plans `scenario` and keeps the BTM and the planner's outcome for pictures.
 pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan, PlanError> {
     let btm = Btm::build(&scenario.map)?;
-    let model = TetherFrictionCone;
-    let terrain = PlaneSeries::new(&scenario.terrain.planes, &model)?;
+    // The point robot uses the thesis' friction cone (eq. 2.7); a wheeled robot the cone its own
+    // stability QP allows (Paton §IV-C), through the same trait.
+    let wheeled = crate::robot::wheeled_model(&scenario.robot).map_err(PlanError::Robot)?;
+    let qp = StabilityQp::new(StabilitySettings::default());
+    let wheeled_cone = wheeled
+        .as_deref()
+        .map(|robot| WheeledTetherCone::new(robot, &qp));
+    let model: &dyn AnchorTraversability = match &wheeled_cone {
+        Some(cone) => cone,
+        None => &TetherFrictionCone,
+    };
+    let terrain = PlaneSeries::new(&scenario.terrain.planes, model)?;
     let search = SearchOptions::default()
         .with_max_classes(Some(options.classes))?
         .with_max_length_factor(options.max_length_factor)?
@@ -247,7 +264,7 @@ pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan,
         &ctx,
         false,
     )?;
-    let report = report_of(scenario, &model, &terrain, &outcome);
+    let report = report_of(scenario, model, &terrain, &outcome);
     Ok(Plan {
         report,
         btm,
@@ -362,12 +379,6 @@ fn report_of(
         warnings.push(format!(
             "planes {k} and {} form a concave edge (the lower plane is shallower): the taut tether may lift off the ground there, which the Chapter-2 model does not cover",
             k + 1
-        ));
-    }
-    if scenario.robot.model != RobotModel::Point {
-        warnings.push(format!(
-            "robot model {:?}: ascent feasibility uses the point-robot tether friction cone (thesis eq. 2.7)",
-            scenario.robot.model
         ));
     }
     if terrain.planes().is_empty() {

@@ -12,13 +12,11 @@
 //! tension limit, when given, applies at the robot: capstan friction at wrapped anchors (Kumar
 //! eq. 2) would raise it, and is not modelled here.
 
-use crate::scenario::{RobotModel as ModelKind, Scenario};
+use crate::scenario::Scenario;
 use nalgebra::{Point2, Point3};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::polygon::{PointInPolygon, Polygon};
-use rappel_mechanics::axel::{Axel, AxelParams};
-use rappel_mechanics::four_wheel::{FourWheelParams, FourWheelRover};
-use rappel_mechanics::robot::{RobotModel, SlopePlane, TetherSpec};
+use rappel_mechanics::robot::{SlopePlane, TetherSpec};
 use rappel_mechanics::stability_map::{
     AnchorSource, GridSpec, Heading, MapPlane, PoseOutcome, stability_map,
 };
@@ -159,28 +157,8 @@ pub fn stability_over_scenario(
             "tension limit {t} N: must be a positive number"
         )));
     }
-    let mass = scenario.robot.mass_kg;
-    let robot: Box<dyn RobotModel> = match scenario.robot.model {
-        ModelKind::Axel => {
-            let defaults = AxelParams::default();
-            let body_mass = (mass - defaults.boom_mass).max(1.0);
-            Box::new(
-                Axel::new(AxelParams {
-                    body_mass,
-                    ..defaults
-                })
-                .map_err(|e| StabilityError::Setting(e.to_string()))?,
-            )
-        }
-        // A point robot has no contacts: its stability is judged as a four-wheel rover's.
-        ModelKind::Point | ModelKind::FourWheel => Box::new(
-            FourWheelRover::new(FourWheelParams {
-                mass,
-                ..Default::default()
-            })
-            .map_err(|e| StabilityError::Setting(e.to_string()))?,
-        ),
-    };
+    // A point robot has no contacts: its stability is judged as a four-wheel rover's.
+    let robot = crate::robot::contact_model(&scenario.robot).map_err(StabilityError::Setting)?;
     let (criterion, name): (Box<dyn StabilityCriterion>, &str) = match options.tension_limit {
         Some(_) => (Box::new(TensionLimitedLp::default()), "kumar-lp"),
         None => (

@@ -482,5 +482,45 @@ pub fn suite() -> Result<Vec<Case>, String> {
     cases.extend(two_slopes()?);
     cases.extend(kumar_sweep()?);
     cases.extend(axel_qp()?);
+    cases.extend(wheeled_tether_cone());
     Ok(cases)
+}
+
+/// The tether cone a rigid four-wheel rover's stability QP allows, against the thesis' point-robot
+/// cone (eq. 2.7): facing away from the anchor with an unlimited tether, the wheels need only
+/// cancel the cross-tether component of gravity, `m g sin(eta) sin(theta) <= mu m g cos(eta)`, so
+/// without tipping the two must agree to the bisection tolerance.
+fn wheeled_tether_cone() -> Vec<Case> {
+    use rappel::mechanics::anchor_traversability::{AnchorTraversability, TetherLimit};
+    use rappel::mechanics::traversability::StabilitySettings;
+    use rappel::mechanics::wheeled_tether_cone::{ANGLE_TOLERANCE, WheeledTetherCone};
+    let rover = FourWheelRover::default();
+    let qp = StabilityQp::new(StabilitySettings::default());
+    let model = WheeledTetherCone::new(&rover, &qp);
+    let mut cases = Vec::new();
+    for (deg, mu) in [(35.0, 0.4), (45.0, 0.4), (55.0, 0.6), (65.0, 0.4)] {
+        let eta: f64 = f64::to_radians(deg);
+        let expected = (mu / eta.tan()).asin();
+        let name = format!("four-wheel QP tether cone, {deg} deg, mu {mu}");
+        let (measured, pass) =
+            match SlopePlane::new(eta, mu).map(|plane| model.tether_limit(&plane)) {
+                Ok(TetherLimit::Cone { max_angle }) => (
+                    format!("{:.3} deg", max_angle.to_degrees()),
+                    (max_angle - expected).abs() <= 2.0 * ANGLE_TOLERANCE,
+                ),
+                Ok(TetherLimit::TetherFree) => ("tether-free".to_string(), false),
+                Err(e) => (e.to_string(), false),
+            };
+        cases.push(Case::new(
+            SUITE,
+            name,
+            measured,
+            format!(
+                "{:.3} deg = asin(mu cot eta), eq. 2.7",
+                expected.to_degrees()
+            ),
+            pass,
+        ));
+    }
+    cases
 }
