@@ -9,5 +9,6 @@ pub mod map;
 pub mod normalize;
 pub mod polygon;
 pub mod predicates;
+pub mod region;
 pub mod spatial_grid;
 pub mod terrain;

@@ -47,7 +47,9 @@
 use crate::terrain::PlaneSeries;
 use nalgebra::{Point2, Vector2};
 use rappel_geometry::btm::Btm;
+use rappel_geometry::map::Map;
 use rappel_geometry::polygon::{Aabb, Polygon};
+use rappel_geometry::region::{Region, free_part};
 use rappel_homotopy::crossing::Tracer;
 use rappel_homotopy::funnel::{Anchor, Side, TautPath};
 use rappel_homotopy::homotopy::is_contractible;
@@ -188,6 +190,10 @@ pub struct AnchorReachableSet {
     /// Convex pieces: wedge ∩ visibility half-plane ∩ band ∩ map box, one per band, each with its
     /// band's tether limit.
     pub pieces: Vec<(Polygon, TetherLimit)>,
+    /// The same pieces cut to free space (inside the boundary, outside every obstacle): the
+    /// anchor reachable set proper (thesis Def. 2.1), as regions with holes, each with its band's
+    /// tether limit. For reports and pictures; passability is decided exactly from the pieces.
+    pub free_pieces: Vec<(Region, TetherLimit)>,
     /// The visibility line `L_j` from `a_j` to the first obstacle along it (`j >= 1`).
     pub visibility_line: Option<[Point2<f64>; 2]>,
 }
@@ -290,6 +296,8 @@ struct Climb<'c, 'a> {
     points: Vec<Point2<f64>>,
     /// Map box, for rays and polygons.
     bounds: Aabb,
+    /// The map's boundary and obstacles, to cut reachable sets to free space.
+    map: Map,
 }
 
 /// Runs Alg. 5 on the taut path `taut` (thesis §2.4.1-2.4.2; module docs).
@@ -332,6 +340,7 @@ pub fn check_feasibility(ctx: &FeasibilityContext<'_>, taut: &TautPath) -> Feasi
         ctx,
         points,
         bounds,
+        map: ctx.btm.map(),
     };
     climb.run(taut)
 }
@@ -570,7 +579,7 @@ impl Climb<'_, '_> {
                 Side::Right => (to, from - to),
             }
         });
-        let pieces = bands
+        let pieces: Vec<(Polygon, TetherLimit)> = bands
             .into_iter()
             .map(|(lo, hi, limit)| {
                 let mut poly = vec![
@@ -601,10 +610,19 @@ impl Climb<'_, '_> {
             };
             [apex, end]
         });
+        let free_pieces = pieces
+            .iter()
+            .flat_map(|(poly, limit): &(Polygon, TetherLimit)| {
+                free_part(poly, &self.map.boundary, &self.map.obstacles)
+                    .into_iter()
+                    .map(move |r| (r, *limit))
+            })
+            .collect();
         AnchorReachableSet {
             anchor: j,
             apex,
             pieces,
+            free_pieces,
             visibility_line,
         }
     }

@@ -216,3 +216,68 @@ fn waypoints_and_pairs_on_random_maps() {
     // A feasible class nearly always gets its pair.
     assert!(no_pair.len() <= 2, "{no_pair:?}");
 }
+
+#[test]
+fn reachable_sets_cut_to_free_space_lose_exactly_the_obstacles() {
+    // The triangle map's reachable sets, cut to free space: never larger than the uncut pieces,
+    // and the difference is the part of the pieces covered by obstacles (computed independently
+    // by sampling a grid of points inside each piece).
+    let map = triangle_map();
+    let btm = Btm::build(&map).unwrap();
+    let best = SptPlanner::new(&btm)
+        .shortest_path(p(50., 100.), p(50., 0.))
+        .unwrap()
+        .unwrap();
+    let terrain = PlaneSeries::new(&[plane(110., -10., 30., 0.6)], &TetherFrictionCone).unwrap();
+    let ctx = FeasibilityContext {
+        btm: &btm,
+        terrain: &terrain,
+        clearance: 0.5,
+    };
+    let r = check_feasibility(&ctx, &best.shp.taut);
+    assert!(!r.reachable_sets.is_empty());
+    let area = |set: &rappel_planners::feasibility::AnchorReachableSet| {
+        let raw: f64 = set.pieces.iter().map(|(poly, _)| poly.area()).sum();
+        let free: f64 = set.free_pieces.iter().map(|(reg, _)| reg.area()).sum();
+        (raw, free)
+    };
+    // The start's wedge covers the obstacle, so cutting must remove something there.
+    assert!(r.reachable_sets.iter().any(|set| {
+        let (raw, free) = area(set);
+        free < raw - 1.0
+    }));
+    for set in &r.reachable_sets {
+        let raw: f64 = set.pieces.iter().map(|(poly, _)| poly.area()).sum();
+        let free: f64 = set.free_pieces.iter().map(|(reg, _)| reg.area()).sum();
+        assert!(free <= raw + 1e-6, "free {free} > raw {raw}");
+        // Monte Carlo-free estimate: a fine grid over each piece, counting points in free space.
+        let mut inside = 0usize;
+        let mut free_hits = 0usize;
+        let step = 0.5;
+        for (poly, _) in &set.pieces {
+            let b = poly.aabb();
+            let mut y = b.min.y + step / 2.0;
+            while y < b.max.y {
+                let mut x = b.min.x + step / 2.0;
+                while x < b.max.x {
+                    let q = p(x, y);
+                    if poly.locate(&q) == rappel_geometry::polygon::PointInPolygon::Inside {
+                        inside += 1;
+                        if map.free_space_violation(&q).is_none() {
+                            free_hits += 1;
+                        }
+                    }
+                    x += step;
+                }
+                y += step;
+            }
+        }
+        if inside > 0 {
+            let estimate = raw * free_hits as f64 / inside as f64;
+            assert!(
+                (estimate - free).abs() <= 0.02 * raw + 1.0,
+                "free area {free} vs grid estimate {estimate}"
+            );
+        }
+    }
+}

@@ -120,6 +120,9 @@ pub struct AnchorReport {
     pub passability: String,
     /// Its waypoint on the visibility edge, when passable.
     pub waypoint: Option<Point2<f64>>,
+    /// Area of its anchor reachable set `C_j` cut to free space, m² (`None` when it was not
+    /// computed, e.g. for anchors not reached).
+    pub reachable_area_m2: Option<f64>,
 }
 
 /// One homotopy class in a report.
@@ -331,6 +334,11 @@ fn report_of(
                             Passability::Passable { waypoint, .. } => Some(waypoint),
                             _ => None,
                         },
+                        reachable_area_m2: f
+                            .reachable_sets
+                            .iter()
+                            .find(|set| set.anchor == a.index)
+                            .map(|set| set.free_pieces.iter().map(|(r, _)| r.area()).sum()),
                     })
                     .collect(),
                 reduced_crossings: c.class.shp.crossings.len(),
