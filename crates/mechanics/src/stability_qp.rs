@@ -2,7 +2,7 @@
 //! clarabel.
 //!
 //! # Formulation
-//! The constraints are those of [`crate::statics`]: each contact carries a full wrench
+//! The constraints are those of `statics` (the crate-internal module of shared constraints): each contact carries a full wrench
 //! `(λ_i, M_i)` bounded by the friction pyramid and the moment bounds (eqs. 1-6), the two body
 //! masses, the tether along the direction of the last anchor and the contact wrenches balance
 //! (eqs. 7-8), and the tether tension is free (or bounded by the tether's limit).

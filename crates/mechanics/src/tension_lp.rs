@@ -2,7 +2,7 @@
 //! eqs. 3a-3e), solved with clarabel.
 //!
 //! # Formulation
-//! The constraints are those of [`crate::statics`] with point contacts (no contact moments):
+//! The constraints are those of `statics` (the crate-internal module of shared constraints) with point contacts (no contact moments):
 //! force and moment balance (3a-3b), friction pyramids and non-negative normal forces (3c-3d; the
 //! paper's strict `F_Z > 0` is taken as `>= 0`, the tipping limit), and `0 <= T_2 <= T_2max`
 //! (3e), `T_2max` being the tether's limit (see [`crate::tension_limit`]). Kumar solves a pure

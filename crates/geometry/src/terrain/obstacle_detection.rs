@@ -1,6 +1,6 @@
 //! Obstacle detection on slopes (thesis §2.1.2-2.1.3 and §2.5.2, after Abad-Manterola's algorithm
-//! for obstacle detection on a slope [58], itself built on the extreme-terrain algorithm of
-//! Manduchi et al. [97]).
+//! for obstacle detection on a slope \[58\], itself built on the extreme-terrain algorithm of
+//! Manduchi et al. \[97\]).
 //!
 //! **Manduchi's rule, measured in the slope's frame.** Two known cells `p` and `q` are *compatible*
 //! (part of one obstacle) when, with `v` the 3D vector from `p` to `q` and `n` the unit normal of

@@ -1,4 +1,4 @@
-//! Tether-free and tether-demand planes (thesis §2.1.2, after Abad-Manterola [58]; eq. 2.7).
+//! Tether-free and tether-demand planes (thesis §2.1.2, after Abad-Manterola \[58\]; eq. 2.7).
 //!
 //! On a plane inclined at `eta` with wheel-terrain friction `mu`, a point robot holds its position
 //! without the tether when friction can balance the downhill pull of gravity, `mu cos eta >=
