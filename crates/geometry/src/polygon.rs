@@ -85,6 +85,22 @@ impl Polygon {
         Polygon { vertices }
     }
 
+    /// The axis-aligned rectangle with lower-left corner `(x, y)`, `width` and `height`,
+    /// counter-clockwise.
+    ///
+    /// ```
+    /// use rappel_geometry::polygon::Polygon;
+    /// assert_eq!(Polygon::rectangle(1.0, 2.0, 3.0, 4.0).area(), 12.0);
+    /// ```
+    pub fn rectangle(x: f64, y: f64, width: f64, height: f64) -> Polygon {
+        Polygon::new(vec![
+            Point2::new(x, y),
+            Point2::new(x + width, y),
+            Point2::new(x + width, y + height),
+            Point2::new(x, y + height),
+        ])
+    }
+
     /// Number of vertices.
     pub fn len(&self) -> usize {
         self.vertices.len()

@@ -88,12 +88,7 @@ mod tests {
     use super::*;
 
     fn sq(x: f64, y: f64, s: f64) -> Polygon {
-        Polygon::new(vec![
-            Point2::new(x, y),
-            Point2::new(x + s, y),
-            Point2::new(x + s, y + s),
-            Point2::new(x, y + s),
-        ])
+        Polygon::rectangle(x, y, s, s)
     }
 
     #[test]

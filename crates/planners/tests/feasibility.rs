@@ -25,15 +25,6 @@ fn p(x: f64, y: f64) -> Point2<f64> {
     Point2::new(x, y)
 }
 
-fn plane(y_top: f64, y_bottom: f64, slope_deg: f64, friction: f64) -> TerrainPlane {
-    TerrainPlane {
-        y_top,
-        y_bottom,
-        slope_deg,
-        friction,
-    }
-}
-
 /// The shortest-infeasible fixture's geometry: round the west corner (40, 85) the first tether
 /// segment is at atan(10 / 15) from the fall line.
 fn triangle_map() -> Map {
@@ -54,7 +45,11 @@ fn the_verdict_flips_where_the_friction_cone_says() {
     let psi = 10f64.atan2(15.0);
     // theta_max = asin(mu cot 45) = asin(mu): feasible exactly when mu > sin(psi).
     for (mu, feasible) in [(psi.sin() - 1e-6, false), (psi.sin() + 1e-6, true)] {
-        let terrain = PlaneSeries::new(&[plane(110., -10., 45., mu)], &TetherFrictionCone).unwrap();
+        let terrain = PlaneSeries::new(
+            &[TerrainPlane::new(110., -10., 45., mu)],
+            &TetherFrictionCone,
+        )
+        .unwrap();
         let ctx = FeasibilityContext {
             btm: &btm,
             terrain: &terrain,
@@ -80,7 +75,10 @@ fn condition_two_uses_the_previous_anchors_plane() {
         .shortest_path(p(50., 100.), p(50., 0.))
         .unwrap()
         .unwrap();
-    let planes = [plane(110., 90., 60., 0.4), plane(90., -10., 30., 0.4)];
+    let planes = [
+        TerrainPlane::new(110., 90., 60., 0.4),
+        TerrainPlane::new(90., -10., 30., 0.4),
+    ];
     let terrain = PlaneSeries::new(&planes, &TetherFrictionCone).unwrap();
     assert_eq!(terrain.concave_edges(), vec![0]);
     let ctx = FeasibilityContext {
@@ -110,7 +108,11 @@ fn the_goal_must_be_held_by_the_last_anchor() {
         .shortest_path(p(20., 90.), p(50., 30.))
         .unwrap()
         .unwrap();
-    let terrain = PlaneSeries::new(&[plane(100., 0., 45., 0.4)], &TetherFrictionCone).unwrap();
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(100., 0., 45., 0.4)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
     let ctx = FeasibilityContext {
         btm: &btm,
         terrain: &terrain,
@@ -135,7 +137,11 @@ fn the_goal_must_be_held_by_the_last_anchor() {
 
 #[test]
 fn waypoints_and_pairs_on_random_maps() {
-    let terrain = PlaneSeries::new(&[plane(30., -30., 40., 0.6)], &TetherFrictionCone).unwrap();
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(30., -30., 40., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
     let clearance = 0.3;
     let mut pairs = 0;
     let mut no_pair = Vec::new();
@@ -228,7 +234,11 @@ fn reachable_sets_cut_to_free_space_lose_exactly_the_obstacles() {
         .shortest_path(p(50., 100.), p(50., 0.))
         .unwrap()
         .unwrap();
-    let terrain = PlaneSeries::new(&[plane(110., -10., 30., 0.6)], &TetherFrictionCone).unwrap();
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(110., -10., 30., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
     let ctx = FeasibilityContext {
         btm: &btm,
         terrain: &terrain,

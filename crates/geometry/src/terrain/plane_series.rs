@@ -29,6 +29,17 @@ pub struct TerrainPlane {
 }
 
 impl TerrainPlane {
+    /// A plane covering `y_bottom..=y_top` with `slope_deg` and wheel `friction` (not validated:
+    /// see [`validate_planes`]).
+    pub fn new(y_top: f64, y_bottom: f64, slope_deg: f64, friction: f64) -> Self {
+        TerrainPlane {
+            y_top,
+            y_bottom,
+            slope_deg,
+            friction,
+        }
+    }
+
     /// `true` when map-frame `y` lies in this plane's band (edges included).
     pub fn contains_y(&self, y: f64) -> bool {
         y <= self.y_top && y >= self.y_bottom
@@ -148,39 +159,33 @@ pub fn validate_planes(planes: &[TerrainPlane]) -> Result<(), PlaneSeriesError> 
 mod tests {
     use super::*;
 
-    fn plane(y_top: f64, y_bottom: f64, slope_deg: f64, friction: f64) -> TerrainPlane {
-        TerrainPlane {
-            y_top,
-            y_bottom,
-            slope_deg,
-            friction,
-        }
-    }
-
     #[test]
     fn each_defect_is_named() {
         assert!(validate_planes(&[]).is_ok());
         assert!(matches!(
-            validate_planes(&[plane(0., 10., 30., 0.4)]),
+            validate_planes(&[TerrainPlane::new(0., 10., 30., 0.4)]),
             Err(PlaneSeriesError::Empty { .. })
         ));
         assert!(matches!(
-            validate_planes(&[plane(10., 0., 90., 0.4)]),
+            validate_planes(&[TerrainPlane::new(10., 0., 90., 0.4)]),
             Err(PlaneSeriesError::BadSlope { .. })
         ));
         assert!(matches!(
-            validate_planes(&[plane(10., 0., 30., -0.1)]),
+            validate_planes(&[TerrainPlane::new(10., 0., 30., -0.1)]),
             Err(PlaneSeriesError::BadFriction { .. })
         ));
         assert!(matches!(
-            validate_planes(&[plane(10., 0., f64::NAN, 0.1)]),
+            validate_planes(&[TerrainPlane::new(10., 0., f64::NAN, 0.1)]),
             Err(PlaneSeriesError::NonFinite {
                 field: "slope_deg",
                 ..
             })
         ));
         assert!(matches!(
-            validate_planes(&[plane(10., 5., 30., 0.4), plane(4., 0., 40., 0.4)]),
+            validate_planes(&[
+                TerrainPlane::new(10., 5., 30., 0.4),
+                TerrainPlane::new(4., 0., 40., 0.4)
+            ]),
             Err(PlaneSeriesError::Gap { plane: 1, .. })
         ));
     }
