@@ -17,7 +17,9 @@ use spade::{ConstrainedDelaunayTriangulation, Point2 as SpadePoint, Triangulatio
 use std::hint::black_box;
 
 fn big_map() -> Map {
-    crater_strip(&CraterStripOptions::new(10_000, 1)).map
+    crater_strip(&CraterStripOptions::new(10_000, 1))
+        .expect("valid options")
+        .map
 }
 
 fn build(c: &mut Criterion) {
@@ -90,7 +92,7 @@ fn update(c: &mut Criterion) {
 }
 
 fn locate(c: &mut Criterion) {
-    let g = crater_strip(&CraterStripOptions::new(10_000, 1));
+    let g = crater_strip(&CraterStripOptions::new(10_000, 1)).expect("valid options");
     let btm = Btm::build(&g.map).expect("valid map");
     let b = g.map.aabb();
     let queries: Vec<_> = (0..1000)

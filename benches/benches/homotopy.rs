@@ -60,7 +60,7 @@ fn advance_along(btm: &Btm, sleeve: &Sleeve, s: Point2<f64>, g: Point2<f64>) -> 
 }
 
 fn funnel(c: &mut Criterion) {
-    let gen_map = crater_strip(&CraterStripOptions::new(10_000, 1));
+    let gen_map = crater_strip(&CraterStripOptions::new(10_000, 1)).expect("valid options");
     let btm = Btm::build(&gen_map.map).expect("valid map");
     // A meandering walk down the strip gives a long, realistic sleeve.
     let walk = random_walk(&btm, gen_map.start, 4_000, 0.8, 7);
@@ -97,7 +97,7 @@ fn funnel(c: &mut Criterion) {
 }
 
 fn long_walk(c: &mut Criterion) {
-    let gen_map = crater_strip(&CraterStripOptions::new(10_000, 1));
+    let gen_map = crater_strip(&CraterStripOptions::new(10_000, 1)).expect("valid options");
     let btm = Btm::build(&gen_map.map).expect("valid map");
     let mid = Point2::new(gen_map.start.x, (gen_map.start.y + gen_map.goal.y) / 2.0);
     let start = match btm.locate(&mid) {

@@ -60,7 +60,7 @@ fn peak_rss_kb() -> Option<u64> {
 }
 
 fn planner(c: &mut Criterion) {
-    let generated = crater_strip(&CraterStripOptions::new(10_000, 1));
+    let generated = crater_strip(&CraterStripOptions::new(10_000, 1)).expect("valid options");
     let (start, goal) = (generated.start, generated.goal);
     let btm = Btm::build(&generated.map).expect("valid map");
     let spt = SptPlanner::new(&btm);

@@ -58,7 +58,9 @@ fn spade_triangles(map: &Map) -> Vec<Tri> {
 fn btm_equals_spade_cdt_restricted_to_free_space() {
     for seed in 0..40u64 {
         let n = 5 + (seed as usize * 37) % 300;
-        let map = crater_strip(&CraterStripOptions::new(n, seed)).map;
+        let map = crater_strip(&CraterStripOptions::new(n, seed))
+            .expect("valid options")
+            .map;
         let ours = rappel_triangles(&map);
         let theirs = spade_triangles(&map);
         assert_eq!(

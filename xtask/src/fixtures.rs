@@ -21,7 +21,8 @@ pub fn generated_path(n: usize) -> PathBuf {
 /// Regenerates every generated fixture.
 pub fn generate() -> Result<ExitCode, String> {
     for &(n, seed) in GENERATED {
-        let s = rappel::generated::crater_strip_scenario(n, seed, 200.0);
+        let s =
+            rappel::generated::crater_strip_scenario(n, seed, 200.0).map_err(|e| e.to_string())?;
         let path = generated_path(n);
         s.save(&path).map_err(|e| e.to_string())?;
         println!(

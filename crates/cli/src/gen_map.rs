@@ -30,19 +30,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             args.out.display()
         )));
     }
-    if !(args.width.is_finite() && args.width >= 20.0) {
-        return Err(CliError(format!(
-            "--width {}: must be at least 20 m",
-            args.width
-        )));
-    }
-    if args.obstacles > 2_000_000 {
-        return Err(CliError(format!(
-            "--obstacles {}: at most 2,000,000",
-            args.obstacles
-        )));
-    }
-    let s = rappel::generated::crater_strip_scenario(args.obstacles, args.seed, args.width);
+    let s = rappel::generated::crater_strip_scenario(args.obstacles, args.seed, args.width)?;
     s.save(&args.out)?;
     crate::outln!(
         "{}: {} obstacles, {} vertices, seed {}",

@@ -10,7 +10,13 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(10_000);
-    let g = crater_strip(&CraterStripOptions::new(n, 1));
+    let g = match crater_strip(&CraterStripOptions::new(n, 1)) {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(2);
+        }
+    };
     let t = Instant::now();
     let btm = match Btm::build(&g.map) {
         Ok(b) => b,

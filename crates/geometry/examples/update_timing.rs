@@ -6,7 +6,10 @@ use rappel_geometry::generate::{CraterStripOptions, crater_strip};
 use std::time::Instant;
 
 fn main() {
-    let mut map = crater_strip(&CraterStripOptions::new(10_000, 1)).map;
+    let Ok(generated) = crater_strip(&CraterStripOptions::new(10_000, 1)) else {
+        return;
+    };
+    let mut map = generated.map;
     let obstacle = map.obstacles.remove(5_000);
     let Ok(mut btm) = Btm::build(&map) else {
         return;

@@ -40,10 +40,13 @@ impl CraterStripOptions {
     ///
     /// ```
     /// use rappel_geometry::generate::{crater_strip, CraterStripOptions};
-    /// let g = crater_strip(&CraterStripOptions::new(50, 7));
+    /// let g = crater_strip(&CraterStripOptions::new(50, 7)).unwrap();
     /// assert_eq!(g.map.obstacles.len(), 50);
     /// g.map.validate().unwrap();
-    /// assert_eq!(g, crater_strip(&CraterStripOptions::new(50, 7)));
+    /// assert_eq!(g, crater_strip(&CraterStripOptions::new(50, 7)).unwrap());
+    /// let mut wide = CraterStripOptions::new(5, 1);
+    /// wide.width = 1e308;
+    /// assert!(crater_strip(&wide).is_err());
     /// ```
     pub fn new(obstacles: usize, seed: u64) -> Self {
         CraterStripOptions {
@@ -55,6 +58,71 @@ impl CraterStripOptions {
             area_per_obstacle: 150.0,
             clearance: 0.5,
         }
+    }
+}
+
+/// Why generation options were refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GenerateError {
+    /// A parameter is out of range; the message names it and the accepted range.
+    #[error("crater strip: {0}")]
+    Option(String),
+}
+
+/// Largest strip width accepted, metres (a crater wall, not a continent).
+pub const MAX_WIDTH: f64 = 1.0e6;
+/// Largest obstacle count accepted.
+pub const MAX_OBSTACLES: usize = 2_000_000;
+
+impl CraterStripOptions {
+    /// Checks every parameter: finite; radii `0 < min_radius <= max_radius`; clearance `>= 0`;
+    /// `area_per_obstacle` larger than the biggest obstacle's footprint with its clearance (so the
+    /// requested count always fits); the width room for the biggest obstacle and at most
+    /// [`MAX_WIDTH`]; at most [`MAX_OBSTACLES`] obstacles.
+    pub fn validate(&self) -> Result<(), GenerateError> {
+        let bad = |m: String| Err(GenerateError::Option(m));
+        for (name, v) in [
+            ("width", self.width),
+            ("min_radius", self.min_radius),
+            ("max_radius", self.max_radius),
+            ("area_per_obstacle", self.area_per_obstacle),
+            ("clearance", self.clearance),
+        ] {
+            if !v.is_finite() {
+                return bad(format!("{name} = {v:?} must be finite"));
+            }
+        }
+        if !(self.min_radius > 0.0 && self.min_radius <= self.max_radius) {
+            return bad(format!(
+                "radii must satisfy 0 < min_radius ({}) <= max_radius ({})",
+                self.min_radius, self.max_radius
+            ));
+        }
+        if self.clearance < 0.0 {
+            return bad(format!("clearance = {} must be >= 0", self.clearance));
+        }
+        let reach = 2.0 * self.max_radius + self.clearance;
+        if self.area_per_obstacle < reach * reach {
+            return bad(format!(
+                "area_per_obstacle = {} must be at least (2 max_radius + clearance)^2 = {}",
+                self.area_per_obstacle,
+                reach * reach
+            ));
+        }
+        if !(self.width >= 2.0 * reach && self.width <= MAX_WIDTH) {
+            return bad(format!(
+                "width = {} must be between {} and {MAX_WIDTH} m",
+                self.width,
+                2.0 * reach
+            ));
+        }
+        if self.obstacles > MAX_OBSTACLES {
+            return bad(format!(
+                "{} obstacles: at most {MAX_OBSTACLES}",
+                self.obstacles
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -72,9 +140,11 @@ pub struct GeneratedMap {
 /// Height of the obstacle-free bands at the top and bottom, metres.
 const END_BAND: f64 = 10.0;
 
-/// Generates a crater strip. Always valid; obstacles are placed by rejection sampling, and the
-/// strip is long enough that the requested count always fits.
-pub fn crater_strip(o: &CraterStripOptions) -> GeneratedMap {
+/// Generates a crater strip (options checked by [`CraterStripOptions::validate`]). The map is
+/// always valid; obstacles are placed by rejection sampling, and the strip is long enough that the
+/// requested count always fits.
+pub fn crater_strip(o: &CraterStripOptions) -> Result<GeneratedMap, GenerateError> {
+    o.validate()?;
     let mut rng = ChaCha8Rng::seed_from_u64(o.seed);
     let length = (o.obstacles as f64 * o.area_per_obstacle / o.width).max(o.width) + 2.0 * END_BAND;
     let boundary = Polygon::new(vec![
@@ -88,7 +158,8 @@ pub fn crater_strip(o: &CraterStripOptions) -> GeneratedMap {
         min: Point2::new(0.0, 0.0),
         max: Point2::new(o.width, length),
     };
-    let mut grid = SpatialGrid::new(bounds, ((o.width * length) / (reach * reach)) as usize + 1);
+    let cells = ((o.width * length) / (reach * reach)).min(1e9) as usize;
+    let mut grid = SpatialGrid::new(bounds, cells.saturating_add(1));
     let mut discs: Vec<(Point2<f64>, f64)> = Vec::with_capacity(o.obstacles);
     let mut obstacles = Vec::with_capacity(o.obstacles);
     let margin = o.max_radius + o.clearance;
@@ -131,9 +202,9 @@ pub fn crater_strip(o: &CraterStripOptions) -> GeneratedMap {
         discs.push((c, r));
         obstacles.push(hull);
     }
-    GeneratedMap {
+    Ok(GeneratedMap {
         map: Map::new(boundary, obstacles),
         start: Point2::new(o.width / 2.0, length - END_BAND / 2.0),
         goal: Point2::new(o.width / 2.0, END_BAND / 2.0),
-    }
+    })
 }

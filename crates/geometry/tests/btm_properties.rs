@@ -10,7 +10,9 @@ use rappel_geometry::map::Map;
 use rappel_geometry::polygon::{PointInPolygon, Polygon};
 
 fn strip(obstacles: usize, seed: u64) -> Map {
-    crater_strip(&CraterStripOptions::new(obstacles, seed)).map
+    crater_strip(&CraterStripOptions::new(obstacles, seed))
+        .expect("valid options")
+        .map
 }
 
 /// A map with exactly cocircular and collinear vertices: a grid of axis-aligned squares, the

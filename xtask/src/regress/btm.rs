@@ -29,7 +29,8 @@ pub fn suite() -> Result<Vec<Case>, String> {
         invariant_cases(&name, &scenario, &mut cases)?;
     }
     for &(n, seed) in GENERATED {
-        let fresh = rappel::generated::crater_strip_scenario(n, seed, 200.0);
+        let fresh =
+            rappel::generated::crater_strip_scenario(n, seed, 200.0).map_err(|e| e.to_string())?;
         let path = generated_path(n);
         let committed = Scenario::load(&path).map_err(|e| e.to_string())?;
         cases.push(Case::new(
@@ -44,7 +45,8 @@ pub fn suite() -> Result<Vec<Case>, String> {
             committed == fresh,
         ));
     }
-    let big = rappel::generated::crater_strip_scenario(10_000, 1, 200.0);
+    let big =
+        rappel::generated::crater_strip_scenario(10_000, 1, 200.0).map_err(|e| e.to_string())?;
     update_cases(&big, &mut cases)?;
     Ok(cases)
 }

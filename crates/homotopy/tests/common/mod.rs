@@ -45,7 +45,7 @@ pub fn small_strip(n: usize, seed: u64) -> (GeneratedMap, Btm) {
         area_per_obstacle: 120.0,
         clearance: 0.5,
     };
-    let g = crater_strip(&options);
+    let g = crater_strip(&options).expect("valid options");
     let btm = Btm::build(&g.map).expect("generated maps are valid");
     (g, btm)
 }
