@@ -111,7 +111,7 @@ impl CraterStripOptions {
         }
         if !(self.width >= 2.0 * reach && self.width <= MAX_WIDTH) {
             return bad(format!(
-                "width = {} must be between {} and {MAX_WIDTH} m",
+                "width = {:?} must be between {} and {MAX_WIDTH} m",
                 self.width,
                 2.0 * reach
             ));
