@@ -8,14 +8,17 @@
 //! **last anchor** — the start itself in open ground, or the last obstacle vertex it wraps — parallel
 //! to the plane at the height where it leaves the robot (on a convex series of planes the taut
 //! tether lies on the ground, so in the robot's plane it pulls along the unfolded direction to
-//! that anchor). Each pose's last anchor is reported. Poses inside obstacles are skipped. The
-//! tension limit, when given, applies at the robot: capstan friction at wrapped anchors (Kumar
+//! that anchor). Each pose's last anchor is reported. Poses inside obstacles are skipped. The SPT
+//! search runs only for poses the start cannot see (a straight exact walk through the BTM decides
+//! that), so its cost grows with the shadowed part of the grid. The tension limit, when given,
+//! applies at the robot: capstan friction at wrapped anchors (Kumar
 //! eq. 2) would raise it, and is not modelled here.
 
 use crate::scenario::Scenario;
 use nalgebra::{Point2, Point3};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::polygon::{PointInPolygon, Polygon};
+use rappel_homotopy::crossing::Tracer;
 use rappel_mechanics::robot::{SlopePlane, TetherSpec};
 use rappel_mechanics::stability_map::{
     AnchorSource, GridSpec, Heading, MapPlane, PoseOutcome, stability_map,
@@ -115,6 +118,13 @@ struct ShortestTether<'b> {
 impl ShortestTether<'_> {
     /// The last anchor of the taut tether to `position` (`None` if no path reaches it).
     fn last_anchor(&self, position: &Point2<f64>) -> Option<Point2<f64>> {
+        // In plain view of the start the tether runs straight (an exact walk through the BTM);
+        // only poses behind obstacles need the SPT search.
+        let clear = Tracer::new(self.planner.btm(), self.start)
+            .is_ok_and(|mut t| t.push(*position).is_ok());
+        if clear {
+            return Some(self.start);
+        }
         let shp = self.planner.shortest_path(self.start, *position).ok()??;
         let points = &shp.shp.taut.points;
         points.len().checked_sub(2).map(|i| points[i])
