@@ -21,6 +21,21 @@ use rappel_planners::path_pair::{path_pair, plan_path_pair};
 use rappel_planners::spt::{SearchOptions, SptPlanner};
 use rappel_planners::terrain::PlaneSeries;
 
+/// Alg. 5 on `taut` with the point-robot friction cone on `planes` and a 0.5 m clearance.
+fn check_on_planes(
+    btm: &Btm,
+    planes: &[TerrainPlane],
+    taut: &rappel_homotopy::funnel::TautPath,
+) -> rappel_planners::feasibility::FeasibilityReport {
+    let terrain = PlaneSeries::new(planes, &TetherFrictionCone).unwrap();
+    let ctx = FeasibilityContext {
+        btm,
+        terrain: &terrain,
+        clearance: 0.5,
+    };
+    check_feasibility(&ctx, taut)
+}
+
 fn p(x: f64, y: f64) -> Point2<f64> {
     Point2::new(x, y)
 }
@@ -45,17 +60,11 @@ fn the_verdict_flips_where_the_friction_cone_says() {
     let psi = 10f64.atan2(15.0);
     // theta_max = asin(mu cot 45) = asin(mu): feasible exactly when mu > sin(psi).
     for (mu, feasible) in [(psi.sin() - 1e-6, false), (psi.sin() + 1e-6, true)] {
-        let terrain = PlaneSeries::new(
+        let r = check_on_planes(
+            &btm,
             &[TerrainPlane::new(110., -10., 45., mu)],
-            &TetherFrictionCone,
-        )
-        .unwrap();
-        let ctx = FeasibilityContext {
-            btm: &btm,
-            terrain: &terrain,
-            clearance: 0.5,
-        };
-        let r = check_feasibility(&ctx, &best.shp.taut);
+            &best.shp.taut,
+        );
         assert_eq!(r.feasible(), feasible, "mu {mu}: {}", r.describe());
         assert!((r.anchors[0].psi - psi).abs() < 1e-12);
         if !feasible {
@@ -108,17 +117,11 @@ fn the_goal_must_be_held_by_the_last_anchor() {
         .shortest_path(p(20., 90.), p(50., 30.))
         .unwrap()
         .unwrap();
-    let terrain = PlaneSeries::new(
+    let r = check_on_planes(
+        &btm,
         &[TerrainPlane::new(100., 0., 45., 0.4)],
-        &TetherFrictionCone,
-    )
-    .unwrap();
-    let ctx = FeasibilityContext {
-        btm: &btm,
-        terrain: &terrain,
-        clearance: 0.5,
-    };
-    let r = check_feasibility(&ctx, &best.shp.taut);
+        &best.shp.taut,
+    );
     let b = r.blockage.expect("infeasible");
     assert_eq!(b.anchor, None);
     assert!(matches!(
@@ -234,17 +237,11 @@ fn reachable_sets_cut_to_free_space_lose_exactly_the_obstacles() {
         .shortest_path(p(50., 100.), p(50., 0.))
         .unwrap()
         .unwrap();
-    let terrain = PlaneSeries::new(
+    let r = check_on_planes(
+        &btm,
         &[TerrainPlane::new(110., -10., 30., 0.6)],
-        &TetherFrictionCone,
-    )
-    .unwrap();
-    let ctx = FeasibilityContext {
-        btm: &btm,
-        terrain: &terrain,
-        clearance: 0.5,
-    };
-    let r = check_feasibility(&ctx, &best.shp.taut);
+        &best.shp.taut,
+    );
     assert!(!r.reachable_sets.is_empty());
     let area = |set: &rappel_planners::feasibility::AnchorReachableSet| {
         let raw: f64 = set.pieces.iter().map(|(poly, _)| poly.area()).sum();

@@ -103,16 +103,8 @@ fn heavy_rope_on_tilted_plane() -> Result<Vec<Case>, String> {
     let (eta, beta, rho, mu, t0, len): (f64, f64, f64, f64, f64, f64) =
         (30f64.to_radians(), 30f64.to_radians(), 0.1, 0.4, 45.0, 10.0);
     let g = STANDARD_GRAVITY;
-    let (normal, up, across) = plane_axes(eta);
-    let line = PlaneLine::new(
-        Point3::origin(),
-        up * beta.cos() + across * beta.sin(),
-        normal,
-        len,
-    )
-    .map_err(|e| e.to_string())?;
-    let rope =
-        HeavyRope::new(mu, rho, Vector3::new(0.0, 0.0, -g), ode()?).map_err(|e| e.to_string())?;
+    let line = line_on_plane(eta, beta, len)?;
+    let rope = heavy_rope(mu, rho)?;
     let (s, t) = profile(&rope, &line, t0, TensionBranch::Growing)?;
     let rate = rho
         * g
@@ -126,6 +118,24 @@ fn heavy_rope_on_tilted_plane() -> Result<Vec<Case>, String> {
         format!("{:.6} N (<= 1e-9)", t0 + rate * len),
         err <= 1e-9,
     )])
+}
+
+/// A straight line of length `len` up a plane of slope `eta`, at `beta` from the fall line.
+fn line_on_plane(eta: f64, beta: f64, len: f64) -> Result<PlaneLine, String> {
+    let (normal, up, across) = plane_axes(eta);
+    PlaneLine::new(
+        Point3::origin(),
+        up * beta.cos() + across * beta.sin(),
+        normal,
+        len,
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// A rope of `rho` kg/m with friction `mu` under Earth gravity.
+fn heavy_rope(mu: f64, rho: f64) -> Result<HeavyRope, String> {
+    HeavyRope::new(mu, rho, Vector3::new(0.0, 0.0, -STANDARD_GRAVITY), ode()?)
+        .map_err(|e| e.to_string())
 }
 
 /// Outward normal, up-slope and across-slope unit vectors of a plane of slope `eta`.
@@ -146,16 +156,8 @@ fn two_slopes() -> Result<Vec<Case>, String> {
     for mu in [0.31, 0.7] {
         for (name, eta_deg) in [("shallow 30 deg", 30.0f64), ("steep 60 deg", 60.0)] {
             let eta = eta_deg.to_radians();
-            let (normal, up, across) = plane_axes(eta);
-            let line = PlaneLine::new(
-                Point3::origin(),
-                up * beta.cos() + across * beta.sin(),
-                normal,
-                len,
-            )
-            .map_err(|e| e.to_string())?;
-            let rope = HeavyRope::new(mu, rho, Vector3::new(0.0, 0.0, -STANDARD_GRAVITY), ode()?)
-                .map_err(|e| e.to_string())?;
+            let line = line_on_plane(eta, beta, len)?;
+            let rope = heavy_rope(mu, rho)?;
             let sticks = matches!(
                 rope.limit_tension(&line, load, TensionBranch::Growing)
                     .map_err(|e| e.to_string())?,

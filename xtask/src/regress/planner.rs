@@ -149,11 +149,7 @@ fn garni(cases: &mut Vec<Case>) -> Result<(), String> {
     verdict_case(
         cases,
         format!("{file}: class 1 ascent"),
-        if r.classes[0].feasible {
-            "feasible"
-        } else {
-            "infeasible"
-        },
+        feasibility_word(r.classes[0].feasible),
         format!("feasible (psi {psi:.2}° < {cone:.2}°, Fig. 2.36)"),
         r.classes[0].feasible && psi < cone,
     );
@@ -188,11 +184,7 @@ fn golden_queen(cases: &mut Vec<Case>) -> Result<(), String> {
     verdict_case(
         cases,
         format!("{file}: class 1 ascent"),
-        if r.classes[0].feasible {
-            "feasible"
-        } else {
-            "infeasible"
-        },
+        feasibility_word(r.classes[0].feasible),
         format!("feasible (largest psi {worst:.2}° < {cone:.2}°, Fig. 2.44)"),
         r.classes[0].feasible && worst < cone,
     );
@@ -264,11 +256,7 @@ fn shortest_infeasible(cases: &mut Vec<Case>) -> Result<(), String> {
     verdict_case(
         cases,
         format!("{file}: class 2 ascent"),
-        if r.classes[1].feasible {
-            "feasible"
-        } else {
-            "infeasible"
-        },
+        feasibility_word(r.classes[1].feasible),
         format!("feasible (largest psi {worst:.2}° < {cone:.2}°)"),
         r.classes[1].feasible,
     );
@@ -402,4 +390,9 @@ fn paper_case(file: &str, feasible: Option<bool>, cases: &mut Vec<Case>) -> Resu
         ));
     }
     Ok(())
+}
+
+/// The word a verdict row prints for a feasibility result.
+fn feasibility_word(feasible: bool) -> &'static str {
+    if feasible { "feasible" } else { "infeasible" }
 }
