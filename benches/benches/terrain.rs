@@ -2,19 +2,17 @@
 //! target under 1 s. The grid is synthesised from the real Mars HiRISE patch in
 //! `fixtures/terrain/`: its roughness (heights minus their plane) mirror-tiled over a convex
 //! three-plane crater wall whose fall line is off the grid axes
-//! ([`rappel_geometry::terrain::synthetic::textured_wall`]). Besides the whole pipeline, its
+//! ([`rappel_terrain::synthetic::textured_wall`]). Besides the whole pipeline, its
 //! stages are timed alone: Horn slopes, the plane series, obstacle detection.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use rappel_geometry::terrain::dem::{HeightGrid, read_dem};
-use rappel_geometry::terrain::frame::PlanningFrame;
-use rappel_geometry::terrain::ingest::{IngestOptions, ingest};
-use rappel_geometry::terrain::obstacle_detection::{
-    ObstacleOptions, ReferencePlane, detect_obstacles,
-};
-use rappel_geometry::terrain::plane_fit::{PlaneFitOptions, fit_plane_series};
-use rappel_geometry::terrain::slope::SlopeField;
-use rappel_geometry::terrain::synthetic::textured_wall;
+use rappel_terrain::dem::{HeightGrid, read_dem};
+use rappel_terrain::frame::PlanningFrame;
+use rappel_terrain::ingest::{IngestOptions, ingest};
+use rappel_terrain::obstacle_detection::{ObstacleOptions, ReferencePlane, detect_obstacles};
+use rappel_terrain::plane_fit::{PlaneFitOptions, fit_plane_series};
+use rappel_terrain::slope::SlopeField;
+use rappel_terrain::synthetic::textured_wall;
 use std::hint::black_box;
 
 /// The real Mars patch the texture comes from.

@@ -4,8 +4,8 @@
 
 use crate::output::{CliError, print_json, write_file};
 use rappel::dem::{dem_picture, dem_scenario};
-use rappel::geometry::terrain::ingest::IngestOptions;
 use rappel::scenario::Format;
+use rappel::terrain::ingest::IngestOptions;
 use std::path::PathBuf;
 
 /// Arguments of `rappel dem`.

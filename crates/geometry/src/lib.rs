@@ -11,4 +11,3 @@ pub mod polygon;
 pub mod predicates;
 pub mod region;
 pub mod spatial_grid;
-pub mod terrain;

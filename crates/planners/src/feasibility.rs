@@ -305,7 +305,7 @@ struct Climb<'c, 'a> {
 /// ```
 /// use nalgebra::Point2;
 /// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
-/// use rappel_geometry::terrain::plane_series::TerrainPlane;
+/// use rappel_terrain::plane_series::TerrainPlane;
 /// use rappel_mechanics::friction_cone::TetherFrictionCone;
 /// use rappel_planners::feasibility::{check_feasibility, FeasibilityContext};
 /// use rappel_planners::spt::SptPlanner;

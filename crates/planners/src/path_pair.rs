@@ -417,7 +417,7 @@ pub struct PairPlan {
 /// ```
 /// use nalgebra::Point2;
 /// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
-/// use rappel_geometry::terrain::plane_series::TerrainPlane;
+/// use rappel_terrain::plane_series::TerrainPlane;
 /// use rappel_mechanics::friction_cone::TetherFrictionCone;
 /// use rappel_planners::feasibility::FeasibilityContext;
 /// use rappel_planners::path_pair::plan_path_pair;

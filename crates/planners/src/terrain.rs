@@ -1,6 +1,6 @@
 //! The terrain under the Chapter-2 planner (thesis §2.1.2, §2.4.4; Kumar's multi-surface
 //! environment): a series of planes down the fall line, unfolded isometrically into the map frame
-//! ([`rappel_geometry::terrain::plane_series`]: `x` across the slope, `y` up it, plane bands listed
+//! ([`rappel_terrain::plane_series`]: `x` across the slope, `y` up it, plane bands listed
 //! top first and meeting edge to edge), with the tether limit of each plane from a traversability
 //! model ([`AnchorTraversability`]).
 //!
@@ -16,9 +16,9 @@
 //! without planes is flat ground: one tether-free plane (thesis §2.2.4).
 
 use nalgebra::Point2;
-use rappel_geometry::terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
 use rappel_mechanics::anchor_traversability::{AnchorTraversability, TetherLimit};
 use rappel_mechanics::robot::{RobotError, SlopePlane};
+use rappel_terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
 
 /// Why a plane series cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -40,7 +40,7 @@ pub enum TerrainError {
 ///
 /// ```
 /// use nalgebra::Point2;
-/// use rappel_geometry::terrain::plane_series::TerrainPlane;
+/// use rappel_terrain::plane_series::TerrainPlane;
 /// use rappel_mechanics::friction_cone::TetherFrictionCone;
 /// use rappel_planners::terrain::PlaneSeries;
 /// let planes = [

@@ -10,7 +10,6 @@ use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::Polygon;
-use rappel_geometry::terrain::plane_series::TerrainPlane;
 use rappel_homotopy::crossing::CrossingSequence;
 use rappel_homotopy::path::Path;
 use rappel_mechanics::friction_cone::TetherFrictionCone;
@@ -20,6 +19,7 @@ use rappel_planners::feasibility::{
 use rappel_planners::path_pair::{path_pair, plan_path_pair};
 use rappel_planners::spt::{SearchOptions, SptPlanner};
 use rappel_planners::terrain::PlaneSeries;
+use rappel_terrain::plane_series::TerrainPlane;
 
 /// Alg. 5 on `taut` with the point-robot friction cone on `planes` and a 0.5 m clearance.
 fn check_on_planes(

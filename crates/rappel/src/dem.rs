@@ -5,10 +5,8 @@
 
 use crate::scenario::{RobotParams, Scenario, Terrain};
 use crate::svg::{Layer, Marker, Picture};
-use rappel_geometry::terrain::dem::{DemError, read_dem};
-use rappel_geometry::terrain::ingest::{
-    IngestError, IngestOptions, IngestSummary, Ingested, ingest,
-};
+use rappel_terrain::dem::{DemError, read_dem};
+use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
 use std::path::Path;
 
 /// Largest number of shaded cells drawn per picture side; bigger grids are drawn subsampled.
@@ -49,7 +47,7 @@ impl DemScenario {
 ///
 /// ```
 /// use rappel::dem::dem_scenario;
-/// use rappel::geometry::terrain::ingest::IngestOptions;
+/// use rappel::terrain::ingest::IngestOptions;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
 /// let d = dem_scenario(path.as_ref(), &IngestOptions::default()).unwrap();
 /// d.scenario.validate().unwrap();

@@ -3,7 +3,7 @@
 
 use crate::scenario::{RobotParams, Scenario, Terrain};
 use rappel_geometry::generate::{CraterStripOptions, GenerateError, crater_strip};
-use rappel_geometry::terrain::plane_series::TerrainPlane;
+use rappel_terrain::plane_series::TerrainPlane;
 
 /// Slope of the single plane of a generated strip, degrees.
 pub const GENERATED_SLOPE_DEG: f64 = 45.0;

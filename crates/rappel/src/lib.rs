@@ -50,3 +50,4 @@ pub use rappel_geometry as geometry;
 pub use rappel_homotopy as homotopy;
 pub use rappel_mechanics as mechanics;
 pub use rappel_planners as planners;
+pub use rappel_terrain as terrain;

@@ -5,7 +5,7 @@
 
 use nalgebra::Point2;
 use rappel_geometry::map::{Map, MapError};
-use rappel_geometry::terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
+use rappel_terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

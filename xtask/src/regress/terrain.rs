@@ -8,9 +8,9 @@
 use super::{Case, workspace_root};
 use rappel::btm_summary::summarize_btm;
 use rappel::dem::dem_scenario;
-use rappel::geometry::terrain::ingest::{IngestOptions, IngestSummary};
 use rappel::plan::{PlanOptions, plan};
 use rappel::scenario::Scenario;
+use rappel::terrain::ingest::{IngestOptions, IngestSummary};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;

@@ -36,13 +36,13 @@
 //! **Clusters.** Raised cells, 8-connected, form the tether obstacles; sunken cells, 8-connected,
 //! the robot obstacles (the separate robot-obstacle layer); unknown (NODATA) cells, 8-connected,
 //! the unknown regions. The planning map replaces each cluster by its convex hull (§2.1.2: the taut
-//! tether only touches reflex vertices), see [`crate::terrain::ingest`].
+//! tether only touches reflex vertices), see [`crate::ingest`].
 
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
-use super::dem::{GridGeometry, HeightGrid};
-use super::least_squares::PlaneStats;
+use crate::dem::{GridGeometry, HeightGrid};
+use crate::least_squares::PlaneStats;
 
 /// Default `H_min`, metres (thesis §2.5.2): smaller height differences are not obstacles.
 pub const DEFAULT_H_MIN_M: f64 = 0.2;
@@ -205,8 +205,8 @@ impl ObstacleDetection {
 /// row-major order of their first cell.
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::GridGeometry;
-/// use rappel_geometry::terrain::obstacle_detection::connected_components;
+/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::obstacle_detection::connected_components;
 /// let g = GridGeometry::new(3, 4, 1.0, 1.0, 0.0, 3.0).unwrap();
 /// // x . . x
 /// // . x . x
@@ -373,10 +373,10 @@ fn height_above_ground(
 ///
 /// ```
 /// use nalgebra::Vector2;
-/// use rappel_geometry::terrain::dem::GridGeometry;
-/// use rappel_geometry::terrain::obstacle_detection::{detect_obstacles, ObstacleOptions, ReferencePlane};
-/// use rappel_geometry::terrain::slope::FallLine;
-/// use rappel_geometry::terrain::synthetic::{plane_series_dem, with_box, ProfilePlane};
+/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::obstacle_detection::{detect_obstacles, ObstacleOptions, ReferencePlane};
+/// use rappel_terrain::slope::FallLine;
+/// use rappel_terrain::synthetic::{plane_series_dem, with_box, ProfilePlane};
 /// let g = GridGeometry::new(30, 30, 1.0, 1.0, 0.0, 30.0).unwrap();
 /// let south = FallLine::from_azimuth(180.0).unwrap();
 /// let slope = plane_series_dem(g, &south, 100.0, &[ProfilePlane::new(100.0, 30.0)]).unwrap();

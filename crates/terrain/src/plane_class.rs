@@ -22,7 +22,7 @@ pub enum PlaneClass {
 /// Classifies a plane of slope `slope_deg` for wheel-terrain friction `friction` (`mu`).
 ///
 /// ```
-/// use rappel_geometry::terrain::plane_class::{classify_plane, PlaneClass};
+/// use rappel_terrain::plane_class::{classify_plane, PlaneClass};
 /// // mu = 0.4 holds up to atan(0.4) = 21.8 degrees.
 /// assert_eq!(classify_plane(20.0, 0.4), PlaneClass::TetherFree);
 /// assert_eq!(classify_plane(45.0, 0.4), PlaneClass::TetherDemand);

@@ -3,7 +3,7 @@
 //! eta_1, ..., eta_np", progressively steeper going down.
 //!
 //! Method (bottom-up segmentation of the fall-line profile):
-//! 1. In the horizontal frame `(t, s)` of [`crate::terrain::frame`] (`s` up the fall line), the
+//! 1. In the horizontal frame `(t, s)` of [`crate::frame`] (`s` up the fall line), the
 //!    known cells are cut into bands of equal width along `s`.
 //! 2. Each band gets the least-squares plane `z = a + b s + c t`; `b` is the gradient along the fall
 //!    line, `c` across it. Fits are kept as sufficient statistics (sums of products), so the fit of
@@ -30,9 +30,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::dem::HeightGrid;
-use super::frame::PlanningFrame;
-use super::least_squares::{LsqPlane, PlaneStats};
+use crate::dem::HeightGrid;
+use crate::frame::PlanningFrame;
+use crate::least_squares::{LsqPlane, PlaneStats};
 
 /// Default width of the bands, in cells (of the larger cell size).
 pub const DEFAULT_BAND_CELLS: f64 = 10.0;
@@ -228,11 +228,11 @@ fn cheapest_pair(
 /// Fits the convex plane series of `dem` along the fall line of `frame` (see the module docs).
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::GridGeometry;
-/// use rappel_geometry::terrain::frame::PlanningFrame;
-/// use rappel_geometry::terrain::plane_fit::{fit_plane_series, PlaneFitOptions};
-/// use rappel_geometry::terrain::slope::FallLine;
-/// use rappel_geometry::terrain::synthetic::{plane_series_dem, ProfilePlane};
+/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::frame::PlanningFrame;
+/// use rappel_terrain::plane_fit::{fit_plane_series, PlaneFitOptions};
+/// use rappel_terrain::slope::FallLine;
+/// use rappel_terrain::synthetic::{plane_series_dem, ProfilePlane};
 /// // 40 m (horizontal) at 20 degrees above 40 m at 35 degrees, falling to the south.
 /// let g = GridGeometry::new(80, 30, 1.0, 1.0, 0.0, 80.0).unwrap();
 /// let planes = [ProfilePlane::new(40.0, 20.0), ProfilePlane::new(40.0, 35.0)];

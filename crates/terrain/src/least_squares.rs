@@ -93,7 +93,7 @@ impl PlaneStats {
     /// without spread along `v` (all on one line along `u`) get `grad_v = 0`.
     ///
     /// ```
-    /// use rappel_geometry::terrain::least_squares::PlaneStats;
+    /// use rappel_terrain::least_squares::PlaneStats;
     /// let mut st = PlaneStats::default();
     /// for (u, v) in [(0., 0.), (1., 0.), (0., 1.), (1., 1.)] {
     ///     st.add(u, v, 2.0 + 3.0 * u - v);

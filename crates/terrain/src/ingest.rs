@@ -4,20 +4,20 @@
 //! remove obstacles that sink below the plane"; §2.5.2-2.5.3: obstacle hulls written as a map).
 //!
 //! [`ingest`] runs the whole pipeline:
-//! 1. slope analysis by Horn's method and the fall line ([`crate::terrain::slope`]), unless the
+//! 1. slope analysis by Horn's method and the fall line ([`crate::slope`]), unless the
 //!    fall line is given;
-//! 2. the convex plane series along the fall line ([`crate::terrain::plane_fit`]) and the unfolded
-//!    planning frame ([`crate::terrain::frame`]);
+//! 2. the convex plane series along the fall line ([`crate::plane_fit`]) and the unfolded
+//!    planning frame ([`crate::frame`]);
 //! 3. obstacle detection relative to the plane under each cell
-//!    ([`crate::terrain::obstacle_detection`]);
+//!    ([`crate::obstacle_detection`]);
 //! 4. each cluster replaced by the convex hull of its cells' corners in the planning frame; the
 //!    tether obstacles, inside the unfolded sampled footprint of the grid (see
-//!    [`crate::terrain::frame`]), normalised into a valid [`Map`] ([`crate::normalize`] in hull
+//!    [`crate::frame`]), normalised into a valid [`Map`] ([`crate::normalize`] in hull
 //!    mode: overlapping hulls merged into the hull of their union, hulls touching the edge carved
 //!    out of the boundary); the negative obstacles merged likewise into the separate
 //!    robot-obstacle layer;
 //! 5. the planes classified tether-free or tether-demand for the given friction
-//!    ([`crate::terrain::plane_class`]);
+//!    ([`crate::plane_class`]);
 //! 6. a suggested start near the top and goal near the bottom, in free space (or the given ones,
 //!    checked).
 //!
@@ -27,18 +27,18 @@
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use super::dem::{GridGeometry, HeightGrid, Raster};
-use super::frame::PlanningFrame;
-use super::obstacle_detection::{
+use crate::dem::{GridGeometry, HeightGrid, Raster};
+use crate::frame::PlanningFrame;
+use crate::obstacle_detection::{
     ObstacleDetection, ObstacleError, ObstacleOptions, ReferencePlane, detect_obstacles,
 };
-use super::plane_class::{PlaneClass, classify_plane};
-use super::plane_fit::{FittedPlane, PlaneFitError, PlaneFitOptions, fit_plane_series};
-use super::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
-use super::slope::{FallLine, HillshadeOptions, SlopeError, SlopeField};
-use crate::map::{Map, MapError};
-use crate::normalize::{NormalizeOptions, NormalizeReport, normalize};
-use crate::polygon::{PointInPolygon, Polygon, convex_hull};
+use crate::plane_class::{PlaneClass, classify_plane};
+use crate::plane_fit::{FittedPlane, PlaneFitError, PlaneFitOptions, fit_plane_series};
+use crate::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
+use crate::slope::{FallLine, HillshadeOptions, SlopeError, SlopeField};
+use rappel_geometry::map::{Map, MapError};
+use rappel_geometry::normalize::{NormalizeOptions, NormalizeReport, normalize};
+use rappel_geometry::polygon::{PointInPolygon, Polygon, convex_hull};
 
 /// Default wheel-terrain friction `mu` (thesis §2.5.4, Fig. 2.36: `mu = 0.4`).
 pub const DEFAULT_FRICTION: f64 = 0.4;
@@ -211,10 +211,10 @@ impl Ingested {
             obstacle_points: self.detection.classes.len()
                 - self
                     .detection
-                    .count(super::obstacle_detection::CellClass::Ground)
+                    .count(crate::obstacle_detection::CellClass::Ground)
                 - self
                     .detection
-                    .count(super::obstacle_detection::CellClass::Unknown),
+                    .count(crate::obstacle_detection::CellClass::Unknown),
             tether_clusters: self.detection.tether_clusters.len(),
             tether_obstacles: self.map.obstacles.len(),
             robot_clusters: self.detection.robot_clusters.len(),
@@ -316,11 +316,11 @@ fn suggest(
 /// Turns a DEM into the ingredients of a planning scenario (see the module docs).
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::GridGeometry;
-/// use rappel_geometry::terrain::ingest::{ingest, IngestOptions};
-/// use rappel_geometry::terrain::plane_class::PlaneClass;
-/// use rappel_geometry::terrain::slope::FallLine;
-/// use rappel_geometry::terrain::synthetic::{plane_series_dem, with_box, ProfilePlane};
+/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::ingest::{ingest, IngestOptions};
+/// use rappel_terrain::plane_class::PlaneClass;
+/// use rappel_terrain::slope::FallLine;
+/// use rappel_terrain::synthetic::{plane_series_dem, with_box, ProfilePlane};
 /// let g = GridGeometry::new(60, 40, 1.0, 1.0, 0.0, 60.0).unwrap();
 /// let south = FallLine::from_azimuth(180.0).unwrap();
 /// let wall = plane_series_dem(g, &south, 300.0, &[ProfilePlane::new(100.0, 45.0)]).unwrap();

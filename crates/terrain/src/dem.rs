@@ -12,8 +12,8 @@ use nalgebra::Point2;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-use super::esri_ascii::{EsriAsciiError, parse_esri_ascii};
-use super::geotiff::{GeoTiffError, decode_geotiff};
+use crate::esri_ascii::{EsriAsciiError, parse_esri_ascii};
+use crate::geotiff::{GeoTiffError, decode_geotiff};
 
 /// The largest grid accepted, in cells (2^27, about 134 million: one gigabyte of heights). Guards
 /// against headers that announce absurd sizes.
@@ -22,7 +22,7 @@ pub const MAX_CELLS: usize = 1 << 27;
 /// The shape and georeference of a grid: how many cells, how large, and where.
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::GridGeometry;
+/// use rappel_terrain::dem::GridGeometry;
 /// let g = GridGeometry::new(3, 2, 1.0, 1.0, 100.0, 50.0).unwrap();
 /// assert_eq!(g.len(), 6);
 /// assert_eq!(g.cell_center(0, 0), nalgebra::Point2::new(100.5, 49.5));
@@ -302,7 +302,7 @@ impl Raster {
 /// unknown. Construct with [`HeightGrid::new`], [`HeightGrid::from_fn`] or [`read_dem`].
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
 /// let g = GridGeometry::new(2, 2, 1.0, 1.0, 0.0, 2.0).unwrap();
 /// let dem = HeightGrid::new(g, vec![1.0, 2.0, f64::NAN, 4.0]).unwrap();
 /// assert_eq!(dem.height(0, 1), Some(2.0));
@@ -341,7 +341,7 @@ impl HeightGrid {
     /// (`None` = unknown).
     ///
     /// ```
-    /// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
+    /// use rappel_terrain::dem::{GridGeometry, HeightGrid};
     /// let g = GridGeometry::new(4, 4, 1.0, 1.0, 0.0, 4.0).unwrap();
     /// let dem = HeightGrid::from_fn(g, |_, _, p| Some(p.y)).unwrap();
     /// assert_eq!(dem.height(0, 0), Some(3.5));
@@ -437,11 +437,11 @@ pub enum DemError {
 }
 
 /// Reads a DEM, choosing the reader by extension (case-insensitive): `.asc` for an ESRI ASCII grid
-/// ([`crate::terrain::esri_ascii`]), `.tif` / `.tiff` for a single-band GeoTIFF
-/// ([`crate::terrain::geotiff`]).
+/// ([`crate::esri_ascii`]), `.tif` / `.tiff` for a single-band GeoTIFF
+/// ([`crate::geotiff`]).
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::read_dem;
+/// use rappel_terrain::dem::read_dem;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
 /// let dem = read_dem(path).unwrap();
 /// assert_eq!((dem.geometry().nrows, dem.geometry().ncols), (120, 70));

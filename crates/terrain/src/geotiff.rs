@@ -17,7 +17,7 @@ use tiff::ColorType;
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::tags::Tag;
 
-use super::dem::{GridError, GridGeometry, HeightGrid};
+use crate::dem::{GridError, GridGeometry, HeightGrid};
 
 /// `GTRasterTypeGeoKey` in the GeoKey directory.
 const GT_RASTER_TYPE_GEO_KEY: u16 = 1025;
@@ -185,7 +185,7 @@ fn to_heights(data: DecodingResult, nodata: Option<f64>) -> Vec<f64> {
 /// Decodes a single-band GeoTIFF DEM from any seekable reader (see the module docs).
 ///
 /// ```
-/// use rappel_geometry::terrain::geotiff::decode_geotiff;
+/// use rappel_terrain::geotiff::decode_geotiff;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.tif");
 /// let dem = decode_geotiff(std::fs::File::open(path).unwrap()).unwrap();
 /// assert_eq!((dem.geometry().nrows, dem.geometry().ncols), (120, 70));

@@ -5,14 +5,14 @@
 
 use nalgebra::Point2;
 use rappel_geometry::map::MapError;
-use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid, read_dem};
-use rappel_geometry::terrain::ingest::{IngestError, IngestOptions, Ingested, ingest};
-use rappel_geometry::terrain::obstacle_detection::{ObstacleError, ObstacleOptions};
-use rappel_geometry::terrain::plane_class::PlaneClass;
-use rappel_geometry::terrain::plane_fit::{PlaneFitError, PlaneFitOptions};
-use rappel_geometry::terrain::plane_series::validate_planes;
-use rappel_geometry::terrain::slope::{FallLine, SlopeError};
-use rappel_geometry::terrain::synthetic::{ProfilePlane, plane_series_dem, textured_wall};
+use rappel_terrain::dem::{GridGeometry, HeightGrid, read_dem};
+use rappel_terrain::ingest::{IngestError, IngestOptions, Ingested, ingest};
+use rappel_terrain::obstacle_detection::{ObstacleError, ObstacleOptions};
+use rappel_terrain::plane_class::PlaneClass;
+use rappel_terrain::plane_fit::{PlaneFitError, PlaneFitOptions};
+use rappel_terrain::plane_series::validate_planes;
+use rappel_terrain::slope::{FallLine, SlopeError};
+use rappel_terrain::synthetic::{ProfilePlane, plane_series_dem, textured_wall};
 
 fn fixture(name: &str) -> HeightGrid {
     read_dem(format!(
@@ -113,7 +113,7 @@ fn describe(name: &str, out: &Ingested) {
 }
 
 fn classify(slope_deg: f64) -> PlaneClass {
-    rappel_geometry::terrain::plane_class::classify_plane(slope_deg, 0.4)
+    rappel_terrain::plane_class::classify_plane(slope_deg, 0.4)
 }
 
 #[test]

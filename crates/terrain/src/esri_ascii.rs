@@ -18,7 +18,7 @@
 
 use std::fmt::Write as _;
 
-use super::dem::{GridError, GridGeometry, HeightGrid, MAX_CELLS};
+use crate::dem::{GridError, GridGeometry, HeightGrid, MAX_CELLS};
 
 /// Longest excerpt of offending text quoted in an error.
 const MAX_QUOTED_CHARS: usize = 40;
@@ -178,7 +178,7 @@ struct Entry<'a> {
 /// Parses an ESRI ASCII grid from its bytes (see the module docs for the format).
 ///
 /// ```
-/// use rappel_geometry::terrain::esri_ascii::parse_esri_ascii;
+/// use rappel_terrain::esri_ascii::parse_esri_ascii;
 /// let text = "NCOLS 3\nnrows 2\nxllcenter 0.5\nyllcenter 0.5\ncellsize 1\nnodata_value -9999\n\
 ///             1 2 3\n4 -9999\n6\n";
 /// let dem = parse_esri_ascii(text.as_bytes()).unwrap();
@@ -357,8 +357,8 @@ pub fn parse_esri_ascii(bytes: &[u8]) -> Result<HeightGrid, EsriAsciiError> {
 /// their shortest exact form, so [`parse_esri_ascii`] reads back the same grid.
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
-/// use rappel_geometry::terrain::esri_ascii::{parse_esri_ascii, write_esri_ascii};
+/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::esri_ascii::{parse_esri_ascii, write_esri_ascii};
 /// let g = GridGeometry::new(2, 2, 0.5, 0.5, 10.0, 20.0).unwrap();
 /// let dem = HeightGrid::new(g, vec![1.25, f64::NAN, 3.0, -4.5]).unwrap();
 /// let text = write_esri_ascii(&dem, -9999.0);

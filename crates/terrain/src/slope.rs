@@ -20,12 +20,12 @@
 //! the downhill direction `-grad z`. The **fall line** of the whole grid is the mean downhill
 //! direction: the direction of `-mean(grad z)` over known cells, which is also the downhill
 //! direction of the least-squares plane through a complete grid. It defines the planning frame's
-//! `-y` axis (see [`crate::terrain::frame`]).
+//! `-y` axis (see [`crate::frame`]).
 
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
-use super::dem::{GridGeometry, HeightGrid, Raster};
+use crate::dem::{GridGeometry, HeightGrid, Raster};
 
 /// Below this slope (degrees) of the mean gradient the terrain has no fall line: it is flat on the
 /// whole, and any direction is as good as another. Give the fall line explicitly for such terrain.
@@ -82,7 +82,7 @@ impl FallLine {
     /// The fall line pointing down towards compass azimuth `azimuth_deg` (clockwise from north).
     ///
     /// ```
-    /// use rappel_geometry::terrain::slope::FallLine;
+    /// use rappel_terrain::slope::FallLine;
     /// let south = FallLine::from_azimuth(180.0).unwrap();
     /// assert!((south.downhill.y + 1.0).abs() < 1e-12);
     /// assert!((south.azimuth_deg() - 180.0).abs() < 1e-9);
@@ -155,8 +155,8 @@ impl SlopeField {
     /// The gradient of every cell of `dem` by Horn's method (see the module docs).
     ///
     /// ```
-    /// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
-    /// use rappel_geometry::terrain::slope::SlopeField;
+    /// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+    /// use rappel_terrain::slope::SlopeField;
     /// // z = 0.5 * north: a 26.57 degree slope facing south.
     /// let g = GridGeometry::new(5, 5, 1.0, 1.0, 0.0, 5.0).unwrap();
     /// let dem = HeightGrid::from_fn(g, |_, _, p| Some(0.5 * p.y)).unwrap();
@@ -271,8 +271,8 @@ impl SlopeField {
     /// `[0, 1]` (0 in shadow); NaN where the gradient is unknown.
     ///
     /// ```
-    /// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
-    /// use rappel_geometry::terrain::slope::{HillshadeOptions, SlopeField};
+    /// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+    /// use rappel_terrain::slope::{HillshadeOptions, SlopeField};
     /// let g = GridGeometry::new(3, 3, 1.0, 1.0, 0.0, 3.0).unwrap();
     /// let flat = HeightGrid::from_fn(g, |_, _, _| Some(7.0)).unwrap();
     /// let hs = SlopeField::horn(&flat).hillshade(&HillshadeOptions::default());

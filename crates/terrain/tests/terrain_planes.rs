@@ -4,11 +4,11 @@
 //! documentation says, and the unfolded frame is an isometry on each plane.
 
 use nalgebra::Point2;
-use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
-use rappel_geometry::terrain::frame::PlanningFrame;
-use rappel_geometry::terrain::plane_fit::{PlaneFitOptions, PlaneSeriesFit, fit_plane_series};
-use rappel_geometry::terrain::slope::{FallLine, SlopeField};
-use rappel_geometry::terrain::synthetic::{ProfilePlane, plane_series_dem};
+use rappel_terrain::dem::{GridGeometry, HeightGrid};
+use rappel_terrain::frame::PlanningFrame;
+use rappel_terrain::plane_fit::{PlaneFitOptions, PlaneSeriesFit, fit_plane_series};
+use rappel_terrain::slope::{FallLine, SlopeField};
+use rappel_terrain::synthetic::{ProfilePlane, plane_series_dem};
 
 /// A profile DEM on a `n x n` grid of 1 m cells falling towards `azimuth`, and its fit.
 fn fit(

@@ -8,11 +8,11 @@
 use nalgebra::Point2;
 use proptest::prelude::*;
 use rappel_geometry::polygon::{Polygon, convex_hull};
-use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
-use rappel_geometry::terrain::ingest::{IngestOptions, Ingested, UnknownPolicy, ingest};
-use rappel_geometry::terrain::obstacle_detection::{CellClass, ObstacleOptions};
-use rappel_geometry::terrain::slope::FallLine;
-use rappel_geometry::terrain::synthetic::{self, ProfilePlane, plane_series_dem};
+use rappel_terrain::dem::{GridGeometry, HeightGrid};
+use rappel_terrain::ingest::{IngestOptions, Ingested, UnknownPolicy, ingest};
+use rappel_terrain::obstacle_detection::{CellClass, ObstacleOptions};
+use rappel_terrain::slope::FallLine;
+use rappel_terrain::synthetic::{self, ProfilePlane, plane_series_dem};
 use std::ops::Range;
 
 /// A 20 degree slope falling south-south-west, 60 x 50 cells of 1 m.

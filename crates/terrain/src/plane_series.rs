@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 /// One plane of the series: a band of the unfolded frame with its slope and wheel friction.
 ///
 /// ```
-/// use rappel_geometry::terrain::plane_series::TerrainPlane;
+/// use rappel_terrain::plane_series::TerrainPlane;
 /// let p = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
 /// assert!(p.contains_y(50.0));
 /// ```
@@ -106,7 +106,7 @@ pub enum PlaneSeriesError {
 /// listed top first and meeting edge to edge. An empty series is valid (no terrain given).
 ///
 /// ```
-/// use rappel_geometry::terrain::plane_series::{validate_planes, TerrainPlane};
+/// use rappel_terrain::plane_series::{validate_planes, TerrainPlane};
 /// let planes = [
 ///     TerrainPlane { y_top: 100.0, y_bottom: 40.0, slope_deg: 35.0, friction: 0.5 },
 ///     TerrainPlane { y_top: 40.0, y_bottom: 0.0, slope_deg: 50.0, friction: 0.5 },

@@ -1,6 +1,6 @@
 //! The unfolded planning frame of a DEM (thesis §2.1.2, Fig. 2.3): the transform from world
 //! coordinates `(east, north)` of the grid to the planar map frame of
-//! [`crate::terrain::plane_series`], where `x` runs across the slope and `y` up it, so that the fall
+//! [`crate::plane_series`], where `x` runs across the slope and `y` up it, so that the fall
 //! line is `-y`.
 //!
 //! Construction, in two steps:
@@ -22,8 +22,8 @@
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use super::dem::GridGeometry;
-use super::slope::FallLine;
+use crate::dem::GridGeometry;
+use crate::slope::FallLine;
 
 /// One piece of the unfolding: from horizontal distance `s_start` up to the next piece's start,
 /// `y = y_start + (s - s_start) * stretch`.
@@ -41,8 +41,8 @@ pub struct UnfoldPiece {
 ///
 /// ```
 /// use nalgebra::Point2;
-/// use rappel_geometry::terrain::frame::PlanningFrame;
-/// use rappel_geometry::terrain::slope::FallLine;
+/// use rappel_terrain::frame::PlanningFrame;
+/// use rappel_terrain::slope::FallLine;
 /// // Downhill to the south: uphill is north, across is east.
 /// let f = PlanningFrame::new(&FallLine::from_azimuth(180.0).unwrap(), Point2::new(100.0, 50.0));
 /// let p = f.to_planning(&Point2::new(103.0, 54.0));
@@ -97,8 +97,8 @@ impl PlanningFrame {
     ///
     /// ```
     /// use nalgebra::Point2;
-    /// use rappel_geometry::terrain::frame::PlanningFrame;
-    /// use rappel_geometry::terrain::slope::FallLine;
+    /// use rappel_terrain::frame::PlanningFrame;
+    /// use rappel_terrain::slope::FallLine;
     /// let f = PlanningFrame::new(&FallLine::from_azimuth(180.0).unwrap(), Point2::origin())
     ///     .unfolded(&[(0.0, 60.0), (10.0, 0.0)]);
     /// // 10 m of horizontal run at 60 degrees is 20 m of ground.
@@ -276,7 +276,7 @@ mod tests {
         let fl = FallLine::from_azimuth(200.0).unwrap();
         let f = PlanningFrame::for_grid(&g, &fl).unfolded(&[(0.0, 10.0), (4.0, 40.0)]);
         let fp = f.footprint(&g);
-        let poly = crate::polygon::Polygon::new(fp.clone());
+        let poly = rappel_geometry::polygon::Polygon::new(fp.clone());
         assert!(poly.is_counter_clockwise());
         // 4 corners plus two crossings of the break line s = 4.
         assert_eq!(fp.len(), 6);

@@ -6,10 +6,10 @@
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
-use super::dem::{GridError, GridGeometry, HeightGrid};
-use super::frame::PlanningFrame;
-use super::least_squares::PlaneStats;
-use super::slope::FallLine;
+use crate::dem::{GridError, GridGeometry, HeightGrid};
+use crate::frame::PlanningFrame;
+use crate::least_squares::PlaneStats;
+use crate::slope::FallLine;
 
 /// One plane of a synthetic profile: its horizontal run along the fall line and its slope.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -31,7 +31,7 @@ impl ProfilePlane {
 /// first; beyond the last plane its slope continues).
 ///
 /// ```
-/// use rappel_geometry::terrain::synthetic::{profile_drop, ProfilePlane};
+/// use rappel_terrain::synthetic::{profile_drop, ProfilePlane};
 /// let p = [ProfilePlane::new(10.0, 45.0), ProfilePlane::new(10.0, 0.0)];
 /// assert!((profile_drop(&p, 5.0) - 5.0).abs() < 1e-12);
 /// assert!((profile_drop(&p, 30.0) - 10.0).abs() < 1e-12);
@@ -56,12 +56,12 @@ pub fn profile_drop(planes: &[ProfilePlane], d: f64) -> f64 {
 
 /// A DEM of the profile `planes` (top first) falling along `fall_line`, at height `top_height`
 /// at the uphill-most cell centre (distances along the profile are measured from there, as in the
-/// planning frame of [`crate::terrain::frame`]).
+/// planning frame of [`crate::frame`]).
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::GridGeometry;
-/// use rappel_geometry::terrain::slope::FallLine;
-/// use rappel_geometry::terrain::synthetic::{plane_series_dem, ProfilePlane};
+/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::slope::FallLine;
+/// use rappel_terrain::synthetic::{plane_series_dem, ProfilePlane};
 /// let g = GridGeometry::new(10, 10, 1.0, 1.0, 0.0, 10.0).unwrap();
 /// let south = FallLine::from_azimuth(180.0).unwrap();
 /// let dem = plane_series_dem(g, &south, 100.0, &[ProfilePlane::new(100.0, 45.0)]).unwrap();
@@ -92,8 +92,8 @@ pub fn plane_series_dem(
 /// Errors when a raised height is not finite.
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
-/// use rappel_geometry::terrain::synthetic::with_box;
+/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::synthetic::with_box;
 /// let g = GridGeometry::new(4, 4, 1.0, 1.0, 0.0, 4.0).unwrap();
 /// let flat = HeightGrid::from_fn(g, |_, _, _| Some(0.0)).unwrap();
 /// let pit = with_box(&flat, 1..3, 1..3, -2.0).unwrap();
@@ -138,8 +138,8 @@ pub fn detrended(dem: &HeightGrid) -> Option<HeightGrid> {
 /// is continuous. Cells where either is unknown are unknown. Errors when a sum is not finite.
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
-/// use rappel_geometry::terrain::synthetic::tiled_texture;
+/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::synthetic::tiled_texture;
 /// let g = GridGeometry::new(2, 3, 1.0, 1.0, 0.0, 2.0).unwrap();
 /// let tex = HeightGrid::new(g, vec![1., 2., 3., 4., 5., 6.]).unwrap();
 /// let big = GridGeometry::new(4, 7, 1.0, 1.0, 0.0, 4.0).unwrap();
@@ -171,8 +171,8 @@ pub const TEXTURED_WALL_SLOPES_DEG: [f64; 3] = [15.0, 25.0, 35.0];
 /// fittable plane or the size is unusable.
 ///
 /// ```
-/// use rappel_geometry::terrain::dem::{GridGeometry, HeightGrid};
-/// use rappel_geometry::terrain::synthetic::textured_wall;
+/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::synthetic::textured_wall;
 /// let g = GridGeometry::new(8, 8, 1.0, 1.0, 0.0, 8.0).unwrap();
 /// let bumpy = HeightGrid::from_fn(g, |r, c, _| Some(((r * 3 + c * 5) % 7) as f64 * 0.1)).unwrap();
 /// let wall = textured_wall(&bumpy, 100, 60).unwrap();
