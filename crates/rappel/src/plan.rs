@@ -354,7 +354,7 @@ fn report_of(
                         reachable_area_m2: f
                             .reachable_sets
                             .iter()
-                            .find(|set| set.anchor == a.index)
+                            .find(|set| set.anchor == a.index && set.free_pieces_error.is_none())
                             .map(|set| set.free_pieces.iter().map(|(r, _)| r.area()).sum()),
                     })
                     .collect(),
