@@ -1,7 +1,7 @@
 //! `rappel btm FILE [--json] [--svg OUT]`: builds the BTM of a scenario's map, checks its
 //! invariants, prints a summary (or JSON) and optionally draws it.
 
-use crate::output::{CliError, print_json, write_file};
+use crate::output::{CliError, print_json, refuse_overwriting_inputs, write_file};
 use rappel::btm_summary::summarize_btm;
 use rappel::scenario::Scenario;
 use rappel::svg::Picture;
@@ -22,6 +22,9 @@ pub struct Args {
 
 /// Runs `rappel btm`.
 pub fn run(args: &Args) -> Result<(), CliError> {
+    if let Some(out) = &args.svg {
+        refuse_overwriting_inputs(out, &[&args.file])?;
+    }
     let s = Scenario::load(&args.file)?;
     let (btm, summary) =
         summarize_btm(&s.map).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;

@@ -1,5 +1,8 @@
 //! The `rappel` command: argument parsing and printing only; the work happens in the facade crate.
-//! Every subcommand lives in its own module; errors print one `error:` line on stderr and exit 2.
+//! Every subcommand lives in its own module. Exit codes: 0 = the answer is yes (a valid file, a
+//! feasible plan, homotopic paths, the output written), 1 = a clean no (no feasible class, not
+//! homotopic), 2 = an error (one `error:` line on stderr), including a report that could not be
+//! written to stdout.
 
 mod btm;
 mod dem;
@@ -11,6 +14,7 @@ mod stability;
 mod validate;
 
 use clap::{Parser, Subcommand};
+use output::{Answer, CliError};
 use std::process::ExitCode;
 
 /// Motion planning for tethered robots on extreme terrain.
@@ -43,18 +47,22 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let yes = |r: Result<(), CliError>| r.map(|()| Answer::Yes);
     let result = match cli.command {
-        Command::Validate(args) => validate::run(&args),
-        Command::Btm(args) => btm::run(&args),
-        Command::GenMap(args) => gen_map::run(&args),
-        Command::Dem(args) => dem::run(&args),
-        Command::Stability(args) => stability::run(&args),
-        Command::Shp(args) => shp::run(&args),
+        Command::Validate(args) => yes(validate::run(&args)),
+        Command::Btm(args) => yes(btm::run(&args)),
+        Command::GenMap(args) => yes(gen_map::run(&args)),
+        Command::Dem(args) => yes(dem::run(&args)),
+        Command::Stability(args) => yes(stability::run(&args)),
+        Command::Shp(args) => yes(shp::run(&args)),
         Command::Homotopic(args) => shp::run_homotopic(&args),
         Command::Plan(args) => plan::run(&args),
     };
+    // A report that did not reach stdout is a failure, whatever the answer was.
+    let result = result.and_then(|answer| output::finish_stdout().map(|()| answer));
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(Answer::Yes) => ExitCode::SUCCESS,
+        Ok(Answer::No) => ExitCode::from(1),
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)

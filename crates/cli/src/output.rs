@@ -1,8 +1,11 @@
-//! Shared output plumbing for subcommands: the error type (one line, exit code 2), JSON printing
-//! and atomic file writes, so no subcommand leaves a half-written file.
+//! Shared output plumbing for subcommands: the error type (one line, exit code 2), the answer a
+//! yes/no subcommand gives (exit 0 or 1), JSON printing, stdout that reports its write errors,
+//! the refusal to write over an input file, and atomic file writes, so no subcommand leaves a
+//! half-written file.
 
 use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 /// A subcommand failure: printed as one `error:` line, exit code 2.
 #[derive(Debug)]
@@ -18,6 +21,15 @@ impl<E: std::error::Error> From<E> for CliError {
     fn from(e: E) -> Self {
         CliError(e.to_string())
     }
+}
+
+/// The answer of a subcommand that asks a question: exit code 0 for yes, 1 for a clean no.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Answer {
+    /// A feasible plan, homotopic paths, a valid file: exit code 0.
+    Yes,
+    /// No feasible class, not homotopic: exit code 1.
+    No,
 }
 
 /// Prints a value as pretty JSON on stdout.
@@ -39,17 +51,126 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
     rappel::io::write_atomically(path, text.as_bytes()).map_err(cannot)
 }
 
-/// Prints a line on stdout; a closed pipe (`rappel ... | head`) ends the program quietly instead
-/// of panicking.
+/// The path `p` with symbolic links resolved: the file itself when it exists, else its existing
+/// parent directory joined with its name (an output file usually does not exist yet). `None`
+/// when neither can be resolved (then no existing file can be the same).
+fn resolved(p: &Path) -> Option<PathBuf> {
+    if let Ok(c) = std::fs::canonicalize(p) {
+        return Some(c);
+    }
+    let name = p.file_name()?;
+    let dir = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    Some(std::fs::canonicalize(dir).ok()?.join(name))
+}
+
+/// `true` when `a` and `b` name the same existing file (same device and inode: catches hard
+/// links too).
+#[cfg(unix)]
+fn same_inode(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt as _;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(not(unix))]
+fn same_inode(_: &Path, _: &Path) -> bool {
+    false
+}
+
+/// Refuses an output path that is one of the input paths, after resolving symbolic links (and,
+/// on Unix, hard links): `rappel btm S.ron --svg S.ron` must not overwrite the scenario. Call it
+/// before anything is written.
+pub fn refuse_overwriting_inputs(output: &Path, inputs: &[&Path]) -> Result<(), CliError> {
+    let out = resolved(output);
+    for input in inputs {
+        let same_path = out.is_some() && out == resolved(input);
+        if same_path || same_inode(output, input) {
+            return Err(CliError(format!(
+                "{}: the output would overwrite the input file {}; choose another output path",
+                output.display(),
+                input.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The first error met writing to stdout (kept so that the exit code can report it).
+static STDOUT_ERROR: OnceLock<String> = OnceLock::new();
+
+/// Records a write error on stdout; later writes are skipped.
+pub fn stdout_failed(e: &std::io::Error) {
+    let _ = STDOUT_ERROR.set(e.to_string());
+}
+
+/// `true` once a write to stdout has failed.
+pub fn stdout_has_failed() -> bool {
+    STDOUT_ERROR.get().is_some()
+}
+
+/// Flushes stdout and returns the first write error, if any: a report that did not reach its
+/// reader is a failure (exit code 2), whether stdout is a full disk (`/dev/full`) or a closed
+/// pipe. (A descriptor closed before the start, `>&-`, cannot be told apart: the Rust runtime
+/// reopens it on `/dev/null` before `main`.)
+pub fn finish_stdout() -> Result<(), CliError> {
+    use std::io::Write as _;
+    if let Err(e) = std::io::stdout().lock().flush() {
+        stdout_failed(&e);
+    }
+    match STDOUT_ERROR.get() {
+        Some(e) => Err(CliError(format!(
+            "cannot write to standard output: {e}; the output is incomplete"
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Prints a line on stdout. A failed write (a full disk, a closed pipe) is recorded and later
+/// lines are skipped; [`finish_stdout`] turns it into an error and exit code 2.
 #[macro_export]
 macro_rules! outln {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let mut out = std::io::stdout().lock();
-        if let Err(e) = writeln!(out, $($arg)*) {
-            if e.kind() == std::io::ErrorKind::BrokenPipe {
-                std::process::exit(0);
+        if !$crate::output::stdout_has_failed() {
+            let mut out = std::io::stdout().lock();
+            if let Err(e) = writeln!(out, $($arg)*) {
+                $crate::output::stdout_failed(&e);
             }
         }
     }};
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_output_equal_to_an_input_is_refused_through_links() {
+        let dir = std::env::temp_dir().join(format!("rappel-out-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let input = dir.join("s.ron");
+        std::fs::write(&input, "x").unwrap();
+        assert!(refuse_overwriting_inputs(&input, &[&input]).is_err());
+        let dotted = dir.join(".").join("s.ron");
+        assert!(refuse_overwriting_inputs(&dotted, &[&input]).is_err());
+        #[cfg(unix)]
+        {
+            let link = dir.join("link.svg");
+            let _ = std::fs::remove_file(&link);
+            std::os::unix::fs::symlink(&input, &link).unwrap();
+            assert!(refuse_overwriting_inputs(&link, &[&input]).is_err());
+            let hard = dir.join("hard.svg");
+            let _ = std::fs::remove_file(&hard);
+            std::fs::hard_link(&input, &hard).unwrap();
+            assert!(refuse_overwriting_inputs(&hard, &[&input]).is_err());
+        }
+        assert!(refuse_overwriting_inputs(&dir.join("other.svg"), &[&input]).is_ok());
+        assert!(refuse_overwriting_inputs(&dir.join("new/out.svg"), &[&input]).is_ok());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -2,9 +2,9 @@
 //! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
 //! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths.
-//! A scenario without a feasible class is an answer, not an error (exit 0, the reason printed).
+//! A scenario without a feasible class is an answer, not an error: exit code 1, the reason printed.
 
-use crate::output::{CliError, print_json, write_file};
+use crate::output::{Answer, CliError, print_json, refuse_overwriting_inputs, write_file};
 use rappel::plan::{PlanOptions, PlanReport, plan_detailed};
 use rappel::scenario::Scenario;
 use std::path::PathBuf;
@@ -14,7 +14,7 @@ use std::path::PathBuf;
 pub struct Args {
     /// The scenario file (.ron or .json).
     file: PathBuf,
-    /// How many homotopy classes to list, shortest first.
+    /// How many homotopy classes to list, shortest first (at most 1000).
     #[arg(long, value_name = "K", default_value_t = rappel::plan::DEFAULT_CLASSES)]
     classes: usize,
     /// List only classes at most F times longer than the shortest (F >= 1).
@@ -31,10 +31,20 @@ pub struct Args {
     svg: Option<PathBuf>,
 }
 
-/// Runs `rappel plan`.
-pub fn run(args: &Args) -> Result<(), CliError> {
+/// Runs `rappel plan`: [`Answer::Yes`] when a class is feasible and has an ascent/descent pair.
+pub fn run(args: &Args) -> Result<Answer, CliError> {
     if args.classes == 0 {
         return Err(CliError("--classes 0: list at least one class".into()));
+    }
+    if args.classes > rappel::plan::MAX_CLASSES {
+        return Err(CliError(format!(
+            "--classes {}: at most {} classes can be listed (each class costs a search, a feasibility check and its report)",
+            args.classes,
+            rappel::plan::MAX_CLASSES
+        )));
+    }
+    if let Some(out) = &args.svg {
+        refuse_overwriting_inputs(out, &[&args.file])?;
     }
     if let Some(f) = args.max_length_factor
         && !(f.is_finite() && f >= 1.0)
@@ -55,14 +65,20 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(out) = &args.svg {
         write_file(out, &plan.picture(&s))?;
     }
+    let answer = if plan.report.chosen.is_some() {
+        Answer::Yes
+    } else {
+        Answer::No
+    };
     if args.json {
-        return print_json(&plan.report);
+        print_json(&plan.report)?;
+        return Ok(answer);
     }
     print_report(&args.file.display().to_string(), &plan.report);
     if let Some(out) = &args.svg {
         crate::outln!("picture      {}", out.display());
     }
-    Ok(())
+    Ok(answer)
 }
 
 fn degrees(v: Option<f64>) -> String {

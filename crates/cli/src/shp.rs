@@ -1,10 +1,10 @@
 //! `rappel shp FILE --path PATH.json [--json] [--svg OUT]`: the shortest homotopic path (taut
 //! tether) of a path, with its length, anchors, reduced crossing sequence and H-signature; and
-//! `rappel homotopic FILE --path A.json --path B.json`: `homotopic` or `not homotopic` (exit 0
-//! either way). A path file is a JSON array of `[x, y]` points; a path that leaves free space is
+//! `rappel homotopic FILE --path A.json --path B.json`: `homotopic` (exit code 0) or `not
+//! homotopic` (exit code 1). A path file is a JSON array of `[x, y]` points; a path that leaves free space is
 //! bad input (exit 2, the segment named).
 
-use crate::output::{CliError, print_json, write_file};
+use crate::output::{Answer, CliError, print_json, refuse_overwriting_inputs, write_file};
 use rappel::geometry::btm::Btm;
 use rappel::homotopy::funnel::Side;
 use rappel::homotopy::homotopy::are_homotopic;
@@ -47,6 +47,9 @@ fn load_btm(file: &std::path::Path) -> Result<(Scenario, Btm), CliError> {
 
 /// Runs `rappel shp`.
 pub fn run(args: &Args) -> Result<(), CliError> {
+    if let Some(out) = &args.svg {
+        refuse_overwriting_inputs(out, &[&args.file, &args.path])?;
+    }
     let (s, btm) = load_btm(&args.file)?;
     let path = load_path(&args.path, &btm)?;
     let (shp, report) =
@@ -115,8 +118,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Runs `rappel homotopic`.
-pub fn run_homotopic(args: &HomotopicArgs) -> Result<(), CliError> {
+/// Runs `rappel homotopic`: [`Answer::Yes`] when the two paths are homotopic.
+pub fn run_homotopic(args: &HomotopicArgs) -> Result<Answer, CliError> {
     let [a, b] = args.path.as_slice() else {
         return Err(CliError(format!(
             "give exactly two --path files, not {}",
@@ -128,5 +131,5 @@ pub fn run_homotopic(args: &HomotopicArgs) -> Result<(), CliError> {
     let same = are_homotopic(&btm, &pa, &pb)
         .map_err(|e| CliError(format!("{} and {}: {e}", a.display(), b.display())))?;
     crate::outln!("{}", if same { "homotopic" } else { "not homotopic" });
-    Ok(())
+    Ok(if same { Answer::Yes } else { Answer::No })
 }

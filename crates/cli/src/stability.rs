@@ -2,7 +2,7 @@
 //! over the scenario's terrain planes, stable poses green and unstable red (Kumar Fig. 5); the
 //! JSON lists each dot with its margin.
 
-use crate::output::{CliError, print_json, write_file};
+use crate::output::{CliError, print_json, refuse_overwriting_inputs, write_file};
 use rappel::scenario::Scenario;
 use rappel::stability::{StabilityOptions, stability_over_scenario};
 use rappel::svg::{Layer, Marker, Picture};
@@ -29,6 +29,9 @@ pub struct Args {
 
 /// Runs `rappel stability`.
 pub fn run(args: &Args) -> Result<(), CliError> {
+    if let Some(out) = &args.svg {
+        refuse_overwriting_inputs(out, &[&args.file])?;
+    }
     let s = Scenario::load(&args.file)?;
     let options = StabilityOptions {
         grid_step: args.grid,

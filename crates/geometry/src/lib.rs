@@ -3,10 +3,13 @@
 //! 2-manifolds built as constrained Delaunay triangulations, point location and local updates.
 
 pub mod btm;
+pub mod compact;
 pub mod dcel;
+pub mod domain;
 pub mod generate;
 pub mod map;
 pub mod normalize;
+pub mod overlay;
 pub mod polygon;
 pub mod predicates;
 pub mod region;

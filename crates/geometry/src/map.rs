@@ -7,6 +7,8 @@
 //! [`MapError`] that names the ring and the coordinates involved. Overlapping obstacles, the normal
 //! output of obstacle detection, are merged by [`crate::normalize`] rather than refused.
 
+use crate::compact::Compact;
+use crate::domain::{DOMAIN_TEXT, in_domain};
 use crate::polygon::{Aabb, PointInPolygon, Polygon};
 use crate::predicates::{SegmentContact, orient2d, segment_contact};
 use crate::spatial_grid::SpatialGrid;
@@ -29,6 +31,7 @@ use std::fmt;
 /// assert_eq!(map.free_area(), 98.0);
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Map {
     /// The outer boundary of the planning region.
     pub boundary: Polygon,
@@ -64,7 +67,7 @@ pub(crate) struct At(pub Point2<f64>);
 
 impl fmt::Display for At {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "({}, {})", self.0.x, self.0.y)
+        write!(f, "({}, {})", Compact(self.0.x), Compact(self.0.y))
     }
 }
 
@@ -97,7 +100,7 @@ impl fmt::Display for FreeSpaceViolation {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MapError {
     /// A coordinate is NaN or infinite. Fix: replace the vertex.
-    #[error("{ring} vertex {vertex} has a non-finite coordinate ({x}, {y})")]
+    #[error("{ring} vertex {vertex} has a non-finite coordinate ({}, {})", Compact(*.x), Compact(*.y))]
     NonFinite {
         /// The ring.
         ring: RingId,
@@ -107,6 +110,28 @@ pub enum MapError {
         x: f64,
         /// Its y coordinate as given.
         y: f64,
+    },
+    /// A coordinate lies outside the supported domain ([`crate::domain`]). Fix: express the map
+    /// in a unit that brings it into the domain, or correct the vertex.
+    #[error("{ring} vertex {vertex} at {} is outside the coordinate domain: {DOMAIN_TEXT}", At(*.at))]
+    OutOfDomain {
+        /// The ring.
+        ring: RingId,
+        /// The vertex index in the ring.
+        vertex: usize,
+        /// The vertex.
+        at: Point2<f64>,
+    },
+    /// The polygon-overlay dependency refused its input (see [`crate::overlay`]).
+    #[error(transparent)]
+    Overlay(#[from] crate::overlay::OverlayError),
+    /// A named point (start, goal) lies outside the supported domain ([`crate::domain`]).
+    #[error("the {what} point {} is outside the coordinate domain: {DOMAIN_TEXT}", At(*.at))]
+    PointOutOfDomain {
+        /// `"start"`, `"goal"`, ...
+        what: &'static str,
+        /// The point.
+        at: Point2<f64>,
     },
     /// Fewer than three distinct vertices. Fix: drop the ring or give it a real shape.
     #[error("{ring} has {distinct} distinct vertices; a polygon needs at least 3 (first vertex at {})", At(*.at))]
@@ -301,8 +326,21 @@ impl Map {
         self.boundary.aabb()
     }
 
-    /// Checks every condition for building a BTM; returns the first defect found.
+    /// Checks every condition for building a BTM; returns the first defect found. Every
+    /// coordinate must lie in the domain of [`crate::domain`] (checked first, before any
+    /// predicate could overflow).
     pub fn validate(&self) -> Result<(), MapError> {
+        for (id, ring) in self.rings() {
+            for (vertex, p) in ring.vertices.iter().enumerate() {
+                if p.x.is_finite() && p.y.is_finite() && !(in_domain(p.x) && in_domain(p.y)) {
+                    return Err(MapError::OutOfDomain {
+                        ring: id,
+                        vertex,
+                        at: *p,
+                    });
+                }
+            }
+        }
         for (id, ring) in self.rings() {
             validate_ring_alone(id, ring)?;
         }
@@ -345,6 +383,9 @@ impl Map {
 
     /// Checks that the point called `what` (e.g. `"start"`) lies in free space.
     pub fn validate_point(&self, what: &'static str, p: &Point2<f64>) -> Result<(), MapError> {
+        if p.x.is_finite() && p.y.is_finite() && !(in_domain(p.x) && in_domain(p.y)) {
+            return Err(MapError::PointOutOfDomain { what, at: *p });
+        }
         if !(p.x.is_finite() && p.y.is_finite()) {
             return Err(MapError::PointNotFree {
                 what,
@@ -514,6 +555,13 @@ fn validate_ring_alone(ring: RingId, poly: &Polygon) -> Result<(), MapError> {
                 vertex,
                 x: p.x,
                 y: p.y,
+            });
+        }
+        if !(in_domain(p.x) && in_domain(p.y)) {
+            return Err(MapError::OutOfDomain {
+                ring,
+                vertex,
+                at: *p,
             });
         }
     }

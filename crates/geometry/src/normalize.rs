@@ -21,10 +21,8 @@
 //! carved pass through it; every other vertex keeps its exact input coordinates.
 
 use crate::map::{EdgeContact, Map, MapError, RingId};
+use crate::overlay::{OverlayRule, overlay};
 use crate::polygon::{Polygon, convex_hull};
-use i_overlay::core::fill_rule::FillRule;
-use i_overlay::core::overlay_rule::OverlayRule;
-use i_overlay::float::single::SingleFloatOverlay;
 use nalgebra::Point2;
 use serde::{Deserialize, Serialize};
 
@@ -152,7 +150,7 @@ pub fn normalize(
                     .collect();
                 vec![convex_hull(&pts)]
             } else {
-                let pieces = union_outlines(&rings);
+                let pieces = union_outlines(&rings)?;
                 // A union whose outlines still meet (a pinch point, like the middle of a bow tie)
                 // cannot be drawn as separate simple rings: take the hull instead, which also
                 // guarantees that every round makes progress.
@@ -200,7 +198,7 @@ pub fn normalize(
             return Err(first);
         }
         let cut: Vec<&Polygon> = touching.iter().map(|&k| &obstacles[k].0).collect();
-        boundary = carve(&boundary, &cut).ok_or(MapError::ZeroArea {
+        boundary = carve(&boundary, &cut)?.ok_or(MapError::ZeroArea {
             ring: RingId::Boundary,
             at: boundary.vertices[0],
         })?;
@@ -314,15 +312,15 @@ fn from_contour(c: &[[f64; 2]]) -> Polygon {
 }
 
 /// The outer outlines of the union of `rings` (holes of the union dropped: filled).
-fn union_outlines(rings: &[&Polygon]) -> Vec<Polygon> {
+fn union_outlines(rings: &[&Polygon]) -> Result<Vec<Polygon>, MapError> {
     let subject: Vec<Vec<[f64; 2]>> = rings.iter().map(|r| to_contour(r)).collect();
     let empty: Vec<Vec<[f64; 2]>> = Vec::new();
-    let shapes = subject.overlay_as::<i64>(&empty, OverlayRule::Subject, FillRule::NonZero);
-    shapes
+    let shapes = overlay(&subject, &empty, OverlayRule::Subject)?;
+    Ok(shapes
         .iter()
         .filter_map(|shape| shape.first())
         .map(|c| from_contour(c))
-        .collect()
+        .collect())
 }
 
 /// `true` when `pieces` are simple rings of positive area that pairwise share no point.
@@ -337,16 +335,16 @@ fn pieces_are_simple_and_apart(pieces: &[Polygon]) -> bool {
 }
 
 /// The largest piece of `boundary` minus `cut`, or `None` when nothing is left.
-fn carve(boundary: &Polygon, cut: &[&Polygon]) -> Option<Polygon> {
+fn carve(boundary: &Polygon, cut: &[&Polygon]) -> Result<Option<Polygon>, MapError> {
     let subject = vec![to_contour(boundary)];
     let clip: Vec<Vec<[f64; 2]>> = cut.iter().map(|r| to_contour(r)).collect();
-    let shapes = subject.overlay_as::<i64>(&clip, OverlayRule::Difference, FillRule::NonZero);
-    shapes
+    let shapes = overlay(&subject, &clip, OverlayRule::Difference)?;
+    Ok(shapes
         .iter()
         .filter_map(|shape| shape.first())
         .map(|c| from_contour(c))
         .filter(|p| p.distinct_vertex_count() >= 3 && !p.is_degenerate())
-        .max_by(|a, b| a.area().total_cmp(&b.area()))
+        .max_by(|a, b| a.area().total_cmp(&b.area())))
 }
 
 #[cfg(test)]

@@ -1,12 +1,11 @@
 //! Regions with holes and the free part of a polygon: `polygon ∩ boundary − obstacles`, the last
 //! ingredient of an anchor reachable set (thesis Def. 2.1: the set lies in free space). Polygon
-//! boolean operations are commodity work done by `i_overlay` (which snaps to its 64-bit integer
-//! grid spanning the input; the result is for reporting and drawing, not for exact decisions).
+//! boolean operations are commodity work done by `i_overlay` through [`crate::overlay`] (which
+//! snaps to its 64-bit integer grid spanning the input; the result is for reporting and drawing,
+//! not for exact decisions).
 
+use crate::overlay::{OverlayError, OverlayRule, overlay};
 use crate::polygon::{Aabb, Polygon};
-use i_overlay::core::fill_rule::FillRule;
-use i_overlay::core::overlay_rule::OverlayRule;
-use i_overlay::float::single::SingleFloatOverlay;
 use nalgebra::Point2;
 use serde::{Deserialize, Serialize};
 
@@ -45,6 +44,7 @@ fn ring(c: &[[f64; 2]]) -> Polygon {
 /// let sq = |x: f64, y: f64, s: f64| Polygon::new(vec![
 ///     Point2::new(x, y), Point2::new(x + s, y), Point2::new(x + s, y + s), Point2::new(x, y + s)]);
 /// let parts = free_part(&sq(0., 0., 10.), &sq(-5., -5., 100.), [&sq(4., 4., 2.)]);
+/// let parts = parts.unwrap();
 /// assert_eq!(parts.len(), 1);
 /// assert_eq!(parts[0].holes.len(), 1);
 /// assert!((parts[0].area() - 96.0).abs() < 1e-6);
@@ -53,13 +53,13 @@ pub fn free_part<'a>(
     polygon: &Polygon,
     boundary: &Polygon,
     obstacles: impl IntoIterator<Item = &'a Polygon>,
-) -> Vec<Region> {
+) -> Result<Vec<Region>, OverlayError> {
     let bbox: Aabb = polygon.aabb();
-    let inside = vec![contour(polygon)].overlay_as::<i64>(
+    let inside = overlay(
+        &vec![contour(polygon)],
         &vec![contour(boundary)],
         OverlayRule::Intersect,
-        FillRule::NonZero,
-    );
+    )?;
     let near: Vec<Vec<[f64; 2]>> = obstacles
         .into_iter()
         .filter(|o| o.aabb().intersects(&bbox))
@@ -68,9 +68,10 @@ pub fn free_part<'a>(
     let shapes = if near.is_empty() {
         inside
     } else {
-        inside.overlay_as::<i64>(&near, OverlayRule::Difference, FillRule::NonZero)
+        let subject: Vec<Vec<[f64; 2]>> = inside.into_iter().flatten().collect();
+        overlay(&subject, &near, OverlayRule::Difference)?
     };
-    shapes
+    Ok(shapes
         .iter()
         .filter_map(|shape| {
             let (outer, holes) = shape.split_first()?;
@@ -80,7 +81,7 @@ pub fn free_part<'a>(
             })
         })
         .filter(|r| r.outer.len() >= 3)
-        .collect()
+        .collect())
 }
 
 #[cfg(test)]
@@ -100,7 +101,7 @@ mod tests {
             Point2::new(11., 6.),
             Point2::new(-1., 6.),
         ]);
-        let parts = free_part(&sq(0., 0., 10.), &sq(-5., -5., 100.), [&wall]);
+        let parts = free_part(&sq(0., 0., 10.), &sq(-5., -5., 100.), [&wall]).unwrap();
         assert_eq!(parts.len(), 2);
         for p in &parts {
             assert!((p.area() - 40.0).abs() < 1e-6);
@@ -109,7 +110,7 @@ mod tests {
 
     #[test]
     fn the_boundary_clips_and_far_obstacles_are_ignored() {
-        let parts = free_part(&sq(0., 0., 10.), &sq(5., -5., 100.), [&sq(50., 50., 1.)]);
+        let parts = free_part(&sq(0., 0., 10.), &sq(5., -5., 100.), [&sq(50., 50., 1.)]).unwrap();
         assert_eq!(parts.len(), 1);
         assert!((parts[0].area() - 50.0).abs() < 1e-6);
         assert!(parts[0].holes.is_empty());

@@ -194,6 +194,10 @@ pub struct AnchorReachableSet {
     /// anchor reachable set proper (thesis Def. 2.1), as regions with holes, each with its band's
     /// tether limit. For reports and pictures; passability is decided exactly from the pieces.
     pub free_pieces: Vec<(Region, TetherLimit)>,
+    /// Why `free_pieces` could not be computed (the overlay refused its input), if it could not.
+    /// Passability does not depend on them.
+    #[serde(default)]
+    pub free_pieces_error: Option<String>,
     /// The visibility line `L_j` from `a_j` to the first obstacle along it (`j >= 1`).
     pub visibility_line: Option<[Point2<f64>; 2]>,
 }
@@ -610,19 +614,20 @@ impl Climb<'_, '_> {
             };
             [apex, end]
         });
-        let free_pieces = pieces
-            .iter()
-            .flat_map(|(poly, limit): &(Polygon, TetherLimit)| {
-                free_part(poly, &self.map.boundary, &self.map.obstacles)
-                    .into_iter()
-                    .map(move |r| (r, *limit))
-            })
-            .collect();
+        let mut free_pieces = Vec::new();
+        let mut free_pieces_error = None;
+        for (poly, limit) in &pieces {
+            match free_part(poly, &self.map.boundary, &self.map.obstacles) {
+                Ok(regions) => free_pieces.extend(regions.into_iter().map(|r| (r, *limit))),
+                Err(e) => free_pieces_error = Some(e.to_string()),
+            }
+        }
         AnchorReachableSet {
             anchor: j,
             apex,
             pieces,
             free_pieces,
+            free_pieces_error,
             visibility_line,
         }
     }

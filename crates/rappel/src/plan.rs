@@ -33,6 +33,12 @@ use serde::Serialize;
 /// Default number of classes listed.
 pub const DEFAULT_CLASSES: usize = 5;
 
+/// The most classes one plan may list. Every class costs a search, an Alg. 5 feasibility check
+/// and a report entry with its SHP and reachable sets (a few kB of JSON); a thousand classes are
+/// far more than anyone reads, and keep a run within seconds and megabytes, where an unbounded
+/// request (`--classes 1000000000`) ran for minutes and printed half a gigabyte.
+pub const MAX_CLASSES: usize = 1000;
+
 /// Options of [`plan`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanOptions {
@@ -74,6 +80,12 @@ pub enum PlanError {
     /// The robot's parameters do not make a valid model.
     #[error("robot: {0}")]
     Robot(String),
+    /// More classes were asked for than [`MAX_CLASSES`].
+    #[error("{asked} classes asked for; at most {MAX_CLASSES} can be listed")]
+    TooManyClasses {
+        /// The number asked for.
+        asked: usize,
+    },
 }
 
 /// One terrain plane in a report.
@@ -235,6 +247,11 @@ pub fn plan(scenario: &Scenario, options: &PlanOptions) -> Result<PlanReport, Pl
 
 /// Plans `scenario` and keeps the BTM and the planner's outcome for pictures.
 pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan, PlanError> {
+    if options.classes > MAX_CLASSES {
+        return Err(PlanError::TooManyClasses {
+            asked: options.classes,
+        });
+    }
     let btm = Btm::build(&scenario.map)?;
     // The point robot uses the thesis' friction cone (eq. 2.7); a wheeled robot the cone its own
     // stability QP allows (Paton §IV-C), through the same trait.
@@ -337,7 +354,7 @@ fn report_of(
                         reachable_area_m2: f
                             .reachable_sets
                             .iter()
-                            .find(|set| set.anchor == a.index)
+                            .find(|set| set.anchor == a.index && set.free_pieces_error.is_none())
                             .map(|set| set.free_pieces.iter().map(|(r, _)| r.area()).sum()),
                     })
                     .collect(),

@@ -4,6 +4,8 @@
 //! line and column for syntax and schema errors, the ring and coordinates for geometric ones.
 
 use nalgebra::Point2;
+use rappel_geometry::compact::Compact;
+use rappel_geometry::domain::{DOMAIN_TEXT, in_domain};
 use rappel_geometry::map::{Map, MapError};
 use rappel_terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
 use serde::{Deserialize, Serialize};
@@ -90,8 +92,67 @@ impl Default for RobotParams {
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Terrain {
-    /// Planes from the top of the wall down, meeting edge to edge (may be empty).
+    /// Planes from the top of the wall down, meeting edge to edge (may be empty). Read with
+    /// unknown fields refused.
+    #[serde(deserialize_with = "deserialize_planes")]
     pub planes: Vec<TerrainPlane>,
+}
+
+/// The fields of a terrain plane as a scenario file gives them: the same as [`TerrainPlane`], with
+/// unknown fields refused (a misspelt `frictoin:` must not silently fall back to nothing).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlaneFields {
+    y_top: f64,
+    y_bottom: f64,
+    slope_deg: f64,
+    friction: f64,
+}
+
+fn deserialize_planes<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Vec<TerrainPlane>, D::Error> {
+    let fields: Vec<PlaneFields> = Vec::deserialize(d)?;
+    Ok(fields
+        .into_iter()
+        .map(|p| TerrainPlane::new(p.y_top, p.y_bottom, p.slope_deg, p.friction))
+        .collect())
+}
+
+/// The steepest plane a scenario may hold, degrees: the limit of the robot models
+/// ([`rappel_mechanics::robot::MAX_SLOPE`]; a vertical wall has no up-slope frame for a wheeled
+/// robot), checked at validation so that `validate` accepts exactly what `plan` and `stability`
+/// can use.
+pub const MAX_SLOPE_DEG: f64 = 89.0;
+
+/// The RON options of scenario files: optional numbers written plainly (`tether_length_m: 20.0`;
+/// `Some(20.0)` is read too).
+fn ron_options() -> ron::Options {
+    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+}
+
+/// Longest parser message printed, characters (a message may quote a long stretch of input).
+const MAX_MESSAGE_CHARS: usize = 240;
+
+/// A parser's message made safe to print: library internals translated, control characters and
+/// other unprintable bytes of the input escaped, long quotes shortened.
+fn readable_message(message: &str) -> String {
+    if message.contains("recursion_limit") || message.contains("recursion limit") {
+        return "nested too deeply (more than 128 levels of brackets)".to_string();
+    }
+    let mut out = String::new();
+    for (count, c) in message.chars().enumerate() {
+        if count >= MAX_MESSAGE_CHARS {
+            out.push_str("...");
+            break;
+        }
+        if c.is_control() || c == '\u{fffd}' {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// Why a scenario could not be loaded or used.
@@ -139,6 +200,16 @@ pub enum ScenarioError {
         /// The defect.
         source: PlaneSeriesError,
     },
+    /// A terrain plane is outside what the planners accept.
+    #[error("{}: terrain: plane {plane}: {message}", path.display())]
+    Plane {
+        /// The file.
+        path: PathBuf,
+        /// The plane's index, 0 at the top.
+        plane: usize,
+        /// What is wrong.
+        message: String,
+    },
     /// A robot parameter is out of range.
     #[error("{}: robot: {message}", path.display())]
     Robot {
@@ -172,12 +243,14 @@ impl Format {
 impl Scenario {
     /// Parses RON text (not validated).
     pub fn from_ron_str(text: &str) -> Result<Scenario, ScenarioError> {
-        ron::de::from_str(text).map_err(|e| ScenarioError::Parse {
-            path: PathBuf::new(),
-            line: e.span.start.line,
-            column: e.span.start.col,
-            message: e.code.to_string(),
-        })
+        ron_options()
+            .from_str(text)
+            .map_err(|e| ScenarioError::Parse {
+                path: PathBuf::new(),
+                line: e.span.start.line,
+                column: e.span.start.col,
+                message: readable_message(&e.code.to_string()),
+            })
     }
 
     /// Parses JSON text (not validated).
@@ -186,7 +259,7 @@ impl Scenario {
             path: PathBuf::new(),
             line: e.line(),
             column: e.column(),
-            message: strip_json_position(&e.to_string()),
+            message: readable_message(&strip_json_position(&e.to_string())),
         })
     }
 
@@ -227,6 +300,26 @@ impl Scenario {
             path: path.clone(),
             source,
         })?;
+        for (plane, p) in self.terrain.planes.iter().enumerate() {
+            let bad_plane = |message: String| {
+                Err(ScenarioError::Plane {
+                    path: PathBuf::new(),
+                    plane,
+                    message,
+                })
+            };
+            if p.slope_deg > MAX_SLOPE_DEG {
+                return bad_plane(format!(
+                    "slope {} degrees is steeper than {MAX_SLOPE_DEG}, the steepest the robot models accept",
+                    Compact(p.slope_deg)
+                ));
+            }
+            for (name, v) in [("y_top", p.y_top), ("y_bottom", p.y_bottom)] {
+                if !in_domain(v) {
+                    return bad_plane(format!("{name} = {}: {DOMAIN_TEXT}", Compact(v)));
+                }
+            }
+        }
         let r = &self.robot;
         let bad = |message: String| {
             Err(ScenarioError::Robot {
@@ -237,16 +330,22 @@ impl Scenario {
         if !(r.mass_kg.is_finite() && r.mass_kg > 0.0) {
             return bad(format!(
                 "mass_kg must be a positive number, got {}",
-                r.mass_kg
+                Compact(r.mass_kg)
             ));
         }
         if !(r.clearance_m.is_finite() && r.clearance_m >= 0.0) {
-            return bad(format!("clearance_m must be >= 0, got {}", r.clearance_m));
+            return bad(format!(
+                "clearance_m must be >= 0, got {}",
+                Compact(r.clearance_m)
+            ));
         }
         if let Some(l) = r.tether_length_m
             && !(l.is_finite() && l > 0.0)
         {
-            return bad(format!("tether_length_m must be positive, got {l}"));
+            return bad(format!(
+                "tether_length_m must be positive, got {}",
+                Compact(l)
+            ));
         }
         Ok(())
     }
@@ -258,7 +357,10 @@ impl Scenario {
                 let config = ron::ser::PrettyConfig::new()
                     .depth_limit(4)
                     .indentor("    ".to_string());
-                ron::ser::to_string_pretty(self, config).unwrap_or_default() + "\n"
+                ron_options()
+                    .to_string_pretty(self, config)
+                    .unwrap_or_default()
+                    + "\n"
             }
             Format::Json => serde_json::to_string_pretty(self).unwrap_or_default() + "\n",
         }
@@ -298,6 +400,11 @@ impl ScenarioError {
             ScenarioError::Map { source, .. } => ScenarioError::Map { path: p, source },
             ScenarioError::Planes { source, .. } => ScenarioError::Planes { path: p, source },
             ScenarioError::Robot { message, .. } => ScenarioError::Robot { path: p, message },
+            ScenarioError::Plane { plane, message, .. } => ScenarioError::Plane {
+                path: p,
+                plane,
+                message,
+            },
             other => other,
         }
     }
