@@ -37,7 +37,7 @@ pub mod simulate;
 pub use change::MapChange;
 pub use classify::ChangeCase;
 pub use session::{ChangeOutcome, Decision, OnlineSession, Status};
-pub use simulate::{SimulationOptions, SimulationReport, simulate};
+pub use simulate::{SimulationOptions, SimulationReport, simulate, simulate_with};
 
 use crate::spt::{SearchError, SearchOptions};
 use nalgebra::Point2;

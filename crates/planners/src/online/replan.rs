@@ -2,9 +2,16 @@
 //! the SPT search continues over the updated BTM with the H-signatures of rejected classes as
 //! constraints, and each candidate class is reached from the robot's position either directly
 //! (its sleeve begins with the tether already laid) or by **backtracking**: ascending along the
-//! travelled descent to the **junction**, the last point where the laid tether's reduced crossing
-//! sequence is still a prefix of the candidate's (the common prefix of the two sleeves), then
-//! descending the new sleeve.
+//! travelled descent to the **junction**, then descending the new sleeve.
+//!
+//! # The junction
+//! The new sleeve leaves the current one after their last common anchor. The junction is the
+//! last point of the travelled path at which the taut laid tether wraps a prefix of the new
+//! class's anchors (same map vertices, same sides, same order): up to there the tether is laid
+//! as the new class needs it, and nothing has to be unwound. Comparing anchors rather than raw
+//! crossing sequences matters: the robot's own path crosses diagonals the new SHP's sleeve does
+//! not (it wanders inside a triangle fan beside the taut line), which the continuation undoes
+//! without any ascent; only a wrong wrap around an obstacle needs the robot to climb back.
 //!
 //! # The continuation
 //! With the tether laid along `tau` (start to robot), the robot must end in class `C` at the goal:
@@ -24,9 +31,9 @@
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::dcel::ObstacleId;
-use rappel_homotopy::crossing::CrossingSequence;
+use rappel_homotopy::funnel::Side;
 use rappel_homotopy::h_signature::HSignature;
-use rappel_homotopy::path::{Path, PathError};
+use rappel_homotopy::path::Path;
 use rappel_homotopy::shp::shortest_homotopic_path;
 use rappel_homotopy::{HomotopyError, TautPath};
 use serde::Serialize;
@@ -67,35 +74,34 @@ pub struct Junction {
     pub backtrack: f64,
 }
 
-/// `true` when `prefix`'s crossings start `word`'s, from the same start triangle.
-fn is_prefix(prefix: &CrossingSequence, word: &CrossingSequence) -> bool {
-    prefix.start_triangle() == word.start_triangle()
-        && word.crossings().starts_with(prefix.crossings())
+/// `(vertex, side)` of each anchor of a taut path.
+fn anchor_word(taut: &TautPath) -> Vec<(u32, Side)> {
+    taut.anchors.iter().map(|a| (a.vertex.0, a.side)).collect()
 }
 
 /// The junction of the laid tether `travelled` (start to robot, in free space) with the class
-/// whose reduced crossing sequence is `word`: the last travelled point whose prefix is consistent
-/// with the class (module docs). The start always is, so this never fails on a valid path.
-/// Quadratic in the travelled path's length, which the simulator's step budget bounds.
+/// whose SHP is `class`: the last travelled point where the taut laid tether wraps a prefix of
+/// the class's anchors, on the same sides (module docs). The start always qualifies, so this
+/// never fails on a valid path. Quadratic in the travelled path's length, which the simulator's
+/// step budget bounds.
 pub fn junction(
     btm: &Btm,
     travelled: &[Point2<f64>],
-    word: &CrossingSequence,
-) -> Result<Junction, PathError> {
+    class: &TautPath,
+) -> Result<Junction, HomotopyError> {
+    let word = anchor_word(class);
     let mut back = 0.0;
-    for k in (0..travelled.len()).rev() {
+    for k in (1..travelled.len()).rev() {
         let prefix = Path::new(travelled[..=k].to_vec())?;
-        let reduced = CrossingSequence::reduced_of_path(btm, &prefix)?;
-        if is_prefix(&reduced, word) {
+        let laid = anchor_word(&shortest_homotopic_path(btm, &prefix)?.taut);
+        if word.starts_with(&laid) {
             return Ok(Junction {
                 index: k,
                 point: travelled[k],
                 backtrack: back,
             });
         }
-        if k > 0 {
-            back += (travelled[k] - travelled[k - 1]).norm();
-        }
+        back += (travelled[k] - travelled[k - 1]).norm();
     }
     Ok(Junction {
         index: 0,

@@ -781,7 +781,7 @@ impl OnlineSession {
                 rejected.push((h, class.length(), feasibility.describe()));
                 continue;
             }
-            let j = junction(&self.btm, &self.travelled, &class.shp.crossings)?;
+            let j = junction(&self.btm, &self.travelled, &class.shp.taut)?;
             let cont = continuation(&self.btm, &self.travelled, j.index, &class.shp.taut.points)?;
             let cost = j.backtrack + cont.length;
             if best.as_ref().is_none_or(|b| cost < b.cost) {

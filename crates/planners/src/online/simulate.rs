@@ -184,12 +184,12 @@ pub struct SimulationReport {
 
 /// A failure during a run: where and which difference.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("step {step}, {difference:?}: {source}")]
+#[error("{}: {source}", match difference { Some(d) => format!("step {step}, {d:?}"), None => "set-up".to_string() })]
 pub struct SimulationError {
     /// The iteration.
     pub step: usize,
-    /// The difference being applied.
-    pub difference: Difference,
+    /// The difference being applied (`None` while setting up).
+    pub difference: Option<Difference>,
     /// What went wrong.
     #[source]
     pub source: Box<OnlineError>,
@@ -283,9 +283,23 @@ pub fn simulate(
     terrain: PlaneSeries,
     options: &SimulationOptions,
 ) -> Result<(SimulationReport, OnlineSession), SimulationError> {
+    simulate_with(prior, truth, start, goal, terrain, options, &mut |_, _| {})
+}
+
+/// [`simulate`], calling `observe` after every change with the event and the session as it
+/// stands (for pictures of each event).
+pub fn simulate_with(
+    prior: &Map,
+    truth: &Map,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    terrain: PlaneSeries,
+    options: &SimulationOptions,
+    observe: &mut dyn FnMut(&TimelineEvent, &OnlineSession),
+) -> Result<(SimulationReport, OnlineSession), SimulationError> {
     let at_start = |source| SimulationError {
         step: 0,
-        difference: Difference::Boundary,
+        difference: None,
         source: Box::new(source),
     };
     options.validate().map_err(at_start)?;
@@ -376,7 +390,7 @@ pub fn simulate(
         for d in sensed {
             let fail = |source| SimulationError {
                 step: steps,
-                difference: d.clone(),
+                difference: Some(d.clone()),
                 source: Box::new(source),
             };
             let find = |i: usize| {
@@ -397,14 +411,16 @@ pub fn simulate(
             };
             let outcomes = session.apply(&change).map_err(fail)?;
             for outcome in outcomes {
-                timeline.push(TimelineEvent {
+                let event = TimelineEvent {
                     step: steps,
                     robot,
                     travelled_m: session.travelled_length(),
                     backtracked_m: session.backtracked_length(),
                     difference: d.clone(),
                     outcome,
-                });
+                };
+                observe(&event, &session);
+                timeline.push(event);
             }
         }
         match session.status() {
