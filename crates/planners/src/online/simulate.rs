@@ -379,15 +379,24 @@ pub fn simulate_with(
                 pending.push(d);
             }
         }
-        // Removals first, then reshapes, then additions, the boundary last.
-        let order = |d: &Difference| match d {
-            Difference::Phantom { .. } => 0,
-            Difference::Shifted { .. } => 1,
-            Difference::New { .. } => 2,
-            Difference::Boundary => 3,
-        };
-        sensed.sort_by_key(order);
+        // Every removal (phantoms, the old outlines of shifted obstacles) before any addition
+        // (new obstacles, the new outlines), the boundary last: a shifted obstacle is removed
+        // and added again (thesis §3.5.2), and its new outline may need the room another
+        // shifted obstacle leaves.
+        let mut changes: Vec<(u8, Difference)> = Vec::new();
         for d in sensed {
+            match d {
+                Difference::Phantom { .. } => changes.push((0, d)),
+                Difference::Shifted { .. } => {
+                    changes.push((0, d.clone()));
+                    changes.push((1, d));
+                }
+                Difference::New { .. } => changes.push((1, d)),
+                Difference::Boundary => changes.push((2, d)),
+            }
+        }
+        changes.sort_by_key(|(phase, _)| *phase);
+        for (phase, d) in changes {
             let fail = |source| SimulationError {
                 step: steps,
                 difference: Some(d.clone()),
@@ -400,14 +409,13 @@ pub fn simulate_with(
                     )))
                 })
             };
-            let change = match &d {
-                Difference::New { truth: j } => MapChange::Add(truth.obstacles[*j].clone()),
-                Difference::Phantom { prior: i } => MapChange::Remove(find(*i)?),
-                Difference::Shifted { prior: i, truth: j } => MapChange::Reshape {
-                    obstacle: find(*i)?,
-                    polygon: truth.obstacles[*j].clone(),
-                },
-                Difference::Boundary => MapChange::Boundary(truth.boundary.clone()),
+            let change = match (&d, phase) {
+                (Difference::Phantom { prior: i }, _)
+                | (Difference::Shifted { prior: i, .. }, 0) => MapChange::Remove(find(*i)?),
+                (Difference::New { truth: j }, _) | (Difference::Shifted { truth: j, .. }, _) => {
+                    MapChange::Add(truth.obstacles[*j].clone())
+                }
+                (Difference::Boundary, _) => MapChange::Boundary(truth.boundary.clone()),
             };
             let outcomes = session.apply(&change).map_err(fail)?;
             for outcome in outcomes {
@@ -421,6 +429,9 @@ pub fn simulate_with(
                 };
                 observe(&event, &session);
                 timeline.push(event);
+            }
+            if session.status() != &Status::Descending {
+                break;
             }
         }
         match session.status() {
