@@ -23,6 +23,9 @@ enum Command {
         /// Only run suites whose name contains this text.
         #[arg(long)]
         suite: Option<String>,
+        /// Run the heavy cases at full size (the online completeness study: 200 map pairs).
+        #[arg(long)]
+        full: bool,
     },
     /// Regenerate the generated fixtures (random maps) from their seeds.
     GenFixtures,
@@ -31,7 +34,10 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Regress { suite } => regress::run(suite.as_deref()),
+        Command::Regress { suite, full } => {
+            regress::set_full(full);
+            regress::run(suite.as_deref())
+        }
         Command::GenFixtures => fixtures::generate(),
     };
     match result {

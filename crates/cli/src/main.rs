@@ -7,6 +7,7 @@
 mod btm;
 mod dem;
 mod gen_map;
+mod online;
 mod output;
 mod plan;
 mod shp;
@@ -43,6 +44,8 @@ enum Command {
     Homotopic(shp::HomotopicArgs),
     /// Homotopy classes shortest first, ascent feasibility and an ascent/descent path pair.
     Plan(plan::Args),
+    /// Online planning: descend by the prior map's plan while the true map is discovered.
+    Online(online::Args),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +60,8 @@ fn main() -> ExitCode {
         Command::Shp(args) => yes(shp::run(&args)),
         Command::Homotopic(args) => shp::run_homotopic(&args),
         Command::Plan(args) => plan::run(&args),
+        // Its own exit codes: 1 is a clean "no".
+        Command::Online(args) => return online::run_command(&args),
     };
     // A report that did not reach stdout is a failure, whatever the answer was.
     let result = result.and_then(|answer| output::finish_stdout().map(|()| answer));

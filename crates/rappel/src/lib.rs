@@ -36,6 +36,7 @@ pub mod btm_summary;
 pub mod dem;
 pub mod generated;
 pub mod io;
+pub mod online;
 pub mod plan;
 pub mod robot;
 pub mod scenario;

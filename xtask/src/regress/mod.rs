@@ -3,6 +3,7 @@
 
 mod btm;
 mod mechanics;
+mod online;
 mod planner;
 pub mod terrain;
 
@@ -50,7 +51,20 @@ const SUITES: &[Suite] = &[
     ("mechanics", mechanics::suite),
     ("terrain", terrain::suite),
     ("planner", planner::suite),
+    ("online", online::suite),
 ];
+
+static FULL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Asks the suites for their full-size runs (`cargo xtask regress --full`).
+pub fn set_full(full: bool) {
+    FULL.store(full, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// `true` when the full-size runs were asked for.
+pub fn full() -> bool {
+    FULL.load(std::sync::atomic::Ordering::Relaxed)
+}
 
 /// The workspace root (the parent of `xtask/`).
 pub fn workspace_root() -> PathBuf {

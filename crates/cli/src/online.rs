@@ -1,0 +1,223 @@
+//! `rappel online PRIOR.ron --truth TRUE.ron [--sensor-range R] [--step S] [--max-steps N]
+//! [--classes K] [--switch-to-shorter] [--json] [--svg OUT] [--frames DIR]`: the online planner
+//! (thesis Alg. 11-13) simulated. The robot descends by the plan made on the prior map; every
+//! difference from the true map that comes within sensor range is a map change. Prints the
+//! timeline (event, case, decision, distance travelled and backtracked) and the end state.
+//! Exit code 0 at the goal with ascent and descent homotopic, 1 for a clean "no" (no feasible
+//! class within the termination rule, the goal covered, or the step budget spent), 2 for errors.
+
+use crate::output::{CliError, print_json, write_file};
+use rappel::online::{event_picture, picture, run};
+use rappel::planners::online::simulate::{
+    DEFAULT_MAX_STEPS, DEFAULT_SENSOR_RANGE, DEFAULT_STEP, Ending,
+};
+use rappel::planners::online::{
+    DEFAULT_ONLINE_CLASSES, OnlineOptions, SimulationOptions, SimulationReport,
+};
+use rappel::planners::spt::SearchOptions;
+use rappel::scenario::Scenario;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Arguments of `rappel online`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The prior scenario (.ron or .json): the map the plan is made on.
+    prior: PathBuf,
+    /// The true scenario: same start, goal, terrain and robot; the map the robot finds.
+    #[arg(long, value_name = "TRUE")]
+    truth: PathBuf,
+    /// Differences within this distance of the robot are sensed, m (larger than the step).
+    #[arg(long, value_name = "R", default_value_t = DEFAULT_SENSOR_RANGE)]
+    sensor_range: f64,
+    /// Distance moved between two sensings, m.
+    #[arg(long, value_name = "S", default_value_t = DEFAULT_STEP)]
+    step: f64,
+    /// The step budget.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
+    max_steps: usize,
+    /// Classes each (re)planning search examines beyond the rejected ones.
+    #[arg(long, value_name = "K", default_value_t = DEFAULT_ONLINE_CLASSES)]
+    classes: usize,
+    /// Switch to a shorter class a removal opens when it saves more than the backtracking costs.
+    #[arg(long)]
+    switch_to_shorter: bool,
+    /// Print the report as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Draw the final state to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    svg: Option<PathBuf>,
+    /// Draw one SVG per event into this directory.
+    #[arg(long, value_name = "DIR")]
+    frames: Option<PathBuf>,
+}
+
+/// Runs `rappel online`; prints its own errors (exit code 2).
+pub fn run_command(args: &Args) -> ExitCode {
+    match execute(args) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn execute(args: &Args) -> Result<ExitCode, CliError> {
+    for out in args.svg.iter() {
+        if out == &args.prior || out == &args.truth {
+            return Err(CliError(format!(
+                "--svg {}: refusing to overwrite an input file",
+                out.display()
+            )));
+        }
+    }
+    if args.classes == 0 {
+        return Err(CliError("--classes 0: examine at least one class".into()));
+    }
+    let prior = Scenario::load(&args.prior)?;
+    let truth = Scenario::load(&args.truth)?;
+    let options = SimulationOptions {
+        sensor_range: args.sensor_range,
+        step: args.step,
+        max_steps: args.max_steps,
+        session: OnlineOptions {
+            search: SearchOptions::default().with_max_classes(Some(args.classes))?,
+            switch_to_shorter: args.switch_to_shorter,
+            ..Default::default()
+        },
+    };
+    let mut frames = Vec::new();
+    let mut observe = |e: &rappel::planners::online::simulate::TimelineEvent,
+                       s: &rappel::planners::online::OnlineSession| {
+        if args.frames.is_some() {
+            frames.push(event_picture(e, s));
+        }
+    };
+    let result = run(&prior, &truth, &options, &mut observe)
+        .map_err(|e| CliError(format!("{}: {e}", args.prior.display())))?;
+    if let Some(dir) = &args.frames {
+        for (i, svg) in frames.iter().enumerate() {
+            write_file(&dir.join(format!("event-{:03}.svg", i + 1)), svg)?;
+        }
+    }
+    let r = &result.report;
+    if let Some(out) = &args.svg {
+        let title = format!("{}: {}", truth.name, verdict(r));
+        write_file(out, &picture(&result.session, &title))?;
+    }
+    if args.json {
+        print_json(r)?;
+    } else {
+        print_report(&args.prior, &args.truth, r);
+        if let Some(out) = &args.svg {
+            crate::outln!("picture      {}", out.display());
+        }
+        if let Some(dir) = &args.frames {
+            crate::outln!("frames       {} in {}", frames.len(), dir.display());
+        }
+    }
+    Ok(if r.ending.reached() && r.homotopic {
+        ExitCode::SUCCESS
+    } else if r.ending.reached() {
+        // Reaching the goal with a descent not homotopic to the ascent would be a bug.
+        ExitCode::from(2)
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+fn verdict(r: &SimulationReport) -> String {
+    match &r.ending {
+        Ending::Goal => format!(
+            "goal reached, ascent and descent {}",
+            if r.homotopic {
+                "homotopic"
+            } else {
+                "NOT homotopic"
+            }
+        ),
+        Ending::NoFeasibleClass { termination } => {
+            format!("no feasible class ({})", termination.describe())
+        }
+        Ending::GoalCovered => "the goal lies inside an obstacle".to_string(),
+        Ending::StepBudget => "the step budget ran out".to_string(),
+    }
+}
+
+fn print_report(prior: &Path, truth: &Path, r: &SimulationReport) {
+    crate::outln!("prior        {}", prior.display());
+    crate::outln!("truth        {}", truth.display());
+    if let Some(l) = r.initial_class_length_m {
+        crate::outln!("planned      class of SHP length {l:.3} m on the prior map");
+    }
+    crate::outln!(
+        "{:<5} {:<9} {:<14} {:<52} {:<22} {:>9} {:>9}",
+        "step",
+        "change",
+        "difference",
+        "case",
+        "decision",
+        "travel m",
+        "back m"
+    );
+    for e in &r.timeline {
+        let diff = match &e.difference {
+            rappel::planners::online::simulate::Difference::New { truth } => format!("new {truth}"),
+            rappel::planners::online::simulate::Difference::Phantom { prior } => {
+                format!("phantom {prior}")
+            }
+            rappel::planners::online::simulate::Difference::Shifted { prior, truth } => {
+                format!("shift {prior}->{truth}")
+            }
+            rappel::planners::online::simulate::Difference::Boundary => "boundary".into(),
+        };
+        let decision = match &e.outcome.decision {
+            rappel::planners::online::Decision::Switched { backtrack_m, .. } => {
+                format!("switched (back {backtrack_m:.2})")
+            }
+            d => format!("{d:?}").to_lowercase(),
+        };
+        crate::outln!(
+            "{:<5} {:<9} {:<14} {:<52} {:<22} {:>9.3} {:>9.3}",
+            e.step,
+            e.outcome.change,
+            diff,
+            e.outcome.case.describe(),
+            decision,
+            e.travelled_m,
+            e.backtracked_m
+        );
+        crate::outln!("      {}", e.outcome.reason);
+        if let Some(s) = &e.outcome.shorter_class {
+            crate::outln!(
+                "      a shorter class opened: {:.3} m remaining instead of {:.3} m ({:.3} m backtracking){}",
+                s.remaining_m,
+                s.current_remaining_m,
+                s.backtrack_m,
+                if s.switched { ", switched" } else { "" }
+            );
+        }
+        if !e.outcome.backtrackable {
+            crate::outln!("      warning: the backtrackability check failed after this decision");
+        }
+    }
+    crate::outln!("verdict      {}", verdict(r));
+    crate::outln!(
+        "travelled    {:.3} m in {} steps, {:.3} m of it backtracking",
+        r.travelled_m,
+        r.steps,
+        r.backtracked_m
+    );
+    if let Some(l) = r.final_class_length_m {
+        crate::outln!("final class  SHP length {l:.3} m");
+    }
+    crate::outln!("tether       {:.3} m (taut)", r.tether_length_m);
+    crate::outln!(
+        "kept         {} change(s) outside the sleeve; {} class(es) rejected; {} difference(s) never sensed",
+        r.deferred,
+        r.rejected,
+        r.unsensed
+    );
+}

@@ -1,0 +1,969 @@
+//! The online session (thesis §3.5, Alg. 11-13; online paper §III, Alg. 3): the BTM, the chosen
+//! class (sleeve, SHP, anchors, ascent/descent pair), the robot's progress along the descent
+//! (the tether laid so far is fixed), the H-signature constraints of rejected classes, and the
+//! changes outside the current sleeve kept for later (§3.5.3).
+//!
+//! # One change (Alg. 13 lines 4-24, once per change as §3.5.4 prescribes)
+//! 1. Refuse, before anything changes, a change that covers the robot, the start or the laid
+//!    tether (a positioned error); one that covers the goal is a clean "no".
+//! 2. Retriangulate locally (Lemma 3.5.1) and classify against the current sleeve
+//!    ([`crate::online::classify`]).
+//! 3. Outside the sleeve: keep it for later, nothing else changes.
+//! 4. Otherwise update the sleeve by tracing the **reference path** (the laid tether followed by
+//!    the remaining plan) through the new BTM, and its SHP by the funnel.
+//! 5. Same SHP: keep the plan, but check that the ascent path is still in free space and
+//!    homotopic to the descent (Alg. 13 line 18) and select new paths if not. New SHP: check it
+//!    (Alg. 12); feasible, continue from the robot along it; infeasible, add its H-signature to
+//!    the constraints and replan. Reference path blocked by the new obstacle: replan.
+//! 6. Replanning ([`crate::online::replan`]): the constrained SPT search over the updated BTM;
+//!    among the feasible candidates the one with the least remaining travel (backtrack plus
+//!    continuation) is chosen.
+//! 7. After every decision, check backtrackability: the chosen class's ascent is feasible
+//!    (Alg. 12) and the tether laid so far can be climbed back (Alg. 5 on its SHP, with the robot
+//!    as the goal).
+//!
+//! Beyond the thesis, a removal (the only change that can shorten a class) triggers a search for
+//! a shorter class; the outcome reports it, and with [`OnlineOptions::switch_to_shorter`] the
+//! session switches when the saving exceeds the cost of backtracking.
+
+use super::change::{MapChange, covers, interior_point, outside_boundary};
+use super::classify::{
+    ChangeCase, SleeveSides, case_of_addition, cut_sides, polygon_meets_segment,
+};
+use super::replan::{Junction, RejectedClass, continuation, junction, polyline_length};
+use super::{OnlineError, OnlineOptions};
+use crate::feasibility::{FeasibilityContext, FeasibilityReport, check_feasibility};
+use crate::path_pair::path_pair;
+use crate::spt::{RankedShp, SptPlanner, Termination, is_simple_class};
+use crate::terrain::PlaneSeries;
+use nalgebra::Point2;
+use rappel_geometry::btm::{Btm, Location, UpdateReport};
+use rappel_geometry::dcel::{ObstacleId, TriangleId};
+use rappel_geometry::map::Map;
+use rappel_geometry::polygon::Polygon;
+use rappel_homotopy::crossing::CrossingSequence;
+use rappel_homotopy::h_signature::{HSignature, Poles};
+use rappel_homotopy::path::Path;
+use rappel_homotopy::shp::{ShortestHomotopicPath, shortest_homotopic_path};
+use serde::Serialize;
+
+/// Relative length difference below which two remaining routes count as equally long (rounding
+/// of sums of square roots), times the map's diagonal.
+pub const LENGTH_TOLERANCE: f64 = 1e-9;
+
+/// Where the session stands.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "status")]
+pub enum Status {
+    /// Descending along the plan.
+    Descending,
+    /// The robot is at the goal.
+    AtGoal,
+    /// No class within the search's termination rule is feasible: the search's reason.
+    NoFeasibleClass {
+        /// Why the search stopped.
+        termination: Termination,
+        /// Classes skipped as rejected.
+        rejected: usize,
+    },
+    /// The goal lies inside an obstacle.
+    GoalCovered,
+}
+
+/// What the session decided after a change.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "decision")]
+pub enum Decision {
+    /// Outside the current sleeve: kept for later, the plan goes on.
+    Deferred,
+    /// The plan goes on unchanged.
+    Continue,
+    /// Same class, new SHP or paths: the robot goes on along the new plan from where it is.
+    NewPaths,
+    /// Another class (Alg. 13 `A*(H_c, update)`): the robot backtracks to the junction (maybe
+    /// zero metres) and descends the new sleeve.
+    Switched {
+        /// The junction on the travelled path.
+        junction: Point2<f64>,
+        /// Ascent back to it, m.
+        backtrack_m: f64,
+        /// The new class's SHP length, m.
+        length_m: f64,
+    },
+    /// No feasible class is left within the search's termination rule (a clean "no").
+    NoFeasibleClass,
+    /// The goal is inside the new obstacle (a clean "no").
+    GoalCovered,
+}
+
+/// A shorter class a change opened (beyond the thesis: it prefers to stay in its sleeve).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ShorterClass {
+    /// Remaining travel in it (backtrack plus continuation), m.
+    pub remaining_m: f64,
+    /// Remaining travel in the current plan, m.
+    pub current_remaining_m: f64,
+    /// Backtracking it needs, m.
+    pub backtrack_m: f64,
+    /// Whether the session switched to it.
+    pub switched: bool,
+}
+
+/// What one change did (one row of the timeline).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChangeOutcome {
+    /// `add`, `remove` or `boundary` (a reshape is a removal and an addition).
+    pub change: &'static str,
+    /// The obstacle id concerned (the new id for an addition).
+    pub obstacle: Option<u32>,
+    /// The case (thesis §3.5.3).
+    pub case: ChangeCase,
+    /// Why: the affected sleeve positions, the sides cut, the anchors before and after.
+    pub reason: String,
+    /// The decision.
+    pub decision: Decision,
+    /// Free triangles the retriangulation removed and added.
+    pub triangles_replaced: (usize, usize),
+    /// Sleeve triangles among the removed ones.
+    pub sleeve_triangles_affected: usize,
+    /// SHP length before and after, m.
+    pub shp_length_m: (Option<f64>, Option<f64>),
+    /// A shorter class the change opened, if any.
+    pub shorter_class: Option<ShorterClass>,
+    /// The backtrackability check after the decision (module docs, step 7).
+    pub backtrackable: bool,
+}
+
+/// The chosen class with what the session needs to classify changes quickly.
+#[derive(Debug, Clone)]
+pub struct CurrentClass {
+    /// Its SHP, reduced crossing sequence and sleeve.
+    pub shp: ShortestHomotopicPath,
+    /// Its H-signature (the session's poles).
+    pub h_signature: HSignature,
+    /// Alg. 12 on its SHP.
+    pub feasibility: FeasibilityReport,
+    /// The selected ascent path, goal to start (the pair's, or the taut tether reversed when
+    /// no pair with clearance exists).
+    pub ascent: Vec<Point2<f64>>,
+    /// The selected descent path, start to goal (the pair's, or the taut tether).
+    pub descent: Vec<Point2<f64>>,
+    sides: SleeveSides,
+    /// (triangle, sleeve position), sorted.
+    positions: Vec<(TriangleId, usize)>,
+}
+
+impl CurrentClass {
+    fn affected(&self, report: &UpdateReport) -> Vec<usize> {
+        let mut out = Vec::new();
+        for t in &report.removed {
+            let from = self.positions.partition_point(|(u, _)| u < t);
+            out.extend(
+                self.positions[from..]
+                    .iter()
+                    .take_while(|(u, _)| u == t)
+                    .map(|(_, i)| *i),
+            );
+        }
+        out.sort_unstable();
+        out
+    }
+}
+
+/// A candidate of the constrained search.
+struct Candidate {
+    class: RankedShp,
+    h: HSignature,
+    feasibility: FeasibilityReport,
+    junction: Junction,
+    continuation: Vec<Point2<f64>>,
+    cost: f64,
+}
+
+/// An online planning session (module docs).
+#[derive(Debug, Clone)]
+pub struct OnlineSession {
+    btm: Btm,
+    terrain: PlaneSeries,
+    options: OnlineOptions,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    poles: Vec<Option<Point2<f64>>>,
+    class: Option<CurrentClass>,
+    travelled: Vec<Point2<f64>>,
+    route: Vec<Point2<f64>>,
+    backtrack_left: f64,
+    constraints: Vec<RejectedClass>,
+    deferred: Vec<ChangeOutcome>,
+    status: Status,
+    travelled_length: f64,
+    backtracked_length: f64,
+    scale: f64,
+}
+
+impl OnlineSession {
+    /// Builds the BTM of `map` and preplans (Alg. 11): the shortest feasible class and its
+    /// ascent/descent pair. A map without a feasible class gives a session whose status says so.
+    pub fn new(
+        map: &Map,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+        terrain: PlaneSeries,
+        options: OnlineOptions,
+    ) -> Result<OnlineSession, OnlineError> {
+        options.validate()?;
+        map.validate()?;
+        map.validate_point("start", &start)?;
+        map.validate_point("goal", &goal)?;
+        let btm = Btm::build(map)?;
+        let mut poles = Vec::new();
+        for id in btm.obstacle_ids() {
+            let polygon = btm
+                .obstacle_polygon(id)
+                .ok_or_else(|| OnlineError::Internal(format!("obstacle {id} has no polygon")))?;
+            if poles.len() <= id.index() {
+                poles.resize(id.index() + 1, None);
+            }
+            poles[id.index()] = interior_point(&polygon);
+        }
+        let (w, h) = map.aabb().size();
+        let mut session = OnlineSession {
+            btm,
+            terrain,
+            options,
+            start,
+            goal,
+            poles,
+            class: None,
+            travelled: vec![start],
+            route: vec![start],
+            backtrack_left: 0.0,
+            constraints: Vec::new(),
+            deferred: Vec::new(),
+            status: Status::Descending,
+            travelled_length: 0.0,
+            backtracked_length: 0.0,
+            scale: w.hypot(h),
+        };
+        let decision = session.replan()?;
+        if let (Decision::Switched { .. }, Some(c)) = (&decision, &session.class) {
+            // At the start the robot follows the selected descent (Alg. 11: a pair chosen among
+            // the feasible ascents).
+            let descent = c.descent.clone();
+            if descent.first() == Some(&start) && descent.last() == Some(&goal) {
+                session.route = descent;
+            }
+        }
+        if start == goal && session.class.is_some() {
+            session.status = Status::AtGoal;
+        }
+        Ok(session)
+    }
+
+    /// The current BTM.
+    pub fn btm(&self) -> &Btm {
+        &self.btm
+    }
+
+    /// The chosen class, if any.
+    pub fn class(&self) -> Option<&CurrentClass> {
+        self.class.as_ref()
+    }
+
+    /// The status.
+    pub fn status(&self) -> &Status {
+        &self.status
+    }
+
+    /// The robot's position.
+    pub fn robot(&self) -> Point2<f64> {
+        *self.travelled.last().unwrap_or(&self.start)
+    }
+
+    /// The start (the anchor `a_0`).
+    pub fn start(&self) -> Point2<f64> {
+        self.start
+    }
+
+    /// The goal.
+    pub fn goal(&self) -> Point2<f64> {
+        self.goal
+    }
+
+    /// The robot's path so far, backtracks included: the tether laid (reduced, it is its class).
+    pub fn travelled(&self) -> &[Point2<f64>] {
+        &self.travelled
+    }
+
+    /// The remaining plan, from the robot to the goal.
+    pub fn route(&self) -> &[Point2<f64>] {
+        &self.route
+    }
+
+    /// Distance travelled so far, m.
+    pub fn travelled_length(&self) -> f64 {
+        self.travelled_length
+    }
+
+    /// Distance travelled backwards (backtracking) so far, m.
+    pub fn backtracked_length(&self) -> f64 {
+        self.backtracked_length
+    }
+
+    /// The rejected classes (the constraints `H_c`).
+    pub fn constraints(&self) -> &[RejectedClass] {
+        &self.constraints
+    }
+
+    /// The changes outside the sleeve, kept for later (§3.5.3).
+    pub fn deferred(&self) -> &[ChangeOutcome] {
+        &self.deferred
+    }
+
+    /// The options.
+    pub fn options(&self) -> &OnlineOptions {
+        &self.options
+    }
+
+    fn ctx(&self) -> FeasibilityContext<'_> {
+        FeasibilityContext {
+            btm: &self.btm,
+            terrain: &self.terrain,
+            clearance: self.options.clearance,
+        }
+    }
+
+    fn pole_set(&self) -> Poles {
+        Poles::from_points(
+            self.poles
+                .iter()
+                .enumerate()
+                .filter_map(|(i, p)| p.map(|p| (ObstacleId(i as u32), p))),
+        )
+    }
+
+    fn alive(&self, o: ObstacleId) -> bool {
+        self.poles.get(o.index()).is_some_and(Option::is_some)
+    }
+
+    fn constrained(&self, h: &HSignature) -> bool {
+        self.constraints
+            .iter()
+            .any(|c| c.matches(h, |o| self.alive(o)))
+    }
+
+    fn reject(&mut self, h: HSignature, length: f64, reason: String) {
+        let obstacles = (0..self.poles.len())
+            .map(|i| ObstacleId(i as u32))
+            .filter(|o| self.alive(*o))
+            .collect();
+        self.constraints.push(RejectedClass {
+            h_signature: h,
+            obstacles,
+            length,
+            reason,
+        });
+    }
+
+    /// The laid tether followed by the remaining plan: a path of the current class.
+    fn reference_path(&self) -> Vec<Point2<f64>> {
+        let mut pts = self.travelled.clone();
+        for p in self.route.iter().skip(1) {
+            if pts.last() != Some(p) {
+                pts.push(*p);
+            }
+        }
+        pts
+    }
+
+    /// Makes `shp` the current class and selects its ascent/descent pair.
+    fn adopt(&mut self, shp: ShortestHomotopicPath, h: HSignature, feasibility: FeasibilityReport) {
+        let ranked = RankedShp {
+            rank: 0,
+            simple: is_simple_class(&shp.taut),
+            shp,
+            h_signature: h,
+            expansions: 0,
+        };
+        let (ascent, descent) = match path_pair(&self.ctx(), &ranked, &feasibility) {
+            Ok(pair) => (pair.ascent, pair.descent),
+            Err(_) => (
+                ranked.shp.taut.points.iter().rev().copied().collect(),
+                ranked.shp.taut.points.clone(),
+            ),
+        };
+        let sides = SleeveSides::of(&self.btm, &ranked.shp.sleeve);
+        let mut positions: Vec<(TriangleId, usize)> = ranked
+            .shp
+            .sleeve
+            .triangles()
+            .iter()
+            .enumerate()
+            .map(|(i, t)| (*t, i))
+            .collect();
+        positions.sort_unstable();
+        self.class = Some(CurrentClass {
+            shp: ranked.shp,
+            h_signature: ranked.h_signature,
+            feasibility,
+            ascent,
+            descent,
+            sides,
+            positions,
+        });
+    }
+
+    /// Updates the current class in place after a change that kept its SHP: new sleeve, same
+    /// SHP, feasibility and pair.
+    fn refresh_sleeve(&mut self, shp: ShortestHomotopicPath) {
+        if let Some(c) = &mut self.class {
+            c.sides = SleeveSides::of(&self.btm, &shp.sleeve);
+            c.positions = shp
+                .sleeve
+                .triangles()
+                .iter()
+                .enumerate()
+                .map(|(i, t)| (*t, i))
+                .collect();
+            c.positions.sort_unstable();
+            c.shp = shp;
+        }
+    }
+
+    /// Applies one map change (module docs) and returns what happened, one outcome per local
+    /// update (a reshape gives two). Errors leave the session as it was.
+    pub fn apply(&mut self, change: &MapChange) -> Result<Vec<ChangeOutcome>, OnlineError> {
+        if let Some(p) = change.new_polygon() {
+            self.check_cover(p)?;
+        }
+        match change {
+            MapChange::Add(p) => Ok(vec![self.add(p)?]),
+            MapChange::Remove(id) => Ok(vec![self.remove(*id)?]),
+            MapChange::Reshape { obstacle, polygon } => {
+                if self.btm.obstacle_polygon(*obstacle).is_none() {
+                    return Err(OnlineError::Btm(
+                        rappel_geometry::btm::BtmError::UnknownObstacle(*obstacle),
+                    ));
+                }
+                // Check the addition against the map without the old outline before removing.
+                let mut trial = self.btm.map();
+                let index = self.btm.obstacle_ids().position(|o| o == *obstacle);
+                if let Some(i) = index {
+                    trial.obstacles.remove(i);
+                }
+                trial.obstacles.push(polygon.clone());
+                trial.validate()?;
+                let first = self.remove(*obstacle)?;
+                let second = self.add(polygon)?;
+                Ok(vec![first, second])
+            }
+            MapChange::Boundary(b) => Ok(vec![self.rebuild(b)?]),
+        }
+    }
+
+    /// Refuses a new outline that covers the robot, the start or the laid tether.
+    fn check_cover(&self, p: &Polygon) -> Result<(), OnlineError> {
+        let robot = self.robot();
+        if covers(p, &robot) {
+            return Err(OnlineError::CoversRobot { at: robot });
+        }
+        if covers(p, &self.start) {
+            return Err(OnlineError::CoversStart { at: self.start });
+        }
+        for w in self.travelled.windows(2) {
+            if w[0] != w[1] && polygon_meets_segment(p, &w[0], &w[1]) {
+                return Err(OnlineError::CoversTether { at: w[0] });
+            }
+        }
+        Ok(())
+    }
+
+    fn outcome(
+        &self,
+        change: &'static str,
+        obstacle: Option<ObstacleId>,
+        case: ChangeCase,
+        report: &UpdateReport,
+        affected: usize,
+        before: Option<f64>,
+    ) -> ChangeOutcome {
+        ChangeOutcome {
+            change,
+            obstacle: obstacle.map(|o| o.0),
+            case,
+            reason: String::new(),
+            decision: Decision::Continue,
+            triangles_replaced: (report.removed.len(), report.added.len()),
+            sleeve_triangles_affected: affected,
+            shp_length_m: (before, self.class.as_ref().map(|c| c.shp.taut.length)),
+            shorter_class: None,
+            backtrackable: true,
+        }
+    }
+
+    fn add(&mut self, polygon: &Polygon) -> Result<ChangeOutcome, OnlineError> {
+        let goal_covered = covers(polygon, &self.goal);
+        let (id, report) = self.btm.insert_obstacle(polygon)?;
+        if self.poles.len() <= id.index() {
+            self.poles.resize(id.index() + 1, None);
+        }
+        self.poles[id.index()] = interior_point(polygon);
+        let before = self.class.as_ref().map(|c| c.shp.taut.length);
+        if goal_covered {
+            self.status = Status::GoalCovered;
+            self.class = None;
+            let mut o = self.outcome("add", Some(id), ChangeCase::Blocked, &report, 0, before);
+            o.reason = format!("obstacle {id} covers the goal");
+            o.decision = Decision::GoalCovered;
+            return Ok(o);
+        }
+        let Some(class) = &self.class else {
+            let mut o = self.outcome(
+                "add",
+                Some(id),
+                ChangeCase::OutsideSleeve,
+                &report,
+                0,
+                before,
+            );
+            o.decision = Decision::Deferred;
+            o.reason = "no current class".into();
+            self.deferred.push(o.clone());
+            return Ok(o);
+        };
+        let affected = class.affected(&report);
+        if affected.is_empty() {
+            let mut o = self.outcome(
+                "add",
+                Some(id),
+                ChangeCase::OutsideSleeve,
+                &report,
+                0,
+                before,
+            );
+            o.decision = Decision::Deferred;
+            o.reason = format!(
+                "obstacle {id} meets none of the {} sleeve triangles",
+                class.positions.len()
+            );
+            self.deferred.push(o.clone());
+            return Ok(o);
+        }
+        let (left, right) = cut_sides(&self.btm, &class.sides, &affected, polygon);
+        let old_points = class.shp.taut.points.clone();
+        let old_anchors = anchor_list(&class.shp);
+        let traced = Path::new(self.reference_path())
+            .ok()
+            .and_then(|p| shortest_homotopic_path(&self.btm, &p).ok());
+        let changed = traced.as_ref().is_none_or(|s| s.taut.points != old_points);
+        let case = case_of_addition(left, right, changed);
+        let mut o = self.outcome("add", Some(id), case, &report, affected.len(), before);
+        let span = format!(
+            "obstacle {id} meets sleeve positions {}..={} of {}; crosses the left side: {}, the right side: {}",
+            affected[0],
+            affected[affected.len() - 1],
+            class.positions.len(),
+            yes(left),
+            yes(right)
+        );
+        match traced {
+            None => {
+                o.reason = format!("{span}; the planned route crosses it");
+                o.decision = self.replan()?;
+            }
+            Some(shp) if !changed => {
+                o.reason = format!("{span}; SHP unchanged (anchors {old_anchors})");
+                self.refresh_sleeve(shp);
+                o.decision = self.check_pair()?;
+            }
+            Some(shp) => {
+                o.reason = format!("{span}; anchors {old_anchors} -> {}", anchor_list(&shp));
+                o.decision = self.take_new_shp(shp)?;
+            }
+        }
+        o.shp_length_m.1 = self.class.as_ref().map(|c| c.shp.taut.length);
+        o.backtrackable = self.backtrackable();
+        Ok(o)
+    }
+
+    fn remove(&mut self, id: ObstacleId) -> Result<ChangeOutcome, OnlineError> {
+        let report = self.btm.remove_obstacle(id)?;
+        if let Some(p) = self.poles.get_mut(id.index()) {
+            *p = None;
+        }
+        // A removal can make a rejected class feasible again (replan module docs).
+        self.constraints.clear();
+        let before = self.class.as_ref().map(|c| c.shp.taut.length);
+        let Some(class) = &self.class else {
+            let mut o = self.outcome(
+                "remove",
+                Some(id),
+                ChangeCase::OutsideSleeve,
+                &report,
+                0,
+                before,
+            );
+            o.decision = Decision::Deferred;
+            o.reason = "no current class".into();
+            self.deferred.push(o.clone());
+            return Ok(o);
+        };
+        let affected = class.affected(&report);
+        let mut o;
+        if affected.is_empty() {
+            o = self.outcome(
+                "remove",
+                Some(id),
+                ChangeCase::OutsideSleeve,
+                &report,
+                0,
+                before,
+            );
+            o.decision = Decision::Deferred;
+            o.reason = format!("obstacle {id} bordered none of the sleeve triangles");
+        } else {
+            let old_points = class.shp.taut.points.clone();
+            let old_anchors = anchor_list(&class.shp);
+            let path = Path::new(self.reference_path())?;
+            let shp = shortest_homotopic_path(&self.btm, &path)?;
+            let changed = shp.taut.points != old_points;
+            let case = if changed {
+                ChangeCase::AnchorsChanged
+            } else {
+                ChangeCase::SleeveOpened
+            };
+            o = self.outcome("remove", Some(id), case, &report, affected.len(), before);
+            o.reason = format!(
+                "obstacle {id} bordered {} of {} sleeve triangles; anchors {old_anchors} -> {}",
+                affected.len(),
+                class.positions.len(),
+                anchor_list(&shp)
+            );
+            o.decision = if changed {
+                self.take_new_shp(shp)?
+            } else {
+                self.refresh_sleeve(shp);
+                Decision::Continue
+            };
+        }
+        if self.status == Status::Descending && self.class.is_some() {
+            o.shorter_class = self.shorter_class()?;
+            if o.shorter_class.as_ref().is_some_and(|s| s.switched) {
+                o.decision = Decision::NewPaths;
+            }
+        }
+        if o.decision == Decision::Deferred {
+            self.deferred.push(o.clone());
+        }
+        o.shp_length_m.1 = self.class.as_ref().map(|c| c.shp.taut.length);
+        o.backtrackable = self.backtrackable();
+        Ok(o)
+    }
+
+    fn rebuild(&mut self, boundary: &Polygon) -> Result<ChangeOutcome, OnlineError> {
+        for (which, p) in [
+            ("robot", self.robot()),
+            ("start", self.start),
+            ("goal", self.goal),
+        ] {
+            if outside_boundary(boundary, &p) {
+                return Err(OnlineError::OutsideNewBoundary { which, at: p });
+            }
+        }
+        let mut map = self.btm.map();
+        map.boundary = boundary.clone();
+        map.validate()?;
+        let btm = Btm::build(&map)?;
+        let before = self.class.as_ref().map(|c| c.shp.taut.length);
+        let report = UpdateReport::default();
+        self.btm = btm;
+        self.poles = self
+            .btm
+            .obstacle_ids()
+            .map(|id| {
+                self.btm
+                    .obstacle_polygon(id)
+                    .and_then(|p| interior_point(&p))
+            })
+            .collect();
+        self.constraints.clear();
+        self.deferred.clear();
+        let mut o = self.outcome("boundary", None, ChangeCase::Rebuilt, &report, 0, before);
+        let traced = Path::new(self.reference_path())
+            .ok()
+            .and_then(|p| shortest_homotopic_path(&self.btm, &p).ok());
+        o.decision = match traced {
+            Some(shp) => {
+                o.reason = "the BTM was rebuilt; the plan traces through it".into();
+                self.take_new_shp(shp)?
+            }
+            None => {
+                o.reason = "the BTM was rebuilt; the plan leaves the new boundary".into();
+                self.replan()?
+            }
+        };
+        o.shp_length_m.1 = self.class.as_ref().map(|c| c.shp.taut.length);
+        o.backtrackable = self.backtrackable();
+        Ok(o)
+    }
+
+    /// Alg. 13 lines 11-16: a new SHP for the current class.
+    fn take_new_shp(&mut self, shp: ShortestHomotopicPath) -> Result<Decision, OnlineError> {
+        let h = HSignature::of_path(&self.pole_set(), &shp.taut.to_path());
+        let feasibility = check_feasibility(&self.ctx(), &shp.taut);
+        if !feasibility.feasible() {
+            let why = feasibility.describe();
+            self.reject(h, shp.taut.length, why);
+            return self.replan();
+        }
+        let points = shp.taut.points.clone();
+        self.adopt(shp, h, feasibility);
+        let last = self.travelled.len() - 1;
+        let cont = continuation(&self.btm, &self.travelled, last, &points)?;
+        self.route = cont.points;
+        self.backtrack_left = 0.0;
+        Ok(Decision::NewPaths)
+    }
+
+    /// Alg. 13 line 18: the SHP is the same, but is the ascent still in free space and homotopic
+    /// to the descent? If not, select new paths (or reject the class when the SHP has become
+    /// infeasible).
+    fn check_pair(&mut self) -> Result<Decision, OnlineError> {
+        let Some(c) = &self.class else {
+            return Ok(Decision::Continue);
+        };
+        let reversed: Vec<Point2<f64>> = c.ascent.iter().rev().copied().collect();
+        let ok = Path::new(reversed)
+            .ok()
+            .and_then(|p| CrossingSequence::reduced_of_path(&self.btm, &p).ok())
+            .is_some_and(|w| w == c.shp.crossings);
+        if ok {
+            return Ok(Decision::Continue);
+        }
+        let shp = c.shp.clone();
+        let h = c.h_signature.clone();
+        let feasibility = check_feasibility(&self.ctx(), &shp.taut);
+        if !feasibility.feasible() {
+            self.reject(h, shp.taut.length, feasibility.describe());
+            return self.replan();
+        }
+        self.adopt(shp, h, feasibility);
+        Ok(Decision::NewPaths)
+    }
+
+    /// The constrained search (replan module): the feasible candidate with the least remaining
+    /// travel, rejecting infeasible classes on the way.
+    fn best_candidate(&mut self) -> Result<(Option<Candidate>, Termination, usize), OnlineError> {
+        let poles = self.pole_set();
+        let planner = SptPlanner::new(&self.btm);
+        let k = self
+            .options
+            .search
+            .max_classes()
+            .map(|k| k + self.constraints.len());
+        let opts = self.options.search.with_max_classes(k)?;
+        let mut search = planner.search(self.start, self.goal, &opts)?;
+        let mut best: Option<Candidate> = None;
+        let mut skipped = 0;
+        let mut rejected = Vec::new();
+        while let Some(class) = search.next_best()? {
+            let h = HSignature::of_path(&poles, &class.shp.taut.to_path());
+            if self.constrained(&h) {
+                skipped += 1;
+                continue;
+            }
+            if best.as_ref().is_some_and(|b| class.length() >= b.cost) {
+                // Every later class is at least this long: none can beat the best.
+                break;
+            }
+            let feasibility = check_feasibility(&self.ctx(), &class.shp.taut);
+            if !feasibility.feasible() {
+                rejected.push((h, class.length(), feasibility.describe()));
+                continue;
+            }
+            let j = junction(&self.btm, &self.travelled, &class.shp.taut)?;
+            let cont = continuation(&self.btm, &self.travelled, j.index, &class.shp.taut.points)?;
+            let cost = j.backtrack + cont.length;
+            if best.as_ref().is_none_or(|b| cost < b.cost) {
+                best = Some(Candidate {
+                    class,
+                    h,
+                    feasibility,
+                    junction: j,
+                    continuation: cont.points,
+                    cost,
+                });
+            }
+        }
+        let termination = search.termination().unwrap_or(Termination::Exhausted);
+        for (h, length, why) in rejected {
+            self.reject(h, length, why);
+        }
+        Ok((best, termination, skipped))
+    }
+
+    /// Follows `c`: backtrack along the travelled path to the junction, then its continuation.
+    fn follow(&mut self, c: Candidate) -> Decision {
+        let j = c.junction.clone();
+        let length = c.class.length();
+        self.adopt(c.class.shp, c.h, c.feasibility);
+        let mut route: Vec<Point2<f64>> = self.travelled[j.index..].iter().rev().copied().collect();
+        for p in c.continuation.into_iter().skip(1) {
+            if route.last() != Some(&p) {
+                route.push(p);
+            }
+        }
+        self.route = route;
+        self.backtrack_left = j.backtrack;
+        Decision::Switched {
+            junction: j.point,
+            backtrack_m: j.backtrack,
+            length_m: length,
+        }
+    }
+
+    /// Alg. 13 `A*(H_c, update)` and the backtrack to the junction.
+    fn replan(&mut self) -> Result<Decision, OnlineError> {
+        let (best, termination, skipped) = self.best_candidate()?;
+        match best {
+            Some(c) => Ok(self.follow(c)),
+            None => {
+                self.class = None;
+                self.route = vec![self.robot()];
+                self.status = Status::NoFeasibleClass {
+                    termination,
+                    rejected: skipped + self.constraints.len(),
+                };
+                Ok(Decision::NoFeasibleClass)
+            }
+        }
+    }
+
+    /// Beyond the thesis: is there a class with less remaining travel than the current plan?
+    fn shorter_class(&mut self) -> Result<Option<ShorterClass>, OnlineError> {
+        let current = polyline_length(&self.route);
+        let (best, _, _) = self.best_candidate()?;
+        let Some(c) = best else {
+            return Ok(None);
+        };
+        let same = self
+            .class
+            .as_ref()
+            .is_some_and(|k| k.shp.crossings == c.class.shp.crossings);
+        if same || c.cost >= current - LENGTH_TOLERANCE * self.scale {
+            return Ok(None);
+        }
+        let backtrack_m = c.junction.backtrack;
+        let remaining_m = c.cost;
+        let switched = self.options.switch_to_shorter;
+        if switched {
+            self.follow(c);
+        }
+        Ok(Some(ShorterClass {
+            remaining_m,
+            current_remaining_m: current,
+            backtrack_m,
+            switched,
+        }))
+    }
+
+    /// The SHP of the tether laid so far (start to robot).
+    pub fn laid_tether(&self) -> Result<ShortestHomotopicPath, OnlineError> {
+        Ok(shortest_homotopic_path(
+            &self.btm,
+            &Path::new(self.travelled.clone())?,
+        )?)
+    }
+
+    /// The backtrackability check (module docs, step 7): the class's ascent is feasible and the
+    /// tether laid so far can be climbed back from where the robot is.
+    pub fn backtrackable(&self) -> bool {
+        let Some(c) = &self.class else {
+            return self.status != Status::Descending || self.travelled.len() == 1;
+        };
+        if !c.feasibility.feasible() {
+            return false;
+        }
+        if self.robot() == self.start {
+            return true;
+        }
+        self.laid_tether()
+            .map(|t| check_feasibility(&self.ctx(), &t.taut).feasible())
+            .unwrap_or(false)
+    }
+
+    /// Moves the robot `distance` metres along its plan (fewer at the goal); returns the distance
+    /// moved. An interpolated position that rounding puts inside an obstacle (a route along an
+    /// obstacle edge) is replaced by the segment's end.
+    pub fn advance(&mut self, distance: f64) -> f64 {
+        if self.status != Status::Descending || distance.is_nan() || distance <= 0.0 {
+            return 0.0;
+        }
+        let mut left = distance;
+        let mut moved = 0.0;
+        let mut k = 0;
+        while left > 0.0 && k + 1 < self.route.len() {
+            let (a, b) = (self.route[k], self.route[k + 1]);
+            let seg = (b - a).norm();
+            let mut to = b;
+            let mut step = seg;
+            if seg > left {
+                let p = a + (b - a) * (left / seg);
+                if !matches!(
+                    self.btm.locate(&p),
+                    Location::Obstacle(_) | Location::Outside
+                ) {
+                    to = p;
+                    step = left;
+                }
+            }
+            if to == b {
+                k += 1;
+            } else {
+                self.route[k] = to;
+            }
+            if self.travelled.last() != Some(&to) {
+                self.travelled.push(to);
+            }
+            let back = step.min(self.backtrack_left);
+            self.backtrack_left -= back;
+            self.backtracked_length += back;
+            moved += step;
+            left -= step;
+        }
+        self.route.drain(..k);
+        self.travelled_length += moved;
+        if self.route.len() <= 1 && self.robot() == self.goal {
+            self.status = Status::AtGoal;
+        }
+        moved
+    }
+
+    /// `true` when the tether laid (the robot's whole path) and the selected ascent, reversed,
+    /// are both in the current class: the ascent and the descent are homotopic.
+    pub fn ascent_descent_homotopic(&self) -> Result<bool, OnlineError> {
+        let Some(c) = &self.class else {
+            return Ok(false);
+        };
+        let descent =
+            CrossingSequence::reduced_of_path(&self.btm, &Path::new(self.reference_path())?)?;
+        let ascent: Vec<Point2<f64>> = c.ascent.iter().rev().copied().collect();
+        let ascent = CrossingSequence::reduced_of_path(&self.btm, &Path::new(ascent)?)?;
+        Ok(descent == c.shp.crossings && ascent == c.shp.crossings)
+    }
+}
+
+fn yes(b: bool) -> &'static str {
+    if b { "yes" } else { "no" }
+}
+
+/// The anchors of an SHP as `[v12 v40]` (map vertex ids).
+fn anchor_list(shp: &ShortestHomotopicPath) -> String {
+    let ids: Vec<String> = shp
+        .taut
+        .anchors
+        .iter()
+        .map(|a| format!("v{}", a.vertex.0))
+        .collect();
+    format!("[{}]", ids.join(" "))
+}

@@ -1,0 +1,478 @@
+//! A simulated descent (online paper §IV as an experiment): the robot plans on a prior map,
+//! descends by that plan, and every difference between the prior and the true map that comes
+//! within sensor range becomes a map change for the session. The run ends at the goal, with a
+//! proof that no class within the termination rule is feasible, or at the step budget.
+//!
+//! # Differences
+//! Obstacles equal in both maps (same vertices) are no difference. A prior obstacle without an
+//! equal true one is **shifted** when a true obstacle without an equal prior one lies within
+//! their combined size (the nearest such), else a **phantom**; the remaining true obstacles are
+//! **new**. A changed boundary is one difference located at the vertices the two boundaries do
+//! not share. A difference is sensed when the robot comes within the sensor range of either of
+//! its outlines; sensing a true outline also senses every prior outline whose bounding box meets
+//! it (the sensor sees that area), so removals always precede the additions that need the room.
+//!
+//! # Safety of the motion model
+//! The robot moves at most `step` per iteration and `step < sensor_range` is required, so every
+//! true obstacle a move could touch was within range before the move and is already in the map.
+//! Each loop is bounded: the run by `max_steps`, sensing by the number of differences.
+
+use super::change::MapChange;
+use super::session::{ChangeOutcome, OnlineSession, Status};
+use super::{OnlineError, OnlineOptions};
+use crate::feasibility::distance_to_segment;
+use crate::spt::Termination;
+use crate::terrain::PlaneSeries;
+use nalgebra::Point2;
+use rappel_geometry::btm::Btm;
+use rappel_geometry::dcel::ObstacleId;
+use rappel_geometry::map::Map;
+use rappel_geometry::polygon::{PointInPolygon, Polygon};
+use serde::Serialize;
+
+/// Default sensor range, m.
+pub const DEFAULT_SENSOR_RANGE: f64 = 5.0;
+/// Default step, m.
+pub const DEFAULT_STEP: f64 = 1.0;
+/// Default step budget.
+pub const DEFAULT_MAX_STEPS: usize = 10_000;
+
+/// Settings of a simulated descent.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SimulationOptions {
+    /// Differences within this distance of the robot are sensed, m (> `step`).
+    pub sensor_range: f64,
+    /// Distance moved per iteration, m (> 0).
+    pub step: f64,
+    /// The step budget.
+    pub max_steps: usize,
+    /// The session's options.
+    pub session: OnlineOptions,
+}
+
+impl Default for SimulationOptions {
+    fn default() -> Self {
+        SimulationOptions {
+            sensor_range: DEFAULT_SENSOR_RANGE,
+            step: DEFAULT_STEP,
+            max_steps: DEFAULT_MAX_STEPS,
+            session: OnlineOptions::default(),
+        }
+    }
+}
+
+impl SimulationOptions {
+    /// Checks `0 < step < sensor_range`, both finite, and a budget of at least one step.
+    pub fn validate(&self) -> Result<(), OnlineError> {
+        if !(self.step.is_finite() && self.step > 0.0) {
+            return Err(OnlineError::Option(format!(
+                "step {} must be > 0",
+                self.step
+            )));
+        }
+        if !(self.sensor_range.is_finite() && self.sensor_range > self.step) {
+            return Err(OnlineError::Option(format!(
+                "sensor range {} must be finite and larger than the step {} (module docs)",
+                self.sensor_range, self.step
+            )));
+        }
+        if self.max_steps == 0 {
+            return Err(OnlineError::Option("max_steps must be at least 1".into()));
+        }
+        self.session.validate()
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "ending")]
+pub enum Ending {
+    /// The robot reached the goal.
+    Goal,
+    /// No class within the termination rule is feasible.
+    NoFeasibleClass {
+        /// Why the last search stopped.
+        termination: Termination,
+    },
+    /// A true obstacle covers the goal.
+    GoalCovered,
+    /// The step budget ran out.
+    StepBudget,
+}
+
+impl Ending {
+    /// `true` for the goal.
+    pub fn reached(&self) -> bool {
+        *self == Ending::Goal
+    }
+}
+
+/// One difference between the prior and the true map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Difference {
+    /// A true obstacle missing from the prior.
+    New {
+        /// Index among the true obstacles.
+        truth: usize,
+    },
+    /// A prior obstacle that does not exist.
+    Phantom {
+        /// Index among the prior obstacles.
+        prior: usize,
+    },
+    /// A prior obstacle that is elsewhere or shaped differently.
+    Shifted {
+        /// Index among the prior obstacles.
+        prior: usize,
+        /// Index among the true obstacles.
+        truth: usize,
+    },
+    /// The boundary is different.
+    Boundary,
+}
+
+/// One row of the timeline.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TimelineEvent {
+    /// The iteration.
+    pub step: usize,
+    /// Where the robot was.
+    pub robot: Point2<f64>,
+    /// Distance travelled so far, m.
+    pub travelled_m: f64,
+    /// Distance backtracked so far, m.
+    pub backtracked_m: f64,
+    /// The difference sensed.
+    pub difference: Difference,
+    /// What the session made of it.
+    pub outcome: ChangeOutcome,
+}
+
+/// The result of a run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SimulationReport {
+    /// How it ended.
+    pub ending: Ending,
+    /// Iterations used.
+    pub steps: usize,
+    /// Every change handled, in order.
+    pub timeline: Vec<TimelineEvent>,
+    /// Differences never sensed.
+    pub unsensed: usize,
+    /// SHP length of the class planned on the prior map, m.
+    pub initial_class_length_m: Option<f64>,
+    /// SHP length of the final class, m.
+    pub final_class_length_m: Option<f64>,
+    /// Length of the taut tether at the end (SHP of the laid tether), m.
+    pub tether_length_m: f64,
+    /// Distance travelled, m.
+    pub travelled_m: f64,
+    /// Distance backtracked, m.
+    pub backtracked_m: f64,
+    /// Whether the descent travelled and the selected ascent are homotopic at the end.
+    pub homotopic: bool,
+    /// Changes kept for later (outside the sleeve when they came).
+    pub deferred: usize,
+    /// Classes rejected and still in the constraints.
+    pub rejected: usize,
+    /// The robot's path.
+    pub travelled: Vec<Point2<f64>>,
+    /// The final selected ascent, goal to start (empty without a class).
+    pub ascent: Vec<Point2<f64>>,
+}
+
+/// A failure during a run: where and which difference.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}: {source}", match difference { Some(d) => format!("step {step}, {d:?}"), None => "set-up".to_string() })]
+pub struct SimulationError {
+    /// The iteration.
+    pub step: usize,
+    /// The difference being applied (`None` while setting up).
+    pub difference: Option<Difference>,
+    /// What went wrong.
+    #[source]
+    pub source: Box<OnlineError>,
+}
+
+/// The obstacle of `btm` with exactly the vertices of `polygon` (any order and orientation).
+fn find_obstacle(btm: &Btm, polygon: &Polygon) -> Option<ObstacleId> {
+    let key = |p: &Polygon| {
+        let mut v: Vec<(u64, u64)> = p
+            .vertices
+            .iter()
+            .map(|q| (q.x.to_bits(), q.y.to_bits()))
+            .collect();
+        v.sort_unstable();
+        v
+    };
+    let want = key(polygon);
+    btm.obstacle_ids()
+        .find(|&o| btm.obstacle_polygon(o).is_some_and(|p| key(&p) == want))
+}
+
+fn distance_to_polygon(p: &Point2<f64>, polygon: &Polygon) -> f64 {
+    if polygon.locate(p) != PointInPolygon::Outside {
+        return 0.0;
+    }
+    polygon
+        .edges()
+        .map(|(a, b)| distance_to_segment(p, a, b))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The differences between two maps (module docs).
+pub fn differences(prior: &Map, truth: &Map) -> Vec<Difference> {
+    let same = |a: &Polygon, b: &Polygon| {
+        let mut x = a.to_counter_clockwise().vertices;
+        let mut y = b.to_counter_clockwise().vertices;
+        x.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
+        y.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
+        x == y
+    };
+    let mut truth_used = vec![false; truth.obstacles.len()];
+    let mut prior_left = Vec::new();
+    for (i, p) in prior.obstacles.iter().enumerate() {
+        match (0..truth.obstacles.len()).find(|&j| !truth_used[j] && same(p, &truth.obstacles[j])) {
+            Some(j) => truth_used[j] = true,
+            None => prior_left.push(i),
+        }
+    }
+    let centre = |p: &Polygon| {
+        let b = p.aabb();
+        Point2::new((b.min.x + b.max.x) / 2.0, (b.min.y + b.max.y) / 2.0)
+    };
+    let size = |p: &Polygon| {
+        let (w, h) = p.aabb().size();
+        w.hypot(h)
+    };
+    let mut out = Vec::new();
+    for i in prior_left {
+        let p = &prior.obstacles[i];
+        let near = (0..truth.obstacles.len())
+            .filter(|&j| !truth_used[j])
+            .map(|j| (j, (centre(p) - centre(&truth.obstacles[j])).norm()))
+            .filter(|&(j, d)| d <= size(p) + size(&truth.obstacles[j]))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        match near {
+            Some((j, _)) => {
+                truth_used[j] = true;
+                out.push(Difference::Shifted { prior: i, truth: j });
+            }
+            None => out.push(Difference::Phantom { prior: i }),
+        }
+    }
+    out.extend(
+        (0..truth.obstacles.len())
+            .filter(|&j| !truth_used[j])
+            .map(|truth| Difference::New { truth }),
+    );
+    if prior.boundary.to_counter_clockwise() != truth.boundary.to_counter_clockwise() {
+        out.push(Difference::Boundary);
+    }
+    out
+}
+
+/// Simulates a descent planned on `prior` over the true map `truth` (module docs). Both maps
+/// must be valid with the start and goal in free space; the terrain is shared.
+pub fn simulate(
+    prior: &Map,
+    truth: &Map,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    terrain: PlaneSeries,
+    options: &SimulationOptions,
+) -> Result<(SimulationReport, OnlineSession), SimulationError> {
+    simulate_with(prior, truth, start, goal, terrain, options, &mut |_, _| {})
+}
+
+/// [`simulate`], calling `observe` after every change with the event and the session as it
+/// stands (for pictures of each event).
+pub fn simulate_with(
+    prior: &Map,
+    truth: &Map,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    terrain: PlaneSeries,
+    options: &SimulationOptions,
+    observe: &mut dyn FnMut(&TimelineEvent, &OnlineSession),
+) -> Result<(SimulationReport, OnlineSession), SimulationError> {
+    let at_start = |source| SimulationError {
+        step: 0,
+        difference: None,
+        source: Box::new(source),
+    };
+    options.validate().map_err(at_start)?;
+    truth
+        .validate()
+        .map_err(|e| at_start(OnlineError::Map(e)))?;
+    let mut session =
+        OnlineSession::new(prior, start, goal, terrain, options.session).map_err(at_start)?;
+    let initial_class_length_m = session.class().map(|c| c.shp.taut.length);
+    let boundary_points: Vec<Point2<f64>> = prior
+        .boundary
+        .vertices
+        .iter()
+        .filter(|p| !truth.boundary.vertices.contains(p))
+        .chain(
+            truth
+                .boundary
+                .vertices
+                .iter()
+                .filter(|p| !prior.boundary.vertices.contains(p)),
+        )
+        .copied()
+        .collect();
+    let outlines = |d: &Difference| -> Vec<&Polygon> {
+        match d {
+            Difference::New { truth: j } => vec![&truth.obstacles[*j]],
+            Difference::Phantom { prior: i } => vec![&prior.obstacles[*i]],
+            Difference::Shifted { prior: i, truth: j } => {
+                vec![&prior.obstacles[*i], &truth.obstacles[*j]]
+            }
+            Difference::Boundary => Vec::new(),
+        }
+    };
+    let mut pending = differences(prior, truth);
+    let mut timeline = Vec::new();
+    let mut steps = 0;
+    let ending = loop {
+        let robot = session.robot();
+        let r = options.sensor_range;
+        let near = |d: &Difference| match d {
+            Difference::Boundary => boundary_points.iter().any(|p| (p - robot).norm() <= r),
+            _ => outlines(d)
+                .iter()
+                .any(|p| distance_to_polygon(&robot, p) <= r),
+        };
+        let mut sensed: Vec<Difference> = Vec::new();
+        let mut keep = Vec::new();
+        for d in pending.drain(..) {
+            if near(&d) {
+                sensed.push(d);
+            } else {
+                keep.push(d);
+            }
+        }
+        // A true outline also reveals the prior outlines its area overlaps.
+        let boxes: Vec<_> = sensed
+            .iter()
+            .filter_map(|d| match d {
+                Difference::New { truth: j } | Difference::Shifted { truth: j, .. } => {
+                    Some(truth.obstacles[*j].aabb())
+                }
+                _ => None,
+            })
+            .collect();
+        pending = Vec::new();
+        for d in keep {
+            let overlaps = match &d {
+                Difference::Phantom { prior: i } | Difference::Shifted { prior: i, .. } => {
+                    let b = prior.obstacles[*i].aabb();
+                    boxes.iter().any(|x| x.intersects(&b))
+                }
+                _ => false,
+            };
+            if overlaps {
+                sensed.push(d);
+            } else {
+                pending.push(d);
+            }
+        }
+        // Every removal (phantoms, the old outlines of shifted obstacles) before any addition
+        // (new obstacles, the new outlines), the boundary last: a shifted obstacle is removed
+        // and added again (thesis §3.5.2), and its new outline may need the room another
+        // shifted obstacle leaves.
+        let mut changes: Vec<(u8, Difference)> = Vec::new();
+        for d in sensed {
+            match d {
+                Difference::Phantom { .. } => changes.push((0, d)),
+                Difference::Shifted { .. } => {
+                    changes.push((0, d.clone()));
+                    changes.push((1, d));
+                }
+                Difference::New { .. } => changes.push((1, d)),
+                Difference::Boundary => changes.push((2, d)),
+            }
+        }
+        changes.sort_by_key(|(phase, _)| *phase);
+        for (phase, d) in changes {
+            let fail = |source| SimulationError {
+                step: steps,
+                difference: Some(d.clone()),
+                source: Box::new(source),
+            };
+            let find = |i: usize| {
+                find_obstacle(session.btm(), &prior.obstacles[i]).ok_or_else(|| {
+                    fail(OnlineError::Internal(format!(
+                        "prior obstacle {i} is no longer in the map"
+                    )))
+                })
+            };
+            let change = match (&d, phase) {
+                (Difference::Phantom { prior: i }, _)
+                | (Difference::Shifted { prior: i, .. }, 0) => MapChange::Remove(find(*i)?),
+                (Difference::New { truth: j }, _) | (Difference::Shifted { truth: j, .. }, _) => {
+                    MapChange::Add(truth.obstacles[*j].clone())
+                }
+                (Difference::Boundary, _) => MapChange::Boundary(truth.boundary.clone()),
+            };
+            let outcomes = session.apply(&change).map_err(fail)?;
+            for outcome in outcomes {
+                let event = TimelineEvent {
+                    step: steps,
+                    robot,
+                    travelled_m: session.travelled_length(),
+                    backtracked_m: session.backtracked_length(),
+                    difference: d.clone(),
+                    outcome,
+                };
+                observe(&event, &session);
+                timeline.push(event);
+            }
+            if session.status() != &Status::Descending {
+                break;
+            }
+        }
+        match session.status() {
+            Status::AtGoal => break Ending::Goal,
+            Status::GoalCovered => break Ending::GoalCovered,
+            Status::NoFeasibleClass { termination, .. } => {
+                break Ending::NoFeasibleClass {
+                    termination: *termination,
+                };
+            }
+            Status::Descending => {}
+        }
+        if steps == options.max_steps {
+            break Ending::StepBudget;
+        }
+        session.advance(options.step);
+        steps += 1;
+    };
+    let tether_length_m = session
+        .laid_tether()
+        .map(|t| t.taut.length)
+        .unwrap_or(f64::NAN);
+    let homotopic = ending.reached() && session.ascent_descent_homotopic().unwrap_or(false);
+    let report = SimulationReport {
+        ending,
+        steps,
+        timeline,
+        unsensed: pending.len(),
+        initial_class_length_m,
+        final_class_length_m: session.class().map(|c| c.shp.taut.length),
+        tether_length_m,
+        travelled_m: session.travelled_length(),
+        backtracked_m: session.backtracked_length(),
+        homotopic,
+        deferred: session.deferred().len(),
+        rejected: session.constraints().len(),
+        travelled: session.travelled().to_vec(),
+        ascent: session
+            .class()
+            .map(|c| c.ascent.clone())
+            .unwrap_or_default(),
+    };
+    Ok((report, session))
+}

@@ -1,0 +1,140 @@
+//! The online planner on scenario files (thesis §3.5, Alg. 11-13; online paper §III-IV): a
+//! descent planned on a prior scenario, simulated over the true one, with its serde report and
+//! its pictures (the final state and one per event). See `docs/online.md`.
+
+use crate::scenario::Scenario;
+use crate::svg::{Layer, Marker, Picture};
+use rappel_mechanics::anchor_traversability::AnchorTraversability;
+use rappel_mechanics::friction_cone::TetherFrictionCone;
+use rappel_mechanics::stability_qp::StabilityQp;
+use rappel_mechanics::traversability::StabilitySettings;
+use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
+use rappel_planners::online::simulate::{SimulationError, TimelineEvent};
+use rappel_planners::online::{OnlineSession, SimulationOptions, SimulationReport, simulate_with};
+use rappel_planners::terrain::{PlaneSeries, TerrainError};
+
+/// Why an online run could not be made (a run without a feasible class is an answer, not an
+/// error: its ending says so).
+#[derive(Debug, thiserror::Error)]
+pub enum OnlineRunError {
+    /// The true scenario does not describe the same descent as the prior.
+    #[error(
+        "the true scenario's {field} differs from the prior's: both must describe the same descent"
+    )]
+    Mismatch {
+        /// `start`, `goal`, `terrain` or `robot`.
+        field: &'static str,
+    },
+    /// The terrain planes are unusable.
+    #[error("terrain: {0}")]
+    Terrain(#[from] TerrainError),
+    /// The robot's parameters do not make a valid model.
+    #[error("robot: {0}")]
+    Robot(String),
+    /// The run failed (bad options, a change that covers the robot, ...).
+    #[error(transparent)]
+    Simulation(#[from] SimulationError),
+}
+
+/// A finished run with the session for pictures.
+#[derive(Debug, Clone)]
+pub struct OnlineRun {
+    /// The report (timeline, ending, lengths).
+    pub report: SimulationReport,
+    /// The session at the end.
+    pub session: OnlineSession,
+}
+
+/// The plane series of `scenario` with its robot's tether limit (the point robot's friction cone,
+/// eq. 2.7, or a wheeled robot's QP cone).
+fn plane_series(scenario: &Scenario) -> Result<PlaneSeries, OnlineRunError> {
+    let wheeled = crate::robot::wheeled_model(&scenario.robot).map_err(OnlineRunError::Robot)?;
+    let qp = StabilityQp::new(StabilitySettings::default());
+    let cone = wheeled.as_deref().map(|r| WheeledTetherCone::new(r, &qp));
+    let model: &dyn AnchorTraversability = match &cone {
+        Some(c) => c,
+        None => &TetherFrictionCone,
+    };
+    Ok(PlaneSeries::new(&scenario.terrain.planes, model)?)
+}
+
+/// Simulates the descent planned on `prior` over `truth`; `observe` sees every event with the
+/// session as it stands.
+///
+/// ```
+/// use rappel::scenario::Scenario;
+/// use rappel::planners::online::SimulationOptions;
+/// let prior = Scenario::from_ron_str(r#"(
+///     map: (boundary: [(0.0, 0.0), (20.0, 0.0), (20.0, 40.0), (0.0, 40.0)], obstacles: []),
+///     start: (10.0, 38.0), goal: (10.0, 2.0))"#).unwrap();
+/// let mut truth = prior.clone();
+/// truth.map.obstacles.push(rappel::geometry::polygon::Polygon::rectangle(9.0, 20.0, 2.0, 1.0));
+/// let run = rappel::online::run(&prior, &truth, &SimulationOptions::default(), &mut |_, _| {}).unwrap();
+/// assert!(run.report.ending.reached());
+/// assert_eq!(run.report.timeline.len(), 1);
+/// assert!(run.report.homotopic);
+/// ```
+pub fn run(
+    prior: &Scenario,
+    truth: &Scenario,
+    options: &SimulationOptions,
+    observe: &mut dyn FnMut(&TimelineEvent, &OnlineSession),
+) -> Result<OnlineRun, OnlineRunError> {
+    for (field, same) in [
+        ("start", prior.start == truth.start),
+        ("goal", prior.goal == truth.goal),
+        ("terrain", prior.terrain == truth.terrain),
+        ("robot", prior.robot == truth.robot),
+    ] {
+        if !same {
+            return Err(OnlineRunError::Mismatch { field });
+        }
+    }
+    let terrain = plane_series(prior)?;
+    let mut options = *options;
+    options.session.clearance = prior.robot.clearance_m;
+    let (report, session) = simulate_with(
+        &prior.map,
+        &truth.map,
+        prior.start,
+        prior.goal,
+        terrain,
+        &options,
+        observe,
+    )?;
+    Ok(OnlineRun { report, session })
+}
+
+/// The picture of a session: the true map's obstacles as known now, the BTM, the current sleeve
+/// and SHP with its anchors, the travelled descent and the selected ascent, start and goal.
+pub fn picture(session: &OnlineSession, title: &str) -> String {
+    let map = session.btm().map();
+    let mut pic = Picture::of_map(&map);
+    if let Some(c) = session.class() {
+        pic.sleeve(session.btm(), &c.shp.sleeve);
+    }
+    pic.btm(session.btm());
+    pic.map(&map);
+    if let Some(c) = session.class() {
+        pic.polyline(Layer::Ascent, &c.ascent);
+        pic.taut_path(&c.shp.taut);
+    }
+    pic.polyline(Layer::Descent, session.travelled());
+    if session.route().len() > 1 {
+        pic.polyline(Layer::Path, session.route());
+    }
+    pic.marker(Layer::Path, session.robot(), Marker::Circle);
+    pic.start_goal(session.start(), session.goal());
+    pic.finish(title)
+}
+
+/// The picture after one event (for `--frames`).
+pub fn event_picture(event: &TimelineEvent, session: &OnlineSession) -> String {
+    let title = format!(
+        "step {}: {} -> {:?}",
+        event.step,
+        event.outcome.case.describe(),
+        event.outcome.decision
+    );
+    picture(session, &title)
+}
