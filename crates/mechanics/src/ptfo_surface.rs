@@ -54,6 +54,9 @@ pub enum WrapError {
     NoContact(&'static str),
 }
 
+/// The gradient and Hessian of a height field at a point.
+pub type HeightJet = (Vector2<f64>, Matrix2<f64>);
+
 /// A regular grid of heights (m) above the planning plane: `heights[row * cols + col]` at
 /// `origin + (col, row) * spacing`.
 #[derive(Debug, Clone, PartialEq)]
@@ -133,13 +136,7 @@ fn finite_point(p: &Point2<f64>, what: &str) -> Result<(), WrapError> {
 }
 
 /// `(∇h, H)` of `h = ½ dᵀ A d` with `A = Rot diag(a_u, a_v) Rotᵀ`, `d = p - c`.
-fn quadric(
-    center: &Point2<f64>,
-    axis_deg: f64,
-    a_u: f64,
-    a_v: f64,
-    p: &Point2<f64>,
-) -> (Vector2<f64>, Matrix2<f64>) {
+fn quadric(center: &Point2<f64>, axis_deg: f64, a_u: f64, a_v: f64, p: &Point2<f64>) -> HeightJet {
     let (s, c) = axis_deg.to_radians().sin_cos();
     let rot = Matrix2::new(c, -s, s, c);
     let a = rot * Matrix2::new(a_u, 0.0, 0.0, a_v) * rot.transpose();
@@ -201,17 +198,16 @@ impl PtfoSurface {
 
     /// Gradient and Hessian of the height at `p`, for the height-field surfaces (`None` for the
     /// vertical cylinder). Errors when `p` is off the surface's footprint.
-    pub fn height_jet(
-        &self,
-        p: &Point2<f64>,
-    ) -> Result<Option<(Vector2<f64>, Matrix2<f64>)>, WrapError> {
+    pub fn height_jet(&self, p: &Point2<f64>) -> Result<Option<HeightJet>, WrapError> {
         Ok(match self {
             PtfoSurface::Cylinder { .. } => None,
             PtfoSurface::Sphere { center, radius } => {
                 let d = p - center;
                 let h2 = radius * radius - d.norm_squared();
                 if h2 <= 0.0 {
-                    return Err(WrapError::NoContact("anchor outside the sphere's footprint"));
+                    return Err(WrapError::NoContact(
+                        "anchor outside the sphere's footprint",
+                    ));
                 }
                 let h = h2.sqrt();
                 let hess = -Matrix2::identity() / h - d * d.transpose() / (h * h2);
@@ -311,7 +307,9 @@ impl PtfoSurface {
                 };
                 let to_axis = center - anchor;
                 if inward.dot(&to_axis) <= 0.0 {
-                    return Err(WrapError::NoContact("the tether bends away from the pillar"));
+                    return Err(WrapError::NoContact(
+                        "the tether bends away from the pillar",
+                    ));
                 }
                 (1.0 / radius, to_axis.normalize(), None)
             }

@@ -6,6 +6,7 @@ use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::Polygon;
+use rappel_geometry::terrain::plane_series::TerrainPlane;
 use rappel_mechanics::friction::FrictionInterval;
 use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_mechanics::ptfo::{PtfoClass, TensionAssumptions};
@@ -15,7 +16,6 @@ use rappel_planners::frictional::search::{FrictionalQuery, plan_frictional};
 use rappel_planners::frictional::{FrictionModel, Ptfo};
 use rappel_planners::spt::{SearchOptions, SptPlanner};
 use rappel_planners::terrain::PlaneSeries;
-use rappel_geometry::terrain::plane_series::TerrainPlane;
 
 fn p(x: f64, y: f64) -> Point2<f64> {
     Point2::new(x, y)
@@ -25,7 +25,10 @@ fn pillar_model(obstacle: usize, center: Point2<f64>, mu: f64) -> FrictionModel 
     FrictionModel {
         ptfos: vec![Ptfo {
             obstacle,
-            surface: PtfoSurface::Cylinder { center, radius: 3.0 },
+            surface: PtfoSurface::Cylinder {
+                center,
+                radius: 3.0,
+            },
             friction: FrictionInterval::exact(mu).unwrap(),
         }],
         tensions: TensionAssumptions::new(100.0, 400.0, 200.0, 20.0).unwrap(),
@@ -46,8 +49,18 @@ fn terrain() -> PlaneSeries {
 /// A diamond PTFO and a geometric block to its right: once the diamond's right vertex slips, the
 /// tether wraps the block instead (Alg. 14 finds a new anchor on another obstacle).
 fn two_obstacle_map() -> (Map, Polygon, Polygon) {
-    let diamond = Polygon::new(vec![p(12.0, 50.0), p(20.0, 44.0), p(28.0, 50.0), p(20.0, 56.0)]);
-    let block = Polygon::new(vec![p(24.0, 30.0), p(27.0, 30.0), p(27.0, 33.0), p(24.0, 33.0)]);
+    let diamond = Polygon::new(vec![
+        p(12.0, 50.0),
+        p(20.0, 44.0),
+        p(28.0, 50.0),
+        p(20.0, 56.0),
+    ]);
+    let block = Polygon::new(vec![
+        p(24.0, 30.0),
+        p(27.0, 30.0),
+        p(27.0, 33.0),
+        p(24.0, 33.0),
+    ]);
     let map = Map::new(
         Polygon::rectangle(0.0, 0.0, 40.0, 100.0),
         vec![diamond.clone(), block.clone()],
@@ -139,7 +152,11 @@ fn every_slip_matches_a_scratch_rebuild() {
             let reference_map = Map::new(map.boundary.clone(), obstacles);
             let reference_btm = Btm::build(&reference_map).unwrap();
             let search = SptPlanner::new(&reference_btm)
-                .search(start, goal, &SearchOptions::default().with_max_classes(Some(12)).unwrap())
+                .search(
+                    start,
+                    goal,
+                    &SearchOptions::default().with_max_classes(Some(12)).unwrap(),
+                )
                 .unwrap()
                 .run()
                 .unwrap();
@@ -161,7 +178,12 @@ fn every_slip_matches_a_scratch_rebuild() {
 #[test]
 fn capstan_anchor_classes_follow_exp_mu_theta() {
     // A square PTFO wrapped by a right-angle turn; the pillar model gives I = μθ.
-    let square = Polygon::new(vec![p(15.0, 45.0), p(25.0, 45.0), p(25.0, 55.0), p(15.0, 55.0)]);
+    let square = Polygon::new(vec![
+        p(15.0, 45.0),
+        p(25.0, 45.0),
+        p(25.0, 55.0),
+        p(15.0, 55.0),
+    ]);
     let map = Map::new(Polygon::rectangle(0.0, 0.0, 40.0, 100.0), vec![square]);
     let btm = Btm::build(&map).unwrap();
     let (start, goal) = (p(26.0, 56.0), p(14.0, 44.0));
@@ -199,7 +221,10 @@ fn capstan_anchor_classes_follow_exp_mu_theta() {
                 assert!((h.tension_limit.unwrap() - 100.0 * total.exp()).abs() < 1e-9);
             }
         } else {
-            assert!(!class.check.slips.is_empty(), "mu {mu}: no anchor and no slip");
+            assert!(
+                !class.check.slips.is_empty(),
+                "mu {mu}: no anchor and no slip"
+            );
             // Each slipped wrap was below the sliding bound ln((T_d + ε)/T_d) = ln 1.1.
             assert!(mu * std::f64::consts::PI < 1.1f64.ln() * 4.0);
             seen.insert("Slides".to_string());

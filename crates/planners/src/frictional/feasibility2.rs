@@ -82,11 +82,7 @@ pub fn check_feasibility2(
         friction_waypoint[k] = Some(d.anchor.point);
         let turn = d.anchor.turning_angle;
         let c = d.omega_integral_hold / turn;
-        let release_turn = if c > 0.0 {
-            ln_drive / c
-        } else {
-            f64::INFINITY
-        };
+        let release_turn = if c > 0.0 { ln_drive / c } else { f64::INFINITY };
         let prev = if k == 0 {
             check.taut.points[0]
         } else {

@@ -122,9 +122,8 @@ pub fn plan_frictional(
                 clearance: query.clearance,
             };
             let f = check_feasibility2(&ctx, model, &check);
-            let h = holding(&check, model, query.holding_limit).map_err(|e| {
-                FrictionalError::Internal(format!("capstan along the tether: {e}"))
-            })?;
+            let h = holding(&check, model, query.holding_limit)
+                .map_err(|e| FrictionalError::Internal(format!("capstan along the tether: {e}")))?;
             (Some(f), Some(h))
         } else {
             (None, None)
