@@ -3,6 +3,7 @@
 
 mod btm;
 mod dem;
+mod friction_out;
 mod gen_map;
 mod output;
 mod plan;

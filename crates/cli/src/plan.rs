@@ -2,7 +2,9 @@
 //! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
 //! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths.
-//! A scenario without a feasible class is an answer, not an error (exit 0, the reason printed).
+//! A scenario without a feasible class is an answer, not an error (exit 0, the reason printed);
+//! with PTFOs (a `friction` section) the frictional planner runs too, and exit 1 means no class is
+//! feasible with friction.
 
 use crate::output::{CliError, print_json, write_file};
 use rappel::plan::{PlanOptions, PlanReport, plan_detailed};
@@ -56,11 +58,26 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         write_file(out, &plan.picture(&s))?;
     }
     if args.json {
-        return print_json(&plan.report);
+        print_json(&plan.report)?;
+    } else {
+        print_report(&args.file.display().to_string(), &plan.report);
+        if let Some(f) = &plan.report.friction {
+            crate::friction_out::print_friction(f);
+        }
+        if let Some(out) = &args.svg {
+            crate::outln!("picture      {}", out.display());
+        }
     }
-    print_report(&args.file.display().to_string(), &plan.report);
-    if let Some(out) = &args.svg {
-        crate::outln!("picture      {}", out.display());
+    // With PTFOs, "no feasible class" is a clean no: exit 1 (docs/friction.md).
+    if plan
+        .report
+        .friction
+        .as_ref()
+        .is_some_and(|f| f.chosen.is_none())
+    {
+        use std::io::Write as _;
+        let _ = std::io::stdout().flush();
+        std::process::exit(1);
     }
     Ok(())
 }
