@@ -6,6 +6,7 @@
 
 mod btm;
 mod dem;
+mod friction_out;
 mod gen_map;
 mod online;
 mod output;

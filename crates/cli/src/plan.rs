@@ -3,6 +3,7 @@
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
 //! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths.
 //! A scenario without a feasible class is an answer, not an error: exit code 1, the reason printed.
+//! With PTFOs (a `friction` section) the frictional planner runs too, and its verdict decides.
 
 use crate::output::{Answer, CliError, print_json, refuse_overwriting_inputs, write_file};
 use rappel::plan::{PlanOptions, PlanReport, plan_detailed};
@@ -65,18 +66,23 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     if let Some(out) = &args.svg {
         write_file(out, &plan.picture(&s))?;
     }
-    let answer = if plan.report.chosen.is_some() {
-        Answer::Yes
-    } else {
-        Answer::No
+    // With PTFOs (a `friction` section) the frictional planner's choice is the answer
+    // (docs/friction.md); otherwise the Chapter-2 planner's.
+    let feasible = match &plan.report.friction {
+        Some(f) => f.chosen.is_some(),
+        None => plan.report.chosen.is_some(),
     };
+    let answer = if feasible { Answer::Yes } else { Answer::No };
     if args.json {
         print_json(&plan.report)?;
-        return Ok(answer);
-    }
-    print_report(&args.file.display().to_string(), &plan.report);
-    if let Some(out) = &args.svg {
-        crate::outln!("picture      {}", out.display());
+    } else {
+        print_report(&args.file.display().to_string(), &plan.report);
+        if let Some(f) = &plan.report.friction {
+            crate::friction_out::print_friction(f);
+        }
+        if let Some(out) = &args.svg {
+            crate::outln!("picture      {}", out.display());
+        }
     }
     Ok(answer)
 }

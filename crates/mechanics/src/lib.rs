@@ -15,6 +15,7 @@
 //! | [`curvature`] | principal curvatures, convexity, saddle break angle | eqs. 3.28-3.31 |
 //! | [`friction`] | friction intervals used conservatively | §3.6.1 |
 //! | [`ptfo`] | solid / slides / volatile PTFO classes | §3.4.1, Alg. 9 |
+//! | [`ptfo_surface`] | PTFO surfaces and the tether's wrap contact on them | §3.3.5, §3.4 |
 //! | [`robot`] | the robot-model trait, planes, poses, placement | Paton §IV-A |
 //! | [`axel`] | the Axel model and its tether-tension estimate | eq. 3.32 |
 //! | [`four_wheel`] | a generic four-wheel rover | Kumar §II |
@@ -46,6 +47,7 @@ pub mod friction_cone;
 pub mod heavy_rope;
 pub mod ode;
 pub mod ptfo;
+pub mod ptfo_surface;
 pub mod robot;
 pub mod stability_map;
 pub mod stability_qp;

@@ -17,6 +17,7 @@
 //! trait; definitions and choices are collected in `docs/planner.md`.
 
 pub mod feasibility;
+pub mod frictional;
 pub mod online;
 pub mod path_pair;
 pub mod spt;

@@ -85,6 +85,7 @@ pub fn dem_scenario(path: &Path, options: &IngestOptions) -> Result<DemScenario,
         terrain: Terrain {
             planes: ingested.planes.clone(),
         },
+        friction: None,
     };
     Ok(DemScenario { scenario, ingested })
 }

@@ -44,5 +44,6 @@ pub fn crater_strip_scenario(
                 friction: GENERATED_FRICTION,
             }],
         },
+        friction: None,
     })
 }

@@ -34,10 +34,12 @@
 
 pub mod btm_summary;
 pub mod dem;
+pub mod friction_plan;
 pub mod generated;
 pub mod io;
 pub mod online;
 pub mod plan;
+pub mod ptfo_spec;
 pub mod robot;
 pub mod scenario;
 pub mod stability;

@@ -86,6 +86,9 @@ pub enum PlanError {
         /// The number asked for.
         asked: usize,
     },
+    /// The scenario's `friction` section is unusable, or frictional planning failed.
+    #[error("{0}")]
+    Friction(String),
 }
 
 /// One terrain plane in a report.
@@ -212,6 +215,9 @@ pub struct PlanReport {
     pub stats: SearchStats,
     /// Warnings (concave plane edges, approximated robot models).
     pub warnings: Vec<String>,
+    /// Frictional planning (Alg. 7), when the scenario has PTFOs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<crate::friction_plan::FrictionReport>,
 }
 
 /// A plan with what its picture needs.
@@ -223,6 +229,8 @@ pub struct Plan {
     pub btm: Btm,
     /// The planner's full outcome (sleeves, reachable sets, pairs).
     pub outcome: PairPlan,
+    /// The frictional planner's outcome, when the scenario has PTFOs.
+    pub friction: Option<rappel_planners::frictional::search::FrictionalPlan>,
 }
 
 /// Plans `scenario` (module docs).
@@ -284,11 +292,21 @@ pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan,
         &ctx,
         false,
     )?;
-    let report = report_of(scenario, model, &terrain, &outcome);
+    let mut report = report_of(scenario, model, &terrain, &outcome);
+    let mut friction = None;
+    if let Some(spec) = &scenario.friction {
+        let resolved = spec.resolve(scenario).map_err(PlanError::Friction)?;
+        let (r, p) =
+            crate::friction_plan::plan_friction(scenario, &resolved, &btm, &terrain, &search)
+                .map_err(|e| PlanError::Friction(format!("frictional planning: {e}")))?;
+        report.friction = Some(r);
+        friction = Some(p);
+    }
     Ok(Plan {
         report,
         btm,
         outcome,
+        friction,
     })
 }
 
@@ -424,6 +442,7 @@ fn report_of(
         termination: outcome.termination,
         stats: outcome.stats,
         warnings,
+        friction: None,
     }
 }
 
@@ -476,6 +495,9 @@ impl Plan {
             for w in &c.feasibility.waypoints {
                 pic.marker(Layer::Waypoint, *w, Marker::Star);
             }
+        }
+        if let Some(f) = &self.report.friction {
+            crate::friction_plan::draw_friction(&mut pic, scenario, f);
         }
         pic.start_goal(scenario.start, scenario.goal);
         let title = match &self.outcome.pair {

@@ -49,6 +49,10 @@ pub struct Scenario {
     /// The terrain: planes down the fall line.
     #[serde(default)]
     pub terrain: Terrain,
+    /// Frictional planning: PTFOs and the tension model (`docs/friction.md`); `None` plans every
+    /// obstacle as geometric.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<crate::ptfo_spec::FrictionSpec>,
 }
 
 /// Which robot model the scenario uses.

@@ -55,6 +55,18 @@ pub enum Layer {
     Stable,
     /// An unstable pose (stability maps), red dot.
     Unstable,
+    /// A PTFO not touched by the shown tether, outlined.
+    Ptfo,
+    /// A PTFO the tether sticks on (solid), green.
+    PtfoSolid,
+    /// A PTFO the tether slides over, pale.
+    PtfoSlides,
+    /// A volatile PTFO (the class is unsafe), red.
+    PtfoVolatile,
+    /// A sticking point: a solid friction anchor.
+    Sticking,
+    /// A PTFO vertex clipped after a slip.
+    Slip,
 }
 
 impl Layer {
@@ -79,6 +91,12 @@ impl Layer {
             Layer::RobotObstacle => "robot obstacle",
             Layer::Stable => "stable pose",
             Layer::Unstable => "unstable pose",
+            Layer::Ptfo => "PTFO (untouched)",
+            Layer::PtfoSolid => "PTFO: solid",
+            Layer::PtfoSlides => "PTFO: slides",
+            Layer::PtfoVolatile => "PTFO: volatile",
+            Layer::Sticking => "sticking point",
+            Layer::Slip => "clipped vertex (slip)",
         }
     }
 
@@ -104,6 +122,12 @@ impl Layer {
             Layer::RobotObstacle => ("#fdbf6f", "#ff7f00", 0.8, 0.35),
             Layer::Stable => ("#31a354", "#006d2c", 0.4, 0.9),
             Layer::Unstable => ("#e34a33", "#b30000", 0.4, 0.9),
+            Layer::Ptfo => ("none", "#6a3d9a", 1.2, 0.0),
+            Layer::PtfoSolid => ("#41ab5d", "#005a32", 1.0, 0.8),
+            Layer::PtfoSlides => ("#fee8c8", "#e34a33", 1.0, 0.6),
+            Layer::PtfoVolatile => ("#de2d26", "#67000d", 1.2, 0.8),
+            Layer::Sticking => ("#00441b", "#00ff7f", 0.8, 1.0),
+            Layer::Slip => ("#e6550d", "#7f2704", 1.2, 1.0),
         }
     }
 }
@@ -498,6 +522,9 @@ fn draw_order(layer: Layer) -> u8 {
         Layer::Unstable => 13,
         Layer::Start => 14,
         Layer::Goal => 15,
+        Layer::Ptfo | Layer::PtfoSolid | Layer::PtfoSlides | Layer::PtfoVolatile => 4,
+        Layer::Sticking => 11,
+        Layer::Slip => 11,
     }
 }
 

@@ -1,0 +1,177 @@
+//! Alg. 8 `CheckPTFOs` with Alg. 9 `TetherSlips` (thesis §3.4.2): each friction anchor of an SHP
+//! is decided on the tether's actual contact, the wrap of the PTFO's surface between its incoming
+//! and outgoing directions ([`rappel_mechanics::ptfo_surface`]), as **solid** (holds from `T_min`
+//! to `T_max` with the lowest friction), **slides** (slips between `T_d` and `T_d + ε` with the
+//! highest friction) or **volatile** (the class is unsafe) ([`rappel_mechanics::ptfo::classify`]).
+//! A sliding anchor goes through Alg. 14 ([`super::slip`]) and the whole SHP is checked again,
+//! until no anchor slides.
+//!
+//! Bound: every slip removes one PTFO vertex from the map, so the loop runs at most once more than
+//! the PTFOs have vertices ([`check_ptfos`] returns an internal error past that bound).
+
+use super::slip::{SlipEvent, SlipState};
+use super::{FrictionModel, FrictionalError};
+use nalgebra::Point2;
+use rappel_homotopy::funnel::{Anchor, TautPath};
+use rappel_mechanics::ptfo::{PtfoClass, classify};
+use rappel_mechanics::ptfo_surface::WrapError;
+use rappel_mechanics::sticking::omega_integral;
+use serde::{Deserialize, Serialize};
+
+/// What an anchor of the final SHP is, and how it holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AnchorVerdict {
+    /// A geometric obstacle (or the map boundary): it always holds.
+    Geometric,
+    /// A PTFO anchor with its class.
+    Friction(PtfoClass),
+}
+
+/// One anchor's decision.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AnchorDecision {
+    /// The anchor.
+    pub anchor: Anchor,
+    /// Its map obstacle index (`None` on the boundary).
+    pub obstacle: Option<usize>,
+    /// Geometric, or the friction class.
+    pub verdict: AnchorVerdict,
+    /// `∫ω ds` over the wrap with the lowest friction (0 without contact or for geometric ones).
+    pub omega_integral_hold: f64,
+    /// `∫ω ds` over the wrap with the highest friction.
+    pub omega_integral_slide: f64,
+    /// Why there is no contact, when there is none.
+    pub no_contact: Option<String>,
+}
+
+/// The outcome of Alg. 8 for one class.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PtfoCheck {
+    /// The SHP after every slip.
+    pub taut: TautPath,
+    /// Its anchors, decided.
+    pub anchors: Vec<AnchorDecision>,
+    /// The slips, in order.
+    pub slips: Vec<SlipEvent>,
+    /// The first volatile anchor (index into `anchors`): the class is unsafe (Alg. 8 line 12).
+    pub volatile: Option<usize>,
+}
+
+/// Decides one anchor of `taut` (Alg. 9 on its wrap, with the classes of §3.4.1).
+pub fn decide_anchor(
+    model: &FrictionModel,
+    state: &SlipState<'_>,
+    taut: &TautPath,
+    anchor: &Anchor,
+) -> Result<AnchorDecision, FrictionalError> {
+    let obstacle = anchor.obstacle.map(|id| state.original(id));
+    let geometric = AnchorDecision {
+        anchor: *anchor,
+        obstacle,
+        verdict: AnchorVerdict::Geometric,
+        omega_integral_hold: 0.0,
+        omega_integral_slide: 0.0,
+        no_contact: None,
+    };
+    let Some(ptfo) = obstacle.and_then(|o| model.ptfo_of(o)) else {
+        return Ok(geometric);
+    };
+    let (incoming, outgoing) = directions(taut, anchor)?;
+    match ptfo.surface.wrap(&anchor.point, &incoming, &outgoing) {
+        Ok(samples) => {
+            let class = classify(&samples, ptfo.friction, &model.tensions)?;
+            let hold = omega_integral(&samples, ptfo.friction.for_holding())
+                .map_err(rappel_mechanics::ptfo::PtfoError::from)?;
+            let slide = omega_integral(&samples, ptfo.friction.for_sliding())
+                .map_err(rappel_mechanics::ptfo::PtfoError::from)?;
+            Ok(AnchorDecision {
+                verdict: AnchorVerdict::Friction(class),
+                omega_integral_hold: hold,
+                omega_integral_slide: slide,
+                ..geometric
+            })
+        }
+        // Condition 1 fails: the tether slides over (thesis §3.4.1 rule 2).
+        Err(WrapError::NoContact(why)) => Ok(AnchorDecision {
+            verdict: AnchorVerdict::Friction(PtfoClass::Slides),
+            no_contact: Some(why.to_string()),
+            ..geometric
+        }),
+        Err(source) => Err(FrictionalError::Surface {
+            obstacle: ptfo.obstacle,
+            source,
+        }),
+    }
+}
+
+/// The incoming and outgoing tether directions at an anchor of `taut`.
+pub(crate) fn directions(
+    taut: &TautPath,
+    anchor: &Anchor,
+) -> Result<(nalgebra::Vector2<f64>, nalgebra::Vector2<f64>), FrictionalError> {
+    let i = taut
+        .vertices
+        .iter()
+        .position(|v| *v == Some(anchor.vertex))
+        .filter(|&i| i > 0 && i + 1 < taut.points.len())
+        .ok_or_else(|| FrictionalError::Internal("anchor not interior to its path".into()))?;
+    Ok((
+        taut.points[i] - taut.points[i - 1],
+        taut.points[i + 1] - taut.points[i],
+    ))
+}
+
+/// Alg. 8 on the SHP `taut` of the map in `state` (module docs).
+pub fn check_ptfos(
+    model: &FrictionModel,
+    state: &mut SlipState<'_>,
+    taut: TautPath,
+    ptfo_vertex_count: usize,
+) -> Result<PtfoCheck, FrictionalError> {
+    let mut taut = taut;
+    let mut slips = Vec::new();
+    for _ in 0..=ptfo_vertex_count {
+        let mut decisions = Vec::with_capacity(taut.anchors.len());
+        let mut slipping = None;
+        for a in &taut.anchors {
+            let d = decide_anchor(model, state, &taut, a)?;
+            let v = d.verdict;
+            decisions.push(d);
+            match v {
+                AnchorVerdict::Friction(PtfoClass::Slides) => {
+                    slipping = Some(*a);
+                    break;
+                }
+                AnchorVerdict::Friction(PtfoClass::Volatile) => {
+                    let at = decisions.len() - 1;
+                    return Ok(PtfoCheck {
+                        taut,
+                        anchors: decisions,
+                        slips,
+                        volatile: Some(at),
+                    });
+                }
+                _ => {}
+            }
+        }
+        let Some(a) = slipping else {
+            return Ok(PtfoCheck {
+                taut,
+                anchors: decisions,
+                slips,
+                volatile: None,
+            });
+        };
+        let (next, event) = state.update_with_slipped(&taut, &a)?;
+        slips.push(event);
+        taut = next;
+    }
+    Err(FrictionalError::Internal(format!(
+        "more slips than PTFO vertices ({ptfo_vertex_count})"
+    )))
+}
+
+/// The anchor points of a check, for reports.
+pub fn anchor_points(check: &PtfoCheck) -> Vec<Point2<f64>> {
+    check.anchors.iter().map(|d| d.anchor.point).collect()
+}
