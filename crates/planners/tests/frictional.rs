@@ -6,7 +6,7 @@ use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::Polygon;
-use rappel_geometry::terrain::plane_series::TerrainPlane;
+use rappel_terrain::plane_series::TerrainPlane;
 use rappel_mechanics::friction::FrictionInterval;
 use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_mechanics::ptfo::{PtfoClass, TensionAssumptions};
