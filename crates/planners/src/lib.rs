@@ -20,4 +20,5 @@ pub mod feasibility;
 pub mod path_pair;
 pub mod spt;
 pub mod terrain;
+pub mod tether_tracking;
 pub mod visibility_graph;
