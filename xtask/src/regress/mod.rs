@@ -5,6 +5,7 @@ mod btm;
 mod mechanics;
 mod planner;
 pub mod terrain;
+mod tracking;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -50,6 +51,7 @@ const SUITES: &[Suite] = &[
     ("mechanics", mechanics::suite),
     ("terrain", terrain::suite),
     ("planner", planner::suite),
+    ("tracking", tracking::suite),
 ];
 
 /// The workspace root (the parent of `xtask/`).

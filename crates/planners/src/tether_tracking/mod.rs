@@ -25,6 +25,8 @@
 //! On one plane the tracked configuration is the shortest homotopic path of the robot's path from
 //! the base (tested against the homotopy crate's SHP).
 
+pub mod two_robots;
+
 use nalgebra::{Point2, Point3};
 use rappel_geometry::polygon::PointInPolygon;
 use rappel_geometry::predicates::orient2d;
