@@ -22,4 +22,5 @@ pub mod online;
 pub mod path_pair;
 pub mod spt;
 pub mod terrain;
+pub mod tether_tracking;
 pub mod visibility_graph;

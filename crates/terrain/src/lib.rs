@@ -1,3 +1,6 @@
+//! Terrain models (thesis §2.1.2; Kumar §II). The [`surface::Terrain`] trait is what planners and
+//! mechanics may ask of the ground; [`plane_series_terrain`] and [`multi_slope`] implement it.
+//!
 //! Terrain models (thesis §2.1.2): the convex series of planes down a crater wall in the unfolded
 //! planning frame, and (from DEMs) height fields and the obstacles detected on them.
 //!
@@ -15,9 +18,12 @@ pub mod frame;
 pub mod geotiff;
 pub mod ingest;
 pub mod least_squares;
+pub mod multi_slope;
 pub mod obstacle_detection;
 pub mod plane_class;
 pub mod plane_fit;
 pub mod plane_series;
+pub mod plane_series_terrain;
 pub mod slope;
+pub mod surface;
 pub mod synthetic;

@@ -253,17 +253,6 @@ fn kumar_sweep() -> Result<Vec<Case>, String> {
     let w = rover.params().mass * STANDARD_GRAVITY;
     // Least tension holding the robot with the tether straight up the fall line, parallel to the slope.
     let least = |deg: f64| w * (deg.to_radians().sin() - mu * deg.to_radians().cos());
-    // With the pyramid of eq. 3c aligned with the tether, a pose at angle θ off the anchor's fall
-    // line needs G cos θ - μN as long as G sin θ <= μN: least sqrt(G² - (μN)²) - μN.
-    let least_pyramid = |deg: f64| {
-        let (g_along, mu_n) = (w * deg.to_radians().sin(), mu * w * deg.to_radians().cos());
-        (g_along * g_along - mu_n * mu_n).sqrt() - mu_n
-    };
-    let nested = maps.windows(2).all(|p| {
-        p[0].iter()
-            .zip(&p[1])
-            .all(|(a, b)| !a.is_stable() || b.is_stable())
-    });
     let chain200 = KumarChain {
         lengths: [8.0, 8.0],
         anchor_x: 4.0,
@@ -274,8 +263,9 @@ fn kumar_sweep() -> Result<Vec<Case>, String> {
     let inscribed = TensionLimitedLp::default().with_pyramid(FrictionPyramid::Inscribed);
     let map200_in =
         stability_map(&rover, &inscribed, &planes, &chain200, &grid).map_err(|e| e.to_string())?;
-    let stable200 = count(&maps[0], 0) + count(&maps[0], 1);
     let stable200_in = count(&map200_in, 0) + count(&map200_in, 1);
+    // Kumar Fig. 5 itself (200 / 300 / 500 N from tracked windings, with the paper's verdicts and
+    // the known differences) is the `tracking` suite.
     let mut cases = vec![
         Case::new(
             SUITE,
@@ -283,19 +273,6 @@ fn kumar_sweep() -> Result<Vec<Case>, String> {
             failed.to_string(),
             "0",
             failed == 0,
-        ),
-        Case::new(
-            SUITE,
-            format!(
-                "Kumar sweep, T2max 200 N, pyramid of eq. 3c as printed: stable poses of {total}"
-            ),
-            stable200.to_string(),
-            format!(
-                "> 0: eq. 3c's pyramid holds off the fall line with {:.1} N < 200 N (closed form; \
-                 the paper's Fig. 5a shows 0, reproduced with the cone in the next row)",
-                least_pyramid(55.0)
-            ),
-            (stable200 > 0) == (least_pyramid(55.0) < 200.0),
         ),
         Case::new(
             SUITE,
@@ -308,33 +285,10 @@ fn kumar_sweep() -> Result<Vec<Case>, String> {
         ),
         Case::new(
             SUITE,
-            "Kumar sweep: stable sets nested 200 c 300 c 500 N",
-            format!(
-                "{} c {} c {}",
-                count(&maps[0], 0) + count(&maps[0], 1),
-                count(&maps[1], 0) + count(&maps[1], 1),
-                count(&maps[2], 0) + count(&maps[2], 1)
-            ),
-            "nested (Kumar Fig. 5a-c)",
-            nested,
-        ),
-        Case::new(
-            SUITE,
             "Kumar sweep, T2max 500 N: stable poses on the 65 deg slope",
             count(&maps[2], 1).to_string(),
             "> 0 (Kumar Fig. 5c)",
             count(&maps[2], 1) > 0,
-        ),
-        Case::new(
-            SUITE,
-            "Kumar sweep, T2max 300 N: stable poses on 55 deg / 65 deg (Fig. 5b shows 65 deg unstable)",
-            format!("{} / {}", count(&maps[1], 0), count(&maps[1], 1)),
-            format!(
-                "> 0 / > 0 (least tension {:.1} / {:.1} N <= 300)",
-                least(55.0),
-                least(65.0)
-            ),
-            count(&maps[1], 0) > 0 && count(&maps[1], 1) > 0,
         ),
     ];
     // The pose straight below the anchor on the 65° slope needs the closed-form least tension.

@@ -6,6 +6,7 @@ mod mechanics;
 mod online;
 mod planner;
 pub mod terrain;
+mod tracking;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -52,6 +53,7 @@ const SUITES: &[Suite] = &[
     ("terrain", terrain::suite),
     ("planner", planner::suite),
     ("online", online::suite),
+    ("tracking", tracking::suite),
 ];
 
 static FULL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);

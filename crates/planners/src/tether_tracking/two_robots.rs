@@ -1,0 +1,219 @@
+//! Two robots on one tether (Kumar Problem 1): Robot 1 moves on the top surface and winds the
+//! tether around obstacles while Robot 2 waits at its start; then Robot 2 descends, and at each of
+//! its waypoints we report the tether configuration, Robot 1's holding limit (eq. 1), `T_2max` from
+//! the actual windings (eq. 2, ground anchors included) and Robot 2's tension-limited stability LP
+//! (eqs. 3a-3e) with the tether pulling towards its last anchor.
+//!
+//! Both phases use one [`TetherTracker`]: phase 1 with Robot 2's start as the base and Robot 1 as
+//! the moving end, phase 2 on the reversed anchor list (turn sides flipped) with Robot 1 as the base
+//! (Kumar: "the same algorithm can be used ... for the motion of Robot 1").
+
+use super::{AnchorKind, TetherAnchor, TetherTracker, TrackError, windings_of};
+use nalgebra::{Point2, Point3};
+use rappel_mechanics::robot::{PlanarPose, RobotModel, SlopePlane, TetherSpec, place};
+use rappel_mechanics::tension_limit::{HoldingRobot, TensionLimitError, tension_limit};
+use rappel_mechanics::tension_lp::TensionLimitedLp;
+use rappel_mechanics::traversability::StabilityError;
+use rappel_terrain::surface::Terrain;
+use serde::Serialize;
+
+/// Why a two-robot run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum TwoRobotError {
+    /// A path step is refused.
+    #[error("robot {robot}: {source}")]
+    Track {
+        /// 1 or 2.
+        robot: u8,
+        /// The tracker's objection.
+        source: TrackError,
+    },
+    /// eq. 1-2 inputs are invalid.
+    #[error(transparent)]
+    Limit(#[from] TensionLimitError),
+    /// The stability LP failed.
+    #[error("robot 2 at waypoint {waypoint}: {source}")]
+    Stability {
+        /// Waypoint index.
+        waypoint: usize,
+        /// The LP's error.
+        source: StabilityError,
+    },
+    /// Robot 2's surface is refused by the robot model (e.g. steeper than 89 degrees).
+    #[error("robot 2 at waypoint {waypoint}: surface {surface} is out of the model's range")]
+    Surface {
+        /// Waypoint index.
+        waypoint: usize,
+        /// Surface index.
+        surface: usize,
+    },
+}
+
+/// Robot 2 at one waypoint.
+#[derive(Debug, Clone, Serialize)]
+pub struct WaypointReport {
+    /// Waypoint index in Robot 2's path.
+    pub waypoint: usize,
+    /// Robot 2's frame position.
+    pub position: Point2<f64>,
+    /// The surface it stands on.
+    pub surface: usize,
+    /// The tether from Robot 1 to Robot 2 (robot, obstacle and ground anchors).
+    pub configuration: Vec<TetherAnchor>,
+    /// Total winding angle (Kumar Definition 3), radians.
+    pub total_winding: f64,
+    /// `T_1` limit `F_0 + mu_s0 m_1 g` (eq. 1), N.
+    pub t1_limit: f64,
+    /// `T_2max` from the obstacle windings only (the paper's depicted values), N.
+    pub t2max_obstacles: f64,
+    /// `T_2max` from all windings, ground anchors included (eq. 2), N.
+    pub t2max: f64,
+    /// Whether a ground anchor lies between Robot 2 and its last obstacle anchor.
+    pub ground_anchored: bool,
+    /// The LP's verdict.
+    pub stable: bool,
+    /// The least tension that holds Robot 2, when stable.
+    pub required_tension: Option<f64>,
+}
+
+/// Kumar's two robots.
+pub struct TwoRobots<'a, T: Terrain + ?Sized> {
+    /// The terrain.
+    pub terrain: &'a T,
+    /// Robot 1 (holding) parameters for eq. 1.
+    pub holding: HoldingRobot,
+    /// Gravity, m/s^2.
+    pub gravity: f64,
+    /// Robot 2's model.
+    pub robot2: &'a dyn RobotModel,
+    /// Height of Robot 2's tether exit (the anchor height `h_t` in its plane frame), m.
+    pub tether_height: f64,
+}
+
+/// Reverses a configuration's obstacle anchors (base becomes end): turn sides flip.
+fn reversed(anchors: &[TetherAnchor]) -> Vec<TetherAnchor> {
+    anchors
+        .iter()
+        .rev()
+        .map(|a| {
+            let mut a = *a;
+            if let AnchorKind::Obstacle { left, .. } = &mut a.kind {
+                *left = !*left;
+            }
+            a
+        })
+        .collect()
+}
+
+impl<'a, T: Terrain + ?Sized> TwoRobots<'a, T> {
+    /// Runs Problem 1: Robot 1 from `path1[0]` along `path1`, Robot 2 waiting at `path2[0]`, then
+    /// Robot 2 along `path2`; one report per waypoint of `path2` (its start included).
+    pub fn run(
+        &self,
+        path1: &[Point2<f64>],
+        path2: &[Point2<f64>],
+    ) -> Result<Vec<WaypointReport>, TwoRobotError> {
+        let t1 = |source| TwoRobotError::Track { robot: 1, source };
+        let t2 = |source| TwoRobotError::Track { robot: 2, source };
+        let (Some(&s1), Some(&s2)) = (path1.first(), path2.first()) else {
+            return Ok(Vec::new());
+        };
+        let mut phase1 = TetherTracker::new(self.terrain, s2, s1).map_err(t1)?;
+        phase1.follow(&path1[1..]).map_err(t1)?;
+        let r1 = phase1.robot();
+        let anchors = reversed(phase1.obstacle_anchors());
+        let mut phase2 = TetherTracker::with_anchors(self.terrain, r1, anchors, s2).map_err(t2)?;
+        let t1_limit = self.holding.holding_limit(self.gravity)?;
+        let mut out = Vec::with_capacity(path2.len());
+        for (i, q) in path2.iter().enumerate() {
+            if i > 0 {
+                phase2.step(*q).map_err(t2)?;
+            }
+            let configuration = phase2.configuration();
+            let windings = windings_of(self.terrain, &configuration);
+            let obstacle_windings: Vec<(f64, f64)> = configuration
+                .windows(3)
+                .zip(&windings)
+                .filter(|(w, _)| matches!(w[1].kind, AnchorKind::Obstacle { .. }))
+                .map(|(_, x)| *x)
+                .collect();
+            let total_winding = windings.iter().map(|w| w.1).sum();
+            let t2max = tension_limit(t1_limit, &windings)?;
+            let t2max_obstacles = tension_limit(t1_limit, &obstacle_windings)?;
+            let n = configuration.len();
+            let last = configuration[n - 2];
+            let ground_anchored = matches!(last.kind, AnchorKind::Ground { .. });
+            let surface = self.terrain.surface_at(q).unwrap_or(0);
+            let (stable, required_tension) = self.assess(i, surface, q, &last, t2max)?;
+            out.push(WaypointReport {
+                waypoint: i,
+                position: *q,
+                surface,
+                configuration,
+                total_winding,
+                t1_limit,
+                t2max_obstacles,
+                t2max,
+                ground_anchored,
+                stable,
+                required_tension,
+            });
+        }
+        Ok(out)
+    }
+
+    /// Robot 2's LP on its surface, the tether pulling towards `last` (unfolded into the surface's
+    /// plane, at the exit height), facing away from it.
+    fn assess(
+        &self,
+        waypoint: usize,
+        surface: usize,
+        q: &Point2<f64>,
+        last: &TetherAnchor,
+        t2max: f64,
+    ) -> Result<(bool, Option<f64>), TwoRobotError> {
+        let plane = SlopePlane::new(
+            self.terrain.slope_rad(surface),
+            self.terrain.friction(surface),
+        )
+        .map_err(|_| TwoRobotError::Surface { waypoint, surface })?;
+        // The surface's plane frame: x across, y up the fall line, from the robot's position.
+        let chart = self.terrain.chart(surface);
+        let n = self.terrain.normal(surface);
+        let up = {
+            let g = nalgebra::Vector3::z() - n * n.z;
+            g.try_normalize(1e-12)
+        };
+        let anchor_world = self.terrain.fold(surface, &last.point);
+        let here = chart.fold(q);
+        let d = anchor_world - here;
+        let (ax, ay) = match up {
+            Some(up) => {
+                let across = up.cross(&n);
+                (d.dot(&across), d.dot(&up))
+            }
+            // A flat surface: any frame will do; use the chart's axes.
+            None => (d.dot(&chart.u3), d.dot(&chart.w3)),
+        };
+        let heading = if ax.hypot(ay) > 0.0 {
+            ax.atan2(-ay)
+        } else {
+            std::f64::consts::PI
+        };
+        let tether = TetherSpec {
+            anchor: Point3::new(ax, ay, self.tether_height),
+            max_tension: Some(t2max),
+        };
+        let placed = place(
+            self.robot2,
+            &PlanarPose::new(0.0, 0.0, heading),
+            &plane,
+            Some(&tether),
+        )
+        .map_err(|_| TwoRobotError::Surface { waypoint, surface })?;
+        let r = TensionLimitedLp::default()
+            .check(&placed)
+            .map_err(|source| TwoRobotError::Stability { waypoint, source })?;
+        Ok((r.stable, r.required_tension))
+    }
+}

@@ -1,0 +1,280 @@
+//! Tether tracking (Kumar Alg. 1): the 2D consistency property against the homotopy crate's
+//! shortest homotopic path (an independent subsystem: crossing sequences, sleeves and funnels) on
+//! one plane and on a developable series of planes, and hand cases with known answers.
+
+use nalgebra::Point2;
+use proptest::prelude::*;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rappel_geometry::btm::Btm;
+use rappel_geometry::map::Map;
+use rappel_geometry::polygon::Polygon;
+use rappel_homotopy::path::Path;
+use rappel_homotopy::shp::shortest_homotopic_path;
+use rappel_planners::tether_tracking::{AnchorKind, TetherTracker, TrackError};
+use rappel_terrain::plane_series::TerrainPlane;
+use rappel_terrain::plane_series_terrain::PlaneSeriesTerrain;
+use rappel_terrain::surface::{Prism, Terrain};
+
+const SIZE: f64 = 40.0;
+
+fn p(x: f64, y: f64) -> Point2<f64> {
+    Point2::new(x, y)
+}
+
+fn prisms(obstacles: &[Polygon]) -> Vec<Prism> {
+    obstacles
+        .iter()
+        .map(|o| Prism {
+            surface: 0,
+            base: o.clone(),
+            height: 1.0,
+            friction: 0.4,
+        })
+        .collect()
+}
+
+/// One random triangle in each 10 m cell of a 40 m square (cells keep them disjoint).
+fn random_obstacles(rng: &mut ChaCha8Rng) -> Vec<Polygon> {
+    let mut out = Vec::new();
+    for i in 0..4 {
+        for j in 0..4 {
+            if rng.random_range(0.0..1.0) < 0.3 {
+                continue;
+            }
+            let (cx, cy) = (10.0 * i as f64 + 5.0, 10.0 * j as f64 + 5.0);
+            let a0: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let pts = (0..3)
+                .map(|k| {
+                    let a = a0 + k as f64 * 2.1 + rng.random_range(-0.3..0.3);
+                    let r = rng.random_range(1.5..3.5);
+                    p(cx + r * a.cos(), cy + r * a.sin())
+                })
+                .collect();
+            out.push(Polygon::new(pts).to_counter_clockwise());
+        }
+    }
+    out
+}
+
+/// The series used for the developable case: a flat top, then steeper bands (crests).
+fn series() -> Vec<TerrainPlane> {
+    vec![
+        TerrainPlane::new(SIZE, 20.0, 0.0, 0.4),
+        TerrainPlane::new(20.0, 10.0, 35.0, 0.4),
+        TerrainPlane::new(10.0, 0.0, 60.0, 0.4),
+    ]
+}
+
+/// Tracks a random walk and compares the final tether with the SHP of the walk.
+fn check_walk(seed: u64, planes: &[TerrainPlane], steps: usize) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let obstacles = random_obstacles(&mut rng);
+    let terrain = PlaneSeriesTerrain::new(planes, (0.0, SIZE), prisms(&obstacles)).unwrap();
+    let map = Map::new(Polygon::rectangle(0.0, 0.0, SIZE, SIZE), obstacles);
+    let btm = Btm::build(&map).unwrap();
+    // Base and start: cell corners are free of obstacles.
+    let base = p(10.0, 30.0);
+    let mut tracker = TetherTracker::new(&terrain, base, base).unwrap();
+    let mut walk = vec![base];
+    let mut tries = 0;
+    while walk.len() < steps && tries < 20 * steps {
+        tries += 1;
+        let cur = *walk.last().unwrap();
+        let a: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+        let r = rng.random_range(0.5..6.0);
+        let q = p(cur.x + r * a.cos(), cur.y + r * a.sin());
+        if !(q.x > 0.0 && q.x < SIZE && q.y > 0.0 && q.y < SIZE) {
+            continue;
+        }
+        match tracker.step(q) {
+            Ok(()) => walk.push(q),
+            Err(TrackError::ThroughObstacle { .. }) => continue,
+            Err(e) => panic!("seed {seed}: {e}"),
+        }
+    }
+    let shp = shortest_homotopic_path(&btm, &Path::new(walk.clone()).unwrap()).unwrap();
+    let config = tracker.configuration();
+    let tracked: Vec<Point2<f64>> = config
+        .iter()
+        .filter(|a| !matches!(a.kind, AnchorKind::Ground { .. }))
+        .map(|a| a.point)
+        .collect();
+    let expected = &shp.taut.points;
+    let same = tracked.len() == expected.len()
+        && tracked
+            .iter()
+            .zip(expected)
+            .all(|(a, b)| (a - b).norm() <= 1e-9 * SIZE);
+    assert!(
+        same,
+        "seed {seed}: tracked {tracked:?}\n SHP {expected:?}\n walk {walk:?}"
+    );
+    // Length in the frame equals the SHP's length (unfolding is isometric).
+    let frame_len: f64 = tracked.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    assert!((frame_len - shp.taut.length).abs() <= 1e-9 * shp.taut.length.max(1.0));
+    assert!((tracker.length() - shp.taut.length).abs() <= 1e-9 * shp.taut.length.max(1.0));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// On one plane the tracked tether is the SHP of the robot's path (anchors and length).
+    #[test]
+    fn tracked_tether_is_the_shp_on_a_plane(seed in any::<u64>()) {
+        check_walk(seed, &[TerrainPlane::new(SIZE, 0.0, 0.0, 0.4)], 60);
+    }
+
+    /// On a developable series of planes the same holds in the unfolded frame, ground anchors aside.
+    #[test]
+    fn tracked_tether_is_the_shp_on_a_plane_series(seed in any::<u64>()) {
+        check_walk(seed, &series(), 60);
+    }
+}
+
+fn square_terrain(planes: &[TerrainPlane]) -> PlaneSeriesTerrain {
+    PlaneSeriesTerrain::new(
+        planes,
+        (0.0, 20.0),
+        prisms(&[Polygon::rectangle(4.0, 4.0, 2.0, 2.0)]),
+    )
+    .unwrap()
+}
+
+fn flat() -> Vec<TerrainPlane> {
+    vec![TerrainPlane::new(20.0, 0.0, 0.0, 0.4)]
+}
+
+#[test]
+fn a_corner_passed_on_the_left_and_on_the_right() {
+    let t = square_terrain(&flat());
+    // West of the square: the tether from (5, 0) catches corner (4, 4), turning clockwise.
+    let mut tr = TetherTracker::new(&t, p(5.0, 0.0), p(3.0, 2.0)).unwrap();
+    tr.step(p(3.0, 10.0)).unwrap();
+    let a = tr.obstacle_anchors();
+    assert_eq!(a.len(), 1);
+    assert_eq!(a[0].point, p(4.0, 4.0));
+    assert!(matches!(
+        a[0].kind,
+        AnchorKind::Obstacle { left: false, .. }
+    ));
+    let want = 17f64.sqrt() + 37f64.sqrt();
+    assert!((tr.length() - want).abs() < 1e-12);
+    // East: corner (6, 4), counter-clockwise.
+    let mut tr = TetherTracker::new(&t, p(5.0, 0.0), p(7.0, 2.0)).unwrap();
+    tr.step(p(7.0, 10.0)).unwrap();
+    let a = tr.obstacle_anchors();
+    assert_eq!(a.len(), 1);
+    assert_eq!(a[0].point, p(6.0, 4.0));
+    assert!(matches!(a[0].kind, AnchorKind::Obstacle { left: true, .. }));
+    // Going over the top: both upper-left corner and upper right are wound.
+    tr.step(p(3.0, 10.0)).unwrap();
+    tr.step(p(3.0, 2.0)).unwrap();
+    let pts: Vec<_> = tr.obstacle_anchors().iter().map(|a| a.point).collect();
+    assert_eq!(pts, vec![p(6.0, 4.0), p(6.0, 6.0), p(4.0, 6.0)]);
+}
+
+#[test]
+fn a_detour_returning_leaves_no_anchor() {
+    let t = square_terrain(&flat());
+    let mut tr = TetherTracker::new(&t, p(5.0, 0.0), p(3.0, 2.0)).unwrap();
+    tr.follow(&[p(3.0, 10.0), p(5.0, 12.0), p(3.0, 10.0), p(3.0, 2.0)])
+        .unwrap();
+    assert!(tr.obstacle_anchors().is_empty());
+    assert!((tr.length() - 8f64.sqrt()).abs() < 1e-12);
+}
+
+#[test]
+fn a_ground_anchor_appears_and_slides_at_a_crest_and_none_at_a_valley() {
+    // Flat above y = 10, 30 degrees below: a crest.
+    let crest = [
+        TerrainPlane::new(20.0, 10.0, 0.0, 0.4),
+        TerrainPlane::new(10.0, 0.0, 30.0, 0.5),
+    ];
+    let t = PlaneSeriesTerrain::new(&crest, (0.0, 20.0), vec![]).unwrap();
+    let mut tr = TetherTracker::new(&t, p(5.0, 15.0), p(5.0, 12.0)).unwrap();
+    assert_eq!(tr.configuration().len(), 2);
+    tr.step(p(5.0, 5.0)).unwrap();
+    let c = tr.configuration();
+    assert_eq!(c.len(), 3);
+    assert!(matches!(c[1].kind, AnchorKind::Ground { edge: 0 }));
+    assert_eq!(c[1].point, p(5.0, 10.0));
+    // Straight down the fall line the tether bends by the slope change, 30 degrees, with the
+    // smaller friction of the two planes.
+    let w = tr.windings();
+    assert_eq!(w.len(), 1);
+    assert!((w[0].1 - 30f64.to_radians()).abs() < 1e-12);
+    assert_eq!(w[0].0, 0.4);
+    // The anchor slides along the edge: the frame line from (5, 15) to (1, 5) crosses y = 10 at 3.
+    tr.step(p(1.0, 5.0)).unwrap();
+    let c = tr.configuration();
+    assert!((c[1].point - p(3.0, 10.0)).norm() < 1e-12);
+    // Back up onto the flat: the ground anchor is gone.
+    tr.step(p(1.0, 12.0)).unwrap();
+    assert_eq!(tr.configuration().len(), 2);
+
+    // 30 degrees above y = 10, flat below: a valley, no ground anchor.
+    let valley = [
+        TerrainPlane::new(20.0, 10.0, 30.0, 0.4),
+        TerrainPlane::new(10.0, 0.0, 0.0, 0.4),
+    ];
+    let t = PlaneSeriesTerrain::new(&valley, (0.0, 20.0), vec![]).unwrap();
+    let mut tr = TetherTracker::new(&t, p(5.0, 15.0), p(5.0, 12.0)).unwrap();
+    tr.step(p(5.0, 5.0)).unwrap();
+    assert_eq!(tr.configuration().len(), 2);
+    assert!(tr.windings().is_empty());
+}
+
+#[test]
+fn winding_twice_around_an_obstacle_matches_the_shp() {
+    let obstacles = [Polygon::rectangle(4.0, 4.0, 2.0, 2.0)];
+    let t = PlaneSeriesTerrain::new(&flat(), (0.0, 20.0), prisms(&obstacles)).unwrap();
+    let base = p(5.0, 1.0);
+    let ring = [p(8.0, 2.0), p(8.0, 8.0), p(2.0, 8.0), p(2.0, 2.0)];
+    let mut walk = vec![base];
+    for _ in 0..2 {
+        walk.extend(ring);
+    }
+    walk.push(p(5.0, 2.0));
+    let mut tr = TetherTracker::new(&t, base, base).unwrap();
+    tr.follow(&walk).unwrap();
+    let btm = Btm::build(&Map::new(
+        Polygon::rectangle(0.0, 0.0, 20.0, 20.0),
+        obstacles.to_vec(),
+    ))
+    .unwrap();
+    let shp = shortest_homotopic_path(&btm, &Path::new(walk).unwrap()).unwrap();
+    let tracked: Vec<_> = tr.configuration().iter().map(|a| a.point).collect();
+    assert_eq!(tracked, shp.taut.points);
+    assert_eq!(tr.obstacle_anchors().len(), 8);
+    // Two full turns: the turning angles add up to 4 pi minus the open ends' deficit.
+    let total: f64 = tr.windings().iter().map(|w| w.1).sum();
+    let shp_total: f64 = shp.taut.anchors.iter().map(|a| a.turning_angle).sum();
+    assert!((total - shp_total).abs() < 1e-9);
+    assert!(total > 3.0 * std::f64::consts::PI);
+}
+
+#[test]
+fn bad_steps_are_positioned_errors() {
+    let t = square_terrain(&flat());
+    let mut tr = TetherTracker::new(&t, p(5.0, 0.0), p(3.0, 2.0)).unwrap();
+    assert!(matches!(
+        tr.step(p(7.0, 5.0)),
+        Err(TrackError::ThroughObstacle { obstacle: 0, .. })
+    ));
+    assert!(matches!(
+        tr.step(p(30.0, 5.0)),
+        Err(TrackError::OffTerrain { .. })
+    ));
+    assert!(matches!(
+        tr.step(p(f64::NAN, 5.0)),
+        Err(TrackError::NonFinite { .. })
+    ));
+    assert!(matches!(
+        tr.step(p(5.0, 5.0)),
+        Err(TrackError::ThroughObstacle { .. })
+    ));
+    // A failed step leaves the tracker where it was.
+    assert_eq!(tr.robot(), p(3.0, 2.0));
+    assert_eq!(t.surface_count(), 1);
+}

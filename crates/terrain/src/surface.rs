@@ -1,0 +1,146 @@
+//! The [`Terrain`] trait: what planners and mechanics may ask of the ground (Kumar §II; thesis
+//! §2.1.2). A terrain is a chain of planar surfaces in 3D, developed isometrically into one planar
+//! **frame** (the planning frame in which maps, paths and tethers live): every question is asked
+//! with a frame point, and [`Terrain::fold`] / [`Terrain::unfold`] move between a surface's region
+//! of the frame and the world.
+//!
+//! Two surfaces that share an edge meet at a [`EdgeKind::Crest`] (the lower surface falls away
+//! below the upper one's plane: a taut tether crossing it rests on the edge and bends there, a
+//! **ground anchor**; Kumar calls this a "concave" slope change, Fig. 3a, concave as seen from the
+//! air side) or at a [`EdgeKind::Valley`] (the tether spans it through the air, Kumar's "convex"
+//! case, Fig. 3b: no anchor). The thesis' "convex plane series" is a series of crests.
+//!
+//! Obstacles are [`Prism`]s: a base polygon on one surface (in frame coordinates), a height along
+//! that surface's normal and the tether friction on their sides.
+
+use nalgebra::{Point2, Point3, Vector2, Vector3};
+use rappel_geometry::polygon::Polygon;
+use serde::{Deserialize, Serialize};
+
+/// An isometry between a surface's plane in the world and the frame: a point `o3 + s u3 + t w3`
+/// of the plane is the frame point `o2 + s u2 + t w2` (`u`, `w` orthonormal in both).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Chart {
+    /// A world point of the plane.
+    pub o3: Point3<f64>,
+    /// First in-plane unit vector (world).
+    pub u3: Vector3<f64>,
+    /// Second in-plane unit vector (world), orthogonal to `u3`.
+    pub w3: Vector3<f64>,
+    /// The frame image of `o3`.
+    pub o2: Point2<f64>,
+    /// The frame image of `u3`.
+    pub u2: Vector2<f64>,
+    /// The frame image of `w3`.
+    pub w2: Vector2<f64>,
+}
+
+impl Chart {
+    /// The world point of frame point `p` (on this chart's plane).
+    ///
+    /// ```
+    /// use nalgebra::{Point2, Point3, Vector2, Vector3};
+    /// use rappel_terrain::surface::Chart;
+    /// let c = Chart { o3: Point3::origin(), u3: Vector3::x(), w3: Vector3::z(),
+    ///                 o2: Point2::origin(), u2: Vector2::x(), w2: Vector2::y() };
+    /// assert_eq!(c.fold(&Point2::new(1.0, 2.0)), Point3::new(1.0, 0.0, 2.0));
+    /// assert_eq!(c.unfold(&Point3::new(1.0, 0.0, 2.0)), Point2::new(1.0, 2.0));
+    /// ```
+    pub fn fold(&self, p: &Point2<f64>) -> Point3<f64> {
+        let d = p - self.o2;
+        self.o3 + self.u3 * d.dot(&self.u2) + self.w3 * d.dot(&self.w2)
+    }
+
+    /// The frame point of world point `q`, projected onto this chart's plane.
+    pub fn unfold(&self, q: &Point3<f64>) -> Point2<f64> {
+        let d = q - self.o3;
+        self.o2 + self.u2 * d.dot(&self.u3) + self.w2 * d.dot(&self.w3)
+    }
+}
+
+/// How two surfaces meet along their shared edge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum EdgeKind {
+    /// The next surface falls away below the previous one's plane: the tether rests on the edge
+    /// (a ground anchor; Kumar's "concave" case).
+    Crest,
+    /// The next surface rises above the previous one's plane: the tether spans the valley.
+    Valley,
+    /// The two surfaces are coplanar.
+    Flat,
+}
+
+/// The edge shared by surfaces `from` and `to = from + 1`, in frame coordinates.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SharedEdge {
+    /// The surface before the edge (in chain order).
+    pub from: usize,
+    /// The surface after it.
+    pub to: usize,
+    /// One end, in the frame.
+    pub a: Point2<f64>,
+    /// The other end, in the frame.
+    pub b: Point2<f64>,
+    /// Crest, valley or flat.
+    pub kind: EdgeKind,
+    /// The dihedral turn between the two surfaces, radians, `>= 0` (0 for coplanar).
+    pub bend: f64,
+}
+
+/// An obstacle (Kumar's `O_k = (O_k^b, s_ok, h_ok, mu_ok)`): a prism standing on one surface.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Prism {
+    /// The surface the base lies on.
+    pub surface: usize,
+    /// The base polygon, in frame coordinates (counter-clockwise once validated).
+    pub base: Polygon,
+    /// Height along the surface normal, metres.
+    pub height: f64,
+    /// Tether friction on its sides.
+    pub friction: f64,
+}
+
+/// What planners and mechanics may ask of the ground. Surfaces are numbered `0..surface_count()`;
+/// points are frame points unless a name says world.
+pub trait Terrain {
+    /// How many surfaces.
+    fn surface_count(&self) -> usize;
+    /// The surface holding frame point `p` (the first in chain order on a shared edge); `None` off
+    /// the terrain.
+    fn surface_at(&self, p: &Point2<f64>) -> Option<usize>;
+    /// The chart of surface `s` (panics when `s >= surface_count()`).
+    fn chart(&self, s: usize) -> &Chart;
+    /// Wheel-ground friction of surface `s`.
+    fn friction(&self, s: usize) -> f64;
+    /// The shared edges, in chain order.
+    fn edges(&self) -> &[SharedEdge];
+    /// The obstacles.
+    fn obstacles(&self) -> &[Prism];
+
+    /// Upward unit normal of surface `s` (world).
+    fn normal(&self, s: usize) -> Vector3<f64> {
+        let c = self.chart(s);
+        let n = c.u3.cross(&c.w3).normalize();
+        if n.z < 0.0 { -n } else { n }
+    }
+    /// Inclination of surface `s` from horizontal, radians.
+    fn slope_rad(&self, s: usize) -> f64 {
+        self.normal(s).z.clamp(-1.0, 1.0).acos()
+    }
+    /// The world point of frame point `p` on surface `s` (fold).
+    fn fold(&self, s: usize, p: &Point2<f64>) -> Point3<f64> {
+        self.chart(s).fold(p)
+    }
+    /// The frame point of world point `q` on surface `s` (unfold).
+    fn unfold(&self, s: usize, q: &Point3<f64>) -> Point2<f64> {
+        self.chart(s).unfold(q)
+    }
+    /// The world point of frame point `p` on whichever surface holds it.
+    fn world(&self, p: &Point2<f64>) -> Option<Point3<f64>> {
+        self.surface_at(p).map(|s| self.fold(s, p))
+    }
+    /// Height (world `z`) of the ground at frame point `p`.
+    fn height(&self, p: &Point2<f64>) -> Option<f64> {
+        self.world(p).map(|q| q.z)
+    }
+}
