@@ -274,6 +274,7 @@ pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan,
         btm: &btm,
         terrain: &terrain,
         clearance: scenario.robot.clearance_m,
+        tether_length: scenario.robot.tether_length_m,
     };
     let planner = SptPlanner::new(&btm);
     let outcome = plan_path_pair(
