@@ -32,7 +32,7 @@ use rappel_mechanics::stability_map::{
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
-use rappel_planners::spt::SptPlanner;
+use rappel_planners::spt::{SearchError, SptPlanner};
 use serde::Serialize;
 
 /// The most poses one stability map may assess. Each pose costs a QP or LP solve (about a
@@ -138,27 +138,30 @@ struct ShortestTether<'b> {
 
 impl ShortestTether<'_> {
     /// The last anchor of the taut tether to `position` and the tether's length (`None` if no
-    /// path reaches it).
-    fn taut(&self, position: &Point2<f64>) -> Option<(Point2<f64>, f64)> {
+    /// path reaches it; an error when the search could not tell, e.g. its budget ran out).
+    fn taut(&self, position: &Point2<f64>) -> Result<Option<(Point2<f64>, f64)>, SearchError> {
         // In plain view of the start the tether runs straight (an exact walk through the BTM);
         // only poses behind obstacles need the SPT search.
         let clear = Tracer::new(self.planner.btm(), self.start)
             .is_ok_and(|mut t| t.push(*position).is_ok());
         if clear {
-            return Some((self.start, (position - self.start).norm()));
+            return Ok(Some((self.start, (position - self.start).norm())));
         }
-        let shp = self.planner.shortest_path(self.start, *position).ok()??;
+        let Some(shp) = self.planner.shortest_path(self.start, *position)? else {
+            return Ok(None);
+        };
         let taut = &shp.shp.taut;
         let points = &taut.points;
-        points
+        Ok(points
             .len()
             .checked_sub(2)
-            .map(|i| (points[i], taut.length))
+            .map(|i| (points[i], taut.length)))
     }
 
-    /// The last anchor of the taut tether to `position` (`None` if no path reaches it).
+    /// The last anchor of the taut tether to `position` (`None` if no path reaches it or the
+    /// search could not tell; the report then names the reason for that pose).
     fn last_anchor(&self, position: &Point2<f64>) -> Option<Point2<f64>> {
-        self.taut(position).map(|(a, _)| a)
+        self.taut(position).ok().flatten().map(|(a, _)| a)
     }
 }
 
@@ -258,13 +261,17 @@ pub fn stability_over_scenario(
         .filter(|v| free(&v.pose.position))
         .filter(|v| seen.insert((v.pose.position.x.to_bits(), v.pose.position.y.to_bits())))
         .map(|v| {
-            let taut = anchors.taut(&v.pose.position);
+            let (taut, search_failure) = match anchors.taut(&v.pose.position) {
+                Ok(t) => (t, None),
+                Err(e) => (None, Some(format!("tether not traced: {e}"))),
+            };
             let tether_length = taut.map(|(_, l)| l);
             let beyond_tether = matches!(
                 (tether_length, scenario.robot.tether_length_m),
                 (Some(need), Some(have)) if need > have
             );
             let (stable, margin, tether_tension, failure) = match v.outcome {
+                _ if search_failure.is_some() => (false, None, None, search_failure),
                 _ if beyond_tether => (
                     false,
                     None,
