@@ -59,9 +59,11 @@ use serde::{Deserialize, Serialize};
 
 /// Relative slack on clearance comparisons (distances are computed in floating point).
 pub const CLEARANCE_TOLERANCE: f64 = 1e-9;
-/// Smallest first step of the ladder of waypoint candidates along a visibility line, m (used when
-/// the clearance is zero).
-pub const MIN_WAYPOINT_STEP: f64 = 0.05;
+/// Smallest first step of the ladder of waypoint candidates along a visibility line, as a
+/// fraction of the map's extent (the larger side of its bounding box), used when the clearance is
+/// smaller: 0.05 m on the thesis' 100 m maps. Relative, so that a map drawn in millimetres or
+/// kilometres plans as the same map in metres.
+pub const MIN_WAYPOINT_STEP_FRACTION: f64 = 5e-4;
 
 /// The angle between the fall line (`-y`) and the direction `v`, radians in `[0, pi]`.
 pub fn angle_from_fall_line(v: &Vector2<f64>) -> f64 {
@@ -523,7 +525,8 @@ impl Climb<'_, '_> {
             let (lo, hi) = (t0 + margin, t1 - margin);
             // Near the anchor first (a ladder of doubling distances), then the projection of the
             // robot's position, the middle and the far end.
-            let mut step = margin.max(MIN_WAYPOINT_STEP);
+            let (w, h) = self.bounds.size();
+            let mut step = margin.max(MIN_WAYPOINT_STEP_FRACTION * w.max(h));
             while lo + step < hi {
                 candidates.push(lo + step);
                 step *= 2.0;
