@@ -496,6 +496,9 @@ mod tests {
         assert!(e.contains("goal point (5, 9) is inside obstacle 0"), "{e}");
         let s =
             Scenario::from_ron_str(&TINY.replace("slope_deg: 45.0", "slope_deg: 95.0")).unwrap();
-        assert!(matches!(s.validate(), Err(ScenarioError::Planes { .. })));
+        assert!(matches!(
+            s.validate(),
+            Err(ScenarioError::Plane { plane: 0, .. })
+        ));
     }
 }
