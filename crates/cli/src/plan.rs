@@ -24,6 +24,9 @@ pub struct Args {
     /// List only simple classes: no tether winds around an obstacle or returns to one.
     #[arg(long)]
     simple_only: bool,
+    /// Funnel expansion budget of the search; when it runs out the report says so.
+    #[arg(long, value_name = "N", default_value_t = rappel::planners::spt::DEFAULT_MAX_EXPANSIONS)]
+    max_expansions: usize,
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
@@ -59,7 +62,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         classes: args.classes,
         max_length_factor: args.max_length_factor,
         simple_only: args.simple_only,
-        ..Default::default()
+        max_expansions: args.max_expansions,
     };
     let plan = plan_detailed(&s, &options)
         .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;

@@ -65,6 +65,16 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     crate::outln!("scenario    {}", args.file.display());
     crate::outln!("robot       {} ({})", report.robot, report.criterion);
+    if let Some(what) = &report.stand_in_for {
+        crate::outln!(
+            "stand-in    the {} model is judged in place of {what}",
+            report.robot
+        );
+    }
+    if let Some(l) = report.tether_length_m {
+        let beyond = report.dots.iter().filter(|d| d.beyond_tether).count();
+        crate::outln!("tether      {l} m: {beyond} poses beyond its reach (unstable)");
+    }
     crate::outln!("grid step   {} m", report.grid_step);
     if let Some(t) = report.tension_limit {
         crate::outln!("tension     <= {t} N");

@@ -70,9 +70,14 @@ fn json_and_svg_report_the_plan() {
 }
 
 #[test]
-fn no_feasible_class_is_an_answer_with_the_reason() {
+fn no_feasible_class_is_a_clean_no_with_the_reason() {
     let o = rappel(&["plan", &fixture("plan/none-feasible.ron"), "--simple-only"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).is_empty(),
+        "a clean no is not an error: {}",
+        stderr(&o)
+    );
     let out = stdout(&o);
     assert!(
         out.contains("classes      2 (no further class exists"),
@@ -128,4 +133,76 @@ fn the_readme_main_job_writes_into_a_missing_directory() {
             .expect("written")
             .starts_with("<svg")
     );
+}
+
+#[test]
+fn a_feasible_plan_exits_zero_and_output_limits_hold() {
+    let o = rappel(&["plan", &fixture("plan/garni-straight.ron")]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    check_error(
+        &[
+            "plan",
+            &fixture("plan/garni-straight.ron"),
+            "--classes",
+            "1000000000",
+        ],
+        "at most 1000 classes",
+    );
+    // An exhausted budget is said as such, never as "disconnected".
+    let o = rappel(&[
+        "plan",
+        &fixture("thesis-fig-2-7.ron"),
+        "--max-expansions",
+        "3",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(
+        out.contains("budget was exhausted after 3 expansions"),
+        "{out}"
+    );
+    assert!(!out.contains("different connected components"), "{out}");
+}
+
+#[test]
+fn write_errors_on_stdout_are_errors() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+        return; // no /dev/full on this system: nothing to check
+    };
+    for args in [
+        vec!["validate", "thesis-fig-2-7.ron"],
+        vec!["btm", "thesis-fig-2-7.ron"],
+        vec!["plan", "plan/garni-straight.ron"],
+    ] {
+        let mut args: Vec<String> = args.iter().map(|s| s.to_string()).collect();
+        args[1] = fixture(&args[1]);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_rappel"))
+            .args(&args)
+            .stdout(full.try_clone().expect("dup"))
+            .output()
+            .expect("runs");
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&o).contains("cannot write to standard output"),
+            "{}",
+            stderr(&o)
+        );
+    }
+}
+
+#[test]
+fn an_output_path_equal_to_the_input_is_refused_before_writing() {
+    let dir = temp_dir("same");
+    let input = dir.join("s.ron");
+    std::fs::copy(fixture("thesis-fig-2-7.ron"), &input).expect("copy");
+    let before = std::fs::read(&input).expect("read");
+    let i = input.display().to_string();
+    let dotted = dir.join(".").join("s.ron").display().to_string();
+    for sub in ["btm", "plan", "stability"] {
+        check_error(
+            &[sub, &i, "--svg", &dotted],
+            "would overwrite the input file",
+        );
+    }
+    assert_eq!(std::fs::read(&input).expect("read"), before);
 }

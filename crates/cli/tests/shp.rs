@@ -75,12 +75,12 @@ fn shp_json_reports_a_taut_tether_no_longer_than_the_path() {
 }
 
 #[test]
-fn homotopic_answers_both_ways_with_exit_zero() {
+fn homotopic_answers_yes_with_exit_zero_and_no_with_exit_one() {
     let (_, files) = path_files(
         "homotopic",
         &[("w.json", WEST), ("w2.json", WEST2), ("e.json", EAST)],
     );
-    for (a, b, expected) in [(0, 1, "homotopic"), (0, 2, "not homotopic")] {
+    for (a, b, expected, code) in [(0, 1, "homotopic", 0), (0, 2, "not homotopic", 1)] {
         let o = rappel(&[
             "homotopic",
             &fixture(),
@@ -89,7 +89,7 @@ fn homotopic_answers_both_ways_with_exit_zero() {
             "--path",
             &files[b],
         ]);
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert_eq!(o.status.code(), Some(code), "{}", stderr(&o));
         assert_eq!(String::from_utf8_lossy(&o.stdout).trim(), expected);
     }
 }

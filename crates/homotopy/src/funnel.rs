@@ -134,7 +134,8 @@ impl TautPath {
                 })
             })
             .collect();
-        let length = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        // `+ 0.0`: an empty sum of f64 is -0.0; a length is never negative.
+        let length = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>() + 0.0;
         TautPath {
             points,
             vertices,

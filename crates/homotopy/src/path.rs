@@ -151,7 +151,12 @@ impl Path {
 
     /// Euclidean length: the sum of the segment lengths.
     pub fn length(&self) -> f64 {
-        self.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+        // `+ 0.0`: an empty sum of f64 is -0.0; a length is never negative.
+        self.points
+            .windows(2)
+            .map(|w| (w[1] - w[0]).norm())
+            .sum::<f64>()
+            + 0.0
     }
 
     /// The same path travelled backwards (thesis §2.2: the reversal `pi(1 - t)`).

@@ -59,9 +59,11 @@ use serde::{Deserialize, Serialize};
 
 /// Relative slack on clearance comparisons (distances are computed in floating point).
 pub const CLEARANCE_TOLERANCE: f64 = 1e-9;
-/// Smallest first step of the ladder of waypoint candidates along a visibility line, m (used when
-/// the clearance is zero).
-pub const MIN_WAYPOINT_STEP: f64 = 0.05;
+/// Smallest first step of the ladder of waypoint candidates along a visibility line, as a
+/// fraction of the map's extent (the larger side of its bounding box), used when the clearance is
+/// smaller: 0.05 m on the thesis' 100 m maps. Relative, so that a map drawn in millimetres or
+/// kilometres plans as the same map in metres.
+pub const MIN_WAYPOINT_STEP_FRACTION: f64 = 5e-4;
 
 /// The angle between the fall line (`-y`) and the direction `v`, radians in `[0, pi]`.
 pub fn angle_from_fall_line(v: &Vector2<f64>) -> f64 {
@@ -107,6 +109,14 @@ pub enum Impassability {
         /// `theta_max_{j-1}`, radians.
         max_angle: f64,
     },
+    /// The taut tether from the start to the goal is longer than the robot's tether: the robot
+    /// cannot reach the goal in this class, let alone climb back.
+    TetherTooShort {
+        /// The taut tether's length, m.
+        needed: f64,
+        /// The robot's tether length, m.
+        available: f64,
+    },
     /// Alg. 5 line 14: no point of the visibility edge can be reached from the robot's position
     /// inside the anchor reachable set (obstacles in the way, or the wedge too narrow).
     NoReachableWaypoint {
@@ -134,6 +144,9 @@ impl Impassability {
                 "crossing its visibility edge leaves the previous anchor's reachable set: psi {:.2}° >= theta_max {:.2}° of the previous anchor's plane",
                 deg(psi),
                 deg(max_angle)
+            ),
+            Impassability::TetherTooShort { needed, available } => format!(
+                "the taut tether to the goal is {needed:.2} m long, more than the robot's {available:.2} m tether"
             ),
             Impassability::NoReachableWaypoint { candidates } => {
                 format!("no point of its visibility edge is reachable ({candidates} tried)")
@@ -283,6 +296,9 @@ pub struct FeasibilityContext<'a> {
     pub terrain: &'a PlaneSeries,
     /// Clearance kept by waypoints from anchors and obstacles along the visibility line, m.
     pub clearance: f64,
+    /// The robot's tether length, m (`None`: unlimited). A class whose taut tether is longer is
+    /// infeasible ([`Impassability::TetherTooShort`]).
+    pub tether_length: Option<f64>,
 }
 
 /// What [`Climb::pass`] finds for one anchor: the usable visibility edge, the chosen waypoint with
@@ -323,7 +339,7 @@ struct Climb<'c, 'a> {
 /// let plane = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
 /// let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
 /// let best = SptPlanner::new(&btm).shortest_path(p(21., 95.), p(20., 5.)).unwrap().unwrap();
-/// let ctx = FeasibilityContext { btm: &btm, terrain: &terrain, clearance: 0.5 };
+/// let ctx = FeasibilityContext { btm: &btm, terrain: &terrain, clearance: 0.5, tether_length: None };
 /// let report = check_feasibility(&ctx, &best.shp.taut);
 /// assert!(report.feasible(), "{}", report.describe());
 /// assert_eq!(report.waypoints.len(), best.shp.taut.anchors.len());
@@ -392,6 +408,18 @@ impl Climb<'_, '_> {
                 reason: Impassability::GoalOutsideReachableSet {
                     psi: goal_psi,
                     max_angle: goal_limit.max_angle().unwrap_or(std::f64::consts::PI),
+                },
+            });
+        }
+        if blockage.is_none()
+            && let Some(available) = self.ctx.tether_length
+            && taut.length > available
+        {
+            blockage = Some(Blockage {
+                anchor: None,
+                reason: Impassability::TetherTooShort {
+                    needed: taut.length,
+                    available,
                 },
             });
         }
@@ -497,7 +525,8 @@ impl Climb<'_, '_> {
             let (lo, hi) = (t0 + margin, t1 - margin);
             // Near the anchor first (a ladder of doubling distances), then the projection of the
             // robot's position, the middle and the far end.
-            let mut step = margin.max(MIN_WAYPOINT_STEP);
+            let (w, h) = self.bounds.size();
+            let mut step = margin.max(MIN_WAYPOINT_STEP_FRACTION * w.max(h));
             while lo + step < hi {
                 candidates.push(lo + step);
                 step *= 2.0;

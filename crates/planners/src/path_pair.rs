@@ -86,6 +86,19 @@ pub enum PairFailure {
         /// `"ascent"` or `"descent"`.
         which: String,
     },
+    /// Following a path needs more tether than the robot has (the taut tether at its longest
+    /// point along the path, with the anchors the path holds there).
+    #[error(
+        "the {which} path needs {needed:.2} m of tether, more than the robot's {available:.2} m"
+    )]
+    TetherTooShort {
+        /// `"ascent"` or `"descent"`.
+        which: String,
+        /// The longest taut tether along the path, m.
+        needed: f64,
+        /// The robot's tether length, m.
+        available: f64,
+    },
     /// A path comes closer to an anchor than the clearance.
     #[error("the {which} path passes {distance:.3} m from anchor {anchor}, inside the clearance")]
     TooClose {
@@ -138,6 +151,18 @@ pub fn path_pair(
         Ok(Some(d)) => (d, tether_free),
         _ => (ascent.iter().rev().copied().collect(), true),
     };
+    if let Some(available) = ctx.tether_length {
+        for (which, path, up) in [("ascent", &ascent, true), ("descent", &descent, false)] {
+            let needed = tether_needed(taut, path, up);
+            if needed > available {
+                return Err(PairFailure::TetherTooShort {
+                    which: which.to_string(),
+                    needed,
+                    available,
+                });
+            }
+        }
+    }
     let length = |p: &[Point2<f64>]| p.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
     let min_anchor_distance = anchors
         .iter()
@@ -326,6 +351,37 @@ fn check_path(
 /// past `a_k`: upwards out of the half-plane of `a_k` (releasing it), downwards into the
 /// half-plane of `a_{k+1}`. Returns the first anchor whose wedge a stretch leaves.
 fn walk(terrain: &PlaneSeries, taut: &TautPath, points: &[Point2<f64>], up: bool) -> Option<usize> {
+    walk_stretches(taut, points, up, |_, apex, s, e| held(terrain, apex, s, e))
+}
+
+/// The longest taut tether along `points` (an ascent from the goal when `up`, else a descent from
+/// the start), m: on each stretch the tether runs over the anchors `a_1 .. a_j` held there and
+/// then straight to the robot; its length is the anchors' prefix plus the distance to `a_j`,
+/// a convex function along a straight stretch, so its largest value is at a stretch's end.
+pub fn tether_needed(taut: &TautPath, points: &[Point2<f64>], up: bool) -> f64 {
+    let mut corners = vec![taut.start()];
+    corners.extend(taut.anchors.iter().map(|a| a.point));
+    let mut prefix = vec![0.0];
+    for w in corners.windows(2) {
+        prefix.push(prefix[prefix.len() - 1] + (w[1] - w[0]).norm());
+    }
+    let mut needed: f64 = 0.0;
+    walk_stretches(taut, points, up, |j, apex, s, e| {
+        needed = needed.max(prefix[j] + (s - apex).norm().max((e - apex).norm()));
+        true
+    });
+    needed
+}
+
+/// The walk of [`walk`]: calls `visit(j, a_j, s, e)` for every stretch `s -> e` held by the
+/// proximal anchor `a_j` (`a_0` is the start) and returns the first `j` for which it says
+/// `false`.
+fn walk_stretches(
+    taut: &TautPath,
+    points: &[Point2<f64>],
+    up: bool,
+    mut visit: impl FnMut(usize, &Point2<f64>, &Point2<f64>, &Point2<f64>) -> bool,
+) -> Option<usize> {
     let mut corners = vec![taut.start()];
     corners.extend(taut.anchors.iter().map(|a| a.point));
     let n = corners.len() - 1;
@@ -365,7 +421,7 @@ fn walk(terrain: &PlaneSeries, taut: &TautPath, points: &[Point2<f64>], up: bool
                 (crosses && beyond(k, &x)).then_some(x)
             });
             let end = crossing.unwrap_or(e);
-            if !held(terrain, &corners[j], &s, &end) {
+            if !visit(j, &corners[j], &s, &end) {
                 return Some(j);
             }
             match crossing {
@@ -431,7 +487,7 @@ pub struct PairPlan {
 /// let btm = Btm::build(&map).unwrap();
 /// let plane = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
 /// let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
-/// let ctx = FeasibilityContext { btm: &btm, terrain: &terrain, clearance: 0.5 };
+/// let ctx = FeasibilityContext { btm: &btm, terrain: &terrain, clearance: 0.5, tether_length: None };
 /// let options = SearchOptions::default().with_max_classes(Some(3)).unwrap();
 /// let plan = plan_path_pair(&SptPlanner::new(&btm), p(21., 95.), p(20., 5.), &options, &ctx, false).unwrap();
 /// let pair = plan.pair.expect("a feasible class");

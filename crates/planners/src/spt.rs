@@ -77,6 +77,7 @@
 
 use nalgebra::Point2;
 use rappel_geometry::btm::{Btm, Location};
+use rappel_geometry::compact::Compact;
 use rappel_geometry::dcel::{HalfEdgeId, ObstacleId, TriangleId, VertexId};
 use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::crossing::Tracer;
@@ -104,7 +105,7 @@ const NONE: u32 = u32::MAX;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SearchError {
     /// The start or the goal is not a finite point of free space.
-    #[error("the {which} point ({}, {}) is not usable: {source}", point.x, point.y)]
+    #[error("the {which} point ({}, {}) is not usable: {source}", Compact(point.x), Compact(point.y))]
     Endpoint {
         /// `"start"` or `"goal"`.
         which: &'static str,
@@ -112,6 +113,15 @@ pub enum SearchError {
         point: Point2<f64>,
         /// What is wrong with it.
         source: PathError,
+    },
+    /// The expansion budget ran out before the search could answer (not a proof that start and
+    /// goal are disconnected).
+    #[error(
+        "search budget exhausted after {expansions} expansions before a path was found (raise --max-expansions)"
+    )]
+    BudgetExhausted {
+        /// Funnel expansions made.
+        expansions: usize,
     },
     /// A search option is out of range; the message says which and the valid range.
     #[error("invalid search option: {0}")]
@@ -246,7 +256,7 @@ impl Termination {
         match self {
             Termination::ClassCount => "the requested number of classes was found",
             Termination::LengthFactor => "the next class would exceed the length factor",
-            Termination::Expansions => "the expansion budget ran out",
+            Termination::Expansions => "the search budget was exhausted (raise --max-expansions)",
             Termination::Exhausted => "no further class exists within the bounds",
             Termination::Disconnected => {
                 "start and goal lie in different connected components of free space"
@@ -425,7 +435,20 @@ impl<'b> SptPlanner<'b> {
         goal: Point2<f64>,
     ) -> Result<Option<Vec<f64>>, SearchError> {
         let options = SearchOptions::default().with_max_classes(Some(1))?;
-        let mut reverse = SptSearch::new(self, goal, start, options, None)?;
+        // The reverse search runs from the goal: name the endpoints as the caller knows them.
+        let mut reverse =
+            SptSearch::new(self, goal, start, options, None).map_err(|e| match e {
+                SearchError::Endpoint {
+                    which,
+                    point,
+                    source,
+                } => SearchError::Endpoint {
+                    which: if which == "start" { "goal" } else { "start" },
+                    point,
+                    source,
+                },
+                other => other,
+            })?;
         let Some(best) = reverse.next_best()? else {
             return Ok(None);
         };
@@ -450,14 +473,22 @@ impl<'b> SptPlanner<'b> {
     }
 
     /// The classic single query: the globally shortest path from `start` to `goal` (the first
-    /// class), or `None` when they are not connected.
+    /// class), or `None` when they are not connected. A search stopped by its expansion budget
+    /// ([`DEFAULT_MAX_EXPANSIONS`]) is [`SearchError::BudgetExhausted`], not `None`.
     pub fn shortest_path(
         &self,
         start: Point2<f64>,
         goal: Point2<f64>,
     ) -> Result<Option<RankedShp>, SearchError> {
         let options = SearchOptions::default().with_max_classes(Some(1))?;
-        self.search(start, goal, &options)?.next_best()
+        let mut search = self.search(start, goal, &options)?;
+        let best = search.next_best()?;
+        if best.is_none() && search.termination() == Some(Termination::Expansions) {
+            return Err(SearchError::BudgetExhausted {
+                expansions: search.stats().expansions,
+            });
+        }
+        Ok(best)
     }
 }
 

@@ -32,6 +32,7 @@ fn check_on_planes(
         btm,
         terrain: &terrain,
         clearance: 0.5,
+        tether_length: None,
     };
     check_feasibility(&ctx, taut)
 }
@@ -94,6 +95,7 @@ fn condition_two_uses_the_previous_anchors_plane() {
         btm: &btm,
         terrain: &terrain,
         clearance: 0.5,
+        tether_length: None,
     };
     let r = check_feasibility(&ctx, &best.shp.taut);
     let b = r.blockage.expect("infeasible");
@@ -134,6 +136,7 @@ fn the_goal_must_be_held_by_the_last_anchor() {
         btm: &btm,
         terrain: &flat,
         clearance: 0.5,
+        tether_length: None,
     };
     assert!(check_feasibility(&ctx, &best.shp.taut).feasible());
 }
@@ -157,6 +160,7 @@ fn waypoints_and_pairs_on_random_maps() {
             btm: &btm,
             terrain: &terrain,
             clearance,
+            tether_length: None,
         };
         let options = SearchOptions::default().with_max_classes(Some(4)).unwrap();
         let (top, bottom) = if m.start.y > m.goal.y {

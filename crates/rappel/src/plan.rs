@@ -282,6 +282,7 @@ pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan,
         btm: &btm,
         terrain: &terrain,
         clearance: scenario.robot.clearance_m,
+        tether_length: scenario.robot.tether_length_m,
     };
     let planner = SptPlanner::new(&btm);
     let outcome = plan_path_pair(
@@ -406,7 +407,13 @@ fn report_of(
             "class {} is the shortest feasible class: ascent {:.2} m, descent {:.2} m",
             p.rank, p.ascent_length, p.descent_length
         ),
-        (None, None) => format!("no class found: {}", outcome.termination.describe()),
+        (None, None) => match outcome.termination {
+            Termination::Expansions => format!(
+                "no class found: the search budget was exhausted after {} expansions before any class was found (raise --max-expansions); this does not mean start and goal are disconnected",
+                outcome.stats.expansions
+            ),
+            t => format!("no class found: {}", t.describe()),
+        },
         (None, Some(first)) => format!(
             "no feasible class among the {} found ({}); class 1: {}",
             classes.len(),

@@ -140,7 +140,7 @@ const MAX_MESSAGE_CHARS: usize = 240;
 
 /// A parser's message made safe to print: library internals translated, control characters and
 /// other unprintable bytes of the input escaped, long quotes shortened.
-fn readable_message(message: &str) -> String {
+pub(crate) fn readable_message(message: &str) -> String {
     if message.contains("recursion_limit") || message.contains("recursion limit") {
         return "nested too deeply (more than 128 levels of brackets)".to_string();
     }
@@ -300,10 +300,6 @@ impl Scenario {
         self.map
             .validate_point("goal", &self.goal)
             .map_err(map_err)?;
-        validate_planes(&self.terrain.planes).map_err(|source| ScenarioError::Planes {
-            path: path.clone(),
-            source,
-        })?;
         for (plane, p) in self.terrain.planes.iter().enumerate() {
             let bad_plane = |message: String| {
                 Err(ScenarioError::Plane {
@@ -312,10 +308,18 @@ impl Scenario {
                     message,
                 })
             };
-            if p.slope_deg > MAX_SLOPE_DEG {
+            // Ranges checked here with compact numbers in the message; the series' own checks
+            // (bands meeting edge to edge) follow.
+            if !(0.0..=MAX_SLOPE_DEG).contains(&p.slope_deg) {
                 return bad_plane(format!(
-                    "slope {} degrees is steeper than {MAX_SLOPE_DEG}, the steepest the robot models accept",
+                    "slope {} degrees: it must be between 0 and {MAX_SLOPE_DEG}, the steepest the robot models accept",
                     Compact(p.slope_deg)
+                ));
+            }
+            if !(p.friction.is_finite() && p.friction >= 0.0) {
+                return bad_plane(format!(
+                    "friction {}: it must be a number >= 0",
+                    Compact(p.friction)
                 ));
             }
             for (name, v) in [("y_top", p.y_top), ("y_bottom", p.y_bottom)] {
@@ -323,7 +327,18 @@ impl Scenario {
                     return bad_plane(format!("{name} = {}: {DOMAIN_TEXT}", Compact(v)));
                 }
             }
+            if p.y_top <= p.y_bottom {
+                return bad_plane(format!(
+                    "y_top {} is not above y_bottom {}",
+                    Compact(p.y_top),
+                    Compact(p.y_bottom)
+                ));
+            }
         }
+        validate_planes(&self.terrain.planes).map_err(|source| ScenarioError::Planes {
+            path: path.clone(),
+            source,
+        })?;
         let r = &self.robot;
         let bad = |message: String| {
             Err(ScenarioError::Robot {
@@ -415,7 +430,7 @@ impl ScenarioError {
 }
 
 /// serde_json appends " at line L column C" to its messages; we print the position up front.
-fn strip_json_position(message: &str) -> String {
+pub(crate) fn strip_json_position(message: &str) -> String {
     match message.rfind(" at line ") {
         Some(i) => message[..i].to_string(),
         None => message.to_string(),
@@ -464,6 +479,20 @@ mod tests {
     }
 
     #[test]
+    fn parser_messages_are_translated_and_printable() {
+        let m = readable_message(
+            "Exceeded recursion limit, try increasing `ron::Options::recursion_limit` and using `serde_stacker` to protect against a stack overflow",
+        );
+        assert!(
+            m.contains("nested too deeply") && !m.contains("ron::"),
+            "{m}"
+        );
+        let m = readable_message("Unexpected `\u{0}\u{1b}[31m`");
+        assert!(!m.chars().any(char::is_control), "{m:?}");
+        assert!(readable_message(&"x".repeat(10_000)).len() < 300);
+    }
+
+    #[test]
     fn semantic_errors_name_the_problem() {
         let s =
             Scenario::from_ron_str(&TINY.replace("goal: (5.0, 1.0)", "goal: (5.0, 9.0)")).unwrap();
@@ -471,6 +500,9 @@ mod tests {
         assert!(e.contains("goal point (5, 9) is inside obstacle 0"), "{e}");
         let s =
             Scenario::from_ron_str(&TINY.replace("slope_deg: 45.0", "slope_deg: 95.0")).unwrap();
-        assert!(matches!(s.validate(), Err(ScenarioError::Planes { .. })));
+        assert!(matches!(
+            s.validate(),
+            Err(ScenarioError::Plane { plane: 0, .. })
+        ));
     }
 }

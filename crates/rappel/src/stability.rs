@@ -13,6 +13,12 @@
 //! that), so its cost grows with the shadowed part of the grid. The tension limit, when given,
 //! applies at the robot: capstan friction at wrapped anchors (Kumar
 //! eq. 2) would raise it, and is not modelled here.
+//!
+//! A pose whose taut tether is longer than the robot's `tether_length_m` is beyond the tether's
+//! reach: it is reported unstable with that reason. A pose on the edge between two planes is
+//! assessed once, on the upper plane. A point robot has no contacts: a four-wheel rover of the
+//! same mass stands in for it, and the report says so. The grid holds at most
+//! [`MAX_SCENARIO_POSES`] poses.
 
 use crate::scenario::Scenario;
 use nalgebra::{Point2, Point3};
@@ -21,13 +27,18 @@ use rappel_geometry::polygon::{PointInPolygon, Polygon};
 use rappel_homotopy::crossing::Tracer;
 use rappel_mechanics::robot::{SlopePlane, TetherSpec};
 use rappel_mechanics::stability_map::{
-    AnchorSource, GridSpec, Heading, MapPlane, PoseOutcome, stability_map,
+    AnchorSource, GridSpec, Heading, MapPlane, PoseOutcome, grid_positions, stability_map,
 };
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
-use rappel_planners::spt::SptPlanner;
+use rappel_planners::spt::{SearchError, SptPlanner};
 use serde::Serialize;
+
+/// The most poses one stability map may assess. Each pose costs a QP or LP solve (about a
+/// millisecond) and, behind obstacles, a shortest-path search: 50,000 poses keep a run within
+/// about a minute, where a 0.05 m grid on a small map asked for hours.
+pub const MAX_SCENARIO_POSES: usize = 50_000;
 
 /// Options of a stability map.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,6 +80,11 @@ pub struct StabilityDot {
     pub failure: Option<String>,
     /// The tether's last anchor (the start, or the last obstacle vertex the taut tether wraps).
     pub last_anchor: Option<Point2<f64>>,
+    /// The taut tether's length from the start to the pose, m (`None`: no path reaches it).
+    pub tether_length: Option<f64>,
+    /// `true` when the taut tether is longer than the robot's tether: the pose cannot be reached
+    /// (reported unstable).
+    pub beyond_tether: bool,
 }
 
 /// A stability map.
@@ -78,6 +94,11 @@ pub struct StabilityReport {
     pub criterion: String,
     /// The robot model's name.
     pub robot: String,
+    /// What the judged robot stands in for, when it is not the scenario's own (a point robot has
+    /// no contacts: a four-wheel rover of the same mass is judged instead).
+    pub stand_in_for: Option<String>,
+    /// The robot's tether length, m (`None`: unlimited).
+    pub tether_length_m: Option<f64>,
     /// Grid step, m.
     pub grid_step: f64,
     /// Tension limit, N, if any.
@@ -116,18 +137,31 @@ struct ShortestTether<'b> {
 }
 
 impl ShortestTether<'_> {
-    /// The last anchor of the taut tether to `position` (`None` if no path reaches it).
-    fn last_anchor(&self, position: &Point2<f64>) -> Option<Point2<f64>> {
+    /// The last anchor of the taut tether to `position` and the tether's length (`None` if no
+    /// path reaches it; an error when the search could not tell, e.g. its budget ran out).
+    fn taut(&self, position: &Point2<f64>) -> Result<Option<(Point2<f64>, f64)>, SearchError> {
         // In plain view of the start the tether runs straight (an exact walk through the BTM);
         // only poses behind obstacles need the SPT search.
         let clear = Tracer::new(self.planner.btm(), self.start)
             .is_ok_and(|mut t| t.push(*position).is_ok());
         if clear {
-            return Some(self.start);
+            return Ok(Some((self.start, (position - self.start).norm())));
         }
-        let shp = self.planner.shortest_path(self.start, *position).ok()??;
-        let points = &shp.shp.taut.points;
-        points.len().checked_sub(2).map(|i| points[i])
+        let Some(shp) = self.planner.shortest_path(self.start, *position)? else {
+            return Ok(None);
+        };
+        let taut = &shp.shp.taut;
+        let points = &taut.points;
+        Ok(points
+            .len()
+            .checked_sub(2)
+            .map(|i| (points[i], taut.length)))
+    }
+
+    /// The last anchor of the taut tether to `position` (`None` if no path reaches it or the
+    /// search could not tell; the report then names the reason for that pose).
+    fn last_anchor(&self, position: &Point2<f64>) -> Option<Point2<f64>> {
+        self.taut(position).ok().flatten().map(|(a, _)| a)
     }
 }
 
@@ -167,8 +201,11 @@ pub fn stability_over_scenario(
             "tension limit {t} N: must be a positive number"
         )));
     }
-    // A point robot has no contacts: its stability is judged as a four-wheel rover's.
+    // A point robot has no contacts: its stability is judged as a four-wheel rover's, and the
+    // report says so.
     let robot = crate::robot::contact_model(&scenario.robot).map_err(StabilityError::Setting)?;
+    let stand_in_for = (scenario.robot.model == crate::scenario::RobotModel::Point)
+        .then(|| "the scenario's point robot (it has no wheel contacts to judge)".to_string());
     let (criterion, name): (Box<dyn StabilityCriterion>, &str) = match options.tension_limit {
         Some(_) => (Box::new(TensionLimitedLp::default()), "kumar-lp"),
         None => (
@@ -203,6 +240,12 @@ pub fn stability_over_scenario(
         limit: options.tension_limit,
     };
     let grid = GridSpec::new(options.grid_step, Heading::AwayFromAnchor)?;
+    let poses = grid_positions(&planes, &grid)?.len();
+    if poses > MAX_SCENARIO_POSES {
+        return Err(StabilityError::Setting(format!(
+            "the grid has {poses} poses, more than the limit {MAX_SCENARIO_POSES} of a scenario's stability map; use a larger grid step"
+        )));
+    }
     let verdicts = stability_map(robot.as_ref(), criterion.as_ref(), &planes, &anchors, &grid)?;
     let free =
         |p: &Point2<f64>| {
@@ -211,11 +254,34 @@ pub fn stability_over_scenario(
                     !o.aabb().contains(p) || o.locate(p) == PointInPolygon::Outside
                 })
         };
+    // A pose on the edge between two planes lies on the grid of both: keep the first (upper).
+    let mut seen = std::collections::HashSet::new();
     let dots: Vec<StabilityDot> = verdicts
         .into_iter()
         .filter(|v| free(&v.pose.position))
+        .filter(|v| seen.insert((v.pose.position.x.to_bits(), v.pose.position.y.to_bits())))
         .map(|v| {
+            let (taut, search_failure) = match anchors.taut(&v.pose.position) {
+                Ok(t) => (t, None),
+                Err(e) => (None, Some(format!("tether not traced: {e}"))),
+            };
+            let tether_length = taut.map(|(_, l)| l);
+            let beyond_tether = matches!(
+                (tether_length, scenario.robot.tether_length_m),
+                (Some(need), Some(have)) if need > have
+            );
             let (stable, margin, tether_tension, failure) = match v.outcome {
+                _ if search_failure.is_some() => (false, None, None, search_failure),
+                _ if beyond_tether => (
+                    false,
+                    None,
+                    None,
+                    Some(format!(
+                        "beyond the tether's reach: the taut tether is {:.2} m, the robot's {:.2} m",
+                        tether_length.unwrap_or_default(),
+                        scenario.robot.tether_length_m.unwrap_or_default()
+                    )),
+                ),
                 PoseOutcome::Stable {
                     margin,
                     tether_tension,
@@ -232,13 +298,17 @@ pub fn stability_over_scenario(
                 margin,
                 tether_tension,
                 failure,
-                last_anchor: anchors.last_anchor(&v.pose.position),
+                last_anchor: taut.map(|(a, _)| a),
+                tether_length,
+                beyond_tether,
             }
         })
         .collect();
     Ok(StabilityReport {
         criterion: name.to_string(),
         robot: robot.name().to_string(),
+        stand_in_for,
+        tether_length_m: scenario.robot.tether_length_m,
         grid_step: options.grid_step,
         tension_limit: options.tension_limit,
         stable: dots.iter().filter(|d| d.stable).count(),

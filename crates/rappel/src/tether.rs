@@ -8,6 +8,8 @@
 use crate::svg::{Layer, Marker, Picture};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
+use rappel_geometry::compact::Compact;
+use rappel_geometry::domain::{DOMAIN_TEXT, in_domain};
 use rappel_homotopy::crossing::CrossingSequence;
 use rappel_homotopy::funnel::{Anchor, TautPath};
 use rappel_homotopy::h_signature::{HSignature, Poles};
@@ -40,6 +42,16 @@ pub enum PathFileError {
         /// What is wrong.
         message: String,
     },
+    /// A point lies outside the coordinate domain ([`rappel_geometry::domain`]).
+    #[error("{file}: point {index} ({}, {}) is outside the coordinate domain: {DOMAIN_TEXT}", Compact(point.x), Compact(point.y))]
+    OutOfDomain {
+        /// The file.
+        file: String,
+        /// The point's index (0-based).
+        index: usize,
+        /// The point.
+        point: Point2<f64>,
+    },
     /// The points do not make a path in the map's free space.
     #[error("{file}: {source}")]
     Invalid {
@@ -62,8 +74,21 @@ pub fn load_path(file: &std::path::Path, btm: &Btm) -> Result<Path, PathFileErro
             file: name.clone(),
             line: e.line(),
             column: e.column(),
-            message: e.to_string(),
+            message: crate::scenario::readable_message(&crate::scenario::strip_json_position(
+                &e.to_string(),
+            )),
         })?;
+    if let Some((index, point)) = points
+        .iter()
+        .enumerate()
+        .find(|(_, p)| p.x.is_finite() && p.y.is_finite() && !(in_domain(p.x) && in_domain(p.y)))
+    {
+        return Err(PathFileError::OutOfDomain {
+            file: name,
+            index,
+            point: *point,
+        });
+    }
     let invalid = |source| PathFileError::Invalid {
         file: name.clone(),
         source,
