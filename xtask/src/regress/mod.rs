@@ -2,6 +2,7 @@
 //! verdict); the runner prints them as one table and fails if any case failed.
 
 mod btm;
+mod friction;
 mod mechanics;
 mod planner;
 pub mod terrain;
@@ -50,6 +51,7 @@ const SUITES: &[Suite] = &[
     ("mechanics", mechanics::suite),
     ("terrain", terrain::suite),
     ("planner", planner::suite),
+    ("friction", friction::suite),
 ];
 
 /// The workspace root (the parent of `xtask/`).
