@@ -10,8 +10,9 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rappel::generated::crater_strip_scenario;
+use rappel::mechanics::ptfo_surface::PtfoSurface;
 use rappel::plan::{PlanOptions, plan_detailed};
-use rappel::ptfo_spec::{FrictionRange, FrictionSpec, PtfoSpec, SurfaceSpec, TensionSpec};
+use rappel::ptfo_spec::{FrictionRange, FrictionSpec, PtfoSpec, TensionSpec};
 use rappel_geometry::generate::CraterStripOptions;
 use std::hint::black_box;
 
@@ -48,7 +49,7 @@ fn friction(c: &mut Criterion) {
         let lo = rng.random_range(0.05..1.2);
         ptfos.push(PtfoSpec {
             obstacle: i,
-            surface: SurfaceSpec::Cylinder { center, radius },
+            surface: PtfoSurface::Cylinder { center, radius },
             friction: FrictionRange { lo, hi: lo * 1.1 },
         });
     }
