@@ -59,7 +59,8 @@ pub type HeightJet = (Vector2<f64>, Matrix2<f64>);
 
 /// A regular grid of heights (m) above the planning plane: `heights[row * cols + col]` at
 /// `origin + (col, row) * spacing`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct HeightPatch {
     /// Plan position of node `(0, 0)`.
     pub origin: Point2<f64>,
@@ -72,7 +73,9 @@ pub struct HeightPatch {
 }
 
 /// The surface a PTFO stands for, in planning-frame coordinates (heights along the plane normal).
-#[derive(Debug, Clone, PartialEq)]
+/// It is also the scenario schema of a PTFO's `surface` (`docs/scenario-format.md`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum PtfoSurface {
     /// An upright boulder or pillar of radius `radius` about `center`: a vertical wall, the
     /// capstan of thesis Fig. 3.4.

@@ -36,6 +36,23 @@ fn pillar_model(obstacle: usize, center: Point2<f64>, mu: f64) -> FrictionModel 
     }
 }
 
+fn query<'a>(
+    t: &'a PlaneSeries,
+    options: &'a SearchOptions,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    holding_limit: Option<f64>,
+) -> FrictionalQuery<'a> {
+    FrictionalQuery {
+        terrain: t,
+        clearance: 0.5,
+        start,
+        goal,
+        options,
+        holding_limit,
+    }
+}
+
 fn terrain() -> PlaneSeries {
     let plane = TerrainPlane {
         y_top: 100.0,
@@ -75,14 +92,7 @@ fn slip_path_equals_the_frictionless_shp_on_the_clipped_map() {
     let (start, goal) = (p(30.0, 95.0), p(22.0, 5.0));
     let options = SearchOptions::default().with_max_classes(Some(4)).unwrap();
     let t = terrain();
-    let query = FrictionalQuery {
-        terrain: &t,
-        clearance: 0.5,
-        start,
-        goal,
-        options: &options,
-        holding_limit: None,
-    };
+    let query = query(&t, &options, start, goal, None);
     // Almost no friction: every wrap of the diamond slides.
     let model = pillar_model(0, p(20.0, 50.0), 0.01);
     let plan = plan_frictional(&btm, &map, &model, &query).unwrap();
@@ -130,14 +140,7 @@ fn every_slip_matches_a_scratch_rebuild() {
     let options = SearchOptions::default().with_max_classes(Some(6)).unwrap();
     let t = terrain();
     for (start, goal) in [(p(30.0, 95.0), p(22.0, 5.0)), (p(10.0, 95.0), p(30.0, 5.0))] {
-        let query = FrictionalQuery {
-            terrain: &t,
-            clearance: 0.5,
-            start,
-            goal,
-            options: &options,
-            holding_limit: None,
-        };
+        let query = query(&t, &options, start, goal, None);
         let model = pillar_model(0, p(20.0, 50.0), 0.01);
         let plan = plan_frictional(&btm, &map, &model, &query).unwrap();
         for class in &plan.classes {
@@ -189,14 +192,7 @@ fn capstan_anchor_classes_follow_exp_mu_theta() {
     let (start, goal) = (p(26.0, 56.0), p(14.0, 44.0));
     let options = SearchOptions::default().with_max_classes(Some(1)).unwrap();
     let t = terrain();
-    let query = FrictionalQuery {
-        terrain: &t,
-        clearance: 0.5,
-        start,
-        goal,
-        options: &options,
-        holding_limit: Some(100.0),
-    };
+    let query = query(&t, &options, start, goal, Some(100.0));
     let tensions = TensionAssumptions::new(100.0, 400.0, 200.0, 20.0).unwrap();
     let mut seen = std::collections::HashSet::new();
     for mu in [0.05, 0.3, 0.6, 0.9, 1.2, 2.0] {

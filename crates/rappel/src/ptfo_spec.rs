@@ -20,7 +20,7 @@ use crate::scenario::Scenario;
 use nalgebra::Point2;
 use rappel_mechanics::friction::FrictionInterval;
 use rappel_mechanics::ptfo::TensionAssumptions;
-use rappel_mechanics::ptfo_surface::{HeightPatch, PtfoSurface};
+use rappel_mechanics::ptfo_surface::PtfoSurface;
 use rappel_mechanics::tension_limit::HoldingRobot;
 use rappel_planners::frictional::{FrictionModel, Ptfo};
 use serde::{Deserialize, Serialize};
@@ -56,7 +56,7 @@ pub struct PtfoSpec {
     /// Index of the obstacle in `map.obstacles`.
     pub obstacle: usize,
     /// The surface it stands for.
-    pub surface: SurfaceSpec,
+    pub surface: PtfoSurface,
     /// Tether-terrain friction coefficient range.
     pub friction: FrictionRange,
 }
@@ -69,59 +69,6 @@ pub struct FrictionRange {
     pub lo: f64,
     /// Highest coefficient (used for "will it slide").
     pub hi: f64,
-}
-
-/// The surface of a PTFO, in the planning frame (see [`PtfoSurface`] for the shapes).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum SurfaceSpec {
-    /// An upright pillar or boulder.
-    Cylinder {
-        /// Axis position.
-        center: Point2<f64>,
-        /// Radius, m.
-        radius: f64,
-    },
-    /// A spherical cap.
-    Sphere {
-        /// Centre.
-        center: Point2<f64>,
-        /// Radius, m.
-        radius: f64,
-    },
-    /// An elongated hump.
-    Ridge {
-        /// Crest point.
-        center: Point2<f64>,
-        /// Crest direction, degrees from x.
-        axis_deg: f64,
-        /// Radius of curvature along the crest, m.
-        along_radius: f64,
-        /// Radius of curvature across the crest, m.
-        across_radius: f64,
-    },
-    /// A saddle, convex along `axis_deg`.
-    Saddle {
-        /// Saddle point.
-        center: Point2<f64>,
-        /// Convex direction, degrees from x.
-        axis_deg: f64,
-        /// Curvature along the convex direction, 1/m.
-        convex_curvature: f64,
-        /// Curvature across, 1/m.
-        concave_curvature: f64,
-    },
-    /// A height-field patch, `heights[row * cols + col]` at `origin + (col, row) * spacing`.
-    HeightField {
-        /// Node (0, 0).
-        origin: Point2<f64>,
-        /// Spacing, m.
-        spacing: f64,
-        /// Columns.
-        cols: usize,
-        /// Heights above the planning plane, m.
-        heights: Vec<f64>,
-    },
 }
 
 /// The tension model; every value optional (module docs for the defaults).
@@ -161,49 +108,6 @@ pub struct ResolvedFriction {
     pub notes: Vec<String>,
 }
 
-impl SurfaceSpec {
-    /// The mechanics surface.
-    pub fn to_surface(&self) -> PtfoSurface {
-        match self.clone() {
-            SurfaceSpec::Cylinder { center, radius } => PtfoSurface::Cylinder { center, radius },
-            SurfaceSpec::Sphere { center, radius } => PtfoSurface::Sphere { center, radius },
-            SurfaceSpec::Ridge {
-                center,
-                axis_deg,
-                along_radius,
-                across_radius,
-            } => PtfoSurface::Ridge {
-                center,
-                axis_deg,
-                along_radius,
-                across_radius,
-            },
-            SurfaceSpec::Saddle {
-                center,
-                axis_deg,
-                convex_curvature,
-                concave_curvature,
-            } => PtfoSurface::Saddle {
-                center,
-                axis_deg,
-                convex_curvature,
-                concave_curvature,
-            },
-            SurfaceSpec::HeightField {
-                origin,
-                spacing,
-                cols,
-                heights,
-            } => PtfoSurface::HeightField(HeightPatch {
-                origin,
-                spacing,
-                cols,
-                heights,
-            }),
-        }
-    }
-}
-
 impl FrictionSpec {
     /// Resolves the section against its scenario: derived tensions, checked ranges, surfaces and
     /// obstacle indices. Errors name the offending entry.
@@ -213,7 +117,7 @@ impl FrictionSpec {
         for (i, p) in self.ptfos.iter().enumerate() {
             let friction = FrictionInterval::new(p.friction.lo, p.friction.hi)
                 .map_err(|e| format!("friction.ptfos[{i}].friction: {e}"))?;
-            let surface = p.surface.to_surface();
+            let surface = p.surface.clone();
             surface
                 .validate()
                 .map_err(|e| format!("friction.ptfos[{i}].surface: {e}"))?;

@@ -2,6 +2,7 @@
 //! verdict); the runner prints them as one table and fails if any case failed.
 
 mod btm;
+mod friction;
 mod mechanics;
 mod online;
 mod planner;
@@ -54,6 +55,7 @@ const SUITES: &[Suite] = &[
     ("planner", planner::suite),
     ("online", online::suite),
     ("tracking", tracking::suite),
+    ("friction", friction::suite),
 ];
 
 static FULL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
