@@ -17,7 +17,6 @@
 //!   above the driving band.
 
 use crate::scenario::Scenario;
-use nalgebra::Point2;
 use rappel_mechanics::friction::FrictionInterval;
 use rappel_mechanics::ptfo::TensionAssumptions;
 use rappel_mechanics::ptfo_surface::PtfoSurface;
