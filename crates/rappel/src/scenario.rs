@@ -143,6 +143,14 @@ pub enum ScenarioError {
         /// The defect.
         source: PlaneSeriesError,
     },
+    /// The `friction` section is unusable (`docs/friction.md`).
+    #[error("{}: {message}", path.display())]
+    Friction {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the entry.
+        message: String,
+    },
     /// A robot parameter is out of range.
     #[error("{}: robot: {message}", path.display())]
     Robot {
@@ -252,6 +260,12 @@ impl Scenario {
         {
             return bad(format!("tether_length_m must be positive, got {l}"));
         }
+        if let Some(f) = &self.friction {
+            f.resolve(self).map_err(|message| ScenarioError::Friction {
+                path: PathBuf::new(),
+                message,
+            })?;
+        }
         Ok(())
     }
 
@@ -302,6 +316,7 @@ impl ScenarioError {
             ScenarioError::Map { source, .. } => ScenarioError::Map { path: p, source },
             ScenarioError::Planes { source, .. } => ScenarioError::Planes { path: p, source },
             ScenarioError::Robot { message, .. } => ScenarioError::Robot { path: p, message },
+            ScenarioError::Friction { message, .. } => ScenarioError::Friction { path: p, message },
             other => other,
         }
     }
