@@ -244,6 +244,22 @@ mod tests {
     }
 
     #[test]
+    fn json_and_ron_carry_the_same_section() {
+        let patch = BASE.replace(
+            "Cylinder(center: (20.0, 52.0), radius: 2.0)",
+            "HeightField((origin: (17.0, 49.0), spacing: 1.0, cols: 3, \
+             heights: [0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]))",
+        );
+        for text in [BASE, patch.as_str()] {
+            let s = Scenario::from_ron_str(text).unwrap();
+            let json = s.to_text(crate::scenario::Format::Json);
+            let back = Scenario::from_json_str(&json).unwrap();
+            assert_eq!(back, s);
+            assert!(back.friction.as_ref().unwrap().resolve(&back).is_ok());
+        }
+    }
+
+    #[test]
     fn unknown_fields_and_bad_values_are_errors() {
         let typo = BASE.replace("radius: 2.0", "radius: 2.0, radios: 1.0");
         assert!(Scenario::from_ron_str(&typo).is_err());
