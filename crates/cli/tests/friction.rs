@@ -67,4 +67,10 @@ fn slips_are_reported_and_volatile_classes_exit_1() {
     let o = rappel(&["plan", typo.to_str().unwrap_or_default()]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("radios"), "{}", stderr(&o));
+    // `rappel validate` checks the friction section too.
+    let bad = dir.join("bad-obstacle.ron");
+    std::fs::write(&bad, src.replace("obstacle: 0", "obstacle: 7")).expect("write");
+    let o = rappel(&["validate", bad.to_str().unwrap_or_default()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("obstacle 7"), "{}", stderr(&o));
 }

@@ -418,6 +418,74 @@ mod tests {
     }
 
     #[test]
+    fn wrap_normal_curvature_is_eulers_along_the_contour() {
+        // Independent check of κ_n = tᵀHt/W: curvature.rs's principal curvatures (from the same
+        // derivatives) evaluated along the contour tangent, on a ridge, a saddle and a patch.
+        let ridge = PtfoSurface::Ridge {
+            center: Point2::new(1.0, -2.0),
+            axis_deg: 30.0,
+            along_radius: 20.0,
+            across_radius: 3.0,
+        };
+        let saddle = PtfoSurface::Saddle {
+            center: Point2::new(0.0, 0.0),
+            axis_deg: -40.0,
+            convex_curvature: 0.7,
+            concave_curvature: 0.3,
+        };
+        let patch = PtfoSurface::HeightField(HeightPatch {
+            origin: Point2::new(-5.0, -5.0),
+            spacing: 0.5,
+            cols: 21,
+            heights: (0..21 * 21)
+                .map(|k| {
+                    let (x, y) = ((k % 21) as f64 * 0.5 - 5.0, (k / 21) as f64 * 0.5 - 5.0);
+                    3.0 - 0.1 * x * x - 0.05 * y * y + 0.02 * x * y
+                })
+                .collect(),
+        });
+        let mut checked = 0;
+        for surface in [&ridge, &saddle, &patch] {
+            for i in 0..9 {
+                for j in 0..9 {
+                    let p = Point2::new(-4.0 + i as f64, -4.0 + j as f64);
+                    let Ok(Some((g, h))) = surface.height_jet(&p) else {
+                        continue;
+                    };
+                    if g.norm() < 1e-6 {
+                        continue;
+                    }
+                    let (u, w) = {
+                        let n = g.normalize();
+                        let t = Vector2::new(-n.y, n.x);
+                        (0.9 * t - 0.3 * n, 0.9 * t + 0.3 * n)
+                    };
+                    let Ok(s) = surface.wrap(&p, &u, &w) else {
+                        continue;
+                    };
+                    let k = crate::curvature::PrincipalCurvatures::from_height_derivatives(
+                        g.x,
+                        g.y,
+                        h[(0, 0)],
+                        h[(0, 1)],
+                        h[(1, 1)],
+                    )
+                    .unwrap();
+                    let t3 = Vector3::new(-g.y, g.x, 0.0);
+                    let euler = k.normal_curvature(&t3).unwrap();
+                    assert!(
+                        (s[0].normal_curvature - euler).abs() < 1e-9 * (1.0 + euler.abs()),
+                        "{surface:?} at {p:?}: {} vs {euler}",
+                        s[0].normal_curvature
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 60, "only {checked} points checked");
+    }
+
+    #[test]
     fn bad_surfaces_and_turns_are_errors() {
         let (u, w) = quarter();
         let bad = PtfoSurface::Cylinder {

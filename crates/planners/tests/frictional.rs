@@ -6,7 +6,8 @@ use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::Polygon;
-use rappel_terrain::plane_series::TerrainPlane;
+use rappel_homotopy::path::Path;
+use rappel_homotopy::shp::shortest_homotopic_path;
 use rappel_mechanics::friction::FrictionInterval;
 use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_mechanics::ptfo::{PtfoClass, TensionAssumptions};
@@ -16,6 +17,7 @@ use rappel_planners::frictional::search::{FrictionalQuery, plan_frictional};
 use rappel_planners::frictional::{FrictionModel, Ptfo};
 use rappel_planners::spt::{SearchOptions, SptPlanner};
 use rappel_planners::terrain::PlaneSeries;
+use rappel_terrain::plane_series::TerrainPlane;
 
 fn p(x: f64, y: f64) -> Point2<f64> {
     Point2::new(x, y)
@@ -50,6 +52,7 @@ fn query<'a>(
         goal,
         options,
         holding_limit,
+        tether_length: None,
     }
 }
 
@@ -139,6 +142,7 @@ fn every_slip_matches_a_scratch_rebuild() {
     let btm = Btm::build(&map).unwrap();
     let options = SearchOptions::default().with_max_classes(Some(6)).unwrap();
     let t = terrain();
+    let mut local = 0;
     for (start, goal) in [(p(30.0, 95.0), p(22.0, 5.0)), (p(10.0, 95.0), p(30.0, 5.0))] {
         let query = query(&t, &options, start, goal, None);
         let model = pillar_model(0, p(20.0, 50.0), 0.01);
@@ -172,10 +176,30 @@ fn every_slip_matches_a_scratch_rebuild() {
                 class.rank,
                 class.check.taut.points
             );
+            // The thesis' local form of Alg. 14 (funnel only between the slipped vertex's
+            // neighbours, splice the ends back) gives the same SHP as our whole-sleeve funnel.
+            if let [slip] = class.check.slips.as_slice() {
+                let before: Vec<_> = std::iter::once(start)
+                    .chain(slip.anchors_before.iter().copied())
+                    .chain(std::iter::once(goal))
+                    .collect();
+                let i = before.iter().position(|p| *p == slip.vertex).unwrap();
+                let sub = Path::new(before[i - 1..=i + 1].to_vec()).unwrap();
+                let part = shortest_homotopic_path(&reference_btm, &sub).unwrap().taut;
+                let spliced: Vec<_> = before[..i - 1]
+                    .iter()
+                    .chain(&part.points)
+                    .chain(&before[i + 2..])
+                    .copied()
+                    .collect();
+                assert_eq!(spliced, class.check.taut.points, "class {}", class.rank);
+                local += 1;
+            }
             // No friction anchor on the diamond survives with μ = 0.01.
             assert!(class.check.anchors.iter().all(|d| d.obstacle != Some(0)));
         }
     }
+    assert!(local > 0, "no single-slip class to compare");
 }
 
 #[test]

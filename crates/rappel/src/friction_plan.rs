@@ -122,6 +122,7 @@ pub fn plan_friction(
         goal: scenario.goal,
         options,
         holding_limit: resolved.holding_limit,
+        tether_length: scenario.robot.tether_length_m,
     };
     let plan = plan_frictional(btm, &scenario.map, &resolved.model, &query)?;
     let classes: Vec<FrictionClassReport> = plan

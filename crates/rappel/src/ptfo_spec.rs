@@ -17,7 +17,6 @@
 //!   above the driving band.
 
 use crate::scenario::Scenario;
-use nalgebra::Point2;
 use rappel_mechanics::friction::FrictionInterval;
 use rappel_mechanics::ptfo::TensionAssumptions;
 use rappel_mechanics::ptfo_surface::PtfoSurface;
@@ -242,6 +241,22 @@ mod tests {
         assert!((t.epsilon() - 0.1 * t_d).abs() < 1e-9);
         assert!((t.t_min() - w * 0.5).abs() < 1e-9);
         assert_eq!(r.notes.len(), 4);
+    }
+
+    #[test]
+    fn json_and_ron_carry_the_same_section() {
+        let patch = BASE.replace(
+            "Cylinder(center: (20.0, 52.0), radius: 2.0)",
+            "HeightField((origin: (17.0, 49.0), spacing: 1.0, cols: 3, \
+             heights: [0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]))",
+        );
+        for text in [BASE, patch.as_str()] {
+            let s = Scenario::from_ron_str(text).unwrap();
+            let json = s.to_text(crate::scenario::Format::Json);
+            let back = Scenario::from_json_str(&json).unwrap();
+            assert_eq!(back, s);
+            assert!(back.friction.as_ref().unwrap().resolve(&back).is_ok());
+        }
     }
 
     #[test]

@@ -214,6 +214,14 @@ pub enum ScenarioError {
         /// What is wrong.
         message: String,
     },
+    /// The `friction` section is unusable (`docs/friction.md`).
+    #[error("{}: {message}", path.display())]
+    Friction {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the entry.
+        message: String,
+    },
     /// A robot parameter is out of range.
     #[error("{}: robot: {message}", path.display())]
     Robot {
@@ -366,6 +374,12 @@ impl Scenario {
                 Compact(l)
             ));
         }
+        if let Some(f) = &self.friction {
+            f.resolve(self).map_err(|message| ScenarioError::Friction {
+                path: PathBuf::new(),
+                message,
+            })?;
+        }
         Ok(())
     }
 
@@ -424,6 +438,7 @@ impl ScenarioError {
                 plane,
                 message,
             },
+            ScenarioError::Friction { message, .. } => ScenarioError::Friction { path: p, message },
             other => other,
         }
     }

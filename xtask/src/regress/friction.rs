@@ -332,12 +332,74 @@ fn slip_paths() -> Result<Vec<Case>, String> {
     Ok(cases)
 }
 
+/// Thesis Figs. 3.11-3.13 analogues on synthetic grids of known curvature: the convexity map of
+/// a paraboloid hump (every interior cell convex, crest curvatures `-1/a`, `-1/b`) and of a
+/// saddle (every cell a saddle, since its Gaussian curvature `-k_c k_v/W⁴` is negative everywhere;
+/// at the saddle point the convex half-width `atan sqrt(k_c/k_v)`). Quadratics make central
+/// differences exact, so the references are the closed forms themselves.
+fn convexity_maps() -> Result<Vec<Case>, String> {
+    use rappel::mechanics::curvature::{Convexity, analyze_height_field};
+    use rappel::mechanics::nalgebra::DMatrix;
+    let n = 41;
+    let (a, b): (f64, f64) = (4.0, 9.0);
+    let at = |k: usize| (k as f64 - 20.0) * 0.25;
+    let hump = DMatrix::from_fn(n, n, |i, j| -(at(j).powi(2) / a + at(i).powi(2) / b) / 2.0);
+    let map = analyze_height_field(&hump, 0.25, 0.25).map_err(err)?;
+    let classes = map.classify(1e-6).map_err(err)?;
+    let interior = (n - 2) * (n - 2);
+    let convex = classes
+        .iter()
+        .filter(|c| **c == Some(Convexity::Convex))
+        .count();
+    let crest = map.get(20, 20).ok_or("no crest cell")?;
+    let (kmax, kmin) = (crest.max, crest.min);
+    let mut cases = vec![Case::new(
+        SUITE,
+        "convexity map: paraboloid hump a 4 b 9".to_string(),
+        format!("{convex}/{interior} convex; crest k1 {kmax:.6}, k2 {kmin:.6}"),
+        format!("all convex; -1/b = {:.6}, -1/a = {:.6}", -1.0 / b, -1.0 / a),
+        convex == interior && (kmax + 1.0 / b).abs() < 1e-9 && (kmin + 1.0 / a).abs() < 1e-9,
+    )];
+    let (kc, kv): (f64, f64) = (0.5, 2.0);
+    let saddle = DMatrix::from_fn(n, n, |i, j| {
+        (-kc * at(j).powi(2) + kv * at(i).powi(2)) / 2.0
+    });
+    let map = analyze_height_field(&saddle, 0.25, 0.25).map_err(err)?;
+    let classes = map.classify(1e-6).map_err(err)?;
+    let saddles = classes
+        .iter()
+        .filter(|c| **c == Some(Convexity::Saddle))
+        .count();
+    let centre = map.get(20, 20).ok_or("no centre cell")?;
+    let half = centre
+        .convex_directions(1e-6)
+        .map_err(err)?
+        .ok_or("no convex directions")?;
+    let exact = (kc / kv).sqrt().atan();
+    let axis_ok = half.axis.x.abs() > 1.0 - 1e-12;
+    cases.push(Case::new(
+        SUITE,
+        "convexity map: saddle k_c 0.5 k_v 2".to_string(),
+        format!(
+            "{saddles}/{interior} saddle; half-width {:.6} deg about x: {axis_ok}",
+            half.half_width.to_degrees()
+        ),
+        format!(
+            "all saddle (K < 0); atan sqrt(k_c/k_v) = {:.6} deg",
+            exact.to_degrees()
+        ),
+        saddles == interior && (half.half_width - exact).abs() < 1e-12 && axis_ok,
+    ));
+    Ok(cases)
+}
+
 /// All friction cases.
 pub fn suite() -> Result<Vec<Case>, String> {
     let mut cases = capstan()?;
     cases.extend(helix()?);
     cases.extend(sphere()?);
     cases.extend(saddle()?);
+    cases.extend(convexity_maps()?);
     cases.extend(interval()?);
     cases.extend(slip_paths()?);
     Ok(cases)

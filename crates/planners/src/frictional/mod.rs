@@ -70,6 +70,9 @@ pub enum FrictionalError {
         /// What is wrong.
         problem: String,
     },
+    /// The friction credited to geometric anchors is negative or not finite.
+    #[error("geometric_friction {0} must be finite and >= 0")]
+    GeometricFriction(f64),
     /// A surface is unusable.
     #[error("PTFO on obstacle {obstacle}: {source}")]
     Surface {
@@ -119,10 +122,7 @@ pub fn validate_model(model: &FrictionModel, obstacle_count: usize) -> Result<()
             })?;
     }
     if !(model.geometric_friction.is_finite() && model.geometric_friction >= 0.0) {
-        return Err(FrictionalError::Spec {
-            ptfo: 0,
-            problem: "geometric_friction must be finite and >= 0".into(),
-        });
+        return Err(FrictionalError::GeometricFriction(model.geometric_friction));
     }
     Ok(())
 }

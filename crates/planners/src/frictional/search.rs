@@ -82,6 +82,9 @@ pub struct FrictionalQuery<'a> {
     pub options: &'a SearchOptions,
     /// Holding limit at `a_0` for Kumar eq. 2, N.
     pub holding_limit: Option<f64>,
+    /// The robot's tether length, m (`None`: unlimited); a class whose taut tether after the slips
+    /// is longer is infeasible (as in [`FeasibilityContext::tether_length`]).
+    pub tether_length: Option<f64>,
 }
 
 /// Errors of Alg. 7.
@@ -120,6 +123,7 @@ pub fn plan_frictional(
                 btm: state.btm(),
                 terrain: query.terrain,
                 clearance: query.clearance,
+                tether_length: query.tether_length,
             };
             let f = check_feasibility2(&ctx, model, &check);
             let h = holding(&check, model, query.holding_limit)
