@@ -25,6 +25,13 @@ pub enum OnlineRunError {
         /// `start`, `goal`, `terrain` or `robot`.
         field: &'static str,
     },
+    /// The scenario has PTFOs (a `friction` section), which the online planner does not treat yet:
+    /// refused rather than planned as geometric obstacles.
+    #[error(
+        "the scenario has a friction section (PTFOs); the online planner treats every obstacle as \
+         geometric: remove the section to plan with PTFOs as plain obstacles"
+    )]
+    FrictionUnsupported,
     /// The terrain planes are unusable.
     #[error("terrain: {0}")]
     Terrain(#[from] TerrainError),
@@ -90,9 +97,13 @@ pub fn run(
             return Err(OnlineRunError::Mismatch { field });
         }
     }
+    if prior.friction.is_some() || truth.friction.is_some() {
+        return Err(OnlineRunError::FrictionUnsupported);
+    }
     let terrain = plane_series(prior)?;
     let mut options = *options;
     options.session.clearance = prior.robot.clearance_m;
+    options.session.tether_length = prior.robot.tether_length_m;
     let (report, session) = simulate_with(
         &prior.map,
         &truth.map,

@@ -60,6 +60,9 @@ pub struct OnlineOptions {
     /// Beyond the thesis: switch to a shorter class a removal opened when it saves more than
     /// the backtracking costs (off by default; the outcome reports it either way).
     pub switch_to_shorter: bool,
+    /// The robot's tether length, m (`None`: unlimited): a class whose taut tether is longer is
+    /// infeasible, as in the offline planner ([`crate::feasibility::FeasibilityContext`]).
+    pub tether_length: Option<f64>,
 }
 
 impl Default for OnlineOptions {
@@ -72,13 +75,21 @@ impl Default for OnlineOptions {
                 .unwrap_or_default(),
             clearance: 0.5,
             switch_to_shorter: false,
+            tether_length: None,
         }
     }
 }
 
 impl OnlineOptions {
-    /// Checks the clearance (finite, `>= 0`).
+    /// Checks the clearance (finite, `>= 0`) and the tether length (finite, `> 0`).
     pub fn validate(&self) -> Result<(), OnlineError> {
+        if let Some(l) = self.tether_length
+            && !(l.is_finite() && l > 0.0)
+        {
+            return Err(OnlineError::Option(format!(
+                "tether length {l} must be a finite number > 0"
+            )));
+        }
         if !(self.clearance.is_finite() && self.clearance >= 0.0) {
             return Err(OnlineError::Option(format!(
                 "clearance {} must be a finite number >= 0",

@@ -330,6 +330,7 @@ impl OnlineSession {
             btm: &self.btm,
             terrain: &self.terrain,
             clearance: self.options.clearance,
+            tether_length: self.options.tether_length,
         }
     }
 
