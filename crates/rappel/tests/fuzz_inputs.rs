@@ -174,7 +174,12 @@ fn check_message(text: &str) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    // A fixed seed: the same cases on every run (set PROPTEST_RNG_SEED to explore others).
+    #![proptest_config(ProptestConfig {
+        cases: 48,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(9),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn mutated_ron_scenarios_load_cleanly(m in mutation()) {
