@@ -63,7 +63,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             "invariants            {}",
             summary.invariant_violation.as_deref().unwrap_or("all hold")
         );
-        crate::outln!("free area             {:.1} m²", summary.free_area);
+        crate::outln!(
+            "free area             {} m²",
+            crate::output::quantity(summary.free_area)
+        );
         crate::outln!("build time            {:.2} ms", summary.build_ms);
         if let Some(out) = &args.svg {
             crate::outln!("picture               {}", out.display());

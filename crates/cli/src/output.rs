@@ -100,6 +100,16 @@ pub fn refuse_overwriting_inputs(output: &Path, inputs: &[&Path]) -> Result<(), 
     Ok(())
 }
 
+/// A quantity for a report: one decimal in everyday magnitudes, compact scientific notation
+/// beyond (an area of a map near the coordinate domain's edge has 70 digits).
+pub fn quantity(v: f64) -> String {
+    if v.abs() < 1e9 {
+        format!("{:.1}", v + 0.0)
+    } else {
+        rappel::geometry::compact::Compact(v).to_string()
+    }
+}
+
 /// The first error met writing to stdout (kept so that the exit code can report it).
 static STDOUT_ERROR: OnceLock<String> = OnceLock::new();
 

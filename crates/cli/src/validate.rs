@@ -15,12 +15,12 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<(), CliError> {
     let s = Scenario::load(&args.file)?;
     crate::outln!(
-        "{}: valid: {} obstacles, {} vertices, {} terrain planes, free area {:.1} m²",
+        "{}: valid: {} obstacles, {} vertices, {} terrain planes, free area {} m²",
         args.file.display(),
         s.map.obstacles.len(),
         s.map.vertex_count(),
         s.terrain.planes.len(),
-        s.map.free_area()
+        crate::output::quantity(s.map.free_area())
     );
     Ok(())
 }

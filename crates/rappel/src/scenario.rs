@@ -119,7 +119,15 @@ fn deserialize_planes<'de, D: serde::Deserializer<'de>>(
     let fields: Vec<PlaneFields> = Vec::deserialize(d)?;
     Ok(fields
         .into_iter()
-        .map(|p| TerrainPlane::new(p.y_top, p.y_bottom, p.slope_deg, p.friction))
+        // `+ 0.0` turns a written `-0.0` into 0 (the same number), so that no message shows `-0`.
+        .map(|p| {
+            TerrainPlane::new(
+                p.y_top + 0.0,
+                p.y_bottom + 0.0,
+                p.slope_deg + 0.0,
+                p.friction + 0.0,
+            )
+        })
         .collect())
 }
 

@@ -258,7 +258,7 @@ fn shortest_infeasible(cases: &mut Vec<Case>) -> Result<(), String> {
         format!("{file}: class 2 ascent"),
         feasibility_word(r.classes[1].feasible),
         format!("feasible (largest psi {worst:.2}° < {cone:.2}°)"),
-        r.classes[1].feasible,
+        r.classes[1].feasible && worst < cone,
     );
     pair_case(file, &r, 2, s.robot.clearance_m, cases);
     Ok(())
@@ -351,13 +351,31 @@ fn multi_plane(cases: &mut Vec<Case>) -> Result<(), String> {
                 && a.passability == "passable",
         );
     }
+    // Measured from the report: anchor 1's psi and the lower plane's cone as the planner computed
+    // them, against the closed forms; the anchor passes because it lies on the upper plane.
     let psi1 = psi_deg(st, a1);
+    let measured_psi = c1.anchors[0].psi_deg;
+    let measured_lower = r
+        .planes
+        .get(1)
+        .and_then(|p| p.max_tether_angle_deg)
+        .unwrap_or(f64::NAN);
     cases.push(Case::new(
         SUITE,
         format!("{file}: anchor 1 against the lower plane's cone"),
-        format!("psi {psi1:.2}° vs {lower:.2}°"),
-        "psi > lower cone: passable only on the upper plane",
-        psi1 > lower && psi1 < upper,
+        format!(
+            "psi {measured_psi:.4}° vs lower cone {measured_lower:.4}°, plane {:?}, {}",
+            c1.anchors[0].plane, c1.anchors[0].passability
+        ),
+        format!(
+            "psi {psi1:.4}° > asin(0.4 cot 50°) = {lower:.4}°: passable only on the upper plane"
+        ),
+        (measured_psi - psi1).abs() < ANGLE_TOLERANCE
+            && (measured_lower - lower).abs() < ANGLE_TOLERANCE
+            && measured_psi > measured_lower
+            && measured_psi < upper
+            && c1.anchors[0].plane == Some(0)
+            && c1.anchors[0].passability == "passable",
     ));
     pair_case(file, &r, 1, s.robot.clearance_m, cases);
     Ok(())
