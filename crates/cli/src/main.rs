@@ -8,6 +8,7 @@ mod output;
 mod plan;
 mod shp;
 mod stability;
+mod track;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -39,6 +40,8 @@ enum Command {
     Homotopic(shp::HomotopicArgs),
     /// Homotopy classes shortest first, ascent feasibility and an ascent/descent path pair.
     Plan(plan::Args),
+    /// Two robots on one tether on multi-slope terrain: tether tracking and Robot 2's stability.
+    Track(track::Args),
 }
 
 fn main() -> ExitCode {
@@ -52,6 +55,12 @@ fn main() -> ExitCode {
         Command::Shp(args) => shp::run(&args),
         Command::Homotopic(args) => shp::run_homotopic(&args),
         Command::Plan(args) => plan::run(&args),
+        // Exit 1 is the clean "no": Robot 2 is unstable at a waypoint.
+        Command::Track(args) => match track::run(&args) {
+            Ok(true) => Ok(()),
+            Ok(false) => return ExitCode::from(1),
+            Err(e) => Err(e),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

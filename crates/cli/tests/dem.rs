@@ -9,18 +9,28 @@ use common::*;
 fn dem_refuses_to_overwrite_its_input() {
     let dir = temp_dir("dem-same");
     let input = dir.join("x.asc");
-    let original = std::fs::read(fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc"))
-        .expect("fixture");
+    let original =
+        std::fs::read(fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc")).expect("fixture");
     std::fs::write(&input, &original).expect("copy");
     let inp = input.to_str().unwrap_or_default();
     let out = dir.join("s.ron");
     let o = out.to_str().unwrap_or_default();
-    check_error(&["dem", inp, "--out", o, "--svg", inp], "refusing to overwrite");
+    check_error(
+        &["dem", inp, "--out", o, "--svg", inp],
+        "refusing to overwrite",
+    );
     check_error(&["dem", inp, "--out", inp], "refusing to overwrite");
     // The same file through another spelling of the path.
     let dotted = dir.join(".").join("x.asc");
     check_error(
-        &["dem", inp, "--out", o, "--svg", dotted.to_str().unwrap_or_default()],
+        &[
+            "dem",
+            inp,
+            "--out",
+            o,
+            "--svg",
+            dotted.to_str().unwrap_or_default(),
+        ],
         "refusing to overwrite",
     );
     assert_eq!(std::fs::read(&input).expect("input"), original);

@@ -90,7 +90,10 @@ fn a_spike_far_beyond_the_extent_is_implausible_relief() {
         assert!(t.elapsed() < BOUND);
         // The grid's diagonal is about 15.6 m: 100 times that is 1.56 km.
         assert!(
-            matches!(r, Err(IngestError::ImplausibleRelief { row: 3, col: 4, .. })),
+            matches!(
+                r,
+                Err(IngestError::ImplausibleRelief { row: 3, col: 4, .. })
+            ),
             "{spike}: {r:?}"
         );
     }
