@@ -5,34 +5,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::Point2;
-use rappel_geometry::polygon::Polygon;
 use rappel_planners::tether_tracking::TetherTracker;
-use rappel_terrain::plane_series::TerrainPlane;
-use rappel_terrain::plane_series_terrain::PlaneSeriesTerrain;
-use rappel_terrain::surface::Prism;
+use rappel_terrain::kumar::kumar_scene;
 use std::hint::black_box;
-
-fn kumar_scene() -> PlaneSeriesTerrain {
-    let planes = [
-        TerrainPlane::new(30.0, 16.0, 0.0, 0.4),
-        TerrainPlane::new(16.0, 8.0, 55.0, 0.4),
-        TerrainPlane::new(8.0, 0.0, 65.0, 0.4),
-        TerrainPlane::new(0.0, -4.0, 0.0, 0.4),
-    ];
-    let prisms = [
-        Polygon::rectangle(-4.0, 22.0, 2.0, 2.0),
-        Polygon::rectangle(2.0, 19.0, 2.0, 2.0),
-    ]
-    .into_iter()
-    .map(|base| Prism {
-        surface: 0,
-        base,
-        height: 1.0,
-        friction: 0.4,
-    })
-    .collect();
-    PlaneSeriesTerrain::new(&planes, (-8.0, 8.0), prisms).expect("valid scene")
-}
 
 /// A closed loop around O2 (through its corners' neighbourhood), then down the slopes and back.
 fn loop_path(steps: usize) -> Vec<Point2<f64>> {
@@ -62,7 +37,7 @@ fn loop_path(steps: usize) -> Vec<Point2<f64>> {
 }
 
 fn tracking(c: &mut Criterion) {
-    let scene = kumar_scene();
+    let scene = kumar_scene().expect("valid scene");
     let base = Point2::new(3.0, 17.0);
     let path = loop_path(10_000);
     c.bench_function("tracking/kumar scene: one step", |b| {

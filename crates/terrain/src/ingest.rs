@@ -12,7 +12,7 @@
 //!    ([`crate::obstacle_detection`]);
 //! 4. each cluster replaced by the convex hull of its cells' corners in the planning frame; the
 //!    tether obstacles, inside the unfolded sampled footprint of the grid (see
-//!    [`crate::frame`]), normalised into a valid [`Map`] ([`crate::normalize`] in hull
+//!    [`crate::frame`]), normalised into a valid [`Map`] ([`rappel_geometry::normalize`] in hull
 //!    mode: overlapping hulls merged into the hull of their union, hulls touching the edge carved
 //!    out of the boundary); the negative obstacles merged likewise into the separate
 //!    robot-obstacle layer;
