@@ -1,10 +1,10 @@
-//! `rappel track SCENARIO --robot1 P1.json --robot2 P2.json [--json] [--svg OUT]`: two robots on
+//! `rappel track SCENARIO --robot1 P1.json --robot2 P2.json [--json] [--svg OUT] [--svg3d OUT]`: two robots on
 //! one tether on multi-slope terrain (Kumar Problem 1). With `--robot1` a single point, Robot 1 is
 //! a fixed anchor (the one-robot form). Exit 0 when Robot 2 is stable at every waypoint, 1 at the
 //! first unstable one (named), 2 on an error.
 
 use crate::output::{CliError, print_json, write_file};
-use rappel::track::{load_path, load_terrain, track, track_picture};
+use rappel::track::{load_path, load_terrain, track, track_picture, track_picture_3d};
 use std::path::PathBuf;
 
 /// Arguments of `rappel track`.
@@ -24,11 +24,14 @@ pub struct Args {
     /// Draw the unfolded frame, paths, final tether and waypoint verdicts to this SVG file.
     #[arg(long, value_name = "OUT")]
     svg: Option<PathBuf>,
+    /// Draw an axonometric 3D view (surfaces, obstacle prisms, paths, tether) to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    svg3d: Option<PathBuf>,
 }
 
 /// Runs `rappel track`; `Ok(false)` when Robot 2 is unstable somewhere.
 pub fn run(args: &Args) -> Result<bool, CliError> {
-    if let Some(svg) = &args.svg {
+    for svg in args.svg.iter().chain(&args.svg3d) {
         for input in [&args.scenario, &args.robot1, &args.robot2] {
             if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(svg))
                 && a == b
@@ -48,6 +51,9 @@ pub fn run(args: &Args) -> Result<bool, CliError> {
     let report = track(&scenario, &terrain, &p1, &p2).map_err(err)?;
     if let Some(out) = &args.svg {
         write_file(out, &track_picture(&terrain, &p1, &p2, &report))?;
+    }
+    if let Some(out) = &args.svg3d {
+        write_file(out, &track_picture_3d(&terrain, &p1, &p2, &report))?;
     }
     let stable = report.first_unstable.is_none();
     if args.json {

@@ -23,10 +23,17 @@ fn track(robot1: &str, robot2: &str, extra: &[&str]) -> std::process::Output {
 fn a_wound_tether_holds_robot_2_down_the_slopes() {
     let dir = temp_dir("track");
     let svg = dir.join("t.svg");
+    let svg3d = dir.join("t3d.svg");
     let o = track(
         &fixture("tracking/robot1-nearly-full-turn.json"),
         &fixture("tracking/robot2-descent.json"),
-        &["--json", "--svg", svg.to_str().unwrap_or_default()],
+        &[
+            "--json",
+            "--svg",
+            svg.to_str().unwrap_or_default(),
+            "--svg3d",
+            svg3d.to_str().unwrap_or_default(),
+        ],
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
@@ -39,6 +46,9 @@ fn a_wound_tether_holds_robot_2_down_the_slopes() {
     // Down on the slopes the last anchor is a ground anchor at the crest above.
     assert_eq!(w[4]["ground_anchored"], true);
     assert!(std::fs::read_to_string(&svg).expect("svg").contains("<svg"));
+    // The 3D view: 4 surfaces, 2 prisms of 4 sides and a top each.
+    let s3 = std::fs::read_to_string(&svg3d).expect("svg3d");
+    assert_eq!(s3.matches("<polygon").count(), 4 + 2 * 5);
 }
 
 #[test]

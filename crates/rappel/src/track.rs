@@ -285,3 +285,102 @@ pub fn track_picture(
     out += "</svg>\n";
     out
 }
+
+/// An axonometric (isometric) SVG of the folded terrain: surfaces shaded by slope, obstacles as
+/// prisms, both paths on the ground and the final tether in 3D.
+pub fn track_picture_3d(
+    terrain: &MultiSlopeTerrain,
+    path1: &[Point2<f64>],
+    path2: &[Point2<f64>],
+    report: &TrackReport,
+) -> String {
+    use nalgebra::Point3;
+    let (c30, s30) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let project = |q: &Point3<f64>| Point2::new((q.x - q.y) * c30, (q.x + q.y) * s30 + q.z);
+    let fold_all = |pts: &[Point2<f64>]| -> Vec<Point3<f64>> {
+        pts.iter().filter_map(|p| terrain.world(p)).collect()
+    };
+    let mut faces: Vec<(Vec<Point3<f64>>, String)> = Vec::new();
+    for (i, poly) in terrain.frame_polygons().iter().enumerate() {
+        let shade = 235 - (terrain.slope_rad(i).to_degrees() as i64).clamp(0, 90);
+        let pts = poly.vertices.iter().map(|p| terrain.fold(i, p)).collect();
+        faces.push((
+            pts,
+            format!("fill=\"rgb({shade},{shade},{shade})\" stroke=\"#888\""),
+        ));
+    }
+    for o in terrain.obstacles() {
+        let n = terrain.normal(o.surface) * o.height;
+        let base: Vec<Point3<f64>> = o
+            .base
+            .vertices
+            .iter()
+            .map(|p| terrain.fold(o.surface, p))
+            .collect();
+        for k in 0..base.len() {
+            let (a, b) = (base[k], base[(k + 1) % base.len()]);
+            faces.push((
+                vec![a, b, b + n, a + n],
+                "fill=\"#777\" stroke=\"#333\"".into(),
+            ));
+        }
+        faces.push((
+            base.iter().map(|p| p + n).collect(),
+            "fill=\"#555\" stroke=\"#333\"".into(),
+        ));
+    }
+    let lines: Vec<(Vec<Point3<f64>>, &str)> = vec![
+        (fold_all(path1), "stroke=\"#1f77b4\" stroke-width=\"2\""),
+        (fold_all(path2), "stroke=\"#2ca02c\" stroke-width=\"2\""),
+        (
+            report
+                .waypoints
+                .last()
+                .map(|w| w.configuration.iter().map(|a| a.world).collect())
+                .unwrap_or_default(),
+            "stroke=\"#d62728\" stroke-width=\"1.5\" stroke-dasharray=\"4 2\"",
+        ),
+    ];
+    let all: Vec<Point2<f64>> = faces
+        .iter()
+        .flat_map(|f| f.0.iter())
+        .chain(lines.iter().flat_map(|l| l.0.iter()))
+        .map(project)
+        .collect();
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for p in &all {
+        x0 = x0.min(p.x);
+        y0 = y0.min(p.y);
+        x1 = x1.max(p.x);
+        y1 = y1.max(p.y);
+    }
+    let (w, h) = ((x1 - x0).max(1e-9), (y1 - y0).max(1e-9));
+    let scale = 800.0 / w.max(h);
+    let tx = |q: &Point3<f64>| {
+        let p = project(q);
+        format!(
+            "{:.2},{:.2}",
+            (p.x - x0) * scale + 20.0,
+            (y1 - p.y) * scale + 20.0
+        )
+    };
+    let mut out = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.0}\" height=\"{:.0}\">\n<title>rappel track {} (3D)</title>\n",
+        w * scale + 40.0,
+        h * scale + 40.0,
+        report.name
+    );
+    for (pts, style) in &faces {
+        let s: Vec<String> = pts.iter().map(tx).collect();
+        out += &format!("<polygon points=\"{}\" {style}/>\n", s.join(" "));
+    }
+    for (pts, style) in &lines {
+        let s: Vec<String> = pts.iter().map(tx).collect();
+        out += &format!(
+            "<polyline points=\"{}\" fill=\"none\" {style}/>\n",
+            s.join(" ")
+        );
+    }
+    out += "</svg>\n";
+    out
+}
