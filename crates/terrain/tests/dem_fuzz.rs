@@ -103,3 +103,63 @@ fn a_spike_far_beyond_the_extent_is_implausible_relief() {
     let r = ingest(&HeightGrid::new(g, v).unwrap(), &IngestOptions::default());
     assert!(!matches!(r, Err(IngestError::ImplausibleRelief { .. })));
 }
+
+/// An uncompressed float32 GeoTIFF of 8 x 6 cells in one strip, with its StripByteCounts entry
+/// patched to `count` bytes.
+fn one_strip_tiff(count: Option<u32>) -> Vec<u8> {
+    use tiff::encoder::{TiffEncoder, colortype};
+    use tiff::tags::Tag;
+    let data: Vec<f32> = (0..48).map(|i| i as f32 * 0.1).collect();
+    let mut bytes = Vec::new();
+    {
+        let mut tiff = TiffEncoder::new(Cursor::new(&mut bytes)).unwrap();
+        let mut image = tiff.new_image::<colortype::Gray32Float>(8, 6).unwrap();
+        image.rows_per_strip(6).unwrap();
+        let enc = image.encoder();
+        enc.write_tag(Tag::ModelPixelScaleTag, &[1.0f64, 1.0, 0.0][..])
+            .unwrap();
+        enc.write_tag(
+            Tag::ModelTiepointTag,
+            &[0.0f64, 0.0, 0.0, 0.0, 6.0, 0.0][..],
+        )
+        .unwrap();
+        image.write_data(&data).unwrap();
+    }
+    if let Some(count) = count {
+        // Little-endian classic TIFF: IFD offset at byte 4, 12-byte entries after a u16 count.
+        assert_eq!(&bytes[..2], b"II");
+        let ifd = u32::from_le_bytes(bytes[4..8].try_into().unwrap()) as usize;
+        let n = u16::from_le_bytes(bytes[ifd..ifd + 2].try_into().unwrap()) as usize;
+        let entry = (0..n)
+            .map(|k| ifd + 2 + 12 * k)
+            .find(|&e| u16::from_le_bytes(bytes[e..e + 2].try_into().unwrap()) == 279)
+            .expect("StripByteCounts");
+        let ty = u16::from_le_bytes(bytes[entry + 2..entry + 4].try_into().unwrap());
+        match ty {
+            3 => bytes[entry + 8..entry + 10].copy_from_slice(&(count as u16).to_le_bytes()),
+            _ => bytes[entry + 8..entry + 12].copy_from_slice(&count.to_le_bytes()),
+        }
+    }
+    bytes
+}
+
+#[test]
+fn a_short_strip_is_refused() {
+    use rappel_terrain::geotiff::GeoTiffError;
+    let grid = decode_geotiff(Cursor::new(one_strip_tiff(None))).expect("the intact file reads");
+    assert_eq!(grid.heights().len(), 48);
+    // 48 float32 samples need 192 bytes; the strip declares 100.
+    let r = decode_geotiff(Cursor::new(one_strip_tiff(Some(100))));
+    assert!(
+        matches!(
+            r,
+            Err(GeoTiffError::ShortStrip {
+                strip: 0,
+                found: 100,
+                expected: 192,
+                ..
+            })
+        ),
+        "{r:?}"
+    );
+}
