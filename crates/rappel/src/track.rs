@@ -213,6 +213,35 @@ pub fn track(
     })
 }
 
+/// The drawing box of a picture: the points' bounds scaled to 800 px on the longer side.
+struct Frame {
+    x0: f64,
+    y1: f64,
+    w: f64,
+    h: f64,
+    scale: f64,
+}
+
+impl Frame {
+    fn of<'p>(points: impl Iterator<Item = &'p Point2<f64>>) -> Frame {
+        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+        for p in points {
+            x0 = x0.min(p.x);
+            y0 = y0.min(p.y);
+            x1 = x1.max(p.x);
+            y1 = y1.max(p.y);
+        }
+        let (w, h) = ((x1 - x0).max(1e-9), (y1 - y0).max(1e-9));
+        Frame {
+            x0,
+            y1,
+            w,
+            h,
+            scale: 800.0 / w.max(h),
+        }
+    }
+}
+
 /// An SVG of the unfolded frame: surfaces, obstacles, the paths and the final tether.
 pub fn track_picture(
     terrain: &MultiSlopeTerrain,
@@ -221,16 +250,13 @@ pub fn track_picture(
     report: &TrackReport,
 ) -> String {
     let polys = terrain.frame_polygons();
-    let all = polys.iter().flat_map(|p| p.vertices.iter());
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-    for p in all {
-        x0 = x0.min(p.x);
-        y0 = y0.min(p.y);
-        x1 = x1.max(p.x);
-        y1 = y1.max(p.y);
-    }
-    let (w, h) = ((x1 - x0).max(1e-9), (y1 - y0).max(1e-9));
-    let scale = 800.0 / w.max(h);
+    let Frame {
+        x0,
+        y1,
+        w,
+        h,
+        scale,
+    } = Frame::of(polys.iter().flat_map(|p| p.vertices.iter()));
     let tx = |p: &Point2<f64>| {
         format!(
             "{:.2},{:.2}",
@@ -347,15 +373,13 @@ pub fn track_picture_3d(
         .chain(lines.iter().flat_map(|l| l.0.iter()))
         .map(project)
         .collect();
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-    for p in &all {
-        x0 = x0.min(p.x);
-        y0 = y0.min(p.y);
-        x1 = x1.max(p.x);
-        y1 = y1.max(p.y);
-    }
-    let (w, h) = ((x1 - x0).max(1e-9), (y1 - y0).max(1e-9));
-    let scale = 800.0 / w.max(h);
+    let Frame {
+        x0,
+        y1,
+        w,
+        h,
+        scale,
+    } = Frame::of(all.iter());
     let tx = |q: &Point3<f64>| {
         let p = project(q);
         format!(
