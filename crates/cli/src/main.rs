@@ -13,6 +13,7 @@ mod output;
 mod plan;
 mod shp;
 mod stability;
+mod track;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -47,6 +48,8 @@ enum Command {
     Plan(plan::Args),
     /// Online planning: descend by the prior map's plan while the true map is discovered.
     Online(online::Args),
+    /// Two robots on one tether on multi-slope terrain: tether tracking and Robot 2's stability.
+    Track(track::Args),
 }
 
 fn main() -> ExitCode {
@@ -63,6 +66,10 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::run(&args),
         // Its own exit codes: 1 is a clean "no".
         Command::Online(args) => return online::run_command(&args),
+        // The clean "no": Robot 2 is unstable at a waypoint.
+        Command::Track(args) => {
+            track::run(&args).map(|stable| if stable { Answer::Yes } else { Answer::No })
+        }
     };
     // A report that did not reach stdout is a failure, whatever the answer was.
     let result = result.and_then(|answer| output::finish_stdout().map(|()| answer));

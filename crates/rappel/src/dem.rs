@@ -26,6 +26,22 @@ pub enum DemScenarioError {
         /// The cause.
         source: IngestError,
     },
+    /// A fitted plane is steeper than the planner's slope domain (`plan` and `stability` accept
+    /// slopes up to [`rappel_mechanics::robot::MAX_SLOPE`], 89 degrees): no scenario is written.
+    #[error(
+        "{path}: plane {plane} is {slope_deg:.3} degrees steep, beyond the {max_deg} degrees that \
+         `rappel plan` accepts; no scenario written"
+    )]
+    TooSteep {
+        /// The file.
+        path: String,
+        /// Plane index (0 = top).
+        plane: usize,
+        /// Its slope, degrees.
+        slope_deg: f64,
+        /// The limit, degrees.
+        max_deg: f64,
+    },
 }
 
 /// A scenario made from a DEM, with what ingestion found.
@@ -59,6 +75,20 @@ pub fn dem_scenario(path: &Path, options: &IngestOptions) -> Result<DemScenario,
         path: path.display().to_string(),
         source,
     })?;
+    let max_deg = rappel_mechanics::robot::MAX_SLOPE.to_degrees();
+    if let Some((plane, p)) = ingested
+        .planes
+        .iter()
+        .enumerate()
+        .find(|(_, p)| p.slope_deg.is_nan() || p.slope_deg > max_deg)
+    {
+        return Err(DemScenarioError::TooSteep {
+            path: path.display().to_string(),
+            plane,
+            slope_deg: p.slope_deg,
+            max_deg,
+        });
+    }
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())

@@ -45,6 +45,7 @@ pub mod scenario;
 pub mod stability;
 pub mod svg;
 pub mod tether;
+pub mod track;
 
 pub use plan::plan;
 

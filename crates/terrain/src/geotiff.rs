@@ -48,6 +48,23 @@ pub enum GeoTiffError {
         /// Image height.
         height: u32,
     },
+    /// An uncompressed strip holds fewer bytes than its rows need (a short strip: the decoder would
+    /// read past it and invent samples).
+    #[error(
+        "strip {strip} holds {found} bytes; its {rows} rows of {width} samples need {expected}"
+    )]
+    ShortStrip {
+        /// Strip index.
+        strip: usize,
+        /// Bytes declared in StripByteCounts.
+        found: u64,
+        /// Bytes the rows need.
+        expected: u64,
+        /// Rows in the strip.
+        rows: u64,
+        /// Image width.
+        width: u32,
+    },
     /// No georeference: the cell size is unknown.
     #[error(
         "no georeference: the file has neither ModelPixelScale (tag 33550) with ModelTiepoint (tag 33922) nor ModelTransformation (tag 34264), so the cell size is unknown"
@@ -155,6 +172,46 @@ fn gdal_nodata<R: Read + Seek>(dec: &mut Decoder<R>) -> Result<Option<f64>, GeoT
         })
 }
 
+/// Refuses uncompressed strips shorter than their rows (compressed strips are checked by the
+/// decoder's sample count). Tiled images have no StripByteCounts and pass.
+fn check_strips<R: Read + Seek>(
+    dec: &mut Decoder<R>,
+    width: u32,
+    height: u32,
+) -> Result<(), GeoTiffError> {
+    let compression: u16 = dec.find_tag_unsigned(Tag::Compression)?.unwrap_or(1);
+    if compression != 1 {
+        return Ok(());
+    }
+    let Some(counts) = dec.find_tag_unsigned_vec::<u64>(Tag::StripByteCounts)? else {
+        return Ok(());
+    };
+    let rows_per_strip = dec
+        .find_tag_unsigned::<u64>(Tag::RowsPerStrip)?
+        .unwrap_or(u64::from(height))
+        .clamp(1, u64::from(height).max(1));
+    let bits: u64 = dec
+        .find_tag_unsigned_vec::<u64>(Tag::BitsPerSample)?
+        .and_then(|b| b.first().copied())
+        .unwrap_or(1);
+    let row_bytes = (u64::from(width) * bits).div_ceil(8);
+    for (strip, &found) in counts.iter().enumerate() {
+        let first = strip as u64 * rows_per_strip;
+        let rows = rows_per_strip.min(u64::from(height).saturating_sub(first));
+        let expected = rows * row_bytes;
+        if found < expected {
+            return Err(GeoTiffError::ShortStrip {
+                strip,
+                found,
+                expected,
+                rows,
+                width,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Converts decoded samples to heights, NODATA and NaN to unknown.
 fn to_heights(data: DecodingResult, nodata: Option<f64>) -> Vec<f64> {
     fn conv<T: Copy>(v: Vec<T>, f: impl Fn(T) -> f64, nodata: Option<f64>) -> Vec<f64> {
@@ -206,6 +263,7 @@ pub fn decode_geotiff<R: Read + Seek>(reader: R) -> Result<HeightGrid, GeoTiffEr
     let (cell_x, cell_y, west, north) = georeference(&mut dec)?;
     let geometry = GridGeometry::new(height as usize, width as usize, cell_x, cell_y, west, north)?;
     let nodata = gdal_nodata(&mut dec)?;
+    check_strips(&mut dec, width, height)?;
     let heights = to_heights(dec.read_image()?, nodata);
     if heights.len() != geometry.len() {
         return Err(GeoTiffError::SampleCount {

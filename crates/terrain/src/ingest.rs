@@ -12,7 +12,7 @@
 //!    ([`crate::obstacle_detection`]);
 //! 4. each cluster replaced by the convex hull of its cells' corners in the planning frame; the
 //!    tether obstacles, inside the unfolded sampled footprint of the grid (see
-//!    [`crate::frame`]), normalised into a valid [`Map`] ([`crate::normalize`] in hull
+//!    [`crate::frame`]), normalised into a valid [`Map`] ([`rappel_geometry::normalize`] in hull
 //!    mode: overlapping hulls merged into the hull of their union, hulls touching the edge carved
 //!    out of the boundary); the negative obstacles merged likewise into the separate
 //!    robot-obstacle layer;
@@ -129,6 +129,81 @@ pub enum IngestError {
         /// The clearance sought.
         margin_m: f64,
     },
+    /// The grid's relief is implausible: a cell lies more than [`MAX_RELIEF_RATIO`] times the
+    /// grid's horizontal extent from the median height (a spike or a corrupted value). Fix: repair
+    /// or crop the DEM; mark the cell as no-data.
+    #[error(
+        "implausible relief: cell (row {row}, col {col}) is at {z:e} m, {offset:e} m from the \
+         median height, over {MAX_RELIEF_RATIO} times the grid's extent of {extent_m:.3e} m; \
+         bad data? mark it as no-data or crop the DEM"
+    )]
+    ImplausibleRelief {
+        /// Row of the worst cell.
+        row: usize,
+        /// Column of the worst cell.
+        col: usize,
+        /// Its height.
+        z: f64,
+        /// Its distance from the median height.
+        offset: f64,
+        /// The grid's horizontal diagonal, m.
+        extent_m: f64,
+    },
+}
+
+/// Largest plausible ratio of a height's distance from the grid's median height to the grid's
+/// horizontal diagonal. The steepest real walls rise a few times their base; 100 times is
+/// unphysical for any DEM and catches spikes (a flipped exponent bit, a 1e12 cell) before the
+/// slope and obstacle searches, whose work grows with the relief.
+pub const MAX_RELIEF_RATIO: f64 = 100.0;
+
+/// Refuses a grid whose relief is implausible (see [`IngestError::ImplausibleRelief`]).
+///
+/// ```
+/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::ingest::{check_relief, IngestError};
+/// let g = GridGeometry::new(10, 12, 1.0, 1.0, 0.0, 10.0).unwrap();
+/// let mut v = vec![0.0; 120];
+/// v[17] = 1e12;
+/// let grid = HeightGrid::new(g, v).unwrap();
+/// assert!(matches!(check_relief(&grid), Err(IngestError::ImplausibleRelief { row: 1, col: 5, .. })));
+/// ```
+pub fn check_relief(dem: &HeightGrid) -> Result<(), IngestError> {
+    let g = dem.geometry();
+    let extent_m =
+        ((g.ncols as f64 * g.cell_x).powi(2) + (g.nrows as f64 * g.cell_y).powi(2)).sqrt();
+    let mut finite: Vec<f64> = dem
+        .heights()
+        .iter()
+        .copied()
+        .filter(|z| z.is_finite())
+        .collect();
+    if finite.is_empty() {
+        return Ok(());
+    }
+    let mid = finite.len() / 2;
+    let (_, median, _) = finite.select_nth_unstable_by(mid, f64::total_cmp);
+    let median = *median;
+    let worst = dem
+        .heights()
+        .iter()
+        .enumerate()
+        .filter(|(_, z)| z.is_finite())
+        .max_by(|a, b| (a.1 - median).abs().total_cmp(&(b.1 - median).abs()));
+    if let Some((i, &z)) = worst {
+        let offset = (z - median).abs();
+        if offset > MAX_RELIEF_RATIO * extent_m {
+            let (row, col) = g.row_col(i);
+            return Err(IngestError::ImplausibleRelief {
+                row,
+                col,
+                z,
+                offset,
+                extent_m,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Everything [`ingest`] makes of a DEM. Polygons and points are in the planning frame (`x` across
@@ -339,6 +414,7 @@ pub fn ingest(dem: &HeightGrid, options: &IngestOptions) -> Result<Ingested, Ing
     }
     options.obstacles.validate()?;
     options.planes.validate()?;
+    check_relief(dem)?;
     let g = *dem.geometry();
 
     // 1. Slopes and the fall line.

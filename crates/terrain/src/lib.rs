@@ -17,6 +17,7 @@ pub mod esri_ascii;
 pub mod frame;
 pub mod geotiff;
 pub mod ingest;
+pub mod kumar;
 pub mod least_squares;
 pub mod multi_slope;
 pub mod obstacle_detection;

@@ -59,8 +59,11 @@ fn scenario_files(dir: &Path) -> Vec<PathBuf> {
     for e in entries.flatten() {
         let p = e.path();
         if p.is_dir() {
-            // fixtures/terrain holds elevation models and golden counts, not scenarios.
-            if p.file_name().is_some_and(|n| n == "terrain") {
+            // fixtures/terrain holds elevation models and golden counts, fixtures/tracking track
+            // scenarios and paths (rappel track): not planning scenarios.
+            if p.file_name()
+                .is_some_and(|n| n == "terrain" || n == "tracking")
+            {
                 continue;
             }
             out.extend(scenario_files(&p));

@@ -156,7 +156,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
                 SUITE,
                 format!("{g}: {what}"),
                 measured,
-                format!("{reference} (golden)"),
+                format!("{reference} (drift check: golden file written by rappel itself, not a reproduction)"),
                 pass,
             ));
         }

@@ -27,9 +27,8 @@ use rappel::mechanics::tension_limit::HoldingRobot;
 use rappel::nalgebra::Point2;
 use rappel::planners::tether_tracking::TetherTracker;
 use rappel::planners::tether_tracking::two_robots::{TwoRobots, WaypointReport};
-use rappel::terrain::plane_series::TerrainPlane;
+use rappel::terrain::kumar::{kumar_obstacles, kumar_scene};
 use rappel::terrain::plane_series_terrain::PlaneSeriesTerrain;
-use rappel::terrain::surface::Prism;
 
 const SUITE: &str = "tracking";
 
@@ -59,30 +58,8 @@ fn p(x: f64, y: f64) -> Point2<f64> {
     Point2::new(x, y)
 }
 
-fn obstacles() -> Vec<Polygon> {
-    vec![
-        Polygon::rectangle(-4.0, 22.0, 2.0, 2.0),
-        Polygon::rectangle(2.0, 19.0, 2.0, 2.0),
-    ]
-}
-
 fn kumar_terrain() -> Result<PlaneSeriesTerrain, String> {
-    let planes = [
-        TerrainPlane::new(30.0, 16.0, 0.0, 0.4),
-        TerrainPlane::new(16.0, 8.0, 55.0, 0.4),
-        TerrainPlane::new(8.0, 0.0, 65.0, 0.4),
-        TerrainPlane::new(0.0, -4.0, 0.0, 0.4),
-    ];
-    let prisms = obstacles()
-        .into_iter()
-        .map(|base| Prism {
-            surface: 0,
-            base,
-            height: 1.0,
-            friction: 0.4,
-        })
-        .collect();
-    PlaneSeriesTerrain::new(&planes, (-8.0, 8.0), prisms).map_err(|e| e.to_string())
+    kumar_scene().map_err(|e| e.to_string())
 }
 
 const ROBOT2_START: (f64, f64) = (3.0, 17.0);
@@ -181,7 +158,10 @@ pub fn suite() -> Result<Vec<Case>, String> {
         robot2: &rover as &dyn RobotModel,
         tether_height: rover.params().tether_exit.z,
     };
-    let map = Map::new(Polygon::rectangle(-8.0, -4.0, 16.0, 34.0), obstacles());
+    let map = Map::new(
+        Polygon::rectangle(-8.0, -4.0, 16.0, 34.0),
+        kumar_obstacles(),
+    );
     let btm = Btm::build(&map).map_err(|e| e.to_string())?;
     let start2 = p(ROBOT2_START.0, ROBOT2_START.1);
     let mut cases = Vec::new();

@@ -1,0 +1,80 @@
+//! `rappel track SCENARIO --robot1 P1.json --robot2 P2.json [--json] [--svg OUT] [--svg3d OUT]`: two robots on
+//! one tether on multi-slope terrain (Kumar Problem 1). With `--robot1` a single point, Robot 1 is
+//! a fixed anchor (the one-robot form). Exit 0 when Robot 2 is stable at every waypoint, 1 at the
+//! first unstable one (named), 2 on an error.
+
+use crate::output::{CliError, print_json, write_file};
+use rappel::track::{load_path, load_terrain, track, track_picture, track_picture_3d};
+use std::path::PathBuf;
+
+/// Arguments of `rappel track`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The track scenario (.json or .ron): surfaces, obstacles, holding robot.
+    scenario: PathBuf,
+    /// Robot 1's path: a JSON array of [x, y] frame points (one point: a fixed anchor).
+    #[arg(long, value_name = "P1.json")]
+    robot1: PathBuf,
+    /// Robot 2's path: a JSON array of [x, y] frame points.
+    #[arg(long, value_name = "P2.json")]
+    robot2: PathBuf,
+    /// Print the report as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Draw the unfolded frame, paths, final tether and waypoint verdicts to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    svg: Option<PathBuf>,
+    /// Draw an axonometric 3D view (surfaces, obstacle prisms, paths, tether) to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    svg3d: Option<PathBuf>,
+}
+
+/// Runs `rappel track`; `Ok(false)` when Robot 2 is unstable somewhere.
+pub fn run(args: &Args) -> Result<bool, CliError> {
+    for svg in args.svg.iter().chain(&args.svg3d) {
+        for input in [&args.scenario, &args.robot1, &args.robot2] {
+            if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(svg))
+                && a == b
+            {
+                return Err(CliError(format!(
+                    "{}: --svg is the input file {}; refusing to overwrite it",
+                    svg.display(),
+                    input.display()
+                )));
+            }
+        }
+    }
+    let err = |e: rappel::track::TrackRunError| CliError(e.to_string());
+    let (scenario, terrain) = load_terrain(&args.scenario).map_err(err)?;
+    let p1 = load_path(&args.robot1).map_err(err)?;
+    let p2 = load_path(&args.robot2).map_err(err)?;
+    let report = track(&scenario, &terrain, &p1, &p2).map_err(err)?;
+    if let Some(out) = &args.svg {
+        write_file(out, &track_picture(&terrain, &p1, &p2, &report))?;
+    }
+    if let Some(out) = &args.svg3d {
+        write_file(out, &track_picture_3d(&terrain, &p1, &p2, &report))?;
+    }
+    let stable = report.first_unstable.is_none();
+    if args.json {
+        print_json(&report)?;
+        return Ok(stable);
+    }
+    crate::outln!("scenario      {}", args.scenario.display());
+    crate::outln!("waypoint  surface  T2max(N)  winding(deg)  ground  stable  required(N)");
+    for w in &report.waypoints {
+        crate::outln!(
+            "{:>8}  {:>7}  {:>8.1}  {:>12.1}  {:>6}  {:>6}  {}",
+            w.waypoint,
+            w.surface,
+            w.t2max,
+            w.total_winding.to_degrees(),
+            if w.ground_anchored { "yes" } else { "no" },
+            if w.stable { "yes" } else { "no" },
+            w.required_tension
+                .map_or("-".to_string(), |t| format!("{t:.1}"))
+        );
+    }
+    crate::outln!("verdict       {}", report.verdict);
+    Ok(stable)
+}

@@ -1,0 +1,72 @@
+//! `rappel dem` at its edges: an output path equal to the input is refused before anything is
+//! written, and a spiked grid is refused as implausible relief with exit code 2 and no output.
+
+mod common;
+
+use common::*;
+
+#[test]
+fn dem_refuses_to_overwrite_its_input() {
+    let dir = temp_dir("dem-same");
+    let input = dir.join("x.asc");
+    let original =
+        std::fs::read(fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc")).expect("fixture");
+    std::fs::write(&input, &original).expect("copy");
+    let inp = input.to_str().unwrap_or_default();
+    let out = dir.join("s.ron");
+    let o = out.to_str().unwrap_or_default();
+    check_error(
+        &["dem", inp, "--out", o, "--svg", inp],
+        "refusing to overwrite",
+    );
+    check_error(&["dem", inp, "--out", inp], "refusing to overwrite");
+    // The same file through another spelling of the path.
+    let dotted = dir.join(".").join("x.asc");
+    check_error(
+        &[
+            "dem",
+            inp,
+            "--out",
+            o,
+            "--svg",
+            dotted.to_str().unwrap_or_default(),
+        ],
+        "refusing to overwrite",
+    );
+    assert_eq!(std::fs::read(&input).expect("input"), original);
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_spiked_grid_is_implausible_relief_and_nothing_is_written() {
+    let dir = temp_dir("dem-spike");
+    let mut text = String::from(
+        "ncols 12\nnrows 10\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n",
+    );
+    for r in 0..10 {
+        let row: Vec<String> = (0..12)
+            .map(|c| {
+                if (r, c) == (3, 4) {
+                    "1e12".to_string()
+                } else {
+                    format!("{}", r as f64 * 0.5)
+                }
+            })
+            .collect();
+        text.push_str(&row.join(" "));
+        text.push('\n');
+    }
+    let input = dir.join("spike.asc");
+    std::fs::write(&input, text).expect("write");
+    let out = dir.join("s.ron");
+    check_error(
+        &[
+            "dem",
+            input.to_str().unwrap_or_default(),
+            "--out",
+            out.to_str().unwrap_or_default(),
+        ],
+        "implausible relief",
+    );
+    assert!(!out.exists());
+}
