@@ -2,7 +2,7 @@
 //! [--svg OUT]`: turns a digital elevation model into a planning scenario (planes, tether
 //! obstacles, start and goal) and optionally draws it over a hillshade.
 
-use crate::output::{CliError, print_json, write_file};
+use crate::output::{CliError, print_json, refuse_clashing_outputs, write_file};
 use rappel::dem::{dem_picture, dem_scenario};
 use rappel::scenario::Format;
 use rappel::terrain::ingest::IngestOptions;
@@ -36,54 +36,13 @@ pub struct Args {
     svg: Option<PathBuf>,
 }
 
-/// The path `p` resolved through links: the file itself when it exists, else its resolved parent
-/// joined with its name.
-fn resolved(p: &Path) -> PathBuf {
-    if let Ok(c) = std::fs::canonicalize(p) {
-        return c;
-    }
-    let parent = p
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    match (std::fs::canonicalize(parent), p.file_name()) {
-        (Ok(d), Some(n)) => d.join(n),
-        _ => p.to_path_buf(),
-    }
-}
-
-/// Refuses an output path that is the input (after resolving links), or two outputs that are the
-/// same file, before anything is written.
-fn check_outputs(input: &Path, outputs: &[(&str, &Path)]) -> Result<(), CliError> {
-    let inp = resolved(input);
-    for (i, (flag, out)) in outputs.iter().enumerate() {
-        let o = resolved(out);
-        if o == inp {
-            return Err(CliError(format!(
-                "{}: {flag} is the input file {}; refusing to overwrite it",
-                out.display(),
-                input.display()
-            )));
-        }
-        for (flag2, out2) in &outputs[..i] {
-            if resolved(out2) == o {
-                return Err(CliError(format!(
-                    "{}: {flag} and {flag2} name the same file",
-                    out.display()
-                )));
-            }
-        }
-    }
-    Ok(())
-}
-
 /// Runs `rappel dem`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let mut outputs: Vec<(&str, &Path)> = vec![("--out", args.out.as_path())];
     if let Some(svg) = &args.svg {
         outputs.push(("--svg", svg.as_path()));
     }
-    check_outputs(&args.file, &outputs)?;
+    refuse_clashing_outputs(&outputs, &[&args.file])?;
     if Format::of_path(&args.out).is_none() {
         return Err(CliError(format!(
             "{}: unknown scenario format; use a .ron or .json file",

@@ -100,6 +100,27 @@ pub fn refuse_overwriting_inputs(output: &Path, inputs: &[&Path]) -> Result<(), 
     Ok(())
 }
 
+/// [`refuse_overwriting_inputs`] for every output, and refuses two outputs that are the same file
+/// (`dem X.asc --out S.ron --svg S.ron`); `outputs` pairs each path with its flag for the message.
+pub fn refuse_clashing_outputs(
+    outputs: &[(&str, &Path)],
+    inputs: &[&Path],
+) -> Result<(), CliError> {
+    for (i, (flag, out)) in outputs.iter().enumerate() {
+        refuse_overwriting_inputs(out, inputs)?;
+        for (flag2, out2) in &outputs[..i] {
+            let same_path = resolved(out).is_some() && resolved(out) == resolved(out2);
+            if same_path || same_inode(out, out2) {
+                return Err(CliError(format!(
+                    "{}: {flag} and {flag2} name the same file; choose two output paths",
+                    out.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// A quantity for a report: one decimal in everyday magnitudes, compact scientific notation
 /// beyond (an area of a map near the coordinate domain's edge has 70 digits).
 pub fn quantity(v: f64) -> String {
@@ -181,6 +202,21 @@ mod tests {
         }
         assert!(refuse_overwriting_inputs(&dir.join("other.svg"), &[&input]).is_ok());
         assert!(refuse_overwriting_inputs(&dir.join("new/out.svg"), &[&input]).is_ok());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn two_outputs_naming_one_file_are_refused() {
+        let dir = std::env::temp_dir().join(format!("rappel-outs-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let input = dir.join("x.asc");
+        std::fs::write(&input, "x").unwrap();
+        let (a, b) = (dir.join("s.ron"), dir.join(".").join("s.ron"));
+        let clash = refuse_clashing_outputs(&[("--out", &a), ("--svg", &b)], &[&input]);
+        assert!(clash.is_err_and(|e| e.0.contains("--svg and --out name the same file")));
+        let c = dir.join("s.svg");
+        assert!(refuse_clashing_outputs(&[("--out", &a), ("--svg", &c)], &[&input]).is_ok());
+        assert!(refuse_clashing_outputs(&[("--out", &a), ("--svg", &input)], &[&input]).is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -3,9 +3,9 @@
 //! a fixed anchor (the one-robot form). Exit 0 when Robot 2 is stable at every waypoint, 1 at the
 //! first unstable one (named), 2 on an error.
 
-use crate::output::{CliError, print_json, write_file};
+use crate::output::{CliError, print_json, refuse_clashing_outputs, write_file};
 use rappel::track::{load_path, load_terrain, track, track_picture, track_picture_3d};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `rappel track`.
 #[derive(clap::Args)]
@@ -31,19 +31,11 @@ pub struct Args {
 
 /// Runs `rappel track`; `Ok(false)` when Robot 2 is unstable somewhere.
 pub fn run(args: &Args) -> Result<bool, CliError> {
-    for svg in args.svg.iter().chain(&args.svg3d) {
-        for input in [&args.scenario, &args.robot1, &args.robot2] {
-            if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(svg))
-                && a == b
-            {
-                return Err(CliError(format!(
-                    "{}: --svg is the input file {}; refusing to overwrite it",
-                    svg.display(),
-                    input.display()
-                )));
-            }
-        }
-    }
+    let outputs: Vec<(&str, &Path)> = [("--svg", &args.svg), ("--svg3d", &args.svg3d)]
+        .into_iter()
+        .filter_map(|(flag, p)| Some((flag, p.as_deref()?)))
+        .collect();
+    refuse_clashing_outputs(&outputs, &[&args.scenario, &args.robot1, &args.robot2])?;
     let err = |e: rappel::track::TrackRunError| CliError(e.to_string());
     let (scenario, terrain) = load_terrain(&args.scenario).map_err(err)?;
     let p1 = load_path(&args.robot1).map_err(err)?;

@@ -17,9 +17,9 @@ fn dem_refuses_to_overwrite_its_input() {
     let o = out.to_str().unwrap_or_default();
     check_error(
         &["dem", inp, "--out", o, "--svg", inp],
-        "refusing to overwrite",
+        "would overwrite the input file",
     );
-    check_error(&["dem", inp, "--out", inp], "refusing to overwrite");
+    check_error(&["dem", inp, "--out", inp], "would overwrite the input file");
     // The same file through another spelling of the path.
     let dotted = dir.join(".").join("x.asc");
     check_error(
@@ -31,7 +31,7 @@ fn dem_refuses_to_overwrite_its_input() {
             "--svg",
             dotted.to_str().unwrap_or_default(),
         ],
-        "refusing to overwrite",
+        "would overwrite the input file",
     );
     assert_eq!(std::fs::read(&input).expect("input"), original);
     assert!(!out.exists());
