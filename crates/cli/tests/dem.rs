@@ -19,7 +19,10 @@ fn dem_refuses_to_overwrite_its_input() {
         &["dem", inp, "--out", o, "--svg", inp],
         "would overwrite the input file",
     );
-    check_error(&["dem", inp, "--out", inp], "would overwrite the input file");
+    check_error(
+        &["dem", inp, "--out", inp],
+        "would overwrite the input file",
+    );
     // The same file through another spelling of the path.
     let dotted = dir.join(".").join("x.asc");
     check_error(

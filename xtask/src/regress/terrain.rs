@@ -152,11 +152,11 @@ pub fn suite() -> Result<Vec<Case>, String> {
         ];
         for (what, measured, reference) in rows {
             let pass = measured == reference;
-            cases.push(Case::new(
+            cases.push(Case::drift(
                 SUITE,
                 format!("{g}: {what}"),
                 measured,
-                format!("{reference} (drift check: golden file written by rappel itself, not a reproduction)"),
+                format!("{reference} (golden file written by rappel itself)"),
                 pass,
             ));
         }
