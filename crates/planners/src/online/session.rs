@@ -18,9 +18,9 @@
 //! 6. Replanning ([`crate::online::replan`]): the constrained SPT search over the updated BTM;
 //!    among the feasible candidates the one with the least remaining travel (backtrack plus
 //!    continuation) is chosen.
-//! 7. After every decision, check backtrackability: the chosen class's ascent is feasible
-//!    (Alg. 12) and the tether laid so far can be climbed back (Alg. 5 on its SHP, with the robot
-//!    as the goal).
+//! 7. After every decision, check backtrackability ([`OnlineSession::backtrackable`]): the
+//!    class's ascent is feasible (Alg. 12) and the selected ascent is in free space in the class;
+//!    [`OnlineSession::laid_tether_climbable`] is the stronger Alg. 5 check from the robot.
 //!
 //! Beyond the thesis, a removal (the only change that can shorten a class) triggers a search for
 //! a shorter class; the outcome reports it, and with [`OnlineOptions::switch_to_shorter`] the
@@ -875,8 +875,10 @@ impl OnlineSession {
         )?)
     }
 
-    /// The backtrackability check (module docs, step 7): the class's ascent is feasible and the
-    /// tether laid so far can be climbed back from where the robot is.
+    /// The backtrackability check run after every decision (module docs, step 7): the class's
+    /// ascent is feasible (Alg. 12) and the selected ascent path lies in free space in the class,
+    /// so the descent was chosen among feasible ascents; the travelled path itself stays free
+    /// (changes that meet it are refused), so the robot can always retrace it.
     pub fn backtrackable(&self) -> bool {
         let Some(c) = &self.class else {
             return self.status != Status::Descending || self.travelled.len() == 1;
@@ -884,6 +886,16 @@ impl OnlineSession {
         if !c.feasibility.feasible() {
             return false;
         }
+        let reversed: Vec<Point2<f64>> = c.ascent.iter().rev().copied().collect();
+        Path::new(reversed)
+            .ok()
+            .and_then(|p| CrossingSequence::reduced_of_path(&self.btm, &p).ok())
+            .is_some_and(|w| w == c.shp.crossings)
+    }
+
+    /// The stronger, slower check: Alg. 5 on the SHP of the tether laid so far, with the robot as
+    /// the goal (can it climb back from exactly where it is?). Linear in the map's size.
+    pub fn laid_tether_climbable(&self) -> bool {
         if self.robot() == self.start {
             return true;
         }
