@@ -501,6 +501,29 @@ impl OnlineSession {
         }
     }
 
+    /// Keeps a change outside the sleeve for later (§3.5.3) and returns its outcome.
+    fn defer(
+        &mut self,
+        change: &'static str,
+        id: ObstacleId,
+        report: &UpdateReport,
+        before: Option<f64>,
+        reason: String,
+    ) -> ChangeOutcome {
+        let mut o = self.outcome(
+            change,
+            Some(id),
+            ChangeCase::OutsideSleeve,
+            report,
+            0,
+            before,
+        );
+        o.decision = Decision::Deferred;
+        o.reason = reason;
+        self.deferred.push(o.clone());
+        o
+    }
+
     fn add(&mut self, polygon: &Polygon) -> Result<ChangeOutcome, OnlineError> {
         let goal_covered = covers(polygon, &self.goal);
         let (id, report) = self.btm.insert_obstacle(polygon)?;
@@ -518,36 +541,15 @@ impl OnlineSession {
             return Ok(o);
         }
         let Some(class) = &self.class else {
-            let mut o = self.outcome(
-                "add",
-                Some(id),
-                ChangeCase::OutsideSleeve,
-                &report,
-                0,
-                before,
-            );
-            o.decision = Decision::Deferred;
-            o.reason = "no current class".into();
-            self.deferred.push(o.clone());
-            return Ok(o);
+            return Ok(self.defer("add", id, &report, before, "no current class".into()));
         };
         let affected = class.affected(&report);
         if affected.is_empty() {
-            let mut o = self.outcome(
-                "add",
-                Some(id),
-                ChangeCase::OutsideSleeve,
-                &report,
-                0,
-                before,
-            );
-            o.decision = Decision::Deferred;
-            o.reason = format!(
+            let reason = format!(
                 "obstacle {id} meets none of the {} sleeve triangles",
                 class.positions.len()
             );
-            self.deferred.push(o.clone());
-            return Ok(o);
+            return Ok(self.defer("add", id, &report, before, reason));
         }
         let (left, right) = cut_sides(&self.btm, &class.sides, &affected, polygon);
         let old_points = class.shp.taut.points.clone();
@@ -595,18 +597,7 @@ impl OnlineSession {
         self.constraints.clear();
         let before = self.class.as_ref().map(|c| c.shp.taut.length);
         let Some(class) = &self.class else {
-            let mut o = self.outcome(
-                "remove",
-                Some(id),
-                ChangeCase::OutsideSleeve,
-                &report,
-                0,
-                before,
-            );
-            o.decision = Decision::Deferred;
-            o.reason = "no current class".into();
-            self.deferred.push(o.clone());
-            return Ok(o);
+            return Ok(self.defer("remove", id, &report, before, "no current class".into()));
         };
         let affected = class.affected(&report);
         let mut o;
