@@ -584,7 +584,15 @@ impl OnlineSession {
             }
         }
         o.shp_length_m.1 = self.class.as_ref().map(|c| c.shp.taut.length);
-        o.backtrackable = self.backtrackable();
+        // `check_pair` has just traced the ascent when it let the plan go on: only the
+        // feasibility verdict is left to read.
+        o.backtrackable = if o.decision == Decision::Continue && !changed {
+            self.class
+                .as_ref()
+                .is_some_and(|c| c.feasibility.feasible())
+        } else {
+            self.backtrackable()
+        };
         Ok(o)
     }
 
