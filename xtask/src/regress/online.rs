@@ -255,7 +255,7 @@ fn pair(seed: u64) -> Result<(Scenario, Scenario), String> {
     let width = 30.0;
     let dense =
         rappel::generated::crater_strip_scenario(40, seed, width).map_err(|e| e.to_string())?;
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x0_11_11e);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x0001_111e);
     let mut truth_obstacles = Vec::new();
     let mut prior_obstacles = Vec::new();
     for o in &dense.map.obstacles {

@@ -7,7 +7,7 @@
 //! | [`classify`] | the case of a change against the current sleeve, from its sides | §3.5.3 |
 //! | [`replan`] | H-signature constraints, junctions, backtracking, continuations | Alg. 13 |
 //! | [`session`] | the session: BTM, class, progress, constraints, deferred updates | Alg. 11-13 |
-//! | [`simulate`] | a descent on a prior map with the true map revealed within sensor range | §IV |
+//! | [`mod@simulate`] | a descent on a prior map with the true map revealed within sensor range | §IV |
 //!
 //! ```
 //! use nalgebra::Point2;

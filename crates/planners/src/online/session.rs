@@ -18,9 +18,9 @@
 //! 6. Replanning ([`crate::online::replan`]): the constrained SPT search over the updated BTM;
 //!    among the feasible candidates the one with the least remaining travel (backtrack plus
 //!    continuation) is chosen.
-//! 7. After every decision, check backtrackability: the chosen class's ascent is feasible
-//!    (Alg. 12) and the tether laid so far can be climbed back (Alg. 5 on its SHP, with the robot
-//!    as the goal).
+//! 7. After every decision, check backtrackability ([`OnlineSession::backtrackable`]): the
+//!    class's ascent is feasible (Alg. 12) and the selected ascent is in free space in the class;
+//!    [`OnlineSession::laid_tether_climbable`] is the stronger Alg. 5 check from the robot.
 //!
 //! Beyond the thesis, a removal (the only change that can shorten a class) triggers a search for
 //! a shorter class; the outcome reports it, and with [`OnlineOptions::switch_to_shorter`] the
@@ -502,6 +502,29 @@ impl OnlineSession {
         }
     }
 
+    /// Keeps a change outside the sleeve for later (§3.5.3) and returns its outcome.
+    fn defer(
+        &mut self,
+        change: &'static str,
+        id: ObstacleId,
+        report: &UpdateReport,
+        before: Option<f64>,
+        reason: String,
+    ) -> ChangeOutcome {
+        let mut o = self.outcome(
+            change,
+            Some(id),
+            ChangeCase::OutsideSleeve,
+            report,
+            0,
+            before,
+        );
+        o.decision = Decision::Deferred;
+        o.reason = reason;
+        self.deferred.push(o.clone());
+        o
+    }
+
     fn add(&mut self, polygon: &Polygon) -> Result<ChangeOutcome, OnlineError> {
         let goal_covered = covers(polygon, &self.goal);
         let (id, report) = self.btm.insert_obstacle(polygon)?;
@@ -519,36 +542,15 @@ impl OnlineSession {
             return Ok(o);
         }
         let Some(class) = &self.class else {
-            let mut o = self.outcome(
-                "add",
-                Some(id),
-                ChangeCase::OutsideSleeve,
-                &report,
-                0,
-                before,
-            );
-            o.decision = Decision::Deferred;
-            o.reason = "no current class".into();
-            self.deferred.push(o.clone());
-            return Ok(o);
+            return Ok(self.defer("add", id, &report, before, "no current class".into()));
         };
         let affected = class.affected(&report);
         if affected.is_empty() {
-            let mut o = self.outcome(
-                "add",
-                Some(id),
-                ChangeCase::OutsideSleeve,
-                &report,
-                0,
-                before,
-            );
-            o.decision = Decision::Deferred;
-            o.reason = format!(
+            let reason = format!(
                 "obstacle {id} meets none of the {} sleeve triangles",
                 class.positions.len()
             );
-            self.deferred.push(o.clone());
-            return Ok(o);
+            return Ok(self.defer("add", id, &report, before, reason));
         }
         let (left, right) = cut_sides(&self.btm, &class.sides, &affected, polygon);
         let old_points = class.shp.taut.points.clone();
@@ -583,7 +585,15 @@ impl OnlineSession {
             }
         }
         o.shp_length_m.1 = self.class.as_ref().map(|c| c.shp.taut.length);
-        o.backtrackable = self.backtrackable();
+        // `check_pair` has just traced the ascent when it let the plan go on: only the
+        // feasibility verdict is left to read.
+        o.backtrackable = if o.decision == Decision::Continue && !changed {
+            self.class
+                .as_ref()
+                .is_some_and(|c| c.feasibility.feasible())
+        } else {
+            self.backtrackable()
+        };
         Ok(o)
     }
 
@@ -596,18 +606,7 @@ impl OnlineSession {
         self.constraints.clear();
         let before = self.class.as_ref().map(|c| c.shp.taut.length);
         let Some(class) = &self.class else {
-            let mut o = self.outcome(
-                "remove",
-                Some(id),
-                ChangeCase::OutsideSleeve,
-                &report,
-                0,
-                before,
-            );
-            o.decision = Decision::Deferred;
-            o.reason = "no current class".into();
-            self.deferred.push(o.clone());
-            return Ok(o);
+            return Ok(self.defer("remove", id, &report, before, "no current class".into()));
         };
         let affected = class.affected(&report);
         let mut o;
@@ -876,8 +875,10 @@ impl OnlineSession {
         )?)
     }
 
-    /// The backtrackability check (module docs, step 7): the class's ascent is feasible and the
-    /// tether laid so far can be climbed back from where the robot is.
+    /// The backtrackability check run after every decision (module docs, step 7): the class's
+    /// ascent is feasible (Alg. 12) and the selected ascent path lies in free space in the class,
+    /// so the descent was chosen among feasible ascents; the travelled path itself stays free
+    /// (changes that meet it are refused), so the robot can always retrace it.
     pub fn backtrackable(&self) -> bool {
         let Some(c) = &self.class else {
             return self.status != Status::Descending || self.travelled.len() == 1;
@@ -885,6 +886,16 @@ impl OnlineSession {
         if !c.feasibility.feasible() {
             return false;
         }
+        let reversed: Vec<Point2<f64>> = c.ascent.iter().rev().copied().collect();
+        Path::new(reversed)
+            .ok()
+            .and_then(|p| CrossingSequence::reduced_of_path(&self.btm, &p).ok())
+            .is_some_and(|w| w == c.shp.crossings)
+    }
+
+    /// The stronger, slower check: Alg. 5 on the SHP of the tether laid so far, with the robot as
+    /// the goal (can it climb back from exactly where it is?). Linear in the map's size.
+    pub fn laid_tether_climbable(&self) -> bool {
         if self.robot() == self.start {
             return true;
         }

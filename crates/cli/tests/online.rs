@@ -1,0 +1,77 @@
+//! End-to-end tests of `rappel online`: exit code 0 at the goal, 1 for a clean "no", 2 with one
+//! `error:` line for bad input; the JSON timeline and the pictures.
+
+mod common;
+
+use common::*;
+
+#[test]
+fn the_worked_example_reaches_the_goal_and_draws_its_frames() {
+    let dir = temp_dir("online");
+    let svg = dir.join("final.svg");
+    let frames = dir.join("frames");
+    let o = rappel(&[
+        "online",
+        &fixture("online-example.ron"),
+        "--truth",
+        &fixture("online-example-discovered.ron"),
+        "--json",
+        "--svg",
+        svg.to_str().unwrap_or_default(),
+        "--frames",
+        frames.to_str().unwrap_or_default(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(v["ending"]["ending"], "goal");
+    assert_eq!(v["homotopic"], true);
+    assert_eq!(v["timeline"][0]["outcome"]["case"], "split");
+    assert!(std::fs::read_to_string(&svg).is_ok_and(|s| s.starts_with("<svg")));
+    assert!(frames.join("event-001.svg").exists());
+}
+
+#[test]
+fn a_blocked_sleeve_without_a_feasible_class_is_exit_1() {
+    let o = rappel(&[
+        "online",
+        &fixture("online-example.ron"),
+        "--truth",
+        &fixture("online/case-1-blocked.ron"),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stdout(&o).contains("no feasible class"));
+}
+
+#[test]
+fn bad_options_and_mismatched_scenarios_are_exit_2() {
+    for (args, expected) in [
+        (vec!["--step", "6"], "sensor range"),
+        (vec!["--classes", "0"], "--classes 0"),
+    ] {
+        let mut all = vec![
+            "online".to_string(),
+            fixture("online-example.ron"),
+            "--truth".to_string(),
+            fixture("online-example.ron"),
+        ];
+        all.extend(args.iter().map(|s| s.to_string()));
+        let refs: Vec<&str> = all.iter().map(String::as_str).collect();
+        let o = rappel(&refs);
+        assert_eq!(o.status.code(), Some(2));
+        let err = stderr(&o);
+        assert!(err.starts_with("error:") && err.contains(expected), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    let o = rappel(&[
+        "online",
+        &fixture("online-example.ron"),
+        "--truth",
+        &fixture("thesis-fig-2-7.ron"),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("differs from the prior"),
+        "{}",
+        stderr(&o)
+    );
+}
