@@ -64,8 +64,7 @@ fn main() -> ExitCode {
         Command::Shp(args) => yes(shp::run(&args)),
         Command::Homotopic(args) => shp::run_homotopic(&args),
         Command::Plan(args) => plan::run(&args),
-        // Its own exit codes: 1 is a clean "no".
-        Command::Online(args) => return online::run_command(&args),
+        Command::Online(args) => online::run(&args),
         // The clean "no": Robot 2 is unstable at a waypoint.
         Command::Track(args) => {
             track::run(&args).map(|stable| if stable { Answer::Yes } else { Answer::No })

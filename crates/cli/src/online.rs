@@ -6,8 +6,8 @@
 //! Exit code 0 at the goal with ascent and descent homotopic, 1 for a clean "no" (no feasible
 //! class within the termination rule, the goal covered, or the step budget spent), 2 for errors.
 
-use crate::output::{CliError, print_json, write_file};
-use rappel::online::{event_picture, picture, run};
+use crate::output::{Answer, CliError, print_json, refuse_overwriting_inputs, write_file};
+use rappel::online::{event_picture, picture};
 use rappel::planners::online::simulate::{
     DEFAULT_MAX_STEPS, DEFAULT_SENSOR_RANGE, DEFAULT_STEP, Ending,
 };
@@ -17,7 +17,6 @@ use rappel::planners::online::{
 use rappel::planners::spt::SearchOptions;
 use rappel::scenario::Scenario;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 /// Arguments of `rappel online`.
 #[derive(clap::Args)]
@@ -53,25 +52,11 @@ pub struct Args {
     frames: Option<PathBuf>,
 }
 
-/// Runs `rappel online`; prints its own errors (exit code 2).
-pub fn run_command(args: &Args) -> ExitCode {
-    match execute(args) {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
-    }
-}
-
-fn execute(args: &Args) -> Result<ExitCode, CliError> {
-    for out in args.svg.iter() {
-        if out == &args.prior || out == &args.truth {
-            return Err(CliError(format!(
-                "--svg {}: refusing to overwrite an input file",
-                out.display()
-            )));
-        }
+/// Runs `rappel online`: yes when the goal is reached with ascent and descent homotopic, a clean no
+/// when no feasible class is left, the goal is covered or the step budget is spent.
+pub fn run(args: &Args) -> Result<Answer, CliError> {
+    if let Some(out) = &args.svg {
+        refuse_overwriting_inputs(out, &[&args.prior, &args.truth])?;
     }
     if args.classes == 0 {
         return Err(CliError("--classes 0: examine at least one class".into()));
@@ -95,7 +80,7 @@ fn execute(args: &Args) -> Result<ExitCode, CliError> {
             frames.push(event_picture(e, s));
         }
     };
-    let result = run(&prior, &truth, &options, &mut observe)
+    let result = rappel::online::run(&prior, &truth, &options, &mut observe)
         .map_err(|e| CliError(format!("{}: {e}", args.prior.display())))?;
     if let Some(dir) = &args.frames {
         for (i, svg) in frames.iter().enumerate() {
@@ -118,13 +103,17 @@ fn execute(args: &Args) -> Result<ExitCode, CliError> {
             crate::outln!("frames       {} in {}", frames.len(), dir.display());
         }
     }
-    Ok(if r.ending.reached() && r.homotopic {
-        ExitCode::SUCCESS
-    } else if r.ending.reached() {
+    if r.ending.reached() && !r.homotopic {
         // Reaching the goal with a descent not homotopic to the ascent would be a bug.
-        ExitCode::from(2)
+        return Err(CliError(
+            "internal error: the goal was reached with a descent not homotopic to the ascent"
+                .into(),
+        ));
+    }
+    Ok(if r.ending.reached() {
+        Answer::Yes
     } else {
-        ExitCode::from(1)
+        Answer::No
     })
 }
 
