@@ -45,6 +45,7 @@ use rappel_homotopy::crossing::CrossingSequence;
 use rappel_homotopy::h_signature::{HSignature, Poles};
 use rappel_homotopy::path::Path;
 use rappel_homotopy::shp::{ShortestHomotopicPath, shortest_homotopic_path};
+use rappel_homotopy::sleeve::Sleeve;
 use serde::Serialize;
 
 /// Relative length difference below which two remaining routes count as equally long (rounding
@@ -394,15 +395,7 @@ impl OnlineSession {
             ),
         };
         let sides = SleeveSides::of(&self.btm, &ranked.shp.sleeve);
-        let mut positions: Vec<(TriangleId, usize)> = ranked
-            .shp
-            .sleeve
-            .triangles()
-            .iter()
-            .enumerate()
-            .map(|(i, t)| (*t, i))
-            .collect();
-        positions.sort_unstable();
+        let positions = sleeve_positions(&ranked.shp.sleeve);
         self.class = Some(CurrentClass {
             shp: ranked.shp,
             h_signature: ranked.h_signature,
@@ -419,14 +412,7 @@ impl OnlineSession {
     fn refresh_sleeve(&mut self, shp: ShortestHomotopicPath) {
         if let Some(c) = &mut self.class {
             c.sides = SleeveSides::of(&self.btm, &shp.sleeve);
-            c.positions = shp
-                .sleeve
-                .triangles()
-                .iter()
-                .enumerate()
-                .map(|(i, t)| (*t, i))
-                .collect();
-            c.positions.sort_unstable();
+            c.positions = sleeve_positions(&shp.sleeve);
             c.shp = shp;
         }
     }
@@ -978,4 +964,17 @@ fn anchor_list(shp: &ShortestHomotopicPath) -> String {
         .map(|a| format!("v{}", a.vertex.0))
         .collect();
     format!("[{}]", ids.join(" "))
+}
+
+/// Each sleeve triangle with its position along the sleeve, sorted by triangle id (binary search
+/// from a triangle to its position).
+fn sleeve_positions(sleeve: &Sleeve) -> Vec<(TriangleId, usize)> {
+    let mut positions: Vec<(TriangleId, usize)> = sleeve
+        .triangles()
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (*t, i))
+        .collect();
+    positions.sort_unstable();
+    positions
 }
