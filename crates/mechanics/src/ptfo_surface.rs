@@ -138,6 +138,16 @@ fn finite_point(p: &Point2<f64>, what: &str) -> Result<(), WrapError> {
     }
 }
 
+/// Checks the centre and axis of an oriented surface (ridge, saddle): both finite.
+fn axis_frame(center: &Point2<f64>, axis_deg: f64) -> Result<(), WrapError> {
+    finite_point(center, "centre")?;
+    if axis_deg.is_finite() {
+        Ok(())
+    } else {
+        Err(WrapError::Surface("axis_deg is not finite".into()))
+    }
+}
+
 /// `(∇h, H)` of `h = ½ dᵀ A d` with `A = Rot diag(a_u, a_v) Rotᵀ`, `d = p - c`.
 fn quadric(center: &Point2<f64>, axis_deg: f64, a_u: f64, a_v: f64, p: &Point2<f64>) -> HeightJet {
     let (s, c) = axis_deg.to_radians().sin_cos();
@@ -160,10 +170,7 @@ impl PtfoSurface {
                 along_radius,
                 across_radius,
             } => {
-                finite_point(center, "centre")?;
-                if !axis_deg.is_finite() {
-                    return Err(WrapError::Surface("axis_deg is not finite".into()));
-                }
+                axis_frame(center, *axis_deg)?;
                 positive(*along_radius, "along_radius")?;
                 positive(*across_radius, "across_radius")?;
             }
@@ -173,10 +180,7 @@ impl PtfoSurface {
                 convex_curvature,
                 concave_curvature,
             } => {
-                finite_point(center, "centre")?;
-                if !axis_deg.is_finite() {
-                    return Err(WrapError::Surface("axis_deg is not finite".into()));
-                }
+                axis_frame(center, *axis_deg)?;
                 positive(*convex_curvature, "convex_curvature")?;
                 positive(*concave_curvature, "concave_curvature")?;
             }
