@@ -1,10 +1,11 @@
 //! `rappel dem FILE.(asc|tif) --out SCENARIO [--hmin M] [--hmax M] [--theta-max DEG] [--friction MU]
-//! [--svg OUT]`: turns a digital elevation model into a planning scenario (planes, tether
+//! [--max-cells N] [--svg OUT]`: turns a digital elevation model into a planning scenario (planes, tether
 //! obstacles, start and goal) and optionally draws it over a hillshade.
 
 use crate::output::{CliError, print_json, refuse_clashing_outputs, write_file};
-use rappel::dem::{dem_picture, dem_scenario};
+use rappel::dem::{dem_picture, dem_scenario_with};
 use rappel::scenario::Format;
+use rappel::terrain::dem::DemLimits;
 use rappel::terrain::ingest::IngestOptions;
 use std::path::{Path, PathBuf};
 
@@ -28,6 +29,11 @@ pub struct Args {
     /// Wheel-terrain friction mu used to classify planes.
     #[arg(long, value_name = "MU")]
     friction: Option<f64>,
+    /// Work cap: refuse grids of more cells than this before reading their heights (default
+    /// 16,777,216 = 2^24; at most 134,217,728 = 2^27). Ingestion takes about a second per million
+    /// cells.
+    #[arg(long, value_name = "N")]
+    max_cells: Option<usize>,
     /// Print the ingestion summary as JSON.
     #[arg(long)]
     json: bool,
@@ -62,7 +68,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(v) = args.friction {
         options.friction = v;
     }
-    let d = dem_scenario(&args.file, &options)?;
+    let limits = match args.max_cells {
+        None => DemLimits::default(),
+        Some(n) => {
+            DemLimits::with_max_cells(n).map_err(|e| CliError(format!("--max-cells: {e}")))?
+        }
+    };
+    let d = dem_scenario_with(&args.file, &options, &limits)?;
     d.scenario.validate().map_err(|e| {
         CliError(format!(
             "{}: the ingested scenario is invalid: {e}",

@@ -73,3 +73,25 @@ fn a_spiked_grid_is_implausible_relief_and_nothing_is_written() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn dem_work_cap_is_named_and_can_be_raised() {
+    let dir = temp_dir("dem-cap");
+    let input = fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc");
+    let inp = input.as_str();
+    let out = dir.join("s.ron");
+    let o = out.to_str().unwrap_or_default();
+    // The grid has 120 x 70 = 8,400 cells.
+    check_error(
+        &["dem", inp, "--out", o, "--max-cells", "8399"],
+        "more than the work cap of 8399 cells; raise it with --max-cells",
+    );
+    assert!(!out.exists());
+    check_error(
+        &["dem", inp, "--out", o, "--max-cells", "0"],
+        "--max-cells: a work cap of 0 cells is outside 1 ..= 134217728",
+    );
+    let run = rappel(&["dem", inp, "--out", o, "--max-cells", "8400"]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    assert!(out.exists());
+}

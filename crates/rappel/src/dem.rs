@@ -5,7 +5,7 @@
 
 use crate::scenario::{RobotParams, Scenario, Terrain};
 use crate::svg::{Layer, Marker, Picture};
-use rappel_terrain::dem::{DemError, read_dem};
+use rappel_terrain::dem::{DemError, DemLimits, read_dem_with};
 use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
 use std::path::Path;
 
@@ -70,7 +70,27 @@ impl DemScenario {
 /// assert!(!d.scenario.terrain.planes.is_empty());
 /// ```
 pub fn dem_scenario(path: &Path, options: &IngestOptions) -> Result<DemScenario, DemScenarioError> {
-    let grid = read_dem(path)?;
+    dem_scenario_with(path, options, &DemLimits::default())
+}
+
+/// [`dem_scenario`] with the readers' work cap and size checks set by `limits` (see
+/// [`DemLimits`]; `rappel dem --max-cells`).
+///
+/// ```
+/// use rappel::dem::dem_scenario_with;
+/// use rappel::terrain::dem::DemLimits;
+/// use rappel::terrain::ingest::IngestOptions;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
+/// let tight = DemLimits::with_max_cells(100).unwrap();
+/// let err = dem_scenario_with(path.as_ref(), &IngestOptions::default(), &tight).unwrap_err();
+/// assert!(err.to_string().contains("--max-cells"));
+/// ```
+pub fn dem_scenario_with(
+    path: &Path,
+    options: &IngestOptions,
+    limits: &DemLimits,
+) -> Result<DemScenario, DemScenarioError> {
+    let grid = read_dem_with(path, limits)?;
     let ingested = ingest(&grid, options).map_err(|source| DemScenarioError::Ingest {
         path: path.display().to_string(),
         source,

@@ -12,12 +12,70 @@ use nalgebra::Point2;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-use crate::esri_ascii::{EsriAsciiError, parse_esri_ascii};
-use crate::geotiff::{GeoTiffError, decode_geotiff};
+use crate::esri_ascii::{EsriAsciiError, parse_esri_ascii_with};
+use crate::geotiff::{GeoTiffError, decode_geotiff_with};
 
 /// The largest grid accepted, in cells (2^27, about 134 million: one gigabyte of heights). Guards
-/// against headers that announce absurd sizes.
+/// against headers that announce absurd sizes; the most [`DemLimits::max_cells`] may be raised to.
 pub const MAX_CELLS: usize = 1 << 27;
+
+/// The readers' default work cap, in cells (2^24, about 16.8 million, e.g. 4096 x 4096).
+///
+/// Ingesting a grid costs time and memory in proportion to its cells (about a second and 60 MB
+/// per million cells on a 2-core machine, `benches/benches/terrain.rs`), so the default keeps
+/// `rappel dem` under about half a minute and 1 GB. A larger grid is refused before its heights
+/// are allocated, with the cap named; raise it with [`DemLimits::with_max_cells`] or
+/// `rappel dem --max-cells N`, up to [`MAX_CELLS`].
+pub const DEFAULT_MAX_CELLS: usize = 1 << 24;
+
+/// Limits on the work a DEM reader may take on, checked against a file's declared size before
+/// anything is allocated.
+///
+/// ```
+/// use rappel_terrain::dem::{DemLimits, GridGeometry, DEFAULT_MAX_CELLS};
+/// assert_eq!(DemLimits::default().max_cells, DEFAULT_MAX_CELLS);
+/// let small = DemLimits::with_max_cells(100).unwrap();
+/// assert!(small.check(&GridGeometry::new(10, 10, 1.0, 1.0, 0.0, 0.0).unwrap()).is_ok());
+/// assert!(small.check(&GridGeometry::new(10, 11, 1.0, 1.0, 0.0, 0.0).unwrap()).is_err());
+/// assert!(DemLimits::with_max_cells(0).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DemLimits {
+    /// The most cells a grid may have (1 ..= [`MAX_CELLS`]).
+    pub max_cells: usize,
+}
+
+impl Default for DemLimits {
+    fn default() -> Self {
+        DemLimits {
+            max_cells: DEFAULT_MAX_CELLS,
+        }
+    }
+}
+
+impl DemLimits {
+    /// Limits with a work cap of `max_cells` cells; refused outside `1 ..= MAX_CELLS`.
+    pub fn with_max_cells(max_cells: usize) -> Result<Self, GridError> {
+        if (1..=MAX_CELLS).contains(&max_cells) {
+            Ok(DemLimits { max_cells })
+        } else {
+            Err(GridError::BadWorkCap { max_cells })
+        }
+    }
+
+    /// Refuses a grid of more than [`DemLimits::max_cells`] cells.
+    pub fn check(&self, geometry: &GridGeometry) -> Result<(), GridError> {
+        let cells = geometry.nrows.saturating_mul(geometry.ncols);
+        if cells > self.max_cells {
+            return Err(GridError::OverWorkCap {
+                nrows: geometry.nrows,
+                ncols: geometry.ncols,
+                max_cells: self.max_cells,
+            });
+        }
+        Ok(())
+    }
+}
 
 /// The shape and georeference of a grid: how many cells, how large, and where.
 ///
@@ -62,6 +120,25 @@ pub enum GridError {
         nrows: usize,
         /// Columns given.
         ncols: usize,
+    },
+    /// More cells than the work cap of [`DemLimits`]. Fix: raise the cap (`--max-cells`), or crop
+    /// or resample the grid.
+    #[error(
+        "the grid has {nrows} x {ncols} cells, more than the work cap of {max_cells} cells; raise it with --max-cells (at most {MAX_CELLS}) or crop the grid"
+    )]
+    OverWorkCap {
+        /// Rows given.
+        nrows: usize,
+        /// Columns given.
+        ncols: usize,
+        /// The cap in force.
+        max_cells: usize,
+    },
+    /// A work cap outside `1 ..= MAX_CELLS`.
+    #[error("a work cap of {max_cells} cells is outside 1 ..= {MAX_CELLS}")]
+    BadWorkCap {
+        /// The cap asked for.
+        max_cells: usize,
     },
     /// A cell size that is not a positive finite number. Fix: the header's cell size.
     #[error("cell size ({cell_x}, {cell_y}) must be positive and finite")]
@@ -448,6 +525,19 @@ pub enum DemError {
 /// assert!(read_dem("terrain.png").is_err());
 /// ```
 pub fn read_dem(path: impl AsRef<Path>) -> Result<HeightGrid, DemError> {
+    read_dem_with(path, &DemLimits::default())
+}
+
+/// [`read_dem`] under explicit [`DemLimits`].
+///
+/// ```
+/// use rappel_terrain::dem::{read_dem_with, DemLimits};
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.tif");
+/// // 120 x 70 cells: over a cap of 8,000, within one of 8,400.
+/// assert!(read_dem_with(path, &DemLimits::with_max_cells(8_000).unwrap()).is_err());
+/// assert!(read_dem_with(path, &DemLimits::with_max_cells(8_400).unwrap()).is_ok());
+/// ```
+pub fn read_dem_with(path: impl AsRef<Path>, limits: &DemLimits) -> Result<HeightGrid, DemError> {
     let path = path.as_ref();
     let ext = path
         .extension()
@@ -467,12 +557,14 @@ pub fn read_dem(path: impl AsRef<Path>) -> Result<HeightGrid, DemError> {
         source,
     })?;
     if is_tiff {
-        decode_geotiff(std::io::Cursor::new(bytes)).map_err(|source| DemError::GeoTiff {
-            path: path.to_path_buf(),
-            source,
+        decode_geotiff_with(std::io::Cursor::new(bytes), limits).map_err(|source| {
+            DemError::GeoTiff {
+                path: path.to_path_buf(),
+                source,
+            }
         })
     } else {
-        parse_esri_ascii(&bytes).map_err(|source| DemError::EsriAscii {
+        parse_esri_ascii_with(&bytes, limits).map_err(|source| DemError::EsriAscii {
             path: path.to_path_buf(),
             source,
         })

@@ -18,7 +18,7 @@
 
 use std::fmt::Write as _;
 
-use crate::dem::{GridError, GridGeometry, HeightGrid, MAX_CELLS};
+use crate::dem::{DemLimits, GridError, GridGeometry, HeightGrid};
 
 /// Longest excerpt of offending text quoted in an error.
 const MAX_QUOTED_CHARS: usize = 40;
@@ -190,6 +190,24 @@ struct Entry<'a> {
 /// assert_eq!(err.to_string(), "line 6: value 1 (`x`) is not a finite number");
 /// ```
 pub fn parse_esri_ascii(bytes: &[u8]) -> Result<HeightGrid, EsriAsciiError> {
+    parse_esri_ascii_with(bytes, &DemLimits::default())
+}
+
+/// [`parse_esri_ascii`] under explicit [`DemLimits`]: a header announcing more cells than the
+/// work cap is refused before any height is read.
+///
+/// ```
+/// use rappel_terrain::dem::DemLimits;
+/// use rappel_terrain::esri_ascii::parse_esri_ascii_with;
+/// let text = "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3 4 5 6\n";
+/// assert!(parse_esri_ascii_with(text.as_bytes(), &DemLimits::with_max_cells(6).unwrap()).is_ok());
+/// let err = parse_esri_ascii_with(text.as_bytes(), &DemLimits::with_max_cells(5).unwrap()).unwrap_err();
+/// assert!(err.to_string().contains("work cap of 5 cells"));
+/// ```
+pub fn parse_esri_ascii_with(
+    bytes: &[u8],
+    limits: &DemLimits,
+) -> Result<HeightGrid, EsriAsciiError> {
     let mut header: [Option<Entry<'_>>; KEYS.len()] = [None; KEYS.len()];
     let mut lines = bytes.split(|&b| b == b'\n').enumerate().peekable();
 
@@ -314,8 +332,8 @@ pub fn parse_esri_ascii(bytes: &[u8]) -> Result<HeightGrid, EsriAsciiError> {
     };
     let north = south + nrows as f64 * cell_y;
     let geometry = GridGeometry::new(nrows, ncols, cell_x, cell_y, west, north)?;
+    limits.check(&geometry)?;
     let expected = geometry.len();
-    debug_assert!(expected <= MAX_CELLS);
 
     // Data: never reserve more than the file could hold.
     let mut heights: Vec<f64> = Vec::with_capacity(expected.min(bytes.len() / 2 + 1));
@@ -537,10 +555,21 @@ mod tests {
             ),
             EsriAsciiError::Grid(GridError::TooLarge { .. })
         ));
-        // Within the limit but far more than the file holds: an error, quickly.
+        // Over the default work cap: refused before reading heights.
+        let text = "ncols 10000\nnrows 10000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n";
         assert!(matches!(
-            err("ncols 10000\nnrows 10000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n"),
-            EsriAsciiError::TooFewValues { found: 1, .. }
+            err(text),
+            EsriAsciiError::Grid(GridError::OverWorkCap {
+                nrows: 10000,
+                ncols: 10000,
+                ..
+            })
+        ));
+        // Within a raised cap but far more than the file holds: an error, quickly.
+        let all = DemLimits::with_max_cells(crate::dem::MAX_CELLS).unwrap();
+        assert!(matches!(
+            parse_esri_ascii_with(text.as_bytes(), &all),
+            Err(EsriAsciiError::TooFewValues { found: 1, .. })
         ));
     }
 

@@ -10,14 +10,20 @@
 //! - Without a pixel scale, a `ModelTransformation` (34264) without rotation is accepted.
 //! - `GDAL_NODATA` (42113), when present, is the value of unknown cells; NaN samples are unknown too.
 //!   Unknown cells stay unknown, never zero.
+//!
+//! Before any sample is allocated, the declared raster is checked against the work cap of
+//! [`DemLimits`] and against the file itself: every strip or tile inside the file, no blocks
+//! sharing bytes, uncompressed strips holding all their rows, and compressed data able to expand
+//! to the declared raster at the codec's largest ratio. So a corrupt or hostile file costs at most
+//! a few times its own size (or the cap) before it is refused.
 
-use std::io::{Read, Seek};
+use std::io::{Read, Seek, SeekFrom};
 
 use tiff::ColorType;
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::tags::Tag;
 
-use crate::dem::{GridError, GridGeometry, HeightGrid};
+use crate::dem::{DemLimits, GridError, GridGeometry, HeightGrid};
 
 /// `GTRasterTypeGeoKey` in the GeoKey directory.
 const GT_RASTER_TYPE_GEO_KEY: u16 = 1025;
@@ -64,6 +70,50 @@ pub enum GeoTiffError {
         rows: u64,
         /// Image width.
         width: u32,
+    },
+    /// A strip or tile whose declared bytes lie (partly) beyond the end of the file.
+    #[error(
+        "{kind} {index} is declared at bytes {offset} .. {offset} + {count}, beyond the file's {file_len} bytes (a truncated or corrupt file)"
+    )]
+    OutsideFile {
+        /// `strip` or `tile`.
+        kind: &'static str,
+        /// Its index.
+        index: usize,
+        /// Its declared offset.
+        offset: u64,
+        /// Its declared byte count.
+        count: u64,
+        /// The file's length.
+        file_len: u64,
+    },
+    /// Strips or tiles declaring more bytes in all than the file has: blocks share or overlap
+    /// their bytes (one small compressed block repeated to declare a huge raster).
+    #[error(
+        "the {kind}s declare {total} bytes in all, more than the file's {file_len}: blocks overlap (a corrupt or hostile file)"
+    )]
+    OverlappingBlocks {
+        /// `strip` or `tile`.
+        kind: &'static str,
+        /// Bytes declared by all blocks.
+        total: u64,
+        /// The file's length.
+        file_len: u64,
+    },
+    /// Compressed data too small to expand to the raster the header declares, even at the codec's
+    /// largest possible ratio.
+    #[error(
+        "{compressed} compressed bytes (compression {compression}) cannot hold the {declared} bytes the header declares (at most {ratio}:1); the file is corrupt or hostile"
+    )]
+    ImplausibleCompression {
+        /// The TIFF compression code.
+        compression: u16,
+        /// The strips' or tiles' declared bytes, summed.
+        compressed: u64,
+        /// Bytes of the raster as declared (width x height x bytes per sample).
+        declared: u64,
+        /// The codec's largest expansion ratio.
+        ratio: u64,
     },
     /// No georeference: the cell size is unknown.
     #[error(
@@ -172,40 +222,97 @@ fn gdal_nodata<R: Read + Seek>(dec: &mut Decoder<R>) -> Result<Option<f64>, GeoT
         })
 }
 
-/// Refuses uncompressed strips shorter than their rows (compressed strips are checked by the
-/// decoder's sample count). Tiled images have no StripByteCounts and pass.
-fn check_strips<R: Read + Seek>(
+/// The most bytes one compressed byte can expand to, per TIFF compression code, from the codecs'
+/// definitions: Deflate (8 and the old 32946) at most 1032:1 (a maximal-length match of 258
+/// bytes coded in at least 2 bits); LZW (5) at most 4096 bytes from one 12-bit code, so 2731:1;
+/// PackBits (32773) at most 128 bytes from a 2-byte run. Other codecs (ZSTD, JPEG...) have no
+/// bound here and are limited only by the work cap.
+fn max_expansion(compression: u16) -> Option<u64> {
+    match compression {
+        8 | 32946 => Some(1032),
+        5 => Some(2731),
+        32773 => Some(64),
+        _ => None,
+    }
+}
+
+/// Checks the declared layout against the file before anything is decoded: every strip or tile
+/// lies inside the file and together they fit in it (no shared or overlapping blocks); uncompressed strips hold all their rows (a short strip would make the
+/// decoder invent samples); and compressed data could expand to the raster they declare (a
+/// few kilobytes declaring gigabytes are refused). `file_len` is the file's length in bytes.
+fn check_declared_sizes<R: Read + Seek>(
     dec: &mut Decoder<R>,
+    file_len: u64,
     width: u32,
     height: u32,
 ) -> Result<(), GeoTiffError> {
     let compression: u16 = dec.find_tag_unsigned(Tag::Compression)?.unwrap_or(1);
-    if compression != 1 {
-        return Ok(());
-    }
-    let Some(counts) = dec.find_tag_unsigned_vec::<u64>(Tag::StripByteCounts)? else {
-        return Ok(());
-    };
-    let rows_per_strip = dec
-        .find_tag_unsigned::<u64>(Tag::RowsPerStrip)?
-        .unwrap_or(u64::from(height))
-        .clamp(1, u64::from(height).max(1));
     let bits: u64 = dec
         .find_tag_unsigned_vec::<u64>(Tag::BitsPerSample)?
         .and_then(|b| b.first().copied())
         .unwrap_or(1);
-    let row_bytes = (u64::from(width) * bits).div_ceil(8);
-    for (strip, &found) in counts.iter().enumerate() {
-        let first = strip as u64 * rows_per_strip;
-        let rows = rows_per_strip.min(u64::from(height).saturating_sub(first));
-        let expected = rows * row_bytes;
-        if found < expected {
-            return Err(GeoTiffError::ShortStrip {
-                strip,
-                found,
-                expected,
-                rows,
-                width,
+    let (kind, offsets, counts) = match dec.find_tag_unsigned_vec::<u64>(Tag::TileOffsets)? {
+        Some(offsets) => (
+            "tile",
+            offsets,
+            dec.find_tag_unsigned_vec::<u64>(Tag::TileByteCounts)?
+                .unwrap_or_default(),
+        ),
+        None => (
+            "strip",
+            dec.find_tag_unsigned_vec::<u64>(Tag::StripOffsets)?
+                .unwrap_or_default(),
+            dec.find_tag_unsigned_vec::<u64>(Tag::StripByteCounts)?
+                .unwrap_or_default(),
+        ),
+    };
+    for (index, (&offset, &count)) in offsets.iter().zip(&counts).enumerate() {
+        if offset.checked_add(count).is_none_or(|end| end > file_len) {
+            return Err(GeoTiffError::OutsideFile {
+                kind,
+                index,
+                offset,
+                count,
+                file_len,
+            });
+        }
+    }
+    let total: u64 = counts.iter().fold(0u64, |a, &c| a.saturating_add(c));
+    if total > file_len {
+        return Err(GeoTiffError::OverlappingBlocks {
+            kind,
+            total,
+            file_len,
+        });
+    }
+    let raster_bytes = (u64::from(width) * bits).div_ceil(8) * u64::from(height);
+    if compression == 1 && kind == "strip" {
+        let rows_per_strip = dec
+            .find_tag_unsigned::<u64>(Tag::RowsPerStrip)?
+            .unwrap_or(u64::from(height))
+            .clamp(1, u64::from(height).max(1));
+        let row_bytes = (u64::from(width) * bits).div_ceil(8);
+        for (strip, &found) in counts.iter().enumerate() {
+            let first = strip as u64 * rows_per_strip;
+            let rows = rows_per_strip.min(u64::from(height).saturating_sub(first));
+            let expected = rows * row_bytes;
+            if found < expected {
+                return Err(GeoTiffError::ShortStrip {
+                    strip,
+                    found,
+                    expected,
+                    rows,
+                    width,
+                });
+            }
+        }
+    } else if let Some(ratio) = max_expansion(compression) {
+        if total.saturating_mul(ratio) < raster_bytes {
+            return Err(GeoTiffError::ImplausibleCompression {
+                compression,
+                compressed: total,
+                declared: raster_bytes,
+                ratio,
             });
         }
     }
@@ -250,6 +357,30 @@ fn to_heights(data: DecodingResult, nodata: Option<f64>) -> Vec<f64> {
 /// assert!(decode_geotiff(std::io::Cursor::new(b"II*\0garbage".to_vec())).is_err());
 /// ```
 pub fn decode_geotiff<R: Read + Seek>(reader: R) -> Result<HeightGrid, GeoTiffError> {
+    decode_geotiff_with(reader, &DemLimits::default())
+}
+
+/// [`decode_geotiff`] under explicit [`DemLimits`]: the declared raster is checked against the
+/// work cap and against the file (strips and tiles inside it, compressed data able to expand to
+/// the declared size) before the samples are allocated.
+///
+/// ```
+/// use rappel_terrain::dem::DemLimits;
+/// use rappel_terrain::geotiff::decode_geotiff_with;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.tif");
+/// let bytes = std::fs::read(path).unwrap();
+/// let cap = DemLimits::with_max_cells(1_000).unwrap();
+/// let err = decode_geotiff_with(std::io::Cursor::new(bytes), &cap).unwrap_err();
+/// assert!(err.to_string().contains("work cap of 1000 cells"));
+/// ```
+pub fn decode_geotiff_with<R: Read + Seek>(
+    mut reader: R,
+    limits: &DemLimits,
+) -> Result<HeightGrid, GeoTiffError> {
+    let file_len = reader
+        .seek(SeekFrom::End(0))
+        .and_then(|n| reader.seek(SeekFrom::Start(0)).map(|_| n))
+        .map_err(|e| GeoTiffError::Tiff(tiff::TiffError::IoError(e)))?;
     let mut dec = Decoder::new(reader)?;
     let (width, height) = dec.dimensions()?;
     match dec.colortype()? {
@@ -262,8 +393,9 @@ pub fn decode_geotiff<R: Read + Seek>(reader: R) -> Result<HeightGrid, GeoTiffEr
     }
     let (cell_x, cell_y, west, north) = georeference(&mut dec)?;
     let geometry = GridGeometry::new(height as usize, width as usize, cell_x, cell_y, west, north)?;
+    limits.check(&geometry)?;
     let nodata = gdal_nodata(&mut dec)?;
-    check_strips(&mut dec, width, height)?;
+    check_declared_sizes(&mut dec, file_len, width, height)?;
     let heights = to_heights(dec.read_image()?, nodata);
     if heights.len() != geometry.len() {
         return Err(GeoTiffError::SampleCount {

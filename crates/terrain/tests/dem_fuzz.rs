@@ -163,3 +163,109 @@ fn a_short_strip_is_refused() {
         "{r:?}"
     );
 }
+
+/// A tiled Deflate float32 GeoTIFF declaring `width` x `height` cells in tiles of `t` x `t`, the
+/// directory written by hand, with one stored block: 256 x 256 zeros, compressed. With `shared`,
+/// every tile points at that block (a few kilobytes declaring gigabytes); otherwise only the first
+/// tile does and the rest point past the end of the file.
+fn bomb_tiff(width: u32, height: u32, t: u32, shared: bool) -> Vec<u8> {
+    use tiff::encoder::compression::{CompressionAlgorithm, Deflate};
+    use tiff::encoder::{DeflateLevel, TiffEncoder};
+    use tiff::tags::Tag;
+    const T: u32 = 256;
+    let tiles = (width.div_ceil(t) * height.div_ceil(t)) as usize;
+    let zeros = vec![0u8; (T * T * 4) as usize];
+    let mut packed = Vec::new();
+    Deflate::with_level(DeflateLevel::Best)
+        .write_to(&mut packed, &zeros[..])
+        .unwrap();
+    let mut bytes = Vec::new();
+    {
+        let mut tiff = TiffEncoder::new(Cursor::new(&mut bytes)).unwrap();
+        let mut dir = tiff.image_directory().unwrap();
+        let at = dir.write_data(&packed[..]).unwrap() as u32;
+        let offsets: Vec<u32> = (0..tiles)
+            .map(|k| if shared || k == 0 { at } else { 1 << 30 })
+            .collect();
+        let counts = vec![packed.len() as u32; tiles];
+        dir.write_tag(Tag::ImageWidth, width).unwrap();
+        dir.write_tag(Tag::ImageLength, height).unwrap();
+        dir.write_tag(Tag::BitsPerSample, 32u16).unwrap();
+        dir.write_tag(Tag::SampleFormat, 3u16).unwrap();
+        dir.write_tag(Tag::SamplesPerPixel, 1u16).unwrap();
+        dir.write_tag(Tag::PhotometricInterpretation, 1u16).unwrap();
+        dir.write_tag(Tag::Compression, 8u16).unwrap();
+        dir.write_tag(Tag::TileWidth, t).unwrap();
+        dir.write_tag(Tag::TileLength, t).unwrap();
+        dir.write_tag(Tag::TileOffsets, &offsets[..]).unwrap();
+        dir.write_tag(Tag::TileByteCounts, &counts[..]).unwrap();
+        dir.write_tag(Tag::ModelPixelScaleTag, &[1.0f64, 1.0, 0.0][..])
+            .unwrap();
+        dir.write_tag(
+            Tag::ModelTiepointTag,
+            &[0.0f64, 0.0, 0.0, 0.0, f64::from(height), 0.0][..],
+        )
+        .unwrap();
+        dir.finish().unwrap();
+    }
+    bytes
+}
+
+#[test]
+fn a_small_file_declaring_a_huge_raster_is_refused_before_allocating() {
+    use rappel_terrain::dem::{DemLimits, GridError, MAX_CELLS};
+    use rappel_terrain::geotiff::{GeoTiffError, decode_geotiff_with};
+    let start = Instant::now();
+    // 11,000 x 12,000 cells (the case): over the default work cap.
+    let bomb = bomb_tiff(11_000, 12_000, 256, true);
+    assert!(bomb.len() < 200_000, "{} bytes", bomb.len());
+    let r = decode_geotiff(Cursor::new(bomb.clone()));
+    assert!(
+        matches!(
+            r,
+            Err(GeoTiffError::Grid(GridError::OverWorkCap {
+                nrows: 12_000,
+                ncols: 11_000,
+                ..
+            }))
+        ),
+        "{r:?}"
+    );
+    // With the cap raised to its ceiling, the shared blocks are found instead.
+    let all = DemLimits::with_max_cells(MAX_CELLS).unwrap();
+    let r = decode_geotiff_with(Cursor::new(bomb), &all);
+    assert!(
+        matches!(r, Err(GeoTiffError::OverlappingBlocks { kind: "tile", .. })),
+        "{r:?}"
+    );
+    // Tiles declared beyond the end of the file.
+    let r = decode_geotiff_with(Cursor::new(bomb_tiff(11_000, 12_000, 256, false)), &all);
+    assert!(
+        matches!(
+            r,
+            Err(GeoTiffError::OutsideFile {
+                kind: "tile",
+                index: 1,
+                ..
+            })
+        ),
+        "{r:?}"
+    );
+    // One tile of 2,048 x 2,048 whose block holds a few hundred bytes: even at Deflate's largest
+    // ratio it cannot expand to the 16 MB raster declared.
+    let r = decode_geotiff_with(Cursor::new(bomb_tiff(2_000, 2_000, 2_048, true)), &all);
+    assert!(
+        matches!(
+            r,
+            Err(GeoTiffError::ImplausibleCompression {
+                compression: 8,
+                declared: 16_000_000,
+                ratio: 1032,
+                ..
+            })
+        ),
+        "{r:?}"
+    );
+    let took = start.elapsed();
+    assert!(took < Duration::from_secs(5), "took {took:?}");
+}
