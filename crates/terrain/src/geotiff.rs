@@ -306,15 +306,15 @@ fn check_declared_sizes<R: Read + Seek>(
                 });
             }
         }
-    } else if let Some(ratio) = max_expansion(compression) {
-        if total.saturating_mul(ratio) < raster_bytes {
-            return Err(GeoTiffError::ImplausibleCompression {
-                compression,
-                compressed: total,
-                declared: raster_bytes,
-                ratio,
-            });
-        }
+    } else if let Some(ratio) = max_expansion(compression)
+        && total.saturating_mul(ratio) < raster_bytes
+    {
+        return Err(GeoTiffError::ImplausibleCompression {
+            compression,
+            compressed: total,
+            declared: raster_bytes,
+            ratio,
+        });
     }
     Ok(())
 }
