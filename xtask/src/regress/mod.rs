@@ -19,6 +19,7 @@ mod mechanics;
 mod online;
 mod planner;
 pub mod terrain;
+pub mod terrain_synthetic;
 mod tracking;
 
 use std::path::PathBuf;

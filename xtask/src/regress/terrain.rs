@@ -4,6 +4,8 @@
 //! class, the shortest SHP's length to the millimetre) are compared with the golden file
 //! `fixtures/terrain/golden.json`, and the ingested map must build a BTM whose invariants hold. The golden file is rewritten by
 //! `cargo xtask gen-fixtures` after a deliberate change; a diff in review shows what moved.
+//! Those golden rows are drift checks; the suite's reproductions are the synthetic DEMs of known
+//! geometry in [`super::terrain_synthetic`].
 
 use super::{Case, workspace_root};
 use rappel::btm_summary::summarize_btm;
@@ -171,5 +173,6 @@ pub fn suite() -> Result<Vec<Case>, String> {
             btm.invariants_hold,
         ));
     }
+    cases.extend(super::terrain_synthetic::cases()?);
     Ok(cases)
 }
