@@ -171,6 +171,18 @@ impl Dcel {
         }
     }
 
+    /// Reserves room for `vertices` more vertices and `triangles` more triangle slots.
+    pub(crate) fn reserve(&mut self, vertices: usize, triangles: usize) {
+        self.points.reserve(vertices);
+        self.vertex_edge.reserve(vertices);
+        self.ring.reserve(vertices);
+        self.origin.reserve(3 * triangles);
+        self.twin.reserve(3 * triangles);
+        self.constrained.reserve(3 * triangles);
+        self.face.reserve(triangles);
+        self.retired.reserve(triangles);
+    }
+
     // ----- public navigation -------------------------------------------------------------
 
     /// Coordinates of a vertex.

@@ -396,7 +396,37 @@ impl<'a> Tracer<'a> {
         // Each pass moves forward along the segment by at least one edge or vertex; the bound
         // only guards against a corrupted structure.
         let limit = 4 * self.btm.dcel().triangle_capacity() + 16;
+        // The half-edge through which the walk has just entered `t` transversally, if it has.
+        let mut entered: Option<HalfEdgeId> = None;
         for _ in 0..limit {
+            // 0. The straight walk's usual step, after a transversal crossing of edge `g = a b`:
+            // `a` is strictly left of the directed line `p q` and `b` strictly right, and `q` is
+            // strictly beyond `g` (the segment left the previous, closed triangle through it), so
+            // only the two other edges and the third corner `c` need testing. It decides exactly
+            // what steps 2-3 below decide, with three orientation tests instead of six.
+            if let (Pos::Crossed, Some(g)) = (pos, entered.take()) {
+                let d = self.btm.dcel();
+                let (a, b) = (d.origin(g), d.destination(g));
+                let c = d.origin(d.prev(g));
+                let (pa, pb, pc) = (d.point(a), d.point(b), d.point(c));
+                if orient2d(&pb, &pc, q) >= 0.0 && orient2d(&pc, &pa, q) >= 0.0 {
+                    return Ok((t, classify(d, t, q).into()));
+                }
+                let sc = orient2d(&p, q, &pc);
+                let exit = if sc > 0.0 {
+                    d.next(g)
+                } else if sc < 0.0 {
+                    d.prev(g)
+                } else {
+                    pos = Pos::Vertex(c);
+                    continue;
+                };
+                let g2 = d.twin(exit).ok_or(Leave::Edge(exit))?;
+                self.crossings.push(exit);
+                t = g2.triangle();
+                entered = Some(g2);
+                continue;
+            }
             // 1. Turn into the closed triangle that the segment enters (rules 1 and 2).
             match pos {
                 Pos::Edge(h) => {
@@ -432,6 +462,7 @@ impl<'a> Tracer<'a> {
                 self.crossings.push(hs[i]);
                 t = g.triangle();
                 pos = Pos::Crossed;
+                entered = Some(g);
                 continue;
             }
             let current = match pos {

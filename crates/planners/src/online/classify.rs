@@ -83,10 +83,11 @@ impl ChangeCase {
 /// The side edges of every sleeve triangle, as vertex pairs (module docs).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SleeveSides {
-    /// Per sleeve position: edges on the left.
-    pub left: Vec<Vec<(VertexId, VertexId)>>,
-    /// Per sleeve position: edges on the right.
-    pub right: Vec<Vec<(VertexId, VertexId)>>,
+    /// Per sleeve position: its edge on the left, if any (a triangle of the sleeve has at most
+    /// one edge on each side besides its portals).
+    pub left: Vec<Option<(VertexId, VertexId)>>,
+    /// Per sleeve position: its edge on the right, if any.
+    pub right: Vec<Option<(VertexId, VertexId)>>,
 }
 
 impl SleeveSides {
@@ -97,8 +98,8 @@ impl SleeveSides {
         let portals = sleeve.portals();
         let n = tris.len();
         let mut sides = SleeveSides {
-            left: vec![Vec::new(); n],
-            right: vec![Vec::new(); n],
+            left: vec![None; n],
+            right: vec![None; n],
         };
         let pair = |h: HalfEdgeId| (d.origin(h), d.destination(h));
         for i in 0..n {
@@ -109,16 +110,16 @@ impl SleeveSides {
                     // next(e) starts at the exit's left endpoint, prev(e) ends at its right one.
                     let (l, r) = (e.next(), e.prev());
                     if Some(l) != entry {
-                        sides.left[i].push(pair(l));
+                        sides.left[i] = Some(pair(l));
                     }
                     if Some(r) != entry {
-                        sides.right[i].push(pair(r));
+                        sides.right[i] = Some(pair(r));
                     }
                 }
                 (Some(g), None) => {
                     // Entering across g: g starts at the left endpoint.
-                    sides.left[i].push(pair(g.prev()));
-                    sides.right[i].push(pair(g.next()));
+                    sides.left[i] = Some(pair(g.prev()));
+                    sides.right[i] = Some(pair(g.next()));
                 }
                 (None, None) => {}
             }
@@ -142,10 +143,8 @@ pub fn cut_sides(
     polygon: &Polygon,
 ) -> (bool, bool) {
     let d = btm.dcel();
-    let meets = |edges: &Vec<(VertexId, VertexId)>| {
-        edges
-            .iter()
-            .any(|&(a, b)| polygon_meets_segment(polygon, &d.point(a), &d.point(b)))
+    let meets = |edge: &Option<(VertexId, VertexId)>| {
+        edge.is_some_and(|(a, b)| polygon_meets_segment(polygon, &d.point(a), &d.point(b)))
     };
     let left = affected.iter().any(|&i| meets(&sides.left[i]));
     let right = affected.iter().any(|&i| meets(&sides.right[i]));
@@ -184,7 +183,8 @@ mod tests {
         for (i, t) in shp.sleeve.triangles().iter().enumerate() {
             let vs = d.triangle_vertices(*t);
             let portals = usize::from(i > 0) + usize::from(i + 1 < sides.left.len());
-            let count = sides.left[i].len() + sides.right[i].len();
+            let count =
+                usize::from(sides.left[i].is_some()) + usize::from(sides.right[i].is_some());
             assert_eq!(count + portals, 3, "position {i}");
             for (a, b) in sides.left[i].iter().chain(&sides.right[i]) {
                 assert!(vs.contains(a) && vs.contains(b));

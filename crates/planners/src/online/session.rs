@@ -202,6 +202,10 @@ pub struct OnlineSession {
     scale: f64,
 }
 
+/// Obstacle vertices a new session reserves room for in its mesh
+/// ([`OnlineSession::reserve_for_updates`]): a few dozen discovered rocks of typical outline.
+pub const UPDATE_HEADROOM_VERTICES: usize = 1024;
+
 impl OnlineSession {
     /// Builds the BTM of `map` and preplans (Alg. 11): the shortest feasible class and its
     /// ascent/descent pair. A map without a feasible class gives a session whose status says so.
@@ -246,6 +250,7 @@ impl OnlineSession {
             backtracked_length: 0.0,
             scale: w.hypot(h),
         };
+        session.reserve_for_updates(UPDATE_HEADROOM_VERTICES);
         let decision = session.replan()?;
         if let (Decision::Switched { .. }, Some(c)) = (&decision, &session.class) {
             // At the start the robot follows the selected descent (Alg. 11: a pair chosen among
@@ -259,6 +264,14 @@ impl OnlineSession {
             session.status = Status::AtGoal;
         }
         Ok(session)
+    }
+
+    /// Reserves room for map changes adding up to `vertices` obstacle vertices in all, so that
+    /// handling them does not reallocate the mesh (see [`Btm::reserve_for_updates`]). A new
+    /// session reserves [`UPDATE_HEADROOM_VERTICES`]; a clone reserves nothing, so call this on a
+    /// clone that will take time-critical changes.
+    pub fn reserve_for_updates(&mut self, vertices: usize) {
+        self.btm.reserve_for_updates(vertices);
     }
 
     /// The current BTM.
