@@ -1,9 +1,12 @@
 //! `rappel dem FILE.(asc|tif) --out SCENARIO [--hmin M] [--hmax M] [--theta-max DEG] [--friction MU]
-//! [--max-cells N] [--svg OUT]`: turns a digital elevation model into a planning scenario (planes, tether
-//! obstacles, start and goal) and optionally draws it over a hillshade.
+//! [--max-cells N] [--ptfo-friction LO[,HI]] [--svg OUT]`: turns a digital elevation model into a
+//! planning scenario (planes, tether obstacles, optionally PTFOs, start and goal) and optionally
+//! draws it over a hillshade.
 
 use crate::output::{CliError, print_json, refuse_clashing_outputs, write_file};
 use rappel::dem::{dem_picture, dem_scenario_with};
+use rappel::dem_ptfo::{PtfoLabelOptions, PtfoLabels, label_ptfos};
+use rappel::ptfo_spec::FrictionRange;
 use rappel::scenario::Format;
 use rappel::terrain::dem::DemLimits;
 use rappel::terrain::ingest::IngestOptions;
@@ -34,12 +37,51 @@ pub struct Args {
     /// cells.
     #[arg(long, value_name = "N")]
     max_cells: Option<usize>,
+    /// Label convex patches as potential tether friction obstacles (thesis §3.4) with this
+    /// tether-terrain friction: one coefficient, or a range `LO,HI`. Off when not given.
+    #[arg(long, value_name = "LO[,HI]")]
+    ptfo_friction: Option<String>,
+    /// Flatness tolerance of the PTFO convexity test, 1/m (default 0.1 over the cell size: a
+    /// radius under ten cells).
+    #[arg(long, value_name = "K", requires = "ptfo_friction")]
+    ptfo_curvature: Option<f64>,
+    /// Fewest cells of a PTFO patch (default 4).
+    #[arg(long, value_name = "N", requires = "ptfo_friction")]
+    ptfo_min_cells: Option<usize>,
     /// Print the ingestion summary as JSON.
     #[arg(long)]
     json: bool,
     /// Draw the hillshade with planes and obstacles to this SVG file.
     #[arg(long, value_name = "OUT")]
     svg: Option<PathBuf>,
+}
+
+/// The JSON form of `rappel dem`'s summary.
+#[derive(serde::Serialize)]
+struct DemJson {
+    #[serde(flatten)]
+    summary: rappel::terrain::ingest::IngestSummary,
+    /// PTFO labelling, when asked for.
+    ptfos: Option<PtfoLabels>,
+}
+
+/// `LO` or `LO,HI`.
+fn friction_range(text: &str) -> Result<FrictionRange, CliError> {
+    let bad = || {
+        CliError(format!(
+            "--ptfo-friction: `{text}` is not LO or LO,HI (numbers)"
+        ))
+    };
+    let mut parts = text.split(',').map(|p| p.trim().parse::<f64>());
+    let lo = parts.next().ok_or_else(bad)?.map_err(|_| bad())?;
+    let hi = match parts.next() {
+        None => lo,
+        Some(v) => v.map_err(|_| bad())?,
+    };
+    if parts.next().is_some() {
+        return Err(bad());
+    }
+    Ok(FrictionRange { lo, hi })
 }
 
 /// Runs `rappel dem`.
@@ -74,7 +116,20 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             DemLimits::with_max_cells(n).map_err(|e| CliError(format!("--max-cells: {e}")))?
         }
     };
-    let d = dem_scenario_with(&args.file, &options, &limits)?;
+    let mut d = dem_scenario_with(&args.file, &options, &limits)?;
+    let labels = match &args.ptfo_friction {
+        None => None,
+        Some(text) => {
+            let mut opts = PtfoLabelOptions::with_friction(friction_range(text)?);
+            if let Some(k) = args.ptfo_curvature {
+                opts.min_curvature = Some(k);
+            }
+            if let Some(n) = args.ptfo_min_cells {
+                opts.min_cells = n;
+            }
+            Some(label_ptfos(&mut d, &opts).map_err(|e| CliError(e.to_string()))?)
+        }
+    };
     d.scenario.validate().map_err(|e| {
         CliError(format!(
             "{}: the ingested scenario is invalid: {e}",
@@ -90,7 +145,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     d.scenario.save(&args.out)?;
     let s = d.summary();
     if args.json {
-        return print_json(&s);
+        return print_json(&DemJson {
+            summary: s,
+            ptfos: labels,
+        });
     }
     crate::outln!("dem                {}", args.file.display());
     crate::outln!("scenario           {}", args.out.display());
@@ -120,6 +178,22 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         s.tether_clusters
     );
     crate::outln!("robot obstacles    {}", s.robot_obstacles);
+    match &labels {
+        None => {
+            crate::outln!("PTFOs              not labelled (give --ptfo-friction to label them)")
+        }
+        Some(l) => {
+            crate::outln!(
+                "PTFOs              {} (from {} convex patches of {} convex cells)",
+                l.ptfos,
+                l.patches,
+                l.convex_cells
+            );
+            for why in &l.dropped {
+                crate::outln!("  dropped          {why}");
+            }
+        }
+    }
     crate::outln!("unknown regions    {}", s.unknown_regions);
     crate::outln!(
         "start              ({:.2}, {:.2})",

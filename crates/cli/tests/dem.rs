@@ -95,3 +95,55 @@ fn dem_work_cap_is_named_and_can_be_raised() {
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
     assert!(out.exists());
 }
+
+#[test]
+fn dem_labels_ptfos_that_the_frictional_planner_then_judges() {
+    let dir = temp_dir("dem-ptfo");
+    let input = fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc");
+    let out = dir.join("s.ron");
+    let o = out.to_str().unwrap_or_default();
+    check_error(
+        &["dem", &input, "--out", o, "--ptfo-friction", "0.4,x"],
+        "--ptfo-friction: `0.4,x` is not LO or LO,HI (numbers)",
+    );
+    check_error(
+        &["dem", &input, "--out", o, "--ptfo-friction", "0.6,0.4"],
+        "tether-terrain friction 0.6..0.4 must satisfy 0 < lo <= hi",
+    );
+    check_error(
+        &[
+            "dem",
+            &input,
+            "--out",
+            o,
+            "--ptfo-friction",
+            "0.5",
+            "--ptfo-curvature=-1",
+        ],
+        "the curvature tolerance -1 must be positive and finite",
+    );
+    assert!(!out.exists());
+    let run = rappel(&["dem", &input, "--out", o, "--ptfo-friction", "0.4,0.6"]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let text = stdout(&run);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("PTFOs"))
+        .expect("a PTFO line");
+    let count: usize = line
+        .split_whitespace()
+        .nth(1)
+        .and_then(|n| n.parse().ok())
+        .expect("a count");
+    assert!(count > 0, "{line}");
+    let scenario = std::fs::read_to_string(&out).expect("scenario");
+    assert_eq!(scenario.matches("HeightField").count(), count);
+    // The frictional planner judges them: a clean answer, never an error.
+    let plan = rappel(&["plan", o]);
+    assert!(
+        matches!(plan.status.code(), Some(0 | 1)),
+        "{}",
+        stderr(&plan)
+    );
+    assert!(stdout(&plan).contains("friction     PTFOs on obstacles"));
+}

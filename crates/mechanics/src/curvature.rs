@@ -216,7 +216,8 @@ impl CurvatureMap {
 }
 
 /// Principal curvatures of the height grid `heights` (row `i` at `y = i dy`, column `j` at
-/// `x = j dx`) by central differences; border cells are `None`.
+/// `x = j dx`) by central differences; border cells, and cells with a non-finite height among
+/// their eight neighbours or themselves (unknown heights), are `None`.
 ///
 /// # Example
 /// ```
@@ -243,6 +244,10 @@ pub fn analyze_height_field(
             let h = |di: isize, dj: isize| {
                 heights[((i as isize + di) as usize, (j as isize + dj) as usize)]
             };
+            // Unknown heights (NaN, a DEM's NODATA) leave the cell unanalysed.
+            if !(-1..=1).all(|di| (-1..=1).all(|dj| h(di, dj).is_finite())) {
+                continue;
+            }
             let hx = (h(0, 1) - h(0, -1)) / (2.0 * dx);
             let hy = (h(1, 0) - h(-1, 0)) / (2.0 * dy);
             let hxx = (h(0, 1) - 2.0 * h(0, 0) + h(0, -1)) / (dx * dx);
@@ -316,6 +321,19 @@ mod tests {
         );
         let k = PrincipalCurvatures::from_height_derivatives(0.0, 0.0, 1.0, 0.0, 1.0).unwrap();
         assert_eq!(k.convexity(-1.0), Err(CurvatureError::Tolerance));
+    }
+
+    #[test]
+    fn unknown_heights_leave_their_neighbourhood_unanalysed() {
+        let mut h = DMatrix::from_fn(6, 6, |i, j| -((i * i + j * j) as f64) / 10.0);
+        h[(2, 2)] = f64::NAN;
+        let map = analyze_height_field(&h, 1.0, 1.0).unwrap();
+        for i in 1..5usize {
+            for j in 1..5usize {
+                let near = i.abs_diff(2) <= 1 && j.abs_diff(2) <= 1;
+                assert_eq!(map.get(i, j).is_none(), near, "cell ({i}, {j})");
+            }
+        }
     }
 
     proptest! {

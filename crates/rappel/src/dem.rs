@@ -5,7 +5,7 @@
 
 use crate::scenario::{RobotParams, Scenario, Terrain};
 use crate::svg::{Layer, Marker, Picture};
-use rappel_terrain::dem::{DemError, DemLimits, read_dem_with};
+use rappel_terrain::dem::{DemError, DemLimits, HeightGrid, read_dem_with};
 use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
 use std::path::Path;
 
@@ -50,6 +50,8 @@ pub struct DemScenario {
     pub scenario: Scenario,
     /// Everything ingestion computed (rasters, frame, robot obstacles, reports).
     pub ingested: Ingested,
+    /// The elevation model read (for analyses after ingestion, e.g. PTFO labelling).
+    pub grid: HeightGrid,
 }
 
 impl DemScenario {
@@ -137,7 +139,11 @@ pub fn dem_scenario_with(
         },
         friction: None,
     };
-    Ok(DemScenario { scenario, ingested })
+    Ok(DemScenario {
+        scenario,
+        ingested,
+        grid,
+    })
 }
 
 /// The picture of a DEM scenario in the planning frame: hillshade, plane edges, tether obstacles

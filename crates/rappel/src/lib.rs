@@ -34,6 +34,7 @@
 
 pub mod btm_summary;
 pub mod dem;
+pub mod dem_ptfo;
 pub mod friction_plan;
 pub mod generated;
 pub mod io;

@@ -4,8 +4,8 @@
 //! `rappel::plan::plan`. Every reference comes from the planted geometry, never from rappel's own
 //! output: the number of planes and their slopes, the fall line's azimuth, where the planes break,
 //! how many boulders (tether obstacles) and pits (robot obstacles) there are and that each lies
-//! inside its obstacle, and on a single plane the planned length against the 3D distance on the
-//! planted plane.
+//! inside its obstacle, on a single plane the planned length against the 3D distance on the
+//! planted plane, and a planted dome labelled as the one PTFO with its apex height.
 
 use super::Case;
 use rappel::dem::{DemScenario, dem_scenario};
@@ -259,10 +259,99 @@ fn two_planes(cases: &mut Vec<Case>) -> Result<(), String> {
     Ok(())
 }
 
+/// Sphere radius of the planted dome, m: its curvature `-1/8` 1/m is beyond the default
+/// convexity tolerance at 1 m cells (0.1 1/m).
+const DOME_SPHERE_M: f64 = 8.0;
+/// Height of the planted dome above the slope (vertical), m.
+const DOME_HEIGHT_M: f64 = 1.5;
+
+/// Rows of PTFO labelling (thesis §3.4: "finding any convex terrain"): a smooth spherical dome
+/// and a box boulder on a plane; the dome, and only it, becomes a PTFO.
+fn dome(cases: &mut Vec<Case>) -> Result<(), String> {
+    use rappel::dem_ptfo::{PtfoLabelOptions, label_ptfos};
+    use rappel::mechanics::ptfo_surface::PtfoSurface;
+    use rappel::ptfo_spec::FrictionRange;
+    let g = grid(60, 50)?;
+    let fall = fall_line()?;
+    let slope = 25.0;
+    let plane = plane_series_dem(g, &fall, 500.0, &[ProfilePlane::new(1e4, slope)])
+        .map_err(|e| e.to_string())?;
+    let centre = Point2::new(g.west + 25.0, g.north - 30.0);
+    let (r, h) = (DOME_SPHERE_M, DOME_HEIGHT_M);
+    let domed = plane
+        .map(|row, col, z| {
+            let d2 = (g.cell_center(row, col) - centre).norm_squared();
+            let cap = (r * r - d2).max(0.0).sqrt() - (r - h);
+            z.map(|z| z + cap.max(0.0))
+        })
+        .map_err(|e| e.to_string())?;
+    let boulder = (10..14, 8..12);
+    let dem = with_box(&domed, boulder.0.clone(), boulder.1.clone(), BOX_RISE_M)
+        .map_err(|e| e.to_string())?;
+    let scene = "synthetic dome and boulder on a 25° plane";
+    let mut d = ingest_file("dome", &dem)?;
+    let opts = PtfoLabelOptions::with_friction(FrictionRange { lo: 0.4, hi: 0.6 });
+    let labels = label_ptfos(&mut d, &opts).map_err(|e| format!("{scene}: {e}"))?;
+    cases.push(Case::new(
+        SUITE,
+        format!("{scene}: PTFOs labelled"),
+        labels.ptfos.to_string(),
+        "1 (the planted dome; the boulder is a geometric obstacle)",
+        labels.ptfos == 1,
+    ));
+    let frame = &d.ingested.frame;
+    let Some(spec) = d.scenario.friction.as_ref().and_then(|f| f.ptfos.first()) else {
+        return Ok(());
+    };
+    let outline = &d.scenario.map.obstacles[spec.obstacle];
+    let dome_at = frame.to_planning(&centre);
+    let boulder_at = frame.to_planning(&box_centre(&g, &boulder.0, &boulder.1));
+    let holds = (outline.locate(&dome_at), outline.locate(&boulder_at));
+    cases.push(Case::new(
+        SUITE,
+        format!("{scene}: the PTFO holds the dome's centre, not the boulder's"),
+        format!("{:?} / {:?}", holds.0, holds.1),
+        "Inside / Outside (planted positions)",
+        holds == (PointInPolygon::Inside, PointInPolygon::Outside),
+    ));
+    if let PtfoSurface::HeightField(patch) = &spec.surface {
+        let apex = patch
+            .heights
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+        let want = h * slope.to_radians().cos();
+        // How far below the apex the highest node may read, from the planted geometry: the
+        // nearest node is at most half a diagonal of the node grid from the apex (the sphere
+        // drops `d² / 2R` there); bilinear sampling between cell centres loses at most
+        // `κ c² / 8` along each axis; the fitted plane rises by at most the planted volume
+        // (dome cap and boulder) spread over the grid.
+        let half_diagonal = patch.spacing * std::f64::consts::SQRT_2 / 2.0;
+        let node = half_diagonal.powi(2) / (2.0 * r);
+        let bilinear = 2.0 * CELL_M * CELL_M / (8.0 * r);
+        let cap_volume = std::f64::consts::PI * h * h * (3.0 * r - h) / 3.0;
+        let boulder_volume =
+            (boulder.0.len() * boulder.1.len()) as f64 * CELL_M * CELL_M * BOX_RISE_M;
+        let area = (g.nrows * g.ncols) as f64 * CELL_M * CELL_M;
+        let tol = node + bilinear + (cap_volume + boulder_volume) / area;
+        cases.push(Case::new(
+            SUITE,
+            format!("{scene}: PTFO surface's apex above the plane, m"),
+            format!("{apex:.3}"),
+            format!(
+                "{want:.3} (dome height along the normal, h cos 25°) - {tol:.3}..0 (sampling and fit bounds)"
+            ),
+            apex <= want + 1e-9 && apex >= want - tol,
+        ));
+    }
+    Ok(())
+}
+
 /// The synthetic rows of the `terrain` suite.
 pub fn cases() -> Result<Vec<Case>, String> {
     let mut cases = Vec::new();
     single_plane(&mut cases)?;
     two_planes(&mut cases)?;
+    dome(&mut cases)?;
     Ok(cases)
 }
