@@ -161,6 +161,12 @@ fn print_report(prior: &Path, truth: &Path, r: &SimulationReport) {
                 format!("shift {prior}->{truth}")
             }
             rappel::planners::online::simulate::Difference::Boundary => "boundary".into(),
+            rappel::planners::online::simulate::Difference::Friction { prior } => {
+                format!("friction of PTFO {prior}")
+            }
+            rappel::planners::online::simulate::Difference::PriorPtfoCheck => {
+                "PTFO check of the prior plan".into()
+            }
         };
         let decision = match &e.outcome.decision {
             rappel::planners::online::Decision::Switched { backtrack_m, .. } => {

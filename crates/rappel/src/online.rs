@@ -9,8 +9,10 @@ use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::traversability::StabilitySettings;
 use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
-use rappel_planners::online::simulate::{SimulationError, TimelineEvent};
-use rappel_planners::online::{OnlineSession, SimulationOptions, SimulationReport, simulate_with};
+use rappel_planners::online::simulate::{
+    FrictionPair, SimulationError, TimelineEvent, simulate_frictional,
+};
+use rappel_planners::online::{OnlineSession, SimulationOptions, SimulationReport};
 use rappel_planners::terrain::{PlaneSeries, TerrainError};
 
 /// Why an online run could not be made (a run without a feasible class is an answer, not an
@@ -25,13 +27,24 @@ pub enum OnlineRunError {
         /// `start`, `goal`, `terrain` or `robot`.
         field: &'static str,
     },
-    /// The scenario has PTFOs (a `friction` section), which the online planner does not treat yet:
-    /// refused rather than planned as geometric obstacles.
+    /// Only one of the two scenarios has PTFOs (a `friction` section): both must label the same
+    /// PTFOs (their frictions may differ).
     #[error(
-        "the scenario has a friction section (PTFOs); the online planner treats every obstacle as \
-         geometric: remove the section to plan with PTFOs as plain obstacles"
+        "only the {which} scenario has a friction section (PTFOs): give both the same PTFOs \
+         (their frictions may differ) or neither"
     )]
-    FrictionUnsupported,
+    FrictionOnOneSide {
+        /// `prior` or `true`.
+        which: &'static str,
+    },
+    /// A friction section could not be resolved.
+    #[error("the {which} scenario's friction section: {message}")]
+    Friction {
+        /// `prior` or `true`.
+        which: &'static str,
+        /// What is wrong.
+        message: String,
+    },
     /// The terrain planes are unusable.
     #[error("terrain: {0}")]
     Terrain(#[from] TerrainError),
@@ -97,19 +110,30 @@ pub fn run(
             return Err(OnlineRunError::Mismatch { field });
         }
     }
-    if prior.friction.is_some() || truth.friction.is_some() {
-        return Err(OnlineRunError::FrictionUnsupported);
-    }
+    let resolve = |s: &Scenario, which: &'static str| {
+        s.friction
+            .as_ref()
+            .map(|f| f.resolve(s).map(|r| r.model))
+            .transpose()
+            .map_err(|message| OnlineRunError::Friction { which, message })
+    };
+    let friction = match (resolve(prior, "prior")?, resolve(truth, "true")?) {
+        (Some(prior), Some(truth)) => Some(FrictionPair { prior, truth }),
+        (None, None) => None,
+        (Some(_), None) => return Err(OnlineRunError::FrictionOnOneSide { which: "prior" }),
+        (None, Some(_)) => return Err(OnlineRunError::FrictionOnOneSide { which: "true" }),
+    };
     let terrain = plane_series(prior)?;
     let mut options = *options;
     options.session.clearance = prior.robot.clearance_m;
     options.session.tether_length = prior.robot.tether_length_m;
-    let (report, session) = simulate_with(
+    let (report, session) = simulate_frictional(
         &prior.map,
         &truth.map,
         prior.start,
         prior.goal,
         terrain,
+        friction.as_ref(),
         &options,
         observe,
     )?;

@@ -20,6 +20,59 @@ use rappel::scenario::Scenario;
 
 const SUITE: &str = "online";
 
+/// The online form of frictional planning: a PTFO believed to hold is sensed to be nearly
+/// frictionless during the descent; the session reclassifies it, its corner slips and is clipped
+/// as a map change. Reference: the frictional planner (Alg. 7 with 8, 9 and 14) on the true
+/// scenario, from scratch.
+fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
+    use rappel::planners::online::simulate::Difference;
+    let name = "online/friction-weaker";
+    let prior = load(&format!("{name}.prior.ron"))?;
+    let truth = load(&format!("{name}.ron"))?;
+    let report = simulate(&prior, &truth, 5.0)?;
+    let sensed: Vec<_> = report
+        .timeline
+        .iter()
+        .filter(|e| e.difference == Difference::Friction { prior: 0 })
+        .collect();
+    let slipped = !sensed.is_empty() && sensed.iter().all(|e| e.outcome.reason.contains("slips"));
+    cases.push(Case::new(
+        SUITE,
+        format!("{name}: the weaker PTFO sensed and reclassified"),
+        format!("{} event(s), slips: {}", sensed.len(), yes(slipped)),
+        "at least 1 event, every one a slip (truth's friction 0.01)",
+        slipped,
+    ));
+    let offline = plan(&truth, &PlanOptions::default()).map_err(|e| format!("{name}: {e}"))?;
+    let reference = offline
+        .friction
+        .as_ref()
+        .and_then(|f| {
+            let rank = f.chosen?;
+            f.classes.iter().find(|c| c.rank == rank).map(|c| c.length)
+        });
+    let measured = report.final_class_length_m;
+    let same =
+        matches!((measured, reference), (Some(a), Some(b)) if (a - b).abs() <= 1e-9 * b.max(1.0));
+    cases.push(Case::new(
+        SUITE,
+        format!("{name}: final class SHP, m"),
+        measured.map_or("none".into(), |l| format!("{l:.6}")),
+        reference.map_or("none".into(), |l| {
+            format!("{l:.6} (Alg. 7 on the true scenario, from scratch)")
+        }),
+        same,
+    ));
+    cases.push(Case::new(
+        SUITE,
+        format!("{name}: ending"),
+        format!("{:?}, homotopic: {}", report.ending, yes(report.homotopic)),
+        "Goal, homotopic: yes",
+        report.ending == Ending::Goal && report.homotopic,
+    ));
+    Ok(())
+}
+
 /// Pairs of the completeness study in CI and with `--full`.
 const PAIRS_CI: u64 = 20;
 const PAIRS_FULL: u64 = 200;
@@ -50,6 +103,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
     let mut cases = Vec::new();
     worked_example(&mut cases)?;
     case_fixtures(&mut cases)?;
+    frictional(&mut cases)?;
     completeness(&mut cases)?;
     Ok(cases)
 }

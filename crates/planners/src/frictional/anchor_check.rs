@@ -12,6 +12,7 @@
 use super::slip::{SlipEvent, SlipState};
 use super::{FrictionModel, FrictionalError};
 use nalgebra::Point2;
+use rappel_geometry::dcel::ObstacleId;
 use rappel_homotopy::funnel::{Anchor, TautPath};
 use rappel_mechanics::ptfo::{PtfoClass, classify};
 use rappel_mechanics::ptfo_surface::WrapError;
@@ -64,7 +65,18 @@ pub fn decide_anchor(
     taut: &TautPath,
     anchor: &Anchor,
 ) -> Result<AnchorDecision, FrictionalError> {
-    let obstacle = anchor.obstacle.map(|id| state.original(id));
+    decide_anchor_with(model, |id| state.original(id), taut, anchor)
+}
+
+/// [`decide_anchor`] with the map obstacle index of a BTM obstacle given by `original` (the
+/// online session keeps its own renaming of obstacles re-inserted after a clip).
+pub fn decide_anchor_with(
+    model: &FrictionModel,
+    original: impl Fn(ObstacleId) -> usize,
+    taut: &TautPath,
+    anchor: &Anchor,
+) -> Result<AnchorDecision, FrictionalError> {
+    let obstacle = anchor.obstacle.map(original);
     let geometric = AnchorDecision {
         anchor: *anchor,
         obstacle,

@@ -42,6 +42,30 @@ pub struct SlipEvent {
     pub anchors_after: Vec<Point2<f64>>,
 }
 
+/// Alg. 14 line 4: the PTFO `ring` with its vertex `at` clipped off, or `None` when what is left
+/// is no obstacle (fewer than three distinct vertices, or no area): the PTFO is removed. The
+/// frictional planner ([`SlipState::update_with_slipped`]) and the online session
+/// (`crate::online`, as a map change) both clip through this one function.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::polygon::Polygon;
+/// use rappel_planners::frictional::slip::clip_vertex;
+/// let p = |x, y| Point2::new(x, y);
+/// let square = Polygon::new(vec![p(0., 0.), p(0., 1.), p(1., 1.), p(1., 0.)]);
+/// assert_eq!(clip_vertex(&square, 2).unwrap().len(), 3);
+/// let triangle = Polygon::new(vec![p(0., 0.), p(0., 1.), p(1., 0.)]);
+/// assert!(clip_vertex(&triangle, 0).is_none());
+/// ```
+pub fn clip_vertex(ring: &Polygon, at: usize) -> Option<Polygon> {
+    let mut clipped = ring.vertices.clone();
+    if at < clipped.len() {
+        clipped.remove(at);
+    }
+    let clipped = Polygon::new(clipped);
+    (clipped.distinct_vertex_count() >= 3 && !clipped.is_degenerate()).then_some(clipped)
+}
+
 /// The map as the slips of one class have left it: the search's BTM until the first slip, then a
 /// private copy updated locally.
 #[derive(Debug, Clone)]
@@ -132,17 +156,15 @@ impl<'a> SlipState<'a> {
             .ok_or_else(|| {
                 FrictionalError::Internal(format!("anchor is not a vertex of obstacle {id}"))
             })?;
-        let mut clipped = ring.vertices.clone();
-        clipped.remove(at);
-        let clipped = Polygon::new(clipped);
+        let clipped = clip_vertex(&ring, at);
         if self.owned.is_none() {
             self.owned = Some(self.base.clone());
         }
         let btm = self.owned.as_mut().expect("just set");
         btm.remove_obstacle(id)?;
         self.rings.push((id, None));
-        let removed = clipped.distinct_vertex_count() < 3 || clipped.is_degenerate();
-        if !removed {
+        let removed = clipped.is_none();
+        if let Some(clipped) = clipped {
             let (new_id, _) = btm.insert_obstacle(&clipped)?;
             self.rings.push((new_id, Some(clipped)));
             self.renamed.push((new_id, obstacle));

@@ -147,7 +147,16 @@ pub enum OnlineError {
     /// An option is out of range.
     #[error("invalid option: {0}")]
     Option(String),
+    /// The friction model or a frictional check failed (the frictional error's message).
+    #[error("friction: {0}")]
+    Friction(String),
     /// A bug, reported instead of a panic.
     #[error("internal error: {0}")]
     Internal(String),
+}
+
+impl From<crate::frictional::FrictionalError> for OnlineError {
+    fn from(e: crate::frictional::FrictionalError) -> Self {
+        OnlineError::Friction(e.to_string())
+    }
 }

@@ -26,6 +26,8 @@
 //! a shorter class; the outcome reports it, and with [`OnlineOptions::switch_to_shorter`] the
 //! session switches when the saving exceeds the cost of backtracking.
 
+mod friction;
+
 use super::change::{MapChange, covers, interior_point, outside_boundary};
 use super::classify::{
     ChangeCase, SleeveSides, case_of_addition, cut_sides, polygon_meets_segment,
@@ -197,6 +199,8 @@ pub struct OnlineSession {
     constraints: Vec<RejectedClass>,
     deferred: Vec<ChangeOutcome>,
     status: Status,
+    /// The PTFOs and tension model, when the session plans with tether friction.
+    friction: Option<friction::SessionFriction>,
     travelled_length: f64,
     backtracked_length: f64,
     scale: f64,
@@ -246,6 +250,7 @@ impl OnlineSession {
             constraints: Vec::new(),
             deferred: Vec::new(),
             status: Status::Descending,
+            friction: None,
             travelled_length: 0.0,
             backtracked_length: 0.0,
             scale: w.hypot(h),
@@ -431,8 +436,19 @@ impl OnlineSession {
     }
 
     /// Applies one map change (module docs) and returns what happened, one outcome per local
-    /// update (a reshape gives two). Errors leave the session as it was.
+    /// update (a reshape gives two). With PTFOs ([`OnlineSession::set_friction`]) the anchors of
+    /// the resulting SHP are then decided again, and the outcomes of any slips follow. Errors of
+    /// the change itself leave the session as it was.
     pub fn apply(&mut self, change: &MapChange) -> Result<Vec<ChangeOutcome>, OnlineError> {
+        let mut outcomes = self.apply_change(change)?;
+        if self.friction.is_some() {
+            outcomes.extend(self.settle_friction()?);
+        }
+        Ok(outcomes)
+    }
+
+    /// [`OnlineSession::apply`] without the friction check.
+    fn apply_change(&mut self, change: &MapChange) -> Result<Vec<ChangeOutcome>, OnlineError> {
         if let Some(p) = change.new_polygon() {
             self.check_cover(p)?;
         }
@@ -455,6 +471,9 @@ impl OnlineSession {
                 trial.validate()?;
                 let first = self.remove(*obstacle)?;
                 let second = self.add(polygon)?;
+                if let (Some(f), Some(new)) = (&mut self.friction, second.obstacle) {
+                    f.renamed(*obstacle, ObstacleId(new));
+                }
                 Ok(vec![first, second])
             }
             MapChange::Boundary(b) => Ok(vec![self.rebuild(b)?]),

@@ -16,11 +16,18 @@
 //! The robot moves at most `step` per iteration and `step < sensor_range` is required, so every
 //! true obstacle a move could touch was within range before the move and is already in the map.
 //! Each loop is bounded: the run by `max_steps`, sensing by the number of differences.
+//!
+//! # PTFOs ([`simulate_frictional`])
+//! The prior and the truth label the same obstacles as PTFOs; a PTFO whose true friction
+//! differs is a difference located at its outline, sensed like the others, and then reclassified
+//! by the session (its anchors decided again; slips and rejections are map changes of the
+//! session, `session::friction`).
 
 use super::change::MapChange;
 use super::session::{ChangeOutcome, OnlineSession, Status};
 use super::{OnlineError, OnlineOptions};
 use crate::feasibility::distance_to_segment;
+use crate::frictional::FrictionModel;
 use crate::spt::Termination;
 use crate::terrain::PlaneSeries;
 use nalgebra::Point2;
@@ -28,6 +35,7 @@ use rappel_geometry::btm::Btm;
 use rappel_geometry::dcel::ObstacleId;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::{PointInPolygon, Polygon};
+use rappel_mechanics::friction::FrictionInterval;
 use serde::Serialize;
 
 /// Default sensor range, m.
@@ -130,6 +138,63 @@ pub enum Difference {
     },
     /// The boundary is different.
     Boundary,
+    /// Not a difference: Alg. 8 on the plan made on the prior map, when it has PTFOs (its slips and
+    /// rejections, before the descent starts).
+    PriorPtfoCheck,
+    /// A PTFO on an obstacle equal in both maps has another tether-terrain friction in truth:
+    /// once sensed, the session reclassifies it ([`OnlineSession::reclassify_ptfo`]).
+    Friction {
+        /// Index among the prior obstacles.
+        prior: usize,
+    },
+}
+
+/// The PTFOs of a frictional run: the prior's model and the truth's. They must label the same
+/// obstacles (equal outlines in both maps); only the frictions may differ.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionPair {
+    /// The model the robot plans with.
+    pub prior: FrictionModel,
+    /// The model of the true terrain (indices among the true obstacles).
+    pub truth: FrictionModel,
+}
+
+/// The friction differences of `pair` between the maps (module docs), with the true friction.
+fn friction_differences(
+    prior: &Map,
+    truth: &Map,
+    pair: &FrictionPair,
+) -> Result<Vec<(usize, FrictionInterval)>, OnlineError> {
+    let equal_in_truth = |i: usize| {
+        let want = prior.obstacles[i].to_counter_clockwise();
+        truth
+            .obstacles
+            .iter()
+            .position(|o| o.to_counter_clockwise() == want)
+    };
+    let mut out = Vec::new();
+    for p in &pair.prior.ptfos {
+        let t = equal_in_truth(p.obstacle).and_then(|j| pair.truth.ptfo_of(j));
+        match t {
+            Some(t) if t.friction != p.friction => out.push((p.obstacle, t.friction)),
+            Some(_) => {}
+            None => {
+                return Err(OnlineError::Option(format!(
+                    "prior PTFO on obstacle {} has no PTFO on an equal obstacle in truth: the two \
+                     scenarios must label the same PTFOs (only frictions may differ)",
+                    p.obstacle
+                )));
+            }
+        }
+    }
+    if pair.truth.ptfos.len() != pair.prior.ptfos.len() {
+        return Err(OnlineError::Option(format!(
+            "truth has {} PTFOs, the prior {}: the two scenarios must label the same PTFOs",
+            pair.truth.ptfos.len(),
+            pair.prior.ptfos.len()
+        )));
+    }
+    Ok(out)
 }
 
 /// One row of the timeline.
@@ -297,6 +362,24 @@ pub fn simulate_with(
     options: &SimulationOptions,
     observe: &mut dyn FnMut(&TimelineEvent, &OnlineSession),
 ) -> Result<(SimulationReport, OnlineSession), SimulationError> {
+    simulate_frictional(prior, truth, start, goal, terrain, None, options, observe)
+}
+
+/// [`simulate_with`] with PTFOs: the session plans with `friction.prior`
+/// ([`OnlineSession::set_friction`], its outcomes are the timeline's first events, as
+/// [`Difference::PriorPtfoCheck`]), and a PTFO whose true friction differs is
+/// reclassified when sensed ([`Difference::Friction`]).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_frictional(
+    prior: &Map,
+    truth: &Map,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    terrain: PlaneSeries,
+    friction: Option<&FrictionPair>,
+    options: &SimulationOptions,
+    observe: &mut dyn FnMut(&TimelineEvent, &OnlineSession),
+) -> Result<(SimulationReport, OnlineSession), SimulationError> {
     let at_start = |source| SimulationError {
         step: 0,
         difference: None,
@@ -308,6 +391,23 @@ pub fn simulate_with(
         .map_err(|e| at_start(OnlineError::Map(e)))?;
     let mut session =
         OnlineSession::new(prior, start, goal, terrain, options.session).map_err(at_start)?;
+    let mut timeline = Vec::new();
+    let mut true_frictions = Vec::new();
+    if let Some(pair) = friction {
+        true_frictions = friction_differences(prior, truth, pair).map_err(at_start)?;
+        for outcome in session.set_friction(pair.prior.clone()).map_err(at_start)? {
+            let event = TimelineEvent {
+                step: 0,
+                robot: start,
+                travelled_m: 0.0,
+                backtracked_m: 0.0,
+                difference: Difference::PriorPtfoCheck,
+                outcome,
+            };
+            observe(&event, &session);
+            timeline.push(event);
+        }
+    }
     let initial_class_length_m = session.class().map(|c| c.shp.taut.length);
     let boundary_points: Vec<Point2<f64>> = prior
         .boundary
@@ -330,17 +430,23 @@ pub fn simulate_with(
             Difference::Shifted { prior: i, truth: j } => {
                 vec![&prior.obstacles[*i], &truth.obstacles[*j]]
             }
-            Difference::Boundary => Vec::new(),
+            Difference::Friction { prior: i } => vec![&prior.obstacles[*i]],
+            Difference::Boundary | Difference::PriorPtfoCheck => Vec::new(),
         }
     };
     let mut pending = differences(prior, truth);
-    let mut timeline = Vec::new();
+    pending.extend(
+        true_frictions
+            .iter()
+            .map(|&(prior, _)| Difference::Friction { prior }),
+    );
     let mut steps = 0;
     let ending = loop {
         let robot = session.robot();
         let r = options.sensor_range;
         let near = |d: &Difference| match d {
             Difference::Boundary => boundary_points.iter().any(|p| (p - robot).norm() <= r),
+            Difference::PriorPtfoCheck => false,
             _ => outlines(d)
                 .iter()
                 .any(|p| distance_to_polygon(&robot, p) <= r),
@@ -391,8 +497,8 @@ pub fn simulate_with(
                     changes.push((0, d.clone()));
                     changes.push((1, d));
                 }
-                Difference::New { .. } => changes.push((1, d)),
-                Difference::Boundary => changes.push((2, d)),
+                Difference::New { .. } | Difference::Friction { .. } => changes.push((1, d)),
+                Difference::Boundary | Difference::PriorPtfoCheck => changes.push((2, d)),
             }
         }
         changes.sort_by_key(|(phase, _)| *phase);
@@ -411,13 +517,25 @@ pub fn simulate_with(
             };
             let change = match (&d, phase) {
                 (Difference::Phantom { prior: i }, _)
-                | (Difference::Shifted { prior: i, .. }, 0) => MapChange::Remove(find(*i)?),
+                | (Difference::Shifted { prior: i, .. }, 0) => Some(MapChange::Remove(find(*i)?)),
                 (Difference::New { truth: j }, _) | (Difference::Shifted { truth: j, .. }, _) => {
-                    MapChange::Add(truth.obstacles[*j].clone())
+                    Some(MapChange::Add(truth.obstacles[*j].clone()))
                 }
-                (Difference::Boundary, _) => MapChange::Boundary(truth.boundary.clone()),
+                (Difference::Boundary, _) => Some(MapChange::Boundary(truth.boundary.clone())),
+                (Difference::Friction { .. } | Difference::PriorPtfoCheck, _) => None,
             };
-            let outcomes = session.apply(&change).map_err(fail)?;
+            let outcomes = match (change, &d) {
+                (Some(change), _) => session.apply(&change).map_err(fail)?,
+                (None, Difference::Friction { prior: i }) => {
+                    let mu = true_frictions
+                        .iter()
+                        .find(|(o, _)| o == i)
+                        .map(|(_, mu)| *mu)
+                        .ok_or_else(|| fail(OnlineError::Internal("lost friction".into())))?;
+                    session.reclassify_ptfo(*i, mu).map_err(fail)?
+                }
+                (None, _) => Vec::new(),
+            };
             for outcome in outcomes {
                 let event = TimelineEvent {
                     step: steps,
