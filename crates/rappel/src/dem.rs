@@ -84,7 +84,9 @@ pub fn dem_scenario(path: &Path, options: &IngestOptions) -> Result<DemScenario,
 /// use rappel::terrain::ingest::IngestOptions;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
 /// let tight = DemLimits::with_max_cells(100).unwrap();
-/// let err = dem_scenario_with(path.as_ref(), &IngestOptions::default(), &tight).unwrap_err();
+/// let Err(err) = dem_scenario_with(path.as_ref(), &IngestOptions::default(), &tight) else {
+///     panic!("a grid of 8,400 cells is over a cap of 100");
+/// };
 /// assert!(err.to_string().contains("--max-cells"));
 /// ```
 pub fn dem_scenario_with(
