@@ -44,13 +44,10 @@ fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
         slipped,
     ));
     let offline = plan(&truth, &PlanOptions::default()).map_err(|e| format!("{name}: {e}"))?;
-    let reference = offline
-        .friction
-        .as_ref()
-        .and_then(|f| {
-            let rank = f.chosen?;
-            f.classes.iter().find(|c| c.rank == rank).map(|c| c.length)
-        });
+    let reference = offline.friction.as_ref().and_then(|f| {
+        let rank = f.chosen?;
+        f.classes.iter().find(|c| c.rank == rank).map(|c| c.length)
+    });
     let measured = report.final_class_length_m;
     let same =
         matches!((measured, reference), (Some(a), Some(b)) if (a - b).abs() <= 1e-9 * b.max(1.0));

@@ -42,28 +42,42 @@ pub struct SlipEvent {
     pub anchors_after: Vec<Point2<f64>>,
 }
 
-/// Alg. 14 line 4: the PTFO `ring` with its vertex `at` clipped off, or `None` when what is left
-/// is no obstacle (fewer than three distinct vertices, or no area): the PTFO is removed. The
-/// frictional planner ([`SlipState::update_with_slipped`]) and the online session
-/// (`crate::online`, as a map change) both clip through this one function.
+/// What is left of a PTFO when a vertex slips (Alg. 14 line 4).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Clipped {
+    /// The outline with the vertex clipped off.
+    Outline(Polygon),
+    /// Fewer than three distinct vertices, or no area, are left: the PTFO is removed.
+    Removed,
+}
+
+/// Alg. 14 line 4: the PTFO `ring` with its vertex `vertex` clipped off; `None` when `vertex` is
+/// not a vertex of `ring`. The frictional planner ([`SlipState::update_with_slipped`]) and the
+/// online session (`crate::online`, as a map change) both clip through this one function.
 ///
 /// ```
 /// use nalgebra::Point2;
 /// use rappel_geometry::polygon::Polygon;
-/// use rappel_planners::frictional::slip::clip_vertex;
+/// use rappel_planners::frictional::slip::{clip_vertex, Clipped};
 /// let p = |x, y| Point2::new(x, y);
 /// let square = Polygon::new(vec![p(0., 0.), p(0., 1.), p(1., 1.), p(1., 0.)]);
-/// assert_eq!(clip_vertex(&square, 2).unwrap().len(), 3);
+/// assert!(matches!(clip_vertex(&square, &p(1., 1.)), Some(Clipped::Outline(t)) if t.len() == 3));
 /// let triangle = Polygon::new(vec![p(0., 0.), p(0., 1.), p(1., 0.)]);
-/// assert!(clip_vertex(&triangle, 0).is_none());
+/// assert_eq!(clip_vertex(&triangle, &p(0., 0.)), Some(Clipped::Removed));
+/// assert_eq!(clip_vertex(&triangle, &p(5., 5.)), None);
 /// ```
-pub fn clip_vertex(ring: &Polygon, at: usize) -> Option<Polygon> {
+pub fn clip_vertex(ring: &Polygon, vertex: &Point2<f64>) -> Option<Clipped> {
+    let at = ring.vertices.iter().position(|v| v == vertex)?;
     let mut clipped = ring.vertices.clone();
-    if at < clipped.len() {
-        clipped.remove(at);
-    }
+    clipped.remove(at);
     let clipped = Polygon::new(clipped);
-    (clipped.distinct_vertex_count() >= 3 && !clipped.is_degenerate()).then_some(clipped)
+    Some(
+        if clipped.distinct_vertex_count() >= 3 && !clipped.is_degenerate() {
+            Clipped::Outline(clipped)
+        } else {
+            Clipped::Removed
+        },
+    )
 }
 
 /// The map as the slips of one class have left it: the search's BTM until the first slip, then a
@@ -149,22 +163,17 @@ impl<'a> SlipState<'a> {
         let ring = self
             .ring(id)
             .ok_or_else(|| FrictionalError::Internal(format!("obstacle {id} has no ring")))?;
-        let at = ring
-            .vertices
-            .iter()
-            .position(|v| *v == anchor.point)
-            .ok_or_else(|| {
-                FrictionalError::Internal(format!("anchor is not a vertex of obstacle {id}"))
-            })?;
-        let clipped = clip_vertex(&ring, at);
+        let clipped = clip_vertex(&ring, &anchor.point).ok_or_else(|| {
+            FrictionalError::Internal(format!("anchor is not a vertex of obstacle {id}"))
+        })?;
         if self.owned.is_none() {
             self.owned = Some(self.base.clone());
         }
         let btm = self.owned.as_mut().expect("just set");
         btm.remove_obstacle(id)?;
         self.rings.push((id, None));
-        let removed = clipped.is_none();
-        if let Some(clipped) = clipped {
+        let removed = clipped == Clipped::Removed;
+        if let Clipped::Outline(clipped) = clipped {
             let (new_id, _) = btm.insert_obstacle(&clipped)?;
             self.rings.push((new_id, Some(clipped)));
             self.renamed.push((new_id, obstacle));

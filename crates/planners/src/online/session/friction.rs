@@ -18,7 +18,7 @@
 
 use super::{ChangeOutcome, OnlineSession};
 use crate::frictional::anchor_check::{AnchorVerdict, decide_anchor_with};
-use crate::frictional::slip::clip_vertex;
+use crate::frictional::slip::{Clipped, clip_vertex};
 use crate::frictional::{FrictionModel, original_index, validate_model};
 use crate::online::OnlineError;
 use crate::online::change::MapChange;
@@ -191,19 +191,17 @@ impl OnlineSession {
             let ring = self.btm.obstacle_polygon(id).ok_or_else(|| {
                 OnlineError::Internal(format!("PTFO obstacle {id} has no outline"))
             })?;
-            let at = ring
-                .vertices
-                .iter()
-                .position(|v| *v == anchor.point)
-                .ok_or_else(|| {
-                    OnlineError::Internal(format!("anchor is not a vertex of obstacle {id}"))
-                })?;
-            let change = match clip_vertex(&ring, at) {
-                Some(polygon) => MapChange::Reshape {
+            let change = match clip_vertex(&ring, &anchor.point) {
+                Some(Clipped::Outline(polygon)) => MapChange::Reshape {
                     obstacle: id,
                     polygon,
                 },
-                None => MapChange::Remove(id),
+                Some(Clipped::Removed) => MapChange::Remove(id),
+                None => {
+                    return Err(OnlineError::Internal(format!(
+                        "anchor is not a vertex of obstacle {id}"
+                    )));
+                }
             };
             for mut o in self.apply_change(&change)? {
                 o.reason = format!(
