@@ -1,11 +1,11 @@
 //! `rappel dem FILE.(asc|tif) --out SCENARIO [--hmin M] [--hmax M] [--theta-max DEG] [--friction MU]
-//! [--max-cells N] [--ptfo-friction LO[,HI]] [--svg OUT]`: turns a digital elevation model into a
+//! [--max-cells N] [--ptfo-friction LO[,HI]] [--svg OUT] [--convexity-svg OUT]`: turns a digital elevation model into a
 //! planning scenario (planes, tether obstacles, optionally PTFOs, start and goal) and optionally
 //! draws it over a hillshade.
 
 use crate::output::{CliError, print_json, refuse_clashing_outputs, write_file};
 use rappel::dem::{dem_picture, dem_scenario_with};
-use rappel::dem_ptfo::{PtfoLabelOptions, PtfoLabels, label_ptfos};
+use rappel::dem_ptfo::{PtfoLabelOptions, PtfoLabels, convexity_picture, label_ptfos};
 use rappel::ptfo_spec::FrictionRange;
 use rappel::scenario::Format;
 use rappel::terrain::dem::DemLimits;
@@ -41,13 +41,17 @@ pub struct Args {
     /// tether-terrain friction: one coefficient, or a range `LO,HI`. Off when not given.
     #[arg(long, value_name = "LO[,HI]")]
     ptfo_friction: Option<String>,
-    /// Flatness tolerance of the PTFO convexity test, 1/m (default 0.1 over the cell size: a
-    /// radius under ten cells).
-    #[arg(long, value_name = "K", requires = "ptfo_friction")]
+    /// Flatness tolerance of the convexity test (PTFOs and --convexity-svg), 1/m (default 0.1
+    /// over the cell size: a radius under ten cells).
+    #[arg(long, value_name = "K")]
     ptfo_curvature: Option<f64>,
     /// Fewest cells of a PTFO patch (default 4).
     #[arg(long, value_name = "N", requires = "ptfo_friction")]
     ptfo_min_cells: Option<usize>,
+    /// Draw the convexity map (thesis Figs. 3.11-3.12: convex, concave, saddle cells, saddles'
+    /// convex directions) under the PTFO convexity tolerance to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    convexity_svg: Option<PathBuf>,
     /// Print the ingestion summary as JSON.
     #[arg(long)]
     json: bool,
@@ -89,6 +93,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let mut outputs: Vec<(&str, &Path)> = vec![("--out", args.out.as_path())];
     if let Some(svg) = &args.svg {
         outputs.push(("--svg", svg.as_path()));
+    }
+    if let Some(svg) = &args.convexity_svg {
+        outputs.push(("--convexity-svg", svg.as_path()));
     }
     refuse_clashing_outputs(&outputs, &[&args.file])?;
     if Format::of_path(&args.out).is_none() {
@@ -141,6 +148,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             out,
             &dem_picture(&d, &format!("rappel dem {}", args.file.display())),
         )?;
+    }
+    if let Some(out) = &args.convexity_svg {
+        let title = format!("convexity of {}", args.file.display());
+        write_file(out, &convexity_picture(&d, args.ptfo_curvature, &title))?;
     }
     d.scenario.save(&args.out)?;
     let s = d.summary();

@@ -123,7 +123,18 @@ fn dem_labels_ptfos_that_the_frictional_planner_then_judges() {
         "the curvature tolerance -1 must be positive and finite",
     );
     assert!(!out.exists());
-    let run = rappel(&["dem", &input, "--out", o, "--ptfo-friction", "0.4,0.6"]);
+    let convexity = dir.join("convexity.svg");
+    let c = convexity.to_str().unwrap_or_default();
+    let run = rappel(&[
+        "dem",
+        &input,
+        "--out",
+        o,
+        "--ptfo-friction",
+        "0.4,0.6",
+        "--convexity-svg",
+        c,
+    ]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
     let text = stdout(&run);
     let line = text
@@ -138,6 +149,10 @@ fn dem_labels_ptfos_that_the_frictional_planner_then_judges() {
     assert!(count > 0, "{line}");
     let scenario = std::fs::read_to_string(&out).expect("scenario");
     assert_eq!(scenario.matches("HeightField").count(), count);
+    let svg = std::fs::read_to_string(&convexity).expect("convexity picture");
+    for layer in ["convex", "concave", "saddle", "saddle's convex direction"] {
+        assert!(svg.contains(layer), "{layer}");
+    }
     // The frictional planner judges them: a clean answer, never an error.
     let plan = rappel(&["plan", o]);
     assert!(

@@ -67,6 +67,14 @@ pub enum Layer {
     Sticking,
     /// A PTFO vertex clipped after a slip.
     Slip,
+    /// A convex terrain cell (thesis Fig. 3.11), green.
+    Convex,
+    /// A concave terrain cell, red.
+    Concave,
+    /// A saddle cell, blue.
+    Saddle,
+    /// A direction along which a saddle is convex (thesis Fig. 3.12), cyan.
+    ConvexDirection,
 }
 
 impl Layer {
@@ -97,7 +105,16 @@ impl Layer {
             Layer::PtfoVolatile => "PTFO: volatile",
             Layer::Sticking => "sticking point",
             Layer::Slip => "clipped vertex (slip)",
+            Layer::Convex => "convex",
+            Layer::Concave => "concave",
+            Layer::Saddle => "saddle",
+            Layer::ConvexDirection => "saddle's convex direction",
         }
+    }
+
+    /// The layer's fill colour (`none` for stroked layers).
+    pub fn fill(self) -> &'static str {
+        self.look().0
     }
 
     /// (fill, stroke, stroke width in px, fill opacity)
@@ -128,6 +145,10 @@ impl Layer {
             Layer::PtfoVolatile => ("#de2d26", "#67000d", 1.2, 0.8),
             Layer::Sticking => ("#00441b", "#00ff7f", 0.8, 1.0),
             Layer::Slip => ("#e6550d", "#7f2704", 1.2, 1.0),
+            Layer::Convex => ("#41ab5d", "none", 0.0, 0.85),
+            Layer::Concave => ("#de2d26", "none", 0.0, 0.85),
+            Layer::Saddle => ("#3182bd", "none", 0.0, 0.85),
+            Layer::ConvexDirection => ("none", "#00e5ff", 0.7, 0.0),
         }
     }
 }
@@ -503,7 +524,8 @@ impl Picture {
 /// Back-to-front drawing order.
 fn draw_order(layer: Layer) -> u8 {
     match layer {
-        Layer::Terrain => 0,
+        Layer::Terrain | Layer::Convex | Layer::Concave | Layer::Saddle => 0,
+        Layer::ConvexDirection => 1,
         Layer::RobotObstacle => 1,
         Layer::PlaneEdge => 5,
         Layer::Sleeve => 0,
