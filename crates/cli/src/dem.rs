@@ -1,5 +1,6 @@
 //! `rappel dem FILE.(asc|tif) --out SCENARIO [--hmin M] [--hmax M] [--theta-max DEG] [--friction MU]
-//! [--max-cells N] [--ptfo-friction LO[,HI]] [--svg OUT] [--convexity-svg OUT]`: turns a digital elevation model into a
+//! [--max-cells N] [--ptfo-friction LO[,HI]] [--svg OUT] [--convexity-svg OUT] [--sticking-svg OUT]
+//! [--phi-svg OUT]`: turns a digital elevation model into a
 //! planning scenario (planes, tether obstacles, optionally PTFOs, start and goal) and optionally
 //! draws it over a hillshade.
 
@@ -8,6 +9,7 @@ use rappel::dem::{dem_picture, dem_scenario_with};
 use rappel::dem_ptfo::{PtfoLabelOptions, PtfoLabels, convexity_picture, label_ptfos};
 use rappel::ptfo_spec::FrictionRange;
 use rappel::scenario::Format;
+use rappel::sticking_profile::{phi_chart, sticking_picture, sticking_profile};
 use rappel::terrain::dem::DemLimits;
 use rappel::terrain::ingest::IngestOptions;
 use std::path::{Path, PathBuf};
@@ -52,6 +54,13 @@ pub struct Args {
     /// convex directions) under the PTFO convexity tolerance to this SVG file.
     #[arg(long, value_name = "OUT")]
     convexity_svg: Option<PathBuf>,
+    /// Draw where the planned tether may stick along its length (thesis Fig. 3.13; the shortest
+    /// class `rappel plan` finds on the scenario, friction from --ptfo-friction's lower value).
+    #[arg(long, value_name = "OUT", requires = "ptfo_friction")]
+    sticking_svg: Option<PathBuf>,
+    /// Chart |φ| along that tether against the friction bound (thesis Fig. 3.15).
+    #[arg(long, value_name = "OUT", requires = "ptfo_friction")]
+    phi_svg: Option<PathBuf>,
     /// Print the ingestion summary as JSON.
     #[arg(long)]
     json: bool,
@@ -88,14 +97,59 @@ fn friction_range(text: &str) -> Result<FrictionRange, CliError> {
     Ok(FrictionRange { lo, hi })
 }
 
+/// Figs. 3.13 and 3.15 for the shortest class of the ingested scenario (before PTFOs are added).
+fn draw_sticking(args: &Args, d: &rappel::dem::DemScenario) -> Result<(), CliError> {
+    let mu = friction_range(args.ptfo_friction.as_deref().unwrap_or_default())?.lo;
+    let report =
+        rappel::plan::plan(&d.scenario, &rappel::plan::PlanOptions::default()).map_err(|e| {
+            CliError(format!(
+                "{}: planning the tether to draw: {e}",
+                args.file.display()
+            ))
+        })?;
+    let Some(class) = report.classes.first() else {
+        return Err(CliError(format!(
+            "{}: no class to draw the sticking profile of",
+            args.file.display()
+        )));
+    };
+    let samples = sticking_profile(
+        d,
+        &class.points,
+        mu,
+        STICKING_STEP_CELLS * d.grid.geometry().cell_x.min(d.grid.geometry().cell_y),
+    );
+    let stick = samples.iter().filter(|s| s.may_stick).count();
+    let title = format!(
+        "where the shortest tether may stick ({stick} of {} samples, mu {mu})",
+        samples.len()
+    );
+    if let Some(out) = &args.sticking_svg {
+        write_file(out, &sticking_picture(d, &class.points, &samples, &title))?;
+    }
+    if let Some(out) = &args.phi_svg {
+        write_file(out, &phi_chart(&samples, mu, &title))?;
+    }
+    Ok(())
+}
+
+/// The sticking profile samples the tether every half cell.
+const STICKING_STEP_CELLS: f64 = 0.5;
+
 /// Runs `rappel dem`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let mut outputs: Vec<(&str, &Path)> = vec![("--out", args.out.as_path())];
     if let Some(svg) = &args.svg {
         outputs.push(("--svg", svg.as_path()));
     }
-    if let Some(svg) = &args.convexity_svg {
-        outputs.push(("--convexity-svg", svg.as_path()));
+    for (flag, out) in [
+        ("--convexity-svg", &args.convexity_svg),
+        ("--sticking-svg", &args.sticking_svg),
+        ("--phi-svg", &args.phi_svg),
+    ] {
+        if let Some(p) = out {
+            outputs.push((flag, p.as_path()));
+        }
     }
     refuse_clashing_outputs(&outputs, &[&args.file])?;
     if Format::of_path(&args.out).is_none() {
@@ -124,6 +178,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
     };
     let mut d = dem_scenario_with(&args.file, &options, &limits)?;
+    if args.sticking_svg.is_some() || args.phi_svg.is_some() {
+        draw_sticking(args, &d)?;
+    }
     let labels = match &args.ptfo_friction {
         None => None,
         Some(text) => {

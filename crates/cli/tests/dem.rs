@@ -125,6 +125,7 @@ fn dem_labels_ptfos_that_the_frictional_planner_then_judges() {
     assert!(!out.exists());
     let convexity = dir.join("convexity.svg");
     let c = convexity.to_str().unwrap_or_default();
+    let (sticking, phi) = (dir.join("sticking.svg"), dir.join("phi.svg"));
     let run = rappel(&[
         "dem",
         &input,
@@ -134,6 +135,10 @@ fn dem_labels_ptfos_that_the_frictional_planner_then_judges() {
         "0.4,0.6",
         "--convexity-svg",
         c,
+        "--sticking-svg",
+        sticking.to_str().unwrap_or_default(),
+        "--phi-svg",
+        phi.to_str().unwrap_or_default(),
     ]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
     let text = stdout(&run);
@@ -153,6 +158,13 @@ fn dem_labels_ptfos_that_the_frictional_planner_then_judges() {
     for layer in ["convex", "concave", "saddle", "saddle's convex direction"] {
         assert!(svg.contains(layer), "{layer}");
     }
+    let svg = std::fs::read_to_string(&sticking).expect("sticking picture");
+    assert!(svg.contains("tether may stick") && svg.contains("tether slips"));
+    let svg = std::fs::read_to_string(&phi).expect("phi chart");
+    assert!(svg.contains("atan"));
+    // Without a friction the profile cannot be drawn: clap refuses, exit 2.
+    let run = rappel(&["dem", &input, "--out", o, "--phi-svg", "x.svg"]);
+    assert_eq!(run.status.code(), Some(2));
     // The frictional planner judges them: a clean answer, never an error.
     let plan = rappel(&["plan", o]);
     assert!(

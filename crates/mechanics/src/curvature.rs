@@ -215,6 +215,60 @@ impl CurvatureMap {
     }
 }
 
+/// First and second derivatives of a height grid at one cell (grid frame: `x` along columns,
+/// `y` along rows).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeightDerivatives {
+    /// `∂h/∂x`.
+    pub hx: f64,
+    /// `∂h/∂y`.
+    pub hy: f64,
+    /// `∂²h/∂x²`.
+    pub hxx: f64,
+    /// `∂²h/∂x∂y`.
+    pub hxy: f64,
+    /// `∂²h/∂y²`.
+    pub hyy: f64,
+}
+
+/// The derivatives of `heights` (row `i` at `y = i dy`, column `j` at `x = j dx`) at interior
+/// cell `(i, j)` by central differences; `None` on the border or when a height of the cell or its
+/// eight neighbours is not finite.
+///
+/// ```
+/// use nalgebra::DMatrix;
+/// use rappel_mechanics::curvature::height_derivatives;
+/// // h = x² + 3 x y on a unit grid: exact for central differences.
+/// let h = DMatrix::from_fn(3, 3, |i, j| { let (x, y) = (j as f64, i as f64); x * x + 3.0 * x * y });
+/// let d = height_derivatives(&h, 1, 1, 1.0, 1.0).unwrap();
+/// assert_eq!((d.hx, d.hy, d.hxx, d.hxy, d.hyy), (5.0, 3.0, 2.0, 3.0, 0.0));
+/// assert!(height_derivatives(&h, 0, 1, 1.0, 1.0).is_none());
+/// ```
+pub fn height_derivatives(
+    heights: &DMatrix<f64>,
+    i: usize,
+    j: usize,
+    dx: f64,
+    dy: f64,
+) -> Option<HeightDerivatives> {
+    let (rows, cols) = heights.shape();
+    if i == 0 || j == 0 || i + 1 >= rows || j + 1 >= cols {
+        return None;
+    }
+    let h =
+        |di: isize, dj: isize| heights[((i as isize + di) as usize, (j as isize + dj) as usize)];
+    if !(-1..=1).all(|di| (-1..=1).all(|dj| h(di, dj).is_finite())) {
+        return None;
+    }
+    Some(HeightDerivatives {
+        hx: (h(0, 1) - h(0, -1)) / (2.0 * dx),
+        hy: (h(1, 0) - h(-1, 0)) / (2.0 * dy),
+        hxx: (h(0, 1) - 2.0 * h(0, 0) + h(0, -1)) / (dx * dx),
+        hyy: (h(1, 0) - 2.0 * h(0, 0) + h(-1, 0)) / (dy * dy),
+        hxy: (h(1, 1) - h(1, -1) - h(-1, 1) + h(-1, -1)) / (4.0 * dx * dy),
+    })
+}
+
 /// Principal curvatures of the height grid `heights` (row `i` at `y = i dy`, column `j` at
 /// `x = j dx`) by central differences; border cells, and cells with a non-finite height among
 /// their eight neighbours or themselves (unknown heights), are `None`.
@@ -241,20 +295,12 @@ pub fn analyze_height_field(
     let mut cells = DMatrix::from_element(rows, cols, None);
     for i in 1..rows.saturating_sub(1) {
         for j in 1..cols.saturating_sub(1) {
-            let h = |di: isize, dj: isize| {
-                heights[((i as isize + di) as usize, (j as isize + dj) as usize)]
-            };
             // Unknown heights (NaN, a DEM's NODATA) leave the cell unanalysed.
-            if !(-1..=1).all(|di| (-1..=1).all(|dj| h(di, dj).is_finite())) {
+            let Some(d) = height_derivatives(heights, i, j, dx, dy) else {
                 continue;
-            }
-            let hx = (h(0, 1) - h(0, -1)) / (2.0 * dx);
-            let hy = (h(1, 0) - h(-1, 0)) / (2.0 * dy);
-            let hxx = (h(0, 1) - 2.0 * h(0, 0) + h(0, -1)) / (dx * dx);
-            let hyy = (h(1, 0) - 2.0 * h(0, 0) + h(-1, 0)) / (dy * dy);
-            let hxy = (h(1, 1) - h(1, -1) - h(-1, 1) + h(-1, -1)) / (4.0 * dx * dy);
+            };
             cells[(i, j)] = Some(PrincipalCurvatures::from_height_derivatives(
-                hx, hy, hxx, hxy, hyy,
+                d.hx, d.hy, d.hxx, d.hxy, d.hyy,
             )?);
         }
     }

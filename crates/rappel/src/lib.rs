@@ -44,6 +44,7 @@ pub mod ptfo_spec;
 pub mod robot;
 pub mod scenario;
 pub mod stability;
+pub mod sticking_profile;
 pub mod svg;
 pub mod tether;
 pub mod track;

@@ -75,6 +75,10 @@ pub enum Layer {
     Saddle,
     /// A direction along which a saddle is convex (thesis Fig. 3.12), cyan.
     ConvexDirection,
+    /// A tether sample where sticking is possible (thesis Fig. 3.13), black.
+    MayStick,
+    /// A tether sample where the tether slips whatever the tensions, red.
+    WillSlip,
 }
 
 impl Layer {
@@ -109,6 +113,8 @@ impl Layer {
             Layer::Concave => "concave",
             Layer::Saddle => "saddle",
             Layer::ConvexDirection => "saddle's convex direction",
+            Layer::MayStick => "tether may stick",
+            Layer::WillSlip => "tether slips",
         }
     }
 
@@ -149,6 +155,8 @@ impl Layer {
             Layer::Concave => ("#de2d26", "none", 0.0, 0.85),
             Layer::Saddle => ("#3182bd", "none", 0.0, 0.85),
             Layer::ConvexDirection => ("none", "#00e5ff", 0.7, 0.0),
+            Layer::MayStick => ("#000000", "#000000", 0.3, 1.0),
+            Layer::WillSlip => ("#de2d26", "#67000d", 0.3, 1.0),
         }
     }
 }
@@ -545,7 +553,7 @@ fn draw_order(layer: Layer) -> u8 {
         Layer::Start => 14,
         Layer::Goal => 15,
         Layer::Ptfo | Layer::PtfoSolid | Layer::PtfoSlides | Layer::PtfoVolatile => 4,
-        Layer::Sticking => 11,
+        Layer::Sticking | Layer::MayStick | Layer::WillSlip => 11,
         Layer::Slip => 11,
     }
 }
