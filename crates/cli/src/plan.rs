@@ -1,14 +1,16 @@
-//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json] [--svg OUT]`:
+//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json] [--svg OUT]
+//! [--export OUT.geojson|OUT.csv]`:
 //! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
 //! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths.
 //! A scenario without a feasible class is an answer, not an error: exit code 1, the reason printed.
 //! With PTFOs (a `friction` section) the frictional planner runs too, and its verdict decides.
 
-use crate::output::{Answer, CliError, print_json, refuse_overwriting_inputs, write_file};
+use crate::output::{Answer, CliError, print_json, refuse_clashing_outputs, write_file};
+use rappel::export::{ExportFormat, export_plan};
 use rappel::plan::{PlanOptions, PlanReport, plan_detailed};
 use rappel::scenario::Scenario;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `rappel plan`.
 #[derive(clap::Args)]
@@ -33,6 +35,10 @@ pub struct Args {
     /// Draw the plan to this SVG file.
     #[arg(long, value_name = "OUT")]
     svg: Option<PathBuf>,
+    /// Export tethers, anchors, waypoints and paths to this file: GeoJSON (.geojson) or CSV
+    /// (.csv), in the DEM's coordinates for scenarios made by `rappel dem`.
+    #[arg(long, value_name = "OUT")]
+    export: Option<PathBuf>,
 }
 
 /// Runs `rappel plan`: [`Answer::Yes`] when a class is feasible and has an ascent/descent pair.
@@ -47,9 +53,26 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             rappel::plan::MAX_CLASSES
         )));
     }
+    let mut outputs: Vec<(&str, &Path)> = Vec::new();
     if let Some(out) = &args.svg {
-        refuse_overwriting_inputs(out, &[&args.file])?;
+        outputs.push(("--svg", out.as_path()));
     }
+    if let Some(out) = &args.export {
+        outputs.push(("--export", out.as_path()));
+    }
+    refuse_clashing_outputs(&outputs, &[&args.file])?;
+    let export = match &args.export {
+        None => None,
+        Some(out) => {
+            let format = ExportFormat::of_path(out).ok_or_else(|| {
+                CliError(format!(
+                    "--export {}: unknown format; use a .geojson or .csv file",
+                    out.display()
+                ))
+            })?;
+            Some((out, format))
+        }
+    };
     if let Some(f) = args.max_length_factor
         && !(f.is_finite() && f >= 1.0)
     {
@@ -68,6 +91,12 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
     if let Some(out) = &args.svg {
         write_file(out, &plan.picture(&s))?;
+    }
+    if let Some((out, format)) = export {
+        write_file(
+            out,
+            &export_plan(&plan.report, s.georeference.as_ref(), format),
+        )?;
     }
     // With PTFOs (a `friction` section) the frictional planner's choice is the answer
     // (docs/friction.md); otherwise the Chapter-2 planner's.

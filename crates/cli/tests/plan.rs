@@ -206,3 +206,37 @@ fn an_output_path_equal_to_the_input_is_refused_before_writing() {
     }
     assert_eq!(std::fs::read(&input).expect("read"), before);
 }
+
+#[test]
+fn plan_exports_geojson_and_csv_and_refuses_unknown_or_clashing_outputs() {
+    let dir = temp_dir("plan-export");
+    let input = fixture("thesis-fig-2-7.ron");
+    let geojson = dir.join("plan.geojson");
+    let g = geojson.to_str().unwrap_or_default();
+    let run = rappel(&["plan", &input, "--export", g]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&geojson).expect("written")).expect("JSON");
+    assert_eq!(json["type"], "FeatureCollection");
+    // Not made from a DEM: planning-frame coordinates, said so.
+    assert!(json["rappel_frame"].as_str().unwrap_or_default().starts_with("planning frame"));
+    let layers: Vec<&str> = json["features"]
+        .as_array()
+        .expect("features")
+        .iter()
+        .filter_map(|f| f["properties"]["layer"].as_str())
+        .collect();
+    for l in ["tether", "ascent", "descent", "start", "goal"] {
+        assert!(layers.contains(&l), "{l}");
+    }
+    let csv = dir.join("plan.csv");
+    let run = rappel(&["plan", &input, "--export", csv.to_str().unwrap_or_default()]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let text = std::fs::read_to_string(&csv).expect("csv");
+    assert!(text.starts_with("layer,class,index,x,y\n"));
+    check_error(
+        &["plan", &input, "--export", "plan.txt"],
+        "unknown format; use a .geojson or .csv file",
+    );
+    check_error(&["plan", &input, "--export", g, "--svg", g], "the same file");
+}

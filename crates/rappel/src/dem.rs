@@ -3,9 +3,10 @@
 //! slopes, normalised convex obstacles in the unfolded frame), wrap the result as a [`Scenario`],
 //! and draw it over a hillshade.
 
+use crate::georeference::Georeference;
 use crate::scenario::{RobotParams, Scenario, Terrain};
 use crate::svg::{Layer, Marker, Picture};
-use rappel_terrain::dem::{DemError, DemLimits, HeightGrid, read_dem_with};
+use rappel_terrain::dem::{DemError, DemLimits, HeightGrid, dem_crs, read_dem_with};
 use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
 use std::path::Path;
 
@@ -140,6 +141,11 @@ pub fn dem_scenario_with(
             planes: ingested.planes.clone(),
         },
         friction: None,
+        georeference: Some(Georeference {
+            dem: path.display().to_string(),
+            crs: dem_crs(path)?,
+            frame: ingested.frame.clone(),
+        }),
     };
     Ok(DemScenario {
         scenario,

@@ -45,5 +45,6 @@ pub fn crater_strip_scenario(
             }],
         },
         friction: None,
+        georeference: None,
     })
 }

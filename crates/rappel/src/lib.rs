@@ -35,8 +35,10 @@
 pub mod btm_summary;
 pub mod dem;
 pub mod dem_ptfo;
+pub mod export;
 pub mod friction_plan;
 pub mod generated;
+pub mod georeference;
 pub mod io;
 pub mod online;
 pub mod plan;

@@ -53,6 +53,10 @@ pub struct Scenario {
     /// obstacle as geometric.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<crate::ptfo_spec::FrictionSpec>,
+    /// Where the planning frame lies in a DEM's coordinates, for scenarios made from DEMs
+    /// (`rappel dem`); exports use it to write DEM coordinates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub georeference: Option<crate::georeference::Georeference>,
 }
 
 /// Which robot model the scenario uses.
@@ -222,6 +226,14 @@ pub enum ScenarioError {
         /// What is wrong.
         message: String,
     },
+    /// The `georeference` section is unusable.
+    #[error("{}: georeference: {message}", path.display())]
+    Georeference {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
     /// The `friction` section is unusable (`docs/friction.md`).
     #[error("{}: {message}", path.display())]
     Friction {
@@ -388,6 +400,13 @@ impl Scenario {
                 message,
             })?;
         }
+        if let Some(g) = &self.georeference {
+            g.validate()
+                .map_err(|message| ScenarioError::Georeference {
+                    path: PathBuf::new(),
+                    message,
+                })?;
+        }
         Ok(())
     }
 
@@ -447,6 +466,9 @@ impl ScenarioError {
                 message,
             },
             ScenarioError::Friction { message, .. } => ScenarioError::Friction { path: p, message },
+            ScenarioError::Georeference { message, .. } => {
+                ScenarioError::Georeference { path: p, message }
+            }
             other => other,
         }
     }

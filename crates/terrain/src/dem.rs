@@ -528,6 +528,54 @@ pub fn read_dem(path: impl AsRef<Path>) -> Result<HeightGrid, DemError> {
     read_dem_with(path, &DemLimits::default())
 }
 
+/// Longest `.prj` file read beside an ESRI ASCII grid, bytes (a WKT definition is a few kB).
+const MAX_PRJ_BYTES: u64 = 64 * 1024;
+
+/// The coordinate reference system of the DEM at `path`, when its file says: a GeoTIFF's GeoKeys
+/// ([`crate::geotiff::geotiff_crs`]: `EPSG:n` or a user-defined system's citation), or for an
+/// ESRI ASCII grid the WKT of the `.prj` file beside it (same stem). `None` when neither says.
+///
+/// ```
+/// use rappel_terrain::dem::dem_crs;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
+/// assert_eq!(dem_crs(path.as_ref()).unwrap(), None);
+/// ```
+pub fn dem_crs(path: &Path) -> Result<Option<String>, DemError> {
+    let io = |source| DemError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("tif") | Some("tiff") => {
+            let file = std::fs::File::open(path).map_err(io)?;
+            crate::geotiff::geotiff_crs(std::io::BufReader::new(file)).map_err(|source| {
+                DemError::GeoTiff {
+                    path: path.to_path_buf(),
+                    source,
+                }
+            })
+        }
+        Some("asc") => {
+            let prj = path.with_extension("prj");
+            let Ok(file) = std::fs::File::open(&prj) else {
+                return Ok(None);
+            };
+            let mut text = String::new();
+            std::io::Read::read_to_string(&mut std::io::Read::take(file, MAX_PRJ_BYTES), &mut text)
+                .map_err(|source| DemError::Io { path: prj, source })?;
+            let text = text.trim();
+            Ok((!text.is_empty()).then(|| text.to_string()))
+        }
+        _ => Err(DemError::UnknownFormat {
+            path: path.to_path_buf(),
+        }),
+    }
+}
+
 /// [`read_dem`] under explicit [`DemLimits`].
 ///
 /// ```

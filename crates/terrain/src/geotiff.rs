@@ -166,6 +166,62 @@ fn f64_tag<R: Read + Seek>(
     Ok(Some(v))
 }
 
+/// `ProjectedCSTypeGeoKey`: the projected coordinate system's EPSG code.
+const PROJECTED_CS_TYPE_GEO_KEY: u16 = 3072;
+/// `GeographicTypeGeoKey`: the geographic coordinate system's EPSG code.
+const GEOGRAPHIC_TYPE_GEO_KEY: u16 = 2048;
+/// `PCSCitationGeoKey` and `GTCitationGeoKey`: free-text names of the system.
+const CITATION_GEO_KEYS: [u16; 2] = [3073, 1026];
+/// The GeoKey value meaning "user-defined" (no EPSG code).
+const USER_DEFINED: u16 = 32767;
+
+/// The coordinate reference system a GeoTIFF declares in its GeoKeys: `EPSG:n` for a projected or
+/// geographic system with an EPSG code, else the citation text of a user-defined one (planetary
+/// DEMs, e.g. Mars equirectangular); `None` when it declares none.
+///
+/// ```
+/// use rappel_terrain::geotiff::geotiff_crs;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.tif");
+/// // The shipped crop carries no GeoKeys.
+/// assert_eq!(geotiff_crs(std::fs::File::open(path).unwrap()).unwrap(), None);
+/// ```
+pub fn geotiff_crs<R: Read + Seek>(reader: R) -> Result<Option<String>, GeoTiffError> {
+    let mut dec = Decoder::new(reader)?;
+    let Some(v) = dec.find_tag(Tag::GeoKeyDirectoryTag)? else {
+        return Ok(None);
+    };
+    let keys = v.into_u16_vec()?;
+    let entries: Vec<&[u16]> = keys.get(4..).unwrap_or(&[]).chunks_exact(4).collect();
+    let code = |key: u16| {
+        entries
+            .iter()
+            .find(|k| k[0] == key && k[1] == 0)
+            .map(|k| k[3])
+            .filter(|&c| c != 0 && c != USER_DEFINED)
+    };
+    if let Some(c) = code(PROJECTED_CS_TYPE_GEO_KEY).or_else(|| code(GEOGRAPHIC_TYPE_GEO_KEY)) {
+        return Ok(Some(format!("EPSG:{c}")));
+    }
+    let ascii = match dec.find_tag(Tag::GeoAsciiParamsTag)? {
+        Some(v) => v.into_string()?,
+        None => return Ok(None),
+    };
+    for key in CITATION_GEO_KEYS {
+        if let Some(k) = entries.iter().find(|k| k[0] == key && k[1] == 34737) {
+            let (count, offset) = (usize::from(k[2]), usize::from(k[3]));
+            // A count running past the text (a sloppy writer) is clamped to it.
+            let end = offset.saturating_add(count).min(ascii.len());
+            if let Some(text) = ascii.get(offset..end) {
+                let text = text.trim_end_matches(['|', '\0']).trim();
+                if !text.is_empty() {
+                    return Ok(Some(text.chars().take(500).collect()));
+                }
+            }
+        }
+    }
+    Ok(None)
+}
+
 /// `true` when the GeoKey directory declares `RasterPixelIsPoint`.
 fn pixel_is_point<R: Read + Seek>(dec: &mut Decoder<R>) -> Result<bool, GeoTiffError> {
     let Some(v) = dec.find_tag(Tag::GeoKeyDirectoryTag)? else {
