@@ -1,11 +1,12 @@
 //! `rappel shp FILE --path PATH.json [--json] [--svg OUT]`: the shortest homotopic path (taut
 //! tether) of a path, with its length, anchors, reduced crossing sequence and H-signature; and
-//! `rappel homotopic FILE --path A.json --path B.json`: `homotopic` (exit code 0) or `not
+//! `rappel homotopic FILE --path A.json --path B.json [--json]`: `homotopic` (exit code 0) or `not
 //! homotopic` (exit code 1). A path file is a JSON array of `[x, y]` points; a path that leaves free space is
 //! bad input (exit 2, the segment named).
 
 use crate::output::{Answer, CliError, print_json, refuse_overwriting_inputs, write_file};
 use rappel::geometry::btm::Btm;
+use rappel::homotopy::crossing::CrossingSequence;
 use rappel::homotopy::funnel::Side;
 use rappel::homotopy::homotopy::are_homotopic;
 use rappel::scenario::Scenario;
@@ -37,6 +38,18 @@ pub struct HomotopicArgs {
     /// The two path files (JSON arrays of [x, y] points), with the same endpoints.
     #[arg(long, value_name = "PATH.json", num_args = 1, required = true)]
     path: Vec<PathBuf>,
+    /// Print the answer as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The JSON form of `rappel homotopic`'s answer.
+#[derive(serde::Serialize)]
+struct HomotopicAnswer {
+    homotopic: bool,
+    paths: [String; 2],
+    /// Length of each path's reduced crossing sequence (equal sequences mean homotopic).
+    reduced_crossings: [usize; 2],
 }
 
 fn load_btm(file: &std::path::Path) -> Result<(Scenario, Btm), CliError> {
@@ -130,6 +143,19 @@ pub fn run_homotopic(args: &HomotopicArgs) -> Result<Answer, CliError> {
     let (pa, pb) = (load_path(a, &btm)?, load_path(b, &btm)?);
     let same = are_homotopic(&btm, &pa, &pb)
         .map_err(|e| CliError(format!("{} and {}: {e}", a.display(), b.display())))?;
+    if args.json {
+        let reduced = |p: &rappel::homotopy::path::Path, f: &std::path::Path| {
+            CrossingSequence::reduced_of_path(&btm, p)
+                .map(|c| c.len())
+                .map_err(|e| CliError(format!("{}: {e}", f.display())))
+        };
+        print_json(&HomotopicAnswer {
+            homotopic: same,
+            paths: [a.display().to_string(), b.display().to_string()],
+            reduced_crossings: [reduced(&pa, a)?, reduced(&pb, b)?],
+        })?;
+        return Ok(if same { Answer::Yes } else { Answer::No });
+    }
     crate::outln!("{}", if same { "homotopic" } else { "not homotopic" });
     Ok(if same { Answer::Yes } else { Answer::No })
 }

@@ -219,7 +219,12 @@ fn plan_exports_geojson_and_csv_and_refuses_unknown_or_clashing_outputs() {
         serde_json::from_str(&std::fs::read_to_string(&geojson).expect("written")).expect("JSON");
     assert_eq!(json["type"], "FeatureCollection");
     // Not made from a DEM: planning-frame coordinates, said so.
-    assert!(json["rappel_frame"].as_str().unwrap_or_default().starts_with("planning frame"));
+    assert!(
+        json["rappel_frame"]
+            .as_str()
+            .unwrap_or_default()
+            .starts_with("planning frame")
+    );
     let layers: Vec<&str> = json["features"]
         .as_array()
         .expect("features")
@@ -238,5 +243,8 @@ fn plan_exports_geojson_and_csv_and_refuses_unknown_or_clashing_outputs() {
         &["plan", &input, "--export", "plan.txt"],
         "unknown format; use a .geojson or .csv file",
     );
-    check_error(&["plan", &input, "--export", g, "--svg", g], "the same file");
+    check_error(
+        &["plan", &input, "--export", g, "--svg", g],
+        "the same file",
+    );
 }

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{rappel, stderr};
+use common::{rappel, stderr, stdout};
 use std::path::{Path, PathBuf};
 
 fn fixture() -> String {
@@ -137,4 +137,43 @@ fn bad_paths_exit_two_naming_the_segment_or_position() {
             "{err}"
         );
     }
+}
+
+/// The shipped path files (README examples): two paths west of the central obstacles, one a
+/// detour of the other with no obstacle between them, and one east of them.
+#[test]
+fn shipped_path_files_answer_homotopic_in_text_and_json() {
+    let map = fixture();
+    let path = |name: &str| common::fixture(&format!("paths/fig-2-7-{name}.json"));
+    let (west, detour, east) = (path("west"), path("west-detour"), path("east"));
+    let run = rappel(&[
+        "homotopic",
+        &map,
+        "--path",
+        &west,
+        "--path",
+        &detour,
+        "--json",
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let json: serde_json::Value = serde_json::from_str(&stdout(&run)).expect("JSON");
+    assert_eq!(json["homotopic"], true);
+    assert_eq!(json["reduced_crossings"][0], json["reduced_crossings"][1]);
+    let run = rappel(&[
+        "homotopic",
+        &map,
+        "--path",
+        &west,
+        "--path",
+        &east,
+        "--json",
+    ]);
+    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    let json: serde_json::Value = serde_json::from_str(&stdout(&run)).expect("JSON");
+    assert_eq!(json["homotopic"], false);
+    let run = rappel(&["validate", &map, "--json"]);
+    assert_eq!(run.status.code(), Some(0));
+    let json: serde_json::Value = serde_json::from_str(&stdout(&run)).expect("JSON");
+    assert_eq!(json["obstacles"], 7);
+    assert_eq!(json["valid"], true);
 }
