@@ -1,7 +1,7 @@
-//! `rappel btm FILE [--json] [--svg OUT]`: builds the BTM of a scenario's map, checks its
+//! `rappel btm FILE [--json] [--svg OUT] [--html OUT]`: builds the BTM of a scenario's map, checks its
 //! invariants, prints a summary (or JSON) and optionally draws it.
 
-use crate::output::{CliError, print_json, refuse_overwriting_inputs, write_file};
+use crate::output::{CliError, PictureArgs, print_json, refuse_clashing_outputs};
 use rappel::btm_summary::summarize_btm;
 use rappel::scenario::Scenario;
 use rappel::svg::Picture;
@@ -15,20 +15,18 @@ pub struct Args {
     /// Print the summary as JSON.
     #[arg(long)]
     json: bool,
-    /// Draw the map and its BTM to this SVG file.
-    #[arg(long, value_name = "OUT")]
-    svg: Option<PathBuf>,
+    /// The picture of the map and its BTM.
+    #[command(flatten)]
+    picture: PictureArgs,
 }
 
 /// Runs `rappel btm`.
 pub fn run(args: &Args) -> Result<(), CliError> {
-    if let Some(out) = &args.svg {
-        refuse_overwriting_inputs(out, &[&args.file])?;
-    }
+    refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
     let s = Scenario::load(&args.file)?;
     let (btm, summary) =
         summarize_btm(&s.map).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
-    if let Some(out) = &args.svg {
+    if args.picture.wanted() {
         let mut pic = Picture::of_map(&s.map);
         pic.btm(&btm);
         pic.map(&s.map);
@@ -38,7 +36,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         } else {
             s.name.clone()
         };
-        write_file(out, &pic.finish(&format!("BTM of {title}")))?;
+        let title = format!("BTM of {title}");
+        args.picture.write(&pic.finish(&title), &title)?;
     }
     if args.json {
         print_json(&summary)?;
@@ -68,7 +67,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             crate::output::quantity(summary.free_area)
         );
         crate::outln!("build time            {:.2} ms", summary.build_ms);
-        if let Some(out) = &args.svg {
+        for (_, out) in args.picture.outputs() {
             crate::outln!("picture               {}", out.display());
         }
     }

@@ -1,10 +1,10 @@
 //! `rappel dem FILE.(asc|tif) --out SCENARIO [--hmin M] [--hmax M] [--theta-max DEG] [--friction MU]
 //! [--max-cells N] [--ptfo-friction LO[,HI]] [--svg OUT] [--convexity-svg OUT] [--sticking-svg OUT]
-//! [--phi-svg OUT]`: turns a digital elevation model into a
+//! [--phi-svg OUT] [--html OUT]`: turns a digital elevation model into a
 //! planning scenario (planes, tether obstacles, optionally PTFOs, start and goal) and optionally
 //! draws it over a hillshade.
 
-use crate::output::{CliError, print_json, refuse_clashing_outputs, write_file};
+use crate::output::{CliError, PictureArgs, print_json, refuse_clashing_outputs, write_file};
 use rappel::dem::{dem_picture, dem_scenario_with};
 use rappel::dem_ptfo::{PtfoLabelOptions, PtfoLabels, convexity_picture, label_ptfos};
 use rappel::ptfo_spec::FrictionRange;
@@ -64,9 +64,9 @@ pub struct Args {
     /// Print the ingestion summary as JSON.
     #[arg(long)]
     json: bool,
-    /// Draw the hillshade with planes and obstacles to this SVG file.
-    #[arg(long, value_name = "OUT")]
-    svg: Option<PathBuf>,
+    /// The picture: the hillshade with planes and obstacles.
+    #[command(flatten)]
+    picture: PictureArgs,
 }
 
 /// The JSON form of `rappel dem`'s summary.
@@ -139,9 +139,7 @@ const STICKING_STEP_CELLS: f64 = 0.5;
 /// Runs `rappel dem`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let mut outputs: Vec<(&str, &Path)> = vec![("--out", args.out.as_path())];
-    if let Some(svg) = &args.svg {
-        outputs.push(("--svg", svg.as_path()));
-    }
+    outputs.extend(args.picture.outputs());
     for (flag, out) in [
         ("--convexity-svg", &args.convexity_svg),
         ("--sticking-svg", &args.sticking_svg),
@@ -200,11 +198,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             args.file.display()
         ))
     })?;
-    if let Some(out) = &args.svg {
-        write_file(
-            out,
-            &dem_picture(&d, &format!("rappel dem {}", args.file.display())),
-        )?;
+    if args.picture.wanted() {
+        let title = format!("rappel dem {}", args.file.display());
+        args.picture.write(&dem_picture(&d, &title), &title)?;
     }
     if let Some(out) = &args.convexity_svg {
         let title = format!("convexity of {}", args.file.display());

@@ -1,12 +1,14 @@
 //! `rappel online PRIOR.ron --truth TRUE.ron [--sensor-range R] [--step S] [--max-steps N]
-//! [--classes K] [--switch-to-shorter] [--json] [--svg OUT] [--frames DIR]`: the online planner
+//! [--classes K] [--switch-to-shorter] [--json] [--svg OUT] [--html OUT] [--frames DIR]`: the online planner
 //! (thesis Alg. 11-13) simulated. The robot descends by the plan made on the prior map; every
 //! difference from the true map that comes within sensor range is a map change. Prints the
 //! timeline (event, case, decision, distance travelled and backtracked) and the end state.
 //! Exit code 0 at the goal with ascent and descent homotopic, 1 for a clean "no" (no feasible
 //! class within the termination rule, the goal covered, or the step budget spent), 2 for errors.
 
-use crate::output::{Answer, CliError, print_json, refuse_overwriting_inputs, write_file};
+use crate::output::{
+    Answer, CliError, PictureArgs, print_json, refuse_clashing_outputs, write_file,
+};
 use rappel::online::{event_picture, picture};
 use rappel::planners::online::simulate::{
     DEFAULT_MAX_STEPS, DEFAULT_SENSOR_RANGE, DEFAULT_STEP, Ending,
@@ -44,9 +46,9 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
-    /// Draw the final state to this SVG file.
-    #[arg(long, value_name = "OUT")]
-    svg: Option<PathBuf>,
+    /// The picture of the final state.
+    #[command(flatten)]
+    picture: PictureArgs,
     /// Draw one SVG per event into this directory.
     #[arg(long, value_name = "DIR")]
     frames: Option<PathBuf>,
@@ -55,9 +57,7 @@ pub struct Args {
 /// Runs `rappel online`: yes when the goal is reached with ascent and descent homotopic, a clean no
 /// when no feasible class is left, the goal is covered or the step budget is spent.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
-    if let Some(out) = &args.svg {
-        refuse_overwriting_inputs(out, &[&args.prior, &args.truth])?;
-    }
+    refuse_clashing_outputs(&args.picture.outputs(), &[&args.prior, &args.truth])?;
     if args.classes == 0 {
         return Err(CliError("--classes 0: examine at least one class".into()));
     }
@@ -88,15 +88,16 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         }
     }
     let r = &result.report;
-    if let Some(out) = &args.svg {
+    if args.picture.wanted() {
         let title = format!("{}: {}", truth.name, verdict(r));
-        write_file(out, &picture(&result.session, &title))?;
+        args.picture
+            .write(&picture(&result.session, &title), &title)?;
     }
     if args.json {
         print_json(r)?;
     } else {
         print_report(&args.prior, &args.truth, r);
-        if let Some(out) = &args.svg {
+        for (_, out) in args.picture.outputs() {
             crate::outln!("picture      {}", out.display());
         }
         if let Some(dir) = &args.frames {

@@ -220,3 +220,41 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// `--svg OUT` and `--html OUT`: a subcommand's picture, and the interactive viewer page around
+/// it (`rappel::viewer`: pan, zoom, layer toggles, tag picker, hover details; self-contained).
+#[derive(clap::Args, Debug, Default)]
+pub struct PictureArgs {
+    /// Draw the picture to this SVG file.
+    #[arg(long, value_name = "OUT")]
+    pub svg: Option<PathBuf>,
+    /// Write the picture as an interactive page (one self-contained HTML file) to this file.
+    #[arg(long, value_name = "OUT")]
+    pub html: Option<PathBuf>,
+}
+
+impl PictureArgs {
+    /// The outputs asked for, named by flag, for [`refuse_clashing_outputs`].
+    pub fn outputs(&self) -> Vec<(&'static str, &Path)> {
+        [("--svg", &self.svg), ("--html", &self.html)]
+            .into_iter()
+            .filter_map(|(flag, p)| p.as_deref().map(|p| (flag, p)))
+            .collect()
+    }
+
+    /// Whether a picture is wanted at all.
+    pub fn wanted(&self) -> bool {
+        self.svg.is_some() || self.html.is_some()
+    }
+
+    /// Writes the picture `svg` (titled `title`) to the outputs asked for.
+    pub fn write(&self, svg: &str, title: &str) -> Result<(), CliError> {
+        if let Some(out) = &self.svg {
+            write_file(out, svg)?;
+        }
+        if let Some(out) = &self.html {
+            write_file(out, &rappel::viewer::html(svg, title))?;
+        }
+        Ok(())
+    }
+}

@@ -1,10 +1,10 @@
-//! `rappel shp FILE --path PATH.json [--json] [--svg OUT]`: the shortest homotopic path (taut
+//! `rappel shp FILE --path PATH.json [--json] [--svg OUT] [--html OUT]`: the shortest homotopic path (taut
 //! tether) of a path, with its length, anchors, reduced crossing sequence and H-signature; and
 //! `rappel homotopic FILE --path A.json --path B.json [--json]`: `homotopic` (exit code 0) or `not
 //! homotopic` (exit code 1). A path file is a JSON array of `[x, y]` points; a path that leaves free space is
 //! bad input (exit 2, the segment named).
 
-use crate::output::{Answer, CliError, print_json, refuse_overwriting_inputs, write_file};
+use crate::output::{Answer, CliError, PictureArgs, print_json, refuse_clashing_outputs};
 use rappel::geometry::btm::Btm;
 use rappel::homotopy::crossing::CrossingSequence;
 use rappel::homotopy::funnel::Side;
@@ -25,9 +25,9 @@ pub struct Args {
     /// Print the result as JSON.
     #[arg(long)]
     json: bool,
-    /// Draw the BTM, the path, its sleeve, the SHP and its anchors to this SVG file.
-    #[arg(long, value_name = "OUT")]
-    svg: Option<PathBuf>,
+    /// The picture: the BTM, the path, its sleeve, the SHP and its anchors.
+    #[command(flatten)]
+    picture: PictureArgs,
 }
 
 /// Arguments of `rappel homotopic`.
@@ -60,14 +60,12 @@ fn load_btm(file: &std::path::Path) -> Result<(Scenario, Btm), CliError> {
 
 /// Runs `rappel shp`.
 pub fn run(args: &Args) -> Result<(), CliError> {
-    if let Some(out) = &args.svg {
-        refuse_overwriting_inputs(out, &[&args.file, &args.path])?;
-    }
+    refuse_clashing_outputs(&args.picture.outputs(), &[&args.file, &args.path])?;
     let (s, btm) = load_btm(&args.file)?;
     let path = load_path(&args.path, &btm)?;
     let (shp, report) =
         shp_report(&btm, &path).map_err(|e| CliError(format!("{}: {e}", args.path.display())))?;
-    if let Some(out) = &args.svg {
+    if args.picture.wanted() {
         let mut pic = Picture::of_map(&s.map);
         pic.sleeve(&btm, &shp.sleeve);
         pic.btm(&btm);
@@ -75,7 +73,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         pic.path(path.points());
         pic.taut_path(&shp.taut);
         pic.start_goal(path.start(), path.end());
-        write_file(out, &pic.finish(&format!("SHP of {}", args.path.display())))?;
+        let title = format!("SHP of {}", args.path.display());
+        args.picture.write(&pic.finish(&title), &title)?;
     }
     if args.json {
         return print_json(&report);
@@ -125,7 +124,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             );
         }
     }
-    if let Some(out) = &args.svg {
+    for (_, out) in args.picture.outputs() {
         crate::outln!("picture              {}", out.display());
     }
     Ok(())

@@ -1,9 +1,9 @@
-//! `rappel track SCENARIO --robot1 P1.json --robot2 P2.json [--json] [--svg OUT] [--svg3d OUT]`: two robots on
+//! `rappel track SCENARIO --robot1 P1.json --robot2 P2.json [--json] [--svg OUT] [--html OUT] [--svg3d OUT]`: two robots on
 //! one tether on multi-slope terrain (Kumar Problem 1). With `--robot1` a single point, Robot 1 is
 //! a fixed anchor (the one-robot form). Exit 0 when Robot 2 is stable at every waypoint, 1 at the
 //! first unstable one (named), 2 on an error.
 
-use crate::output::{CliError, print_json, refuse_clashing_outputs, write_file};
+use crate::output::{CliError, PictureArgs, print_json, refuse_clashing_outputs, write_file};
 use rappel::track::{load_path, load_terrain, track, track_picture, track_picture_3d};
 use std::path::{Path, PathBuf};
 
@@ -21,9 +21,9 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
-    /// Draw the unfolded frame, paths, final tether and waypoint verdicts to this SVG file.
-    #[arg(long, value_name = "OUT")]
-    svg: Option<PathBuf>,
+    /// The picture: the unfolded frame, paths, final tether and waypoint verdicts.
+    #[command(flatten)]
+    picture: PictureArgs,
     /// Draw an axonometric 3D view (surfaces, obstacle prisms, paths, tether) to this SVG file.
     #[arg(long, value_name = "OUT")]
     svg3d: Option<PathBuf>,
@@ -31,18 +31,21 @@ pub struct Args {
 
 /// Runs `rappel track`; `Ok(false)` when Robot 2 is unstable somewhere.
 pub fn run(args: &Args) -> Result<bool, CliError> {
-    let outputs: Vec<(&str, &Path)> = [("--svg", &args.svg), ("--svg3d", &args.svg3d)]
-        .into_iter()
-        .filter_map(|(flag, p)| Some((flag, p.as_deref()?)))
-        .collect();
+    let mut outputs: Vec<(&str, &Path)> = args.picture.outputs();
+    if let Some(p) = &args.svg3d {
+        outputs.push(("--svg3d", p.as_path()));
+    }
     refuse_clashing_outputs(&outputs, &[&args.scenario, &args.robot1, &args.robot2])?;
     let err = |e: rappel::track::TrackRunError| CliError(e.to_string());
     let (scenario, terrain) = load_terrain(&args.scenario).map_err(err)?;
     let p1 = load_path(&args.robot1).map_err(err)?;
     let p2 = load_path(&args.robot2).map_err(err)?;
     let report = track(&scenario, &terrain, &p1, &p2).map_err(err)?;
-    if let Some(out) = &args.svg {
-        write_file(out, &track_picture(&terrain, &p1, &p2, &report))?;
+    if args.picture.wanted() {
+        args.picture.write(
+            &track_picture(&terrain, &p1, &p2, &report),
+            &format!("rappel track {}", args.scenario.display()),
+        )?;
     }
     if let Some(out) = &args.svg3d {
         write_file(out, &track_picture_3d(&terrain, &p1, &p2, &report))?;

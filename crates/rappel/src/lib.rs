@@ -50,6 +50,7 @@ pub mod sticking_profile;
 pub mod svg;
 pub mod tether;
 pub mod track;
+pub mod viewer;
 
 pub use plan::plan;
 

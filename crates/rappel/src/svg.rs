@@ -191,6 +191,8 @@ pub struct Picture {
     /// World units per pixel.
     unit: f64,
     body: Vec<(Layer, String)>,
+    /// The tag of elements drawn now (`data-tag`, e.g. a class), for the viewer's picker.
+    tag: Option<String>,
     used: Vec<Layer>,
 }
 
@@ -225,6 +227,7 @@ impl Picture {
             bounds,
             unit,
             body: Vec::new(),
+            tag: None,
             used: Vec::new(),
         }
     }
@@ -232,6 +235,27 @@ impl Picture {
     /// A picture framing a map.
     pub fn of_map(map: &Map) -> Self {
         Picture::new(map.aabb())
+    }
+
+    /// Tags the elements drawn from now on (`None` stops tagging): the HTML viewer
+    /// ([`crate::viewer`]) offers a picker over the tags, e.g. one per homotopy class.
+    pub fn set_tag(&mut self, tag: Option<String>) {
+        self.tag = tag;
+    }
+
+    fn push(&mut self, layer: Layer, s: String) {
+        let s = match &self.tag {
+            Some(t) => format!("<g data-tag=\"{}\">{s}</g>", escape(t)),
+            None => s,
+        };
+        self.body.push((layer, s));
+    }
+
+    /// A marker with a hover text (an SVG `<title>`: browsers and the viewer show it).
+    pub fn titled_marker(&mut self, layer: Layer, p: Point2<f64>, shape: Marker, title: &str) {
+        self.use_layer(layer);
+        let s = self.marker_svg(layer, p, shape, 5.0 * self.unit);
+        self.push(layer, format!("<g><title>{}</title>{s}</g>", escape(title)));
     }
 
     fn use_layer(&mut self, layer: Layer) {
@@ -264,7 +288,7 @@ impl Picture {
             Self::points(pts),
             self.style(layer)
         );
-        self.body.push((layer, s));
+        self.push(layer, s);
     }
 
     /// A filled polygon on `layer` with its own fill colour (`#rrggbb`), for shaded terrain.
@@ -275,7 +299,7 @@ impl Picture {
             Self::points(pts),
             fmt(0.3 * self.unit)
         );
-        self.body.push((layer, s));
+        self.push(layer, s);
     }
 
     /// An open polyline on `layer`.
@@ -284,7 +308,7 @@ impl Picture {
         let mut style = self.style(layer);
         style = style.replacen(&format!("fill=\"{}\"", layer.look().0), "fill=\"none\"", 1);
         let s = format!("<polyline points=\"{}\" {style}/>", Self::points(pts));
-        self.body.push((layer, s));
+        self.push(layer, s);
     }
 
     /// Many segments on `layer` as one path element (for meshes).
@@ -299,14 +323,14 @@ impl Picture {
             let _ = write!(d, "M{} {}L{} {}", fmt(a.x), fmt(a.y), fmt(b.x), fmt(b.y));
         }
         let s = format!("<path d=\"{d}\" {}/>", self.style(layer));
-        self.body.push((layer, s));
+        self.push(layer, s);
     }
 
     /// A marker of fixed on-screen size at `p`.
     pub fn marker(&mut self, layer: Layer, p: Point2<f64>, shape: Marker) {
         self.use_layer(layer);
         let s = self.marker_svg(layer, p, shape, 5.0 * self.unit);
-        self.body.push((layer, s));
+        self.push(layer, s);
     }
 
     fn marker_svg(&self, layer: Layer, p: Point2<f64>, shape: Marker, r: f64) -> String {
@@ -400,7 +424,7 @@ impl Picture {
         // The map, y flipped so uphill is at the top.
         let _ = writeln!(
             out,
-            "<svg x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">",
+            "<svg id=\"rappel-map\" x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">",
             fmt(pw),
             fmt(ph),
             fmt(self.bounds.min.x),
@@ -410,9 +434,21 @@ impl Picture {
         );
         let _ = writeln!(out, "<g transform=\"scale(1,-1)\">");
         self.body.sort_by_key(|(layer, _)| draw_order(*layer));
-        for (_, s) in &self.body {
+        // One group per run of a layer, named for the viewer's layer toggles.
+        let mut open: Option<Layer> = None;
+        for (layer, s) in &self.body {
+            if open != Some(*layer) {
+                if open.is_some() {
+                    out.push_str("</g>\n");
+                }
+                let _ = writeln!(out, "<g data-layer=\"{}\">", escape(layer.label()));
+                open = Some(*layer);
+            }
             out.push_str(s);
             out.push('\n');
+        }
+        if open.is_some() {
+            out.push_str("</g>\n");
         }
         let _ = writeln!(out, "</g></svg>");
         self.panel(&mut out, pw);
