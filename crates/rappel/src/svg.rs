@@ -198,9 +198,15 @@ pub struct Picture {
 
 /// Width of the side panel, px.
 const PANEL: f64 = 200.0;
-/// Largest drawing area, px.
+/// Largest drawing area of an ordinary map, px.
 const MAX_W: f64 = 900.0;
 const MAX_H: f64 = 1400.0;
+/// The narrow side of a long map (a crater strip) gets at least this many pixels...
+const MIN_NARROW: f64 = 360.0;
+/// ...unless its long side would then exceed this many (the picture stays openable).
+const MAX_LONG: f64 = 16_000.0;
+/// Height of the title line above the map, px.
+const TITLE_H: f64 = 26.0;
 
 fn fmt(v: f64) -> String {
     let s = format!("{v:.4}");
@@ -222,7 +228,12 @@ impl Picture {
             max: Point2::new(bounds.max.x + pad, bounds.max.y + pad),
         };
         let (w, h) = bounds.size();
-        let unit = (w / MAX_W).max(h / MAX_H).max(1e-12);
+        // Fit in MAX_W x MAX_H; a long, thin map would become a sliver, so its narrow side is
+        // widened to MIN_NARROW pixels as far as MAX_LONG allows for the long side.
+        let fit = (w / MAX_W).max(h / MAX_H);
+        let (narrow, long) = (w.min(h), w.max(h));
+        let widen = (narrow / MIN_NARROW).max(long / MAX_LONG);
+        let unit = fit.min(widen).max(1e-12);
         Picture {
             bounds,
             unit,
@@ -409,7 +420,7 @@ impl Picture {
         let (w, h) = self.bounds.size();
         let (pw, ph) = (w / self.unit, h / self.unit);
         let total_w = pw + PANEL;
-        let total_h = ph.max(330.0);
+        let total_h = (ph + TITLE_H).max(330.0);
         let mut out = String::new();
         let _ = writeln!(
             out,
@@ -421,10 +432,17 @@ impl Picture {
         );
         let _ = writeln!(out, "<title>{}</title>", escape(title));
         let _ = writeln!(out, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
+        // The title (and verdict, when the caller puts it in the title), drawn.
+        let _ = writeln!(
+            out,
+            "<text x=\"8\" y=\"18\" font-size=\"15\" font-weight=\"bold\">{}</text>",
+            escape(title)
+        );
         // The map, y flipped so uphill is at the top.
         let _ = writeln!(
             out,
-            "<svg id=\"rappel-map\" x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">",
+            "<svg id=\"rappel-map\" x=\"0\" y=\"{}\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">",
+            fmt(TITLE_H),
             fmt(pw),
             fmt(ph),
             fmt(self.bounds.min.x),
@@ -460,7 +478,7 @@ impl Picture {
     fn panel(&self, out: &mut String, x0: f64) {
         let x = x0 + 16.0;
         let _ = writeln!(out, "<g font-size=\"13\">");
-        let mut y = 24.0;
+        let mut y = 24.0 + TITLE_H;
         let _ = writeln!(
             out,
             "<text x=\"{}\" y=\"{}\" font-weight=\"bold\">legend</text>",
