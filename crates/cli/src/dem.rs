@@ -35,8 +35,8 @@ pub struct Args {
     #[arg(long, value_name = "MU")]
     friction: Option<f64>,
     /// Work cap: refuse grids of more cells than this before reading their heights (default
-    /// 16,777,216 = 2^24; at most 134,217,728 = 2^27). Ingestion takes about a second per million
-    /// cells.
+    /// 16,777,216 = 2^24; at most 134,217,728 = 2^27). Ingestion takes about half a second and
+    /// 55 MB per million cells.
     #[arg(long, value_name = "N")]
     max_cells: Option<usize>,
     /// Label convex patches as potential tether friction obstacles (thesis §3.4) with this
