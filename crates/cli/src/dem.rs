@@ -175,7 +175,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             DemLimits::with_max_cells(n).map_err(|e| CliError(format!("--max-cells: {e}")))?
         }
     };
+    // Reading and ingesting a large grid takes seconds: say so on a terminal.
+    let progress = rappel::progress::Progress::spinner("dem");
+    progress.message("reading and ingesting");
     let mut d = dem_scenario_with(&args.file, &options, &limits)?;
+    progress.finish();
     if args.sticking_svg.is_some() || args.phi_svg.is_some() {
         draw_sticking(args, &d)?;
     }

@@ -42,6 +42,7 @@ pub mod georeference;
 pub mod io;
 pub mod online;
 pub mod plan;
+pub mod progress;
 pub mod ptfo_spec;
 pub mod robot;
 pub mod scenario;

@@ -186,14 +186,23 @@ pub fn workspace_root() -> PathBuf {
 pub fn run(filter: Option<&str>) -> Result<ExitCode, String> {
     let mut cases = Vec::new();
     let mut known: Vec<&KnownDifference> = Vec::new();
-    for (name, suite) in SUITES {
-        if filter.is_some_and(|f| !name.contains(f)) {
-            continue;
-        }
+    let selected: Vec<&Suite> = SUITES
+        .iter()
+        .filter(|(name, _)| filter.is_none_or(|f| name.contains(f)))
+        .collect();
+    // A bar on a terminal, one line per suite in logs.
+    let progress = rappel::progress::Progress::new(selected.len() as u64, "regress");
+    for (name, suite) in selected {
         known.extend(KNOWN_DIFFERENCES.iter().filter(|k| k.suite == *name));
-        eprintln!("running suite {name} ...");
+        if progress.is_shown() {
+            progress.message(name);
+        } else {
+            eprintln!("running suite {name} ...");
+        }
         cases.extend(suite().map_err(|e| format!("suite {name}: {e}"))?);
+        progress.inc(1);
     }
+    progress.finish();
     if cases.is_empty() {
         return Err(format!(
             "no regression suite matches {:?}",
