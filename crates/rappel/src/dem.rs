@@ -206,6 +206,30 @@ pub fn dem_picture(d: &DemScenario, title: &str) -> String {
             );
         }
     }
+    // Each plane labelled at its band's middle, by the map's left edge.
+    for (i, (p, class)) in d
+        .scenario
+        .terrain
+        .planes
+        .iter()
+        .zip(&d.ingested.plane_classes)
+        .enumerate()
+    {
+        let kind = match class {
+            rappel_terrain::plane_class::PlaneClass::TetherFree => "tether-free",
+            rappel_terrain::plane_class::PlaneClass::TetherDemand => "tether-demand",
+        };
+        pic.label(
+            Layer::PlaneEdge,
+            nalgebra::Point2::new(b.min.x, 0.5 * (p.y_top + p.y_bottom)),
+            &format!("plane {i}: {:.1}°, {kind}", p.slope_deg),
+        );
+    }
+    // North: the DEM's north direction in the planning frame.
+    let f = &d.ingested.frame;
+    let o = f.to_world(&d.scenario.start);
+    let north = f.to_planning(&(o + nalgebra::Vector2::new(0.0, 1.0))) - d.scenario.start;
+    pic.set_north(north);
     pic.map(&d.scenario.map);
     pic.marker(Layer::Start, d.scenario.start, Marker::Cross);
     pic.marker(Layer::Goal, d.scenario.goal, Marker::Circle);

@@ -193,6 +193,8 @@ pub struct Picture {
     body: Vec<(Layer, String)>,
     /// The tag of elements drawn now (`data-tag`, e.g. a class), for the viewer's picker.
     tag: Option<String>,
+    /// Where north points in the map frame, when the picture has a georeference.
+    north: Option<nalgebra::Vector2<f64>>,
     used: Vec<Layer>,
 }
 
@@ -239,6 +241,7 @@ impl Picture {
             unit,
             body: Vec::new(),
             tag: None,
+            north: None,
             used: Vec::new(),
         }
     }
@@ -260,6 +263,30 @@ impl Picture {
             None => s,
         };
         self.body.push((layer, s));
+    }
+
+    /// Draws a north arrow in the panel pointing along `direction` (map frame; e.g. a DEM's north
+    /// in the planning frame).
+    pub fn set_north(&mut self, direction: nalgebra::Vector2<f64>) {
+        let n = direction.norm();
+        if n.is_finite() && n > 0.0 {
+            self.north = Some(direction / n);
+        }
+    }
+
+    /// A text label at `p` (map frame) on `layer`, 12 px high on screen.
+    pub fn label(&mut self, layer: Layer, p: Point2<f64>, text: &str) {
+        self.use_layer(layer);
+        let size = 12.0 * self.unit;
+        let s = format!(
+            "<g transform=\"translate({} {}) scale(1,-1)\"><text font-size=\"{}\" fill=\"{}\">{}</text></g>",
+            fmt(p.x),
+            fmt(p.y),
+            fmt(size),
+            layer.look().1,
+            escape(text)
+        );
+        self.push(layer, s);
     }
 
     /// A marker with a hover text (an SVG `<title>`: browsers and the viewer show it).
@@ -431,6 +458,10 @@ impl Picture {
             fmt(total_h)
         );
         let _ = writeln!(out, "<title>{}</title>", escape(title));
+        let _ = writeln!(
+            out,
+            "<defs><marker id=\"rappel-arrow\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"6\" markerHeight=\"6\" orient=\"auto\"><path d=\"M0 0L10 5L0 10z\"/></marker></defs>"
+        );
         let _ = writeln!(out, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
         // The title (and verdict, when the caller puts it in the title), drawn.
         let _ = writeln!(
@@ -579,6 +610,24 @@ impl Picture {
             fmt(x + 28.0),
             fmt(y + 34.0)
         );
+        if let Some(n) = self.north {
+            // North arrow: the map's y axis points up in the picture.
+            y += 80.0;
+            let (cx, cy) = (x + 10.0, y + 30.0);
+            let (dx, dy) = (n.x * 28.0, -n.y * 28.0);
+            let _ = writeln!(
+                out,
+                "<path d=\"M{} {}L{} {}\" stroke=\"black\" stroke-width=\"2\" marker-end=\"url(#rappel-arrow)\"/><circle cx=\"{}\" cy=\"{}\" r=\"2\"/><text x=\"{}\" y=\"{}\" font-weight=\"bold\">N</text>",
+                fmt(cx - dx),
+                fmt(cy - dy),
+                fmt(cx + dx),
+                fmt(cy + dy),
+                fmt(cx),
+                fmt(cy),
+                fmt(cx + dx * 1.35 - 4.0),
+                fmt(cy + dy * 1.35 + 4.0)
+            );
+        }
         let _ = writeln!(out, "</g>");
     }
 }
