@@ -15,6 +15,7 @@ use rappel_homotopy::path::Path;
 use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_planners::feasibility::{
     FeasibilityContext, Impassability, Passability, check_feasibility, distance_to_segment,
+    fill_reachable_areas,
 };
 use rappel_planners::path_pair::{path_pair, plan_path_pair};
 use rappel_planners::spt::{SearchOptions, SptPlanner};
@@ -246,6 +247,25 @@ fn reachable_sets_cut_to_free_space_lose_exactly_the_obstacles() {
         &[TerrainPlane::new(110., -10., 30., 0.6)],
         &best.shp.taut,
     );
+    // Areas are computed only when asked for.
+    assert!(
+        r.reachable_sets
+            .iter()
+            .all(|set| set.free_pieces.is_empty())
+    );
+    let mut r = r;
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(110., -10., 30., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let ctx = FeasibilityContext {
+        btm: &btm,
+        terrain: &terrain,
+        clearance: 0.5,
+        tether_length: None,
+    };
+    fill_reachable_areas(&ctx, &mut r);
     assert!(!r.reachable_sets.is_empty());
     let area = |set: &rappel_planners::feasibility::AnchorReachableSet| {
         let raw: f64 = set.pieces.iter().map(|(poly, _)| poly.area()).sum();
