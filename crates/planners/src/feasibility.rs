@@ -245,7 +245,10 @@ pub struct FeasibilityReport {
     pub goal_limit: TetherLimit,
     /// The intermediate anchors `a_1 .. a_n` in tether order.
     pub anchors: Vec<AnchorAssessment>,
-    /// The anchor reachable sets `C_0 .. C_n`.
+    /// The anchor reachable sets the ascent met, by anchor index: `C_n` (holding the goal), then
+    /// for each anchor `a_j` examined `C_{j-1}` (the set its visibility edge leads into); all of
+    /// `C_0 .. C_n` when the ascent reaches the start or fails only at `a_1`. Sets above a
+    /// blockage are not built (each traces its visibility line across the map).
     pub reachable_sets: Vec<AnchorReachableSet>,
     /// The waypoints in ascent order (passing `a_n` first).
     pub waypoints: Vec<Point2<f64>>,
@@ -318,6 +321,8 @@ struct Climb<'c, 'a> {
     points: Vec<Point2<f64>>,
     /// Map box, for rays and polygons.
     bounds: Aabb,
+    /// The intermediate anchors `a_1 .. a_n` as `(x, j)`, sorted by `x`, for clearance queries.
+    by_x: Vec<(f64, usize)>,
 }
 
 /// Runs Alg. 5 on the taut path `taut` (thesis §2.4.1-2.4.2; module docs).
@@ -356,10 +361,13 @@ pub fn check_feasibility(ctx: &FeasibilityContext<'_>, taut: &TautPath) -> Feasi
     );
     let mut points = vec![taut.start()];
     points.extend(taut.anchors.iter().map(|a| a.point));
+    let mut by_x: Vec<(f64, usize)> = (1..points.len()).map(|j| (points[j].x, j)).collect();
+    by_x.sort_by(|a, b| a.0.total_cmp(&b.0));
     let climb = Climb {
         ctx,
         points,
         bounds,
+        by_x,
     };
     climb.run(taut)
 }
@@ -438,8 +446,9 @@ impl Climb<'_, '_> {
                 }
             })
             .collect();
-        let mut reachable_sets: Vec<AnchorReachableSet> =
-            (0..=n).map(|j| self.reachable_set(j, taut)).collect();
+        // Built only for the anchors the ascent examines (each traces its visibility line across
+        // the map): a class blocked at the goal or low down costs nothing for the anchors above.
+        let mut reachable_sets: Vec<AnchorReachableSet> = vec![self.reachable_set(n, taut)];
         let mut waypoints = Vec::with_capacity(n);
         let mut route = vec![RouteCorner {
             point: goal,
@@ -495,7 +504,12 @@ impl Climb<'_, '_> {
                 });
                 break;
             }
-            let (edge, choice, tried) = self.pass(j, q, psi, &reachable_sets[j]);
+            reachable_sets.push(self.reachable_set(j - 1, taut));
+            let set = reachable_sets
+                .iter()
+                .find(|set| set.anchor == j)
+                .expect("C_j is built before a_j is examined");
+            let (edge, choice, tried) = self.pass(j, q, psi, set);
             a.visibility_edge = edge;
             match choice {
                 Some((w, via)) => {
@@ -523,6 +537,7 @@ impl Climb<'_, '_> {
                 }
             }
         }
+        reachable_sets.sort_by_key(|set| set.anchor);
         for set in &mut reachable_sets {
             set.pieces.retain(|(poly, _)| poly.len() >= 3);
         }
@@ -635,12 +650,21 @@ impl Climb<'_, '_> {
     /// `true` when the waypoint `w` keeps the clearance from every intermediate anchor and the
     /// move `q -> w` from the anchors not yet released (`a_1 .. a_j`; a path pair bends around
     /// the released ones).
+    ///
+    /// Only the anchors whose `x` lies within the clearance of the move's `x` range are looked at
+    /// (a binary search in [`Climb::by_x`]), so a class wrapping thousands of vertices costs per
+    /// candidate the anchors near the move, not all of them.
     fn clear_of_anchors(&self, j: usize, q: &Point2<f64>, w: &Point2<f64>) -> bool {
         let c = self.ctx.clearance * (1.0 - CLEARANCE_TOLERANCE);
-        self.points[1..].iter().all(|a| (a - w).norm() >= c)
-            && self.points[1..=j]
-                .iter()
-                .all(|a| distance_to_segment(a, q, w) >= c)
+        let (lo, hi) = (q.x.min(w.x) - c, q.x.max(w.x) + c);
+        let first = self.by_x.partition_point(|&(x, _)| x < lo);
+        self.by_x[first..]
+            .iter()
+            .take_while(|&&(x, _)| x <= hi)
+            .all(|&(_, i)| {
+                let a = &self.points[i];
+                (i > j || distance_to_segment(a, q, w) >= c) && (a - w).norm() >= c
+            })
     }
 
     /// `C_j` as convex pieces, with its visibility line.
