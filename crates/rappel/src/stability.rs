@@ -10,7 +10,9 @@
 //! tether lies on the ground, so in the robot's plane it pulls along the unfolded direction to
 //! that anchor). Each pose's last anchor is reported. Poses inside obstacles are skipped. The SPT
 //! search runs only for poses the start cannot see (a straight exact walk through the BTM decides
-//! that), so its cost grows with the shadowed part of the grid. The tension limit, when given,
+//! that), so its cost grows with the shadowed part of the grid. Each free pose's tether is searched
+//! once, all poses in parallel (rayon), before the assessment; poses inside obstacles are not
+//! searched. (Still one search per shadowed pose, not one shortest-path map from the start.) The tension limit, when given,
 //! applies at the robot: capstan friction at wrapped anchors (Kumar
 //! eq. 2) would raise it, and is not modelled here.
 //!
