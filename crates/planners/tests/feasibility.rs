@@ -367,7 +367,7 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
                             .iter()
                             .map(|v| {
                                 k += 1;
-                                if k % 2 == 0 {
+                                if k.is_multiple_of(2) {
                                     p(v.x.next_up(), v.y.next_down())
                                 } else {
                                     p(v.x.next_down(), v.y.next_up())
