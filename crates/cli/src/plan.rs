@@ -1,5 +1,5 @@
-//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json] [--svg OUT]
-//! [--export OUT.geojson|OUT.csv]`:
+//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json]
+//! [--reachable-areas] [--svg OUT] [--export OUT.geojson|OUT.csv]`:
 //! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
 //! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths.
@@ -32,6 +32,10 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
+    /// Cut each anchor reachable set to free space and report its area (`reachable_area_m2` in
+    /// the JSON; a polygon overlay per anchor of every class, so off by default).
+    #[arg(long)]
+    reachable_areas: bool,
     /// Draw the plan to this SVG file.
     #[arg(long, value_name = "OUT")]
     svg: Option<PathBuf>,
@@ -86,6 +90,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         max_length_factor: args.max_length_factor,
         simple_only: args.simple_only,
         max_expansions: args.max_expansions,
+        reachable_areas: args.reachable_areas,
     };
     let plan = plan_detailed(&s, &options)
         .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;

@@ -205,7 +205,9 @@ pub struct AnchorReachableSet {
     pub pieces: Vec<(Polygon, TetherLimit)>,
     /// The same pieces cut to free space (inside the boundary, outside every obstacle): the
     /// anchor reachable set proper (thesis Def. 2.1), as regions with holes, each with its band's
-    /// tether limit. For reports and pictures; passability is decided exactly from the pieces.
+    /// tether limit. For reports and pictures only, and only when asked for: empty until
+    /// [`fill_reachable_areas`] computes them (a polygon overlay per piece; passability never
+    /// looks at them).
     pub free_pieces: Vec<(Region, TetherLimit)>,
     /// Why `free_pieces` could not be computed (the overlay refused its input), if it could not.
     /// Passability does not depend on them.
@@ -243,7 +245,10 @@ pub struct FeasibilityReport {
     pub goal_limit: TetherLimit,
     /// The intermediate anchors `a_1 .. a_n` in tether order.
     pub anchors: Vec<AnchorAssessment>,
-    /// The anchor reachable sets `C_0 .. C_n`.
+    /// The anchor reachable sets the ascent met, by anchor index: `C_n` (holding the goal), then
+    /// for each anchor `a_j` examined `C_{j-1}` (the set its visibility edge leads into); all of
+    /// `C_0 .. C_n` when the ascent reaches the start or fails only at `a_1`. Sets above a
+    /// blockage are not built (each traces its visibility line across the map).
     pub reachable_sets: Vec<AnchorReachableSet>,
     /// The waypoints in ascent order (passing `a_n` first).
     pub waypoints: Vec<Point2<f64>>,
@@ -316,8 +321,8 @@ struct Climb<'c, 'a> {
     points: Vec<Point2<f64>>,
     /// Map box, for rays and polygons.
     bounds: Aabb,
-    /// The map's boundary and obstacles, to cut reachable sets to free space.
-    map: Map,
+    /// The intermediate anchors `a_1 .. a_n` as `(x, j)`, sorted by `x`, for clearance queries.
+    by_x: Vec<(f64, usize)>,
 }
 
 /// Runs Alg. 5 on the taut path `taut` (thesis §2.4.1-2.4.2; module docs).
@@ -356,13 +361,60 @@ pub fn check_feasibility(ctx: &FeasibilityContext<'_>, taut: &TautPath) -> Feasi
     );
     let mut points = vec![taut.start()];
     points.extend(taut.anchors.iter().map(|a| a.point));
+    let mut by_x: Vec<(f64, usize)> = (1..points.len()).map(|j| (points[j].x, j)).collect();
+    by_x.sort_by(|a, b| a.0.total_cmp(&b.0));
     let climb = Climb {
         ctx,
         points,
         bounds,
-        map: ctx.btm.map(),
+        by_x,
     };
     climb.run(taut)
+}
+
+/// Cuts every anchor reachable set of `report` to free space ([`AnchorReachableSet::free_pieces`]),
+/// for reports and pictures: only when asked for, never in the decision path. Each piece is
+/// overlaid with the boundary and with the obstacles whose bounding box meets the piece's (the
+/// others are skipped by [`free_part`]); the map's polygons are gathered once per report. An
+/// overlay that refuses its input leaves that set's `free_pieces_error` set.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
+/// use rappel_terrain::plane_series::TerrainPlane;
+/// use rappel_mechanics::friction_cone::TetherFrictionCone;
+/// use rappel_planners::feasibility::{check_feasibility, fill_reachable_areas, FeasibilityContext};
+/// use rappel_planners::spt::SptPlanner;
+/// use rappel_planners::terrain::PlaneSeries;
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(40., 0.), p(40., 100.), p(0., 100.)]),
+///     vec![Polygon::new(vec![p(18., 50.), p(22., 50.), p(22., 54.), p(18., 54.)])],
+/// );
+/// let btm = Btm::build(&map).unwrap();
+/// let plane = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
+/// let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
+/// let best = SptPlanner::new(&btm).shortest_path(p(21., 95.), p(20., 5.)).unwrap().unwrap();
+/// let ctx = FeasibilityContext { btm: &btm, terrain: &terrain, clearance: 0.5, tether_length: None };
+/// let mut report = check_feasibility(&ctx, &best.shp.taut);
+/// assert!(report.reachable_sets.iter().all(|s| s.free_pieces.is_empty()));
+/// fill_reachable_areas(&ctx, &mut report);
+/// assert!(report.reachable_sets.iter().all(|s| !s.free_pieces.is_empty()));
+/// ```
+pub fn fill_reachable_areas(ctx: &FeasibilityContext<'_>, report: &mut FeasibilityReport) {
+    let map: Map = ctx.btm.map();
+    for set in &mut report.reachable_sets {
+        set.free_pieces.clear();
+        set.free_pieces_error = None;
+        for (poly, limit) in &set.pieces {
+            match free_part(poly, &map.boundary, &map.obstacles) {
+                Ok(regions) => set
+                    .free_pieces
+                    .extend(regions.into_iter().map(|r| (r, *limit))),
+                Err(e) => set.free_pieces_error = Some(e.to_string()),
+            }
+        }
+    }
 }
 
 impl Climb<'_, '_> {
@@ -394,8 +446,9 @@ impl Climb<'_, '_> {
                 }
             })
             .collect();
-        let mut reachable_sets: Vec<AnchorReachableSet> =
-            (0..=n).map(|j| self.reachable_set(j, taut)).collect();
+        // Built only for the anchors the ascent examines (each traces its visibility line across
+        // the map): a class blocked at the goal or low down costs nothing for the anchors above.
+        let mut reachable_sets: Vec<AnchorReachableSet> = vec![self.reachable_set(n, taut)];
         let mut waypoints = Vec::with_capacity(n);
         let mut route = vec![RouteCorner {
             point: goal,
@@ -451,7 +504,12 @@ impl Climb<'_, '_> {
                 });
                 break;
             }
-            let (edge, choice, tried) = self.pass(j, q, psi, &reachable_sets[j]);
+            reachable_sets.push(self.reachable_set(j - 1, taut));
+            let set = reachable_sets
+                .iter()
+                .find(|set| set.anchor == j)
+                .expect("C_j is built before a_j is examined");
+            let (edge, choice, tried) = self.pass(j, q, psi, set);
             a.visibility_edge = edge;
             match choice {
                 Some((w, via)) => {
@@ -479,6 +537,7 @@ impl Climb<'_, '_> {
                 }
             }
         }
+        reachable_sets.sort_by_key(|set| set.anchor);
         for set in &mut reachable_sets {
             set.pieces.retain(|(poly, _)| poly.len() >= 3);
         }
@@ -562,12 +621,27 @@ impl Climb<'_, '_> {
     }
 
     /// `true` when the straight move `q -> w` with `a_j` proximal stays in `C_j` (module docs).
+    ///
+    /// The loop tested is the tether's sweep: from `a_j` along the tether to `q`, across to `w`
+    /// and back. Below `a_n` the robot starts on the visibility line `L_{j+1}` it has just
+    /// crossed (or on the tether towards `a_j`), so the tether `a_j -> q` runs through the
+    /// released anchor `a_{j+1}`: a true tie, which rounding `q` in its last bits would put on
+    /// either side of `a_{j+1}`'s obstacle. The loop therefore goes through `a_{j+1}` itself
+    /// (`a_j -> a_{j+1} -> q`, the tether as it lies, a vertex the exact tracer handles) whenever
+    /// `q` is beyond it from `a_j`, so the verdict does not depend on those bits.
     fn reachable(&self, j: usize, q: &Point2<f64>, w: &Point2<f64>) -> bool {
         let apex = self.points[j];
         if !in_wedge(self.ctx.terrain, &apex, q, w) {
             return false;
         }
-        Path::new(vec![apex, *q, *w, apex])
+        let mut corners = vec![apex];
+        if let Some(released) = self.points.get(j + 1)
+            && (q - apex).norm_squared() > (released - apex).norm_squared()
+        {
+            corners.push(*released);
+        }
+        corners.extend([*q, *w, apex]);
+        Path::new(corners)
             .ok()
             .and_then(|loop_| is_contractible(self.ctx.btm, &loop_).ok())
             .unwrap_or(false)
@@ -576,12 +650,21 @@ impl Climb<'_, '_> {
     /// `true` when the waypoint `w` keeps the clearance from every intermediate anchor and the
     /// move `q -> w` from the anchors not yet released (`a_1 .. a_j`; a path pair bends around
     /// the released ones).
+    ///
+    /// Only the anchors whose `x` lies within the clearance of the move's `x` range are looked at
+    /// (a binary search in [`Climb::by_x`]), so a class wrapping thousands of vertices costs per
+    /// candidate the anchors near the move, not all of them.
     fn clear_of_anchors(&self, j: usize, q: &Point2<f64>, w: &Point2<f64>) -> bool {
         let c = self.ctx.clearance * (1.0 - CLEARANCE_TOLERANCE);
-        self.points[1..].iter().all(|a| (a - w).norm() >= c)
-            && self.points[1..=j]
-                .iter()
-                .all(|a| distance_to_segment(a, q, w) >= c)
+        let (lo, hi) = (q.x.min(w.x) - c, q.x.max(w.x) + c);
+        let first = self.by_x.partition_point(|&(x, _)| x < lo);
+        self.by_x[first..]
+            .iter()
+            .take_while(|&&(x, _)| x <= hi)
+            .all(|&(_, i)| {
+                let a = &self.points[i];
+                (i > j || distance_to_segment(a, q, w) >= c) && (a - w).norm() >= c
+            })
     }
 
     /// `C_j` as convex pieces, with its visibility line.
@@ -643,20 +726,12 @@ impl Climb<'_, '_> {
             };
             [apex, end]
         });
-        let mut free_pieces = Vec::new();
-        let mut free_pieces_error = None;
-        for (poly, limit) in &pieces {
-            match free_part(poly, &self.map.boundary, &self.map.obstacles) {
-                Ok(regions) => free_pieces.extend(regions.into_iter().map(|r| (r, *limit))),
-                Err(e) => free_pieces_error = Some(e.to_string()),
-            }
-        }
         AnchorReachableSet {
             anchor: j,
             apex,
             pieces,
-            free_pieces,
-            free_pieces_error,
+            free_pieces: Vec::new(),
+            free_pieces_error: None,
             visibility_line,
         }
     }

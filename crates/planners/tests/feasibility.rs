@@ -15,6 +15,7 @@ use rappel_homotopy::path::Path;
 use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_planners::feasibility::{
     FeasibilityContext, Impassability, Passability, check_feasibility, distance_to_segment,
+    fill_reachable_areas,
 };
 use rappel_planners::path_pair::{path_pair, plan_path_pair};
 use rappel_planners::spt::{SearchOptions, SptPlanner};
@@ -246,6 +247,25 @@ fn reachable_sets_cut_to_free_space_lose_exactly_the_obstacles() {
         &[TerrainPlane::new(110., -10., 30., 0.6)],
         &best.shp.taut,
     );
+    // Areas are computed only when asked for.
+    assert!(
+        r.reachable_sets
+            .iter()
+            .all(|set| set.free_pieces.is_empty())
+    );
+    let mut r = r;
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(110., -10., 30., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let ctx = FeasibilityContext {
+        btm: &btm,
+        terrain: &terrain,
+        clearance: 0.5,
+        tether_length: None,
+    };
+    fill_reachable_areas(&ctx, &mut r);
     assert!(!r.reachable_sets.is_empty());
     let area = |set: &rappel_planners::feasibility::AnchorReachableSet| {
         let raw: f64 = set.pieces.iter().map(|(poly, _)| poly.area()).sum();
@@ -291,4 +311,87 @@ fn reachable_sets_cut_to_free_space_lose_exactly_the_obstacles() {
             );
         }
     }
+}
+
+#[test]
+fn one_ulp_in_the_map_does_not_flip_a_verdict() {
+    // Issue 10: rounding an input in its last bits must not flip a feasibility verdict away from
+    // true ties. Every obstacle corner is moved by one ulp (alternately up and down) and the
+    // classes, found again on the perturbed map, must get the same verdicts. The reference is
+    // the unperturbed plan.
+    let terrain = PlaneSeries::new(
+        &[
+            TerrainPlane::new(25.0, 0.0, 35.0, 0.5),
+            TerrainPlane::new(0.0, -25.0, 50.0, 0.5),
+        ],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let options = SearchOptions::default().with_max_classes(Some(4)).unwrap();
+    let (mut compared, mut ties) = (0, 0);
+    for seed in 0..25u64 {
+        let Some(m) = random_map(9_000 + seed, 6) else {
+            continue;
+        };
+        let (top, bottom) = if m.start.y > m.goal.y {
+            (m.start, m.goal)
+        } else {
+            (m.goal, m.start)
+        };
+        let verdicts = |map: &Map| -> Option<Vec<(usize, bool)>> {
+            let btm = Btm::build(map).ok()?;
+            let ctx = FeasibilityContext {
+                btm: &btm,
+                terrain: &terrain,
+                clearance: 0.3,
+                tether_length: None,
+            };
+            let plan =
+                plan_path_pair(&SptPlanner::new(&btm), top, bottom, &options, &ctx, false).ok()?;
+            Some(
+                plan.classes
+                    .iter()
+                    .map(|c| (c.class.shp.taut.anchors.len(), c.feasibility.feasible()))
+                    .collect(),
+            )
+        };
+        let mut k = 0usize;
+        let nudged = Map::new(
+            m.map.boundary.clone(),
+            m.map
+                .obstacles
+                .iter()
+                .map(|o| {
+                    Polygon::new(
+                        o.vertices
+                            .iter()
+                            .map(|v| {
+                                k += 1;
+                                if k.is_multiple_of(2) {
+                                    p(v.x.next_up(), v.y.next_down())
+                                } else {
+                                    p(v.x.next_down(), v.y.next_up())
+                                }
+                            })
+                            .collect(),
+                    )
+                })
+                .collect(),
+        );
+        let (Some(a), Some(b)) = (verdicts(&m.map), verdicts(&nudged)) else {
+            continue;
+        };
+        // A class whose anchors change under the nudge sits on a true tie (three corners in
+        // line); only the classes found alike on both maps are compared.
+        for (x, y) in a.iter().zip(&b) {
+            if x.0 == y.0 {
+                assert_eq!(x.1, y.1, "seed {seed}: {a:?} vs {b:?}");
+                compared += 1;
+            } else {
+                ties += 1;
+            }
+        }
+    }
+    assert!(compared >= 30, "only {compared} classes compared");
+    assert!(ties * 10 <= compared, "{ties} ties for {compared} classes");
 }

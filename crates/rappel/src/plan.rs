@@ -22,7 +22,7 @@ use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::traversability::StabilitySettings;
 use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
-use rappel_planners::feasibility::{self, FeasibilityContext, Passability};
+use rappel_planners::feasibility::{self, FeasibilityContext, Passability, fill_reachable_areas};
 use rappel_planners::path_pair::{PairPlan, plan_path_pair};
 use rappel_planners::spt::{
     DEFAULT_MAX_EXPANSIONS, SearchError, SearchOptions, SearchStats, SptPlanner, Termination,
@@ -50,6 +50,10 @@ pub struct PlanOptions {
     pub simple_only: bool,
     /// Funnel expansion budget of the search.
     pub max_expansions: usize,
+    /// Cut every anchor reachable set to free space and report its area
+    /// ([`AnchorReport::reachable_area_m2`]): a polygon overlay per anchor of every class, for
+    /// reports only (feasibility never needs it), so off by default.
+    pub reachable_areas: bool,
 }
 
 impl Default for PlanOptions {
@@ -60,6 +64,7 @@ impl Default for PlanOptions {
             max_length_factor: None,
             simple_only: false,
             max_expansions: DEFAULT_MAX_EXPANSIONS,
+            reachable_areas: false,
         }
     }
 }
@@ -136,7 +141,7 @@ pub struct AnchorReport {
     /// Its waypoint on the visibility edge, when passable.
     pub waypoint: Option<Point2<f64>>,
     /// Area of its anchor reachable set `C_j` cut to free space, m² (`None` when it was not
-    /// computed, e.g. for anchors not reached).
+    /// asked for, [`PlanOptions::reachable_areas`], or the overlay refused its input).
     pub reachable_area_m2: Option<f64>,
 }
 
@@ -285,7 +290,7 @@ pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan,
         tether_length: scenario.robot.tether_length_m,
     };
     let planner = SptPlanner::new(&btm);
-    let outcome = plan_path_pair(
+    let mut outcome = plan_path_pair(
         &planner,
         scenario.start,
         scenario.goal,
@@ -293,7 +298,12 @@ pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan,
         &ctx,
         false,
     )?;
-    let mut report = report_of(scenario, model, &terrain, &outcome);
+    if options.reachable_areas {
+        for c in &mut outcome.classes {
+            fill_reachable_areas(&ctx, &mut c.feasibility);
+        }
+    }
+    let mut report = report_of(scenario, model, &terrain, &outcome, options.reachable_areas);
     let mut friction = None;
     if let Some(spec) = &scenario.friction {
         let resolved = spec.resolve(scenario).map_err(PlanError::Friction)?;
@@ -320,6 +330,7 @@ fn report_of(
     model: &dyn AnchorTraversability,
     terrain: &PlaneSeries,
     outcome: &PairPlan,
+    areas: bool,
 ) -> PlanReport {
     let planes = terrain
         .planes()
@@ -373,7 +384,9 @@ fn report_of(
                         reachable_area_m2: f
                             .reachable_sets
                             .iter()
-                            .find(|set| set.anchor == a.index && set.free_pieces_error.is_none())
+                            .find(|set| {
+                                areas && set.anchor == a.index && set.free_pieces_error.is_none()
+                            })
                             .map(|set| set.free_pieces.iter().map(|(r, _)| r.area()).sum()),
                     })
                     .collect(),

@@ -10,7 +10,9 @@
 //! tether lies on the ground, so in the robot's plane it pulls along the unfolded direction to
 //! that anchor). Each pose's last anchor is reported. Poses inside obstacles are skipped. The SPT
 //! search runs only for poses the start cannot see (a straight exact walk through the BTM decides
-//! that), so its cost grows with the shadowed part of the grid. The tension limit, when given,
+//! that), so its cost grows with the shadowed part of the grid. Each free pose's tether is searched
+//! once, all poses in parallel (rayon), before the assessment; poses inside obstacles are not
+//! searched. (Still one search per shadowed pose, not one shortest-path map from the start.) The tension limit, when given,
 //! applies at the robot: capstan friction at wrapped anchors (Kumar
 //! eq. 2) would raise it, and is not modelled here.
 //!
@@ -32,7 +34,9 @@ use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
 use rappel_planners::spt::{SearchError, SptPlanner};
+use rayon::prelude::*;
 use serde::Serialize;
+use std::collections::HashMap;
 
 /// The most poses one stability map may assess. Each pose costs a QP or LP solve (about a
 /// millisecond) and, behind obstacles, a shortest-path search: 50,000 poses keep a run within
@@ -156,17 +160,50 @@ impl ShortestTether<'_> {
             .checked_sub(2)
             .map(|i| (points[i], taut.length)))
     }
+}
 
-    /// The last anchor of the taut tether to `position` (`None` if no path reaches it or the
-    /// search could not tell; the report then names the reason for that pose).
-    fn last_anchor(&self, position: &Point2<f64>) -> Option<Point2<f64>> {
-        self.taut(position).ok().flatten().map(|(a, _)| a)
+/// What the tether search says about one pose: the last anchor and the tether's length, `None`
+/// when no path reaches it, or why the search could not tell.
+type Taut = Result<Option<(Point2<f64>, f64)>, String>;
+
+/// The taut tether of every free pose of the grid, searched once per pose (in parallel, rayon)
+/// and then read both by the stability assessment and by the report: a pose's SPT search is the
+/// expensive part of a map behind obstacles, and it used to run twice, the second time serially.
+struct TetherTable {
+    /// Keyed by the pose's coordinates' bits (grid positions are produced by one function, so
+    /// equal positions have equal bits).
+    taut: HashMap<(u64, u64), Taut>,
+    exit_height: f64,
+    limit: Option<f64>,
+}
+
+fn key(p: &Point2<f64>) -> (u64, u64) {
+    (p.x.to_bits(), p.y.to_bits())
+}
+
+impl TetherTable {
+    /// Searches the tether of every position in `positions` (at most [`MAX_SCENARIO_POSES`]).
+    fn new(source: &ShortestTether<'_>, positions: &[Point2<f64>]) -> Self {
+        let taut = positions
+            .par_iter()
+            .map(|p| (key(p), source.taut(p).map_err(|e| e.to_string())))
+            .collect();
+        TetherTable {
+            taut,
+            exit_height: source.exit_height,
+            limit: source.limit,
+        }
+    }
+
+    /// The searched tether at `position` (`Ok(None)` for a position not in the table: not free).
+    fn taut(&self, position: &Point2<f64>) -> Taut {
+        self.taut.get(&key(position)).cloned().unwrap_or(Ok(None))
     }
 }
 
-impl AnchorSource for ShortestTether<'_> {
+impl AnchorSource for TetherTable {
     fn tether_at(&self, _: usize, position: &Point2<f64>) -> Option<TetherSpec> {
-        let a = self.last_anchor(position)?;
+        let (a, _) = self.taut(position).ok().flatten()?;
         Some(TetherSpec {
             anchor: Point3::new(a.x, a.y, self.exit_height),
             max_tension: self.limit,
@@ -239,13 +276,13 @@ pub fn stability_over_scenario(
         limit: options.tension_limit,
     };
     let grid = GridSpec::new(options.grid_step, Heading::AwayFromAnchor)?;
-    let poses = grid_positions(&planes, &grid)?.len();
+    let positions = grid_positions(&planes, &grid)?;
+    let poses = positions.len();
     if poses > MAX_SCENARIO_POSES {
         return Err(StabilityError::Setting(format!(
             "the grid has {poses} poses, more than the limit {MAX_SCENARIO_POSES} of a scenario's stability map; use a larger grid step"
         )));
     }
-    let verdicts = stability_map(robot.as_ref(), criterion.as_ref(), &planes, &anchors, &grid)?;
     // Free space strictly (not on a ring), located in the BTM: logarithmic-ish per pose instead of
     // a scan over every obstacle (50,000 tiny obstacles made the scan the bottleneck).
     let free = |p: &Point2<f64>| match btm.locate(p) {
@@ -253,6 +290,16 @@ pub fn stability_over_scenario(
         Location::Edge(h) => btm.dcel().twin(h).is_some(),
         Location::Vertex(_) | Location::Obstacle(_) | Location::Outside => false,
     };
+    // The tether of each free pose, searched once (poses inside obstacles are not searched).
+    let mut free_positions: Vec<Point2<f64>> = positions
+        .iter()
+        .map(|(_, p)| *p)
+        .filter(|p| free(p))
+        .collect();
+    free_positions.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    free_positions.dedup();
+    let anchors = TetherTable::new(&anchors, &free_positions);
+    let verdicts = stability_map(robot.as_ref(), criterion.as_ref(), &planes, &anchors, &grid)?;
     // A pose on the edge between two planes lies on the grid of both: keep the first (upper).
     let mut seen = std::collections::HashSet::new();
     let dots: Vec<StabilityDot> = verdicts
