@@ -377,6 +377,25 @@ impl TriMesh {
     }
 }
 
+impl crate::surface::SignedDistance for TriMesh {
+    /// Exact, `O(triangles)`.
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
+        Some(TriMesh::signed_distance(self, q))
+    }
+    /// The unit vector from the closest point to `q`, signed; the feature's pseudo-normal on the
+    /// surface.
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
+        let c = self.closest(q);
+        let v = q - c.point;
+        let n = v.norm();
+        Some(if n > 0.0 {
+            v * (c.signed_distance.signum() / n)
+        } else {
+            self.face_normal(c.triangle)
+        })
+    }
+}
+
 fn bounds(vertices: &[Point3<f64>]) -> (Point3<f64>, Point3<f64>) {
     let mut lo = Point3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
     let mut hi = Point3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);

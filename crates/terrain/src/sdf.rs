@@ -332,6 +332,15 @@ impl Sdf {
     }
 }
 
+impl crate::surface::SignedDistance for Sdf {
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
+        self.distance(q)
+    }
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
+        self.gradient(q)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
