@@ -22,6 +22,7 @@ pub mod least_squares;
 pub mod mesh;
 pub mod multi_slope;
 pub mod obstacle_detection;
+pub mod paton_scene;
 pub mod plane_class;
 pub mod plane_fit;
 pub mod plane_series;
