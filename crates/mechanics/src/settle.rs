@@ -17,6 +17,9 @@ use nalgebra::{Point3, Rotation3, Unit, Vector3};
 use rappel_terrain::surface::SignedDistance;
 
 use crate::axel::AxelParams;
+use crate::robot::{
+    ContactFrame, MIN_TETHER_LENGTH, PlacedRobot, PointMass, RobotError, RobotModel, TetherLine,
+};
 
 /// Contact points per wheel circle (Paton: 12).
 pub const WHEEL_POINTS: usize = 12;
@@ -25,6 +28,10 @@ pub const WHEEL_POINTS: usize = 12;
 pub const MAX_DROP_STEPS: usize = 200;
 /// Bisection steps of the roll search (`2 max_roll / 2^60` is far below any tolerance).
 pub const MAX_ROLL_STEPS: usize = 60;
+
+/// How far above a settled contact (along the pose's normal) its ground normal is probed, metres:
+/// small against wheel and terrain features, large against the field's rounding.
+pub const CONTACT_PROBE: f64 = 0.02;
 
 /// Settling parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -128,6 +135,88 @@ impl SettledPose {
 
 /// A dropped pose: origin, rotation and the lowest (distance, point) of each wheel.
 type Dropped = (Point3<f64>, Rotation3<f64>, [(f64, Point3<f64>); 2]);
+
+impl SettledPose {
+    /// The settled robot as the stability QP sees it (Paton §IV-C): the model's masses and tether
+    /// exit carried by the settled pose, the tether toward the last anchor `anchor` (world;
+    /// `None`: untethered) with its optional tension limit, and one contact per settled wheel
+    /// contact with its frame's `z` along the ground's distance gradient there and `x` along the
+    /// robot's forward axis. The model's contacts beyond the first two (Axel's in-contact boom
+    /// tip) are carried by the pose: on the settled pose's ground plane (an approximation where
+    /// the ground under the boom tip is not that plane).
+    pub fn place<D: SignedDistance + ?Sized>(
+        &self,
+        model: &dyn RobotModel,
+        ground: &D,
+        friction: f64,
+        anchor: Option<(&Point3<f64>, Option<f64>)>,
+    ) -> Result<PlacedRobot, RobotError> {
+        if !(friction.is_finite() && friction >= 0.0) {
+            return Err(RobotError::Parameter("friction must be finite and >= 0"));
+        }
+        let to_world = |q: &Point3<f64>| self.origin + self.rotation * q.coords;
+        let anchor_robot =
+            anchor.map(|(a, _)| Point3::from(self.rotation.inverse() * (a - self.origin)));
+        let config = model.configuration(anchor_robot.as_ref())?;
+        let forward = self.rotation * Vector3::x();
+        let frame = |at: &Point3<f64>| -> Result<Rotation3<f64>, RobotError> {
+            // Evaluated just above the contact: at the contact itself the direction from the
+            // closest point is rounding noise.
+            let probe = at + self.rotation * Vector3::z() * CONTACT_PROBE;
+            let g = ground
+                .distance_gradient(&probe)
+                .and_then(|g| g.try_normalize(1e-12))
+                .ok_or(RobotError::Parameter(
+                    "no ground gradient at a settled contact",
+                ))?;
+            let x = (forward - g * forward.dot(&g)).try_normalize(1e-9).ok_or(
+                RobotError::Parameter("contact normal along the forward axis"),
+            )?;
+            Ok(Rotation3::from_basis_unchecked(&[x, g.cross(&x), g]))
+        };
+        let mut contacts = Vec::with_capacity(config.contacts.len());
+        for c in &self.contacts {
+            contacts.push(ContactFrame {
+                position: *c,
+                rotation: frame(c)?,
+            });
+        }
+        for c in config.contacts.iter().skip(2) {
+            contacts.push(ContactFrame {
+                position: to_world(c),
+                rotation: self.rotation,
+            });
+        }
+        let tether = match (anchor, anchor_robot) {
+            (Some((a, max_tension)), Some(_)) => {
+                let exit = to_world(&config.tether_exit);
+                let direction = Unit::try_new(a - exit, MIN_TETHER_LENGTH)
+                    .ok_or(RobotError::Anchor("anchor coincides with the tether exit"))?;
+                Some(TetherLine {
+                    exit,
+                    direction,
+                    max_tension,
+                })
+            }
+            _ => None,
+        };
+        Ok(PlacedRobot {
+            masses: config
+                .masses
+                .iter()
+                .map(|m| PointMass {
+                    mass: m.mass,
+                    position: to_world(&m.position),
+                })
+                .collect(),
+            contacts,
+            tether,
+            friction,
+            moment_coefficient: model.contact_moment_coefficient(),
+            reference: self.origin,
+        })
+    }
+}
 
 fn dist<D: SignedDistance + ?Sized>(d: &D, q: &Point3<f64>) -> Result<f64, SettleError> {
     d.signed_distance(q).ok_or(SettleError::NoGround {

@@ -185,3 +185,70 @@ fn paton_ledge_start_and_slope() {
     assert!(down.roll().abs() < 1e-3);
     assert!((down.origin.z - 2.0).abs() < 1e-3, "{}", down.origin);
 }
+
+/// Cross-check of two implementations: the QP verdict of a pose settled on a plane mesh equals
+/// that of the closed-form placement `robot::place` on the same `SlopePlane`, both boom modes.
+#[test]
+fn settled_stability_matches_planar_placement() {
+    use nalgebra::{Point3, Rotation3, Vector3};
+    use rappel_mechanics::axel::{Axel, BoomMode};
+    use rappel_mechanics::robot::{PlanarPose, SlopePlane, TetherSpec, place};
+    use rappel_mechanics::stability_qp::StabilityQp;
+    let qp = StabilityQp::default();
+    for boom in [BoomMode::Inline, BoomMode::InContact] {
+        let params = AxelParams {
+            boom,
+            ..AxelParams::default()
+        };
+        let axel = Axel::new(params).unwrap();
+        for slope_deg in [20.0f64, 40.0, 55.0] {
+            let eta = slope_deg.to_radians();
+            let plane = SlopePlane::new(eta, 0.6).unwrap();
+            // World plane z = y tan(eta): the plane frame rotated by eta about x.
+            let m = plane_mesh_b(eta.tan());
+            let rot = Rotation3::from_axis_angle(&Vector3::x_axis(), eta);
+            for (heading, anchor_plane) in [
+                (std::f64::consts::PI, Point3::new(0.0, 6.0, 1.0)),
+                (std::f64::consts::PI, Point3::new(0.0, -6.0, 1.0)),
+                (2.0, Point3::new(3.0, 5.0, 2.0)),
+            ] {
+                let pose = PlanarPose::new(0.0, 0.0, heading);
+                let spec = TetherSpec {
+                    anchor: anchor_plane,
+                    max_tension: None,
+                };
+                let reference = qp
+                    .check(&place(&axel, &pose, &plane, Some(&spec)).unwrap())
+                    .unwrap();
+                // The heading is an in-plane angle from up-slope; the settler's yaw is the
+                // azimuth of the forward axis seen from above.
+                let f = rot * Vector3::new(-heading.sin(), heading.cos(), 0.0);
+                let yaw = f.y.atan2(f.x);
+                let settled =
+                    settle_axel(&m, &params, 0.0, 0.0, 10.0, yaw, &SettleParams::default())
+                        .unwrap();
+                let anchor_world = rot * anchor_plane;
+                let placed = settled
+                    .place(&axel, &m, 0.6, Some((&anchor_world, None)))
+                    .unwrap();
+                let got = qp.check(&placed).unwrap();
+                assert_eq!(
+                    got.stable, reference.stable,
+                    "{boom:?} {slope_deg} {heading}"
+                );
+                // Same contacts, masses and tether up to the settler's 1e-6 m tolerance.
+                let tol = 1e-5 * reference.margin.abs().max(1e-3);
+                assert!(
+                    (got.margin - reference.margin).abs() < tol,
+                    "{boom:?} {slope_deg} {heading}: {} vs {}",
+                    got.margin,
+                    reference.margin
+                );
+            }
+        }
+    }
+}
+
+fn plane_mesh_b(b: f64) -> TriMesh {
+    plane(0.0, b)
+}
