@@ -42,6 +42,7 @@ pub mod plan;
 pub mod ptfo_spec;
 pub mod robot;
 pub mod scenario;
+pub mod settle;
 pub mod stability;
 pub mod svg;
 pub mod tether;
