@@ -34,6 +34,16 @@ pub enum SettleFileError {
     },
 }
 
+/// A Paton scene file (`.ron`, unknown fields refused).
+pub fn load_scene(path: &Path) -> Result<PatonScene, SettleFileError> {
+    let err = |why: String| SettleFileError::Read {
+        path: path.display().to_string(),
+        why,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+    ron::from_str(&text).map_err(|e| err(e.to_string()))
+}
+
 /// The ground of a file.
 pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
     let err = |why: String| SettleFileError::Read {
@@ -45,11 +55,7 @@ pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("ron") => {
-            let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
-            let scene: PatonScene = ron::from_str(&text).map_err(|e| err(e.to_string()))?;
-            scene.mesh().map_err(|e| err(e.to_string()))
-        }
+        Some("ron") => load_scene(path)?.mesh().map_err(|e| err(e.to_string())),
         Some("asc" | "tif" | "tiff") => {
             let dem = rappel_terrain::dem::read_dem(path).map_err(|e| err(e.to_string()))?;
             TriMesh::from_height_grid(&dem).map_err(|e| err(e.to_string()))

@@ -17,6 +17,7 @@ mod btm;
 mod friction;
 mod mechanics;
 mod online;
+mod paton;
 mod planner;
 pub mod terrain;
 mod tracking;
@@ -159,6 +160,7 @@ const SUITES: &[Suite] = &[
     ("online", online::suite),
     ("tracking", tracking::suite),
     ("friction", friction::suite),
+    ("paton", paton::suite),
 ];
 
 static FULL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
