@@ -60,9 +60,10 @@ fn scenario_files(dir: &Path) -> Vec<PathBuf> {
         let p = e.path();
         if p.is_dir() {
             // fixtures/terrain holds elevation models and golden counts, fixtures/tracking track
-            // scenarios and paths (rappel track): not planning scenarios.
+            // scenarios and paths (rappel track), fixtures/paton Paton's mesh scenes (rappel
+            // settle): not planning scenarios.
             if p.file_name()
-                .is_some_and(|n| n == "terrain" || n == "tracking")
+                .is_some_and(|n| n == "terrain" || n == "tracking" || n == "paton")
             {
                 continue;
             }
