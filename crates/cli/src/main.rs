@@ -11,6 +11,7 @@ mod gen_map;
 mod online;
 mod output;
 mod plan;
+mod settle;
 mod shp;
 mod stability;
 mod track;
@@ -50,6 +51,8 @@ enum Command {
     Online(online::Args),
     /// Two robots on one tether on multi-slope terrain: tether tracking and Robot 2's stability.
     Track(track::Args),
+    /// Settle Axel on 3D ground (a Paton scene or a DEM): pose, contacts, optional stability.
+    Settle(settle::Args),
 }
 
 fn main() -> ExitCode {
@@ -65,6 +68,7 @@ fn main() -> ExitCode {
         Command::Homotopic(args) => shp::run_homotopic(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Online(args) => online::run(&args),
+        Command::Settle(args) => settle::run(&args),
         // The clean "no": Robot 2 is unstable at a waypoint.
         Command::Track(args) => {
             track::run(&args).map(|stable| if stable { Answer::Yes } else { Answer::No })

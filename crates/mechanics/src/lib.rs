@@ -49,6 +49,7 @@ pub mod ode;
 pub mod ptfo;
 pub mod ptfo_surface;
 pub mod robot;
+pub mod settle;
 pub mod stability_map;
 pub mod stability_qp;
 mod statics;

@@ -46,6 +46,7 @@ pub mod progress;
 pub mod ptfo_spec;
 pub mod robot;
 pub mod scenario;
+pub mod settle;
 pub mod stability;
 pub mod sticking_profile;
 pub mod svg;

@@ -144,3 +144,77 @@ pub trait Terrain {
         self.world(p).map(|q| q.z)
     }
 }
+
+/// The closest point of a [`Terrain`]'s surfaces to a world point, with its signed distance
+/// (see [`Terrain::signed_distance`]).
+fn closest_on_terrain<T: Terrain + ?Sized>(t: &T, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
+    let mut best: Option<(f64, Vector3<f64>)> = None;
+    let mut consider = |d: f64, g: Vector3<f64>| {
+        if best.is_none_or(|(b, _)| d.abs() < b.abs()) {
+            best = Some((d, g));
+        }
+    };
+    // Faces: the projection of q onto surface s's plane, when surface s holds it.
+    for s in 0..t.surface_count() {
+        let p = t.unfold(s, q);
+        if t.surface_at(&p) == Some(s) {
+            let n = t.normal(s);
+            consider((q - t.fold(s, &p)).dot(&n), n);
+        }
+    }
+    // Shared edges: the distance to the segment, signed by the earlier surface's plane (a point
+    // nearest a crest lies above both planes, one nearest a valley below both).
+    for e in t.edges() {
+        let (a, b) = (t.fold(e.from, &e.a), t.fold(e.from, &e.b));
+        let ab = b - a;
+        let u = ((q - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
+        let c = a + ab * u;
+        let v = q - c;
+        let dist = v.norm();
+        if dist == 0.0 {
+            consider(0.0, t.normal(e.from));
+            continue;
+        }
+        let sign = if v.dot(&t.normal(e.from)) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        consider(sign * dist, sign * v / dist);
+    }
+    best
+}
+
+/// Signed distance to the ground (Paton §IV's distance queries, answered analytically for
+/// planar-surface terrains): implemented for every [`Terrain`] and by the mesh distance field.
+pub trait SignedDistance {
+    /// Signed distance from world point `q` to the ground, metres, positive in the air; `None`
+    /// where the model has no answer (off the terrain or outside a field's grid).
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64>;
+    /// The gradient of the signed distance at `q` (a unit vector pointing away from the ground
+    /// for exact distances); `None` where [`SignedDistance::signed_distance`] is.
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>>;
+}
+
+/// Analytic distances of a chain of planar surfaces: the nearest of (a) each surface's plane where
+/// the foot of the perpendicular lies on that surface and (b) each shared edge segment. Exact for
+/// points whose closest ground point is inside a surface or on a shared edge; the terrain's outer
+/// boundary and the obstacle prisms are not part of this distance (a point whose foot falls off
+/// every surface and nearest no shared edge gets `None`).
+///
+/// ```
+/// use nalgebra::{Point2, Point3};
+/// use rappel_terrain::multi_slope::MultiSlopeTerrain;
+/// use rappel_terrain::surface::SignedDistance;
+/// # let _ = Point2::<f64>::origin();
+/// fn height_above<T: SignedDistance>(t: &T, q: Point3<f64>) -> Option<f64> { t.signed_distance(&q) }
+/// # let _ = height_above::<MultiSlopeTerrain>;
+/// ```
+impl<T: Terrain> SignedDistance for T {
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
+        closest_on_terrain(self, q).map(|(d, _)| d)
+    }
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
+        closest_on_terrain(self, q).map(|(_, g)| g)
+    }
+}

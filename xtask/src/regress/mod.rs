@@ -17,6 +17,7 @@ mod btm;
 mod friction;
 mod mechanics;
 mod online;
+mod paton;
 mod planner;
 pub mod terrain;
 pub mod terrain_synthetic;
@@ -160,6 +161,7 @@ const SUITES: &[Suite] = &[
     ("online", online::suite),
     ("tracking", tracking::suite),
     ("friction", friction::suite),
+    ("paton", paton::suite),
 ];
 
 static FULL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);

@@ -1,0 +1,102 @@
+//! `rappel settle GROUND --at X,Y --yaw DEG [--anchor X,Y,Z] [--json]`: settles Axel on 3D ground
+//! (Paton §IV-A; a Paton scene `.ron` or an elevation model `.asc` / `.tif`) and prints the pose;
+//! with `--anchor`, the stability QP's verdict for both boom configurations (exit 1 when neither
+//! is stable).
+
+use crate::output::{Answer, CliError, print_json};
+use rappel::settle::{load_ground, settle_report};
+use std::path::PathBuf;
+
+/// Arguments of `rappel settle`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The ground: a Paton scene (.ron, fixtures/paton/) or an elevation model (.asc, .tif).
+    file: PathBuf,
+    /// Ground point under the axle centre, `X,Y` metres.
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    at: String,
+    /// Heading: the forward axis' azimuth, degrees counter-clockwise from +x.
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    yaw: f64,
+    /// The tether's last anchor `X,Y,Z` (world): adds the stability verdict.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    anchor: Option<String>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `rappel settle`: `Yes` when settled (and stable in some boom configuration when an
+/// anchor is given), `No` otherwise; bad input is an error.
+pub fn run(args: &Args) -> Result<Answer, CliError> {
+    let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
+    let at = numbers("--at", &args.at, 2)?;
+    let anchor = match &args.anchor {
+        Some(a) => {
+            let a = numbers("--anchor", a, 3)?;
+            Some([a[0], a[1], a[2]])
+        }
+        None => None,
+    };
+    let (_, report) = match settle_report(&ground, at[0], at[1], args.yaw, anchor) {
+        Ok(r) => r,
+        Err(e) if matches!(e, rappel::mechanics::settle::SettleError::Parameter(_)) => {
+            return Err(CliError(e.to_string()));
+        }
+        Err(e) => {
+            crate::outln!("not settled: {e}");
+            return Ok(Answer::No);
+        }
+    };
+    if args.json {
+        print_json(&report)?;
+    } else {
+        let o = report.origin;
+        crate::outln!(
+            "settled      origin ({:.3}, {:.3}, {:.3}), roll {:.2}°, pitch {:.2}°, body clearance {:.3} m",
+            o[0],
+            o[1],
+            o[2],
+            report.roll_deg,
+            report.pitch_deg,
+            report.body_clearance
+        );
+        for (name, c) in ["right", "left"].iter().zip(report.contacts) {
+            crate::outln!(
+                "  {name:<5}      contact ({:.3}, {:.3}, {:.3})",
+                c[0],
+                c[1],
+                c[2]
+            );
+        }
+        for v in &report.stability {
+            match &v.stable {
+                Ok(s) => crate::outln!(
+                    "  boom {:<10} {} (margin {:.3})",
+                    v.boom,
+                    if *s { "stable" } else { "not stable" },
+                    v.margin
+                ),
+                Err(e) => crate::outln!("  boom {:<10} not checked: {e}", v.boom),
+            }
+        }
+    }
+    let stable =
+        report.stability.is_empty() || report.stability.iter().any(|v| v.stable == Ok(true));
+    Ok(if stable { Answer::Yes } else { Answer::No })
+}
+
+/// `n` finite comma-separated numbers.
+fn numbers(flag: &str, text: &str, n: usize) -> Result<Vec<f64>, CliError> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| CliError(format!("{flag} {text}: {e}")))?;
+    if v.len() != n || !v.iter().all(|x| x.is_finite()) {
+        return Err(CliError(format!(
+            "{flag} {text}: expected {n} finite comma-separated numbers"
+        )));
+    }
+    Ok(v)
+}
