@@ -184,10 +184,17 @@ fn key(p: &Point2<f64>) -> (u64, u64) {
 impl TetherTable {
     /// Searches the tether of every position in `positions` (at most [`MAX_SCENARIO_POSES`]).
     fn new(source: &ShortestTether<'_>, positions: &[Point2<f64>]) -> Self {
+        // The searches are the long part of a large map: a bar on stderr when it is a terminal.
+        let progress = crate::progress::Progress::new(positions.len() as u64, "tethers");
         let taut = positions
             .par_iter()
-            .map(|p| (key(p), source.taut(p).map_err(|e| e.to_string())))
+            .map(|p| {
+                let t = (key(p), source.taut(p).map_err(|e| e.to_string()));
+                progress.inc(1);
+                t
+            })
             .collect();
+        progress.finish();
         TetherTable {
             taut,
             exit_height: source.exit_height,
