@@ -323,6 +323,9 @@ struct Climb<'c, 'a> {
     bounds: Aabb,
     /// The intermediate anchors `a_1 .. a_n` as `(x, j)`, sorted by `x`, for clearance queries.
     by_x: Vec<(f64, usize)>,
+    /// `own_waypoint[j]`: anchor `a_j` is its own waypoint (a solid friction anchor the robot
+    /// drives over, thesis Alg. 10), index 0 unused.
+    own_waypoint: Vec<bool>,
 }
 
 /// Runs Alg. 5 on the taut path `taut` (thesis §2.4.1-2.4.2; module docs).
@@ -350,6 +353,19 @@ struct Climb<'c, 'a> {
 /// assert_eq!(report.waypoints.len(), best.shp.taut.anchors.len());
 /// ```
 pub fn check_feasibility(ctx: &FeasibilityContext<'_>, taut: &TautPath) -> FeasibilityReport {
+    check_feasibility_with(ctx, taut, &|_| false)
+}
+
+/// [`check_feasibility`] where the anchors `a_j` with `own_waypoint(j)` (`j` from 1) are their
+/// own waypoints: the robot drives along the tether onto the anchor itself, with no clearance
+/// (thesis Alg. 10 at solid friction anchors: the robot may drive over a friction anchor). The
+/// move is the tether's own segment toward `a_j`, in free space and in `C_j`; conditions 1 and 2
+/// of §2.4.2 are still checked.
+pub fn check_feasibility_with(
+    ctx: &FeasibilityContext<'_>,
+    taut: &TautPath,
+    own_waypoint: &dyn Fn(usize) -> bool,
+) -> FeasibilityReport {
     let d = ctx.btm.dcel();
     let bounds = Aabb::of_points(
         ctx.btm
@@ -363,11 +379,15 @@ pub fn check_feasibility(ctx: &FeasibilityContext<'_>, taut: &TautPath) -> Feasi
     points.extend(taut.anchors.iter().map(|a| a.point));
     let mut by_x: Vec<(f64, usize)> = (1..points.len()).map(|j| (points[j].x, j)).collect();
     by_x.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let own_waypoint = (0..points.len())
+        .map(|j| j > 0 && own_waypoint(j))
+        .collect();
     let climb = Climb {
         ctx,
         points,
         bounds,
         by_x,
+        own_waypoint,
     };
     climb.run(taut)
 }
@@ -510,6 +530,11 @@ impl Climb<'_, '_> {
                 .find(|set| set.anchor == j)
                 .expect("C_j is built before a_j is examined");
             let (edge, choice, tried) = self.pass(j, q, psi, set);
+            let choice = if self.own_waypoint[j] {
+                Some((self.points[j], None))
+            } else {
+                choice
+            };
             a.visibility_edge = edge;
             match choice {
                 Some((w, via)) => {

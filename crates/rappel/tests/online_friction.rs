@@ -181,3 +181,46 @@ fn a_simulated_descent_senses_a_weaker_ptfo_and_reaches_the_goal() {
         .expect_err("refused");
     assert!(err.to_string().contains("only the prior scenario"), "{err}");
 }
+
+/// Alg. 10 (offline): a solid friction anchor is its own waypoint, reached along the tether, and
+/// Alg. 5's clearance does not apply to it.
+#[test]
+fn a_solid_friction_anchor_is_passed_at_the_anchor_itself() {
+    use rappel::planners::feasibility::Passability;
+    let s = fixture("capstan_holds.ron");
+    let m = model(&s);
+    let btm = Btm::build(&s.map).expect("btm");
+    let options = SearchOptions::default();
+    let t = terrain(&s);
+    // A clearance far larger than the pillar: no geometric waypoint could keep it.
+    let query = FrictionalQuery {
+        terrain: &t,
+        clearance: 50.0,
+        start: s.start,
+        goal: s.goal,
+        options: &options,
+        holding_limit: None,
+        tether_length: None,
+    };
+    let plan = plan_frictional(&btm, &s.map, &m, &query).expect("Alg. 7");
+    let chosen = &plan.classes[plan.chosen.expect("feasible with a solid friction anchor")];
+    let f = chosen.feasibility.as_ref().expect("checked");
+    for (k, d) in chosen.check.anchors.iter().enumerate() {
+        if d.verdict == AnchorVerdict::Friction(PtfoClass::Solid) {
+            match f.base.anchors[k].passability {
+                Passability::Passable { waypoint, via } => {
+                    assert_eq!(waypoint, d.anchor.point);
+                    assert!(via.is_none());
+                }
+                ref other => panic!("solid anchor {k}: {other:?}"),
+            }
+        }
+    }
+    assert!(
+        chosen
+            .check
+            .anchors
+            .iter()
+            .any(|d| d.verdict == AnchorVerdict::Friction(PtfoClass::Solid))
+    );
+}

@@ -2,7 +2,9 @@
 //! [`crate::feasibility`]) on the SHP left by Alg. 8, with two changes at friction anchors:
 //!
 //! * **the waypoint is the anchor itself**: the robot may drive over a friction anchor, and
-//!   driving around it may make the tether stick on it again;
+//!   driving around it may make the tether stick on it again; Alg. 5 runs with those anchors as
+//!   their own waypoints ([`crate::feasibility::check_feasibility_with`]), so the geometric
+//!   clearance never blocks a solid friction anchor;
 //! * **the tether must stick over the ascent sweep**: as the robot climbs toward `a_j` its tether
 //!   direction at `a_j` sweeps from the SHP's (or the far limit `θ_max`) to the visibility line
 //!   `ψ_j`, where the turn at `a_j` is 0.
@@ -21,7 +23,8 @@
 use super::FrictionModel;
 use super::anchor_check::{AnchorVerdict, PtfoCheck};
 use crate::feasibility::{
-    FeasibilityContext, FeasibilityReport, Passability, angle_from_fall_line, check_feasibility,
+    FeasibilityContext, FeasibilityReport, Passability, angle_from_fall_line,
+    check_feasibility_with,
 };
 use nalgebra::{Point2, Rotation2};
 use rappel_homotopy::funnel::Side;
@@ -67,7 +70,14 @@ pub fn check_feasibility2(
     model: &FrictionModel,
     check: &PtfoCheck,
 ) -> Feasibility2Report {
-    let base = check_feasibility(ctx, &check.taut);
+    // Solid friction anchors are their own waypoints, with no clearance (module docs).
+    let solid = |j: usize| {
+        check
+            .anchors
+            .get(j - 1)
+            .is_some_and(|d| d.verdict == AnchorVerdict::Friction(PtfoClass::Solid))
+    };
+    let base = check_feasibility_with(ctx, &check.taut, &solid);
     let mut blocked = (!base.feasible()).then(|| base.describe());
     let ln_drive = ((model.tensions.t_d() + model.tensions.epsilon()) / model.tensions.t_d()).ln();
     let mut sweeps = Vec::new();
