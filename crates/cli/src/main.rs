@@ -11,6 +11,7 @@ mod gen_map;
 mod online;
 mod output;
 mod plan;
+mod query;
 mod settle;
 mod shp;
 mod stability;
@@ -47,6 +48,8 @@ enum Command {
     Homotopic(shp::HomotopicArgs),
     /// Homotopy classes shortest first, ascent feasibility and an ascent/descent path pair.
     Plan(plan::Args),
+    /// Many start/goal pairs on one map: shortest lengths (or K classes) and query times.
+    Query(query::Args),
     /// Online planning: descend by the prior map's plan while the true map is discovered.
     Online(online::Args),
     /// Two robots on one tether on multi-slope terrain: tether tracking and Robot 2's stability.
@@ -67,6 +70,7 @@ fn main() -> ExitCode {
         Command::Shp(args) => yes(shp::run(&args)),
         Command::Homotopic(args) => shp::run_homotopic(&args),
         Command::Plan(args) => plan::run(&args),
+        Command::Query(args) => query::run(&args),
         Command::Online(args) => online::run(&args),
         Command::Settle(args) => settle::run(&args),
         // The clean "no": Robot 2 is unstable at a waypoint.

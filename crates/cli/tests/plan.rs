@@ -248,3 +248,34 @@ fn plan_exports_geojson_and_csv_and_refuses_unknown_or_clashing_outputs() {
         "the same file",
     );
 }
+
+#[test]
+fn query_answers_the_shipped_pairs_and_names_a_bad_pair() {
+    let map = fixture("thesis-fig-2-7.ron");
+    let pairs = fixture("queries/fig-2-7-pairs.json");
+    let run = rappel(&["query", &map, "--pairs", &pairs, "--classes", "2", "--json"]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let json: serde_json::Value = serde_json::from_str(&stdout(&run)).expect("JSON");
+    let answers = json.as_array().expect("answers");
+    assert_eq!(answers.len(), 3);
+    assert!(
+        answers
+            .iter()
+            .all(|a| a["lengths_m"].as_array().map(Vec::len) == Some(2))
+    );
+    let dir = temp_dir("query-bad");
+    let bad = dir.join("pairs.json");
+    std::fs::write(
+        &bad,
+        r#"[{"start": [31.0, 98.0], "goal": [33.0, 4.0]}, {"start": [31.0, 98.0], "goal": [500.0, 4.0]}]"#,
+    )
+    .expect("write");
+    check_error(
+        &["query", &map, "--pairs", bad.to_str().unwrap_or_default()],
+        "pair 1:",
+    );
+    check_error(
+        &["query", &map, "--pairs", &pairs, "--repeat", "0"],
+        "--repeat 0",
+    );
+}

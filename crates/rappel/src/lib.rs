@@ -44,6 +44,7 @@ pub mod online;
 pub mod plan;
 pub mod progress;
 pub mod ptfo_spec;
+pub mod query;
 pub mod robot;
 pub mod scenario;
 pub mod settle;

@@ -61,9 +61,9 @@ fn scenario_files(dir: &Path) -> Vec<PathBuf> {
         if p.is_dir() {
             // fixtures/terrain holds elevation models and golden counts, fixtures/tracking track
             // scenarios and paths (rappel track), fixtures/paths path files (rappel shp,
-            // homotopic), fixtures/paton Paton's mesh scenes (rappel settle): not planning
-            // scenarios.
-            const NOT_SCENARIOS: [&str; 4] = ["terrain", "tracking", "paths", "paton"];
+            // homotopic), fixtures/queries pairs files (rappel query), fixtures/paton Paton's mesh
+            // scenes (rappel settle): not planning scenarios.
+            const NOT_SCENARIOS: [&str; 5] = ["terrain", "tracking", "paths", "paton", "queries"];
             if p.file_name()
                 .and_then(|n| n.to_str())
                 .is_some_and(|n| NOT_SCENARIOS.contains(&n))

@@ -1,0 +1,61 @@
+//! `rappel query MAP --pairs PAIRS.json [--classes K] [--repeat N] [--json]`: many start/goal
+//! pairs on one map (a scenario file or a map-only file), the BTM built once; each pair's
+//! shortest length (or its K shortest classes) and the median time of its query. Exit 0 when
+//! every pair is connected, 1 when some pair is not, 2 when a pair or a file is bad.
+
+use crate::output::{Answer, CliError, print_json};
+use rappel::query::{answer, load_map, load_pairs};
+use std::path::PathBuf;
+
+/// Arguments of `rappel query`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The map: a scenario file or a map-only file (.ron or .json).
+    map: PathBuf,
+    /// The pairs: a JSON array of {"start": [x, y], "goal": [x, y]}.
+    #[arg(long, value_name = "PAIRS.json")]
+    pairs: PathBuf,
+    /// Homotopy classes per pair, shortest first (1 ..= 100).
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    classes: usize,
+    /// Run each query this many times and report the median time (1 ..= 1000).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    repeat: usize,
+    /// Print the answers as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `rappel query`.
+pub fn run(args: &Args) -> Result<Answer, CliError> {
+    let err = |e: rappel::query::QueryError| CliError(e.to_string());
+    let map = load_map(&args.map).map_err(err)?;
+    let pairs = load_pairs(&args.pairs).map_err(err)?;
+    let answers = answer(&map, &pairs, args.classes, args.repeat).map_err(err)?;
+    if args.json {
+        print_json(&answers)?;
+    } else {
+        crate::outln!("pair  length(s) m                      median us");
+        for a in &answers {
+            let lengths = match (&a.error, a.lengths_m.is_empty()) {
+                (Some(e), _) => format!("error: {e}"),
+                (None, true) => "not connected".to_string(),
+                (None, false) => a
+                    .lengths_m
+                    .iter()
+                    .map(|l| format!("{l:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(" "),
+            };
+            crate::outln!("{:>4}  {:<32} {:>9.1}", a.index, lengths, a.median_us);
+        }
+    }
+    if let Some(bad) = answers.iter().find_map(|a| a.error.clone()) {
+        return Err(CliError(bad));
+    }
+    Ok(if answers.iter().all(|a| !a.lengths_m.is_empty()) {
+        Answer::Yes
+    } else {
+        Answer::No
+    })
+}

@@ -1,0 +1,190 @@
+//! Many start/goal queries on one map (issue 10): the BTM and the planner are built once, each
+//! pair is answered by the SPT search (its shortest length, or its `K` shortest homotopy classes),
+//! timed over repeats (median). For tether-length tables, batch studies and benchmarks.
+//!
+//! Pairs file (JSON): `[{"start": [x, y], "goal": [x, y]}, ...]`, unknown fields refused, at most
+//! [`MAX_PAIRS`] pairs. A pair whose point is not in free space gets its own error, naming its
+//! index; the others are answered.
+
+use crate::scenario::Scenario;
+use nalgebra::Point2;
+use rappel_geometry::btm::Btm;
+use rappel_geometry::map::Map;
+use rappel_planners::spt::{SearchError, SearchOptions, SptPlanner, Termination};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::time::Instant;
+
+/// Most pairs in one file.
+pub const MAX_PAIRS: usize = 100_000;
+/// Most repeats of each query.
+pub const MAX_REPEATS: usize = 1000;
+/// Most classes per pair.
+pub const MAX_QUERY_CLASSES: usize = 100;
+
+/// One start/goal pair.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QueryPair {
+    /// Start point (map frame).
+    pub start: Point2<f64>,
+    /// Goal point.
+    pub goal: Point2<f64>,
+}
+
+/// The answer for one pair.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct QueryAnswer {
+    /// Index of the pair in the file, from 0.
+    pub index: usize,
+    /// The pair.
+    pub start: Point2<f64>,
+    /// The pair's goal.
+    pub goal: Point2<f64>,
+    /// Lengths of the shortest homotopy classes found, shortest first, m (empty: not connected).
+    pub lengths_m: Vec<f64>,
+    /// Median time of one query over the repeats, microseconds.
+    pub median_us: f64,
+    /// Why the pair could not be answered (a point outside free space, a spent budget...).
+    pub error: Option<String>,
+}
+
+/// Why a query run could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum QueryError {
+    /// A file could not be read or parsed.
+    #[error("{path}: {message}")]
+    File {
+        /// The file.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An option is out of range.
+    #[error("{0}")]
+    Option(String),
+}
+
+/// The map of a scenario file, or of a map-only file (the `map` section's form).
+pub fn load_map(path: &Path) -> Result<Map, QueryError> {
+    let bad = |message: String| QueryError::File {
+        path: path.display().to_string(),
+        message,
+    };
+    match Scenario::load(path) {
+        Ok(s) => Ok(s.map),
+        Err(scenario_error) => {
+            let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+            let map: Map = match path.extension().and_then(|e| e.to_str()) {
+                Some("json") => {
+                    serde_json::from_str(&text).map_err(|_| bad(scenario_error.to_string()))?
+                }
+                _ => ron::from_str(&text).map_err(|_| bad(scenario_error.to_string()))?,
+            };
+            map.validate().map_err(|e| bad(e.to_string()))?;
+            Ok(map)
+        }
+    }
+}
+
+/// Reads a pairs file (module docs).
+pub fn load_pairs(path: &Path) -> Result<Vec<QueryPair>, QueryError> {
+    let bad = |message: String| QueryError::File {
+        path: path.display().to_string(),
+        message,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+    let pairs: Vec<QueryPair> = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    if pairs.len() > MAX_PAIRS {
+        return Err(bad(format!(
+            "{} pairs, more than the {MAX_PAIRS} accepted",
+            pairs.len()
+        )));
+    }
+    Ok(pairs)
+}
+
+/// Answers every pair on `map` with `classes` classes each, each query run `repeat` times.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel::query::{answer, QueryPair};
+/// use rappel::geometry::{map::Map, polygon::Polygon};
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(Polygon::rectangle(0.0, 0.0, 10.0, 10.0), vec![]);
+/// let pairs = [QueryPair { start: p(1.0, 1.0), goal: p(4.0, 5.0) }, QueryPair { start: p(1.0, 1.0), goal: p(20.0, 5.0) }];
+/// let out = answer(&map, &pairs, 1, 3).unwrap();
+/// assert!((out[0].lengths_m[0] - 5.0).abs() < 1e-12);
+/// assert!(out[1].error.as_ref().unwrap().contains("goal"));
+/// ```
+pub fn answer(
+    map: &Map,
+    pairs: &[QueryPair],
+    classes: usize,
+    repeat: usize,
+) -> Result<Vec<QueryAnswer>, QueryError> {
+    if !(1..=MAX_QUERY_CLASSES).contains(&classes) {
+        return Err(QueryError::Option(format!(
+            "--classes {classes}: between 1 and {MAX_QUERY_CLASSES}"
+        )));
+    }
+    if !(1..=MAX_REPEATS).contains(&repeat) {
+        return Err(QueryError::Option(format!(
+            "--repeat {repeat}: between 1 and {MAX_REPEATS}"
+        )));
+    }
+    let btm = Btm::build(map).map_err(|e| QueryError::Option(e.to_string()))?;
+    let planner = SptPlanner::new(&btm);
+    let options = SearchOptions::default()
+        .with_max_classes(Some(classes))
+        .map_err(|e| QueryError::Option(e.to_string()))?;
+    let mut out = Vec::with_capacity(pairs.len());
+    for (index, pair) in pairs.iter().enumerate() {
+        let mut answer = QueryAnswer {
+            index,
+            start: pair.start,
+            goal: pair.goal,
+            lengths_m: Vec::new(),
+            median_us: f64::NAN,
+            error: None,
+        };
+        let checked = map
+            .validate_point("start", &pair.start)
+            .and_then(|()| map.validate_point("goal", &pair.goal));
+        if let Err(e) = checked {
+            answer.error = Some(format!("pair {index}: {e}"));
+            out.push(answer);
+            continue;
+        }
+        let mut times = Vec::with_capacity(repeat);
+        for _ in 0..repeat {
+            let t0 = Instant::now();
+            let result = planner
+                .search(pair.start, pair.goal, &options)
+                .and_then(|mut s| {
+                    let mut lengths = Vec::with_capacity(classes);
+                    while let Some(c) = s.next_best()? {
+                        lengths.push(c.length());
+                    }
+                    if lengths.is_empty() && s.termination() == Some(Termination::Expansions) {
+                        return Err(SearchError::BudgetExhausted {
+                            expansions: s.stats().expansions,
+                        });
+                    }
+                    Ok(lengths)
+                });
+            times.push(t0.elapsed().as_secs_f64() * 1e6);
+            match result {
+                Ok(lengths) => answer.lengths_m = lengths,
+                Err(e) => {
+                    answer.error = Some(format!("pair {index}: {e}"));
+                    break;
+                }
+            }
+        }
+        times.sort_by(f64::total_cmp);
+        answer.median_us = times[times.len() / 2];
+        out.push(answer);
+    }
+    Ok(out)
+}
