@@ -154,6 +154,30 @@ pub fn dem_scenario_with(
     })
 }
 
+/// The planning-frame outline of the `step` x `step` block of cells whose north-west cell is
+/// `(r, c)` (clipped to the grid): how DEM pictures draw subsampled cells.
+pub fn block_footprint(
+    d: &DemScenario,
+    r: usize,
+    c: usize,
+    step: usize,
+) -> Vec<nalgebra::Point2<f64>> {
+    let g = d.grid.geometry();
+    let (r1, c1) = (
+        (r + step.max(1) - 1).min(g.nrows - 1),
+        (c + step.max(1) - 1).min(g.ncols - 1),
+    );
+    [
+        g.cell_corners(r, c)[0],
+        g.cell_corners(r, c1)[1],
+        g.cell_corners(r1, c1)[2],
+        g.cell_corners(r1, c)[3],
+    ]
+    .iter()
+    .map(|w| d.ingested.frame.to_planning(w))
+    .collect()
+}
+
 /// The picture of a DEM scenario in the planning frame: hillshade, plane edges, tether obstacles
 /// (grey), robot obstacles (orange outlines), start and goal.
 pub fn dem_picture(d: &DemScenario, title: &str) -> String {
@@ -171,17 +195,7 @@ pub fn dem_picture(d: &DemScenario, title: &str) -> String {
             if !v.is_finite() {
                 continue;
             }
-            let (r1, c1) = (
-                (r + step - 1).min(g.nrows - 1),
-                (c + step - 1).min(g.ncols - 1),
-            );
-            let corners = [
-                g.cell_corners(r, c)[0],
-                g.cell_corners(r, c1)[1],
-                g.cell_corners(r1, c1)[2],
-                g.cell_corners(r1, c)[3],
-            ];
-            let pts: Vec<_> = corners.iter().map(|w| ing.frame.to_planning(w)).collect();
+            let pts = block_footprint(d, r, c, step);
             // A light hillshade, so the grey obstacles stand out on it.
             let level = (v.clamp(0.0, 1.0) * 105.0 + 150.0) as u8;
             pic.shaded_polygon(

@@ -254,17 +254,7 @@ pub fn convexity_picture(d: &DemScenario, min_curvature: Option<f64>, title: &st
                 Some(Convexity::Saddle) => Layer::Saddle,
                 _ => continue,
             };
-            let (r1, c1) = (
-                (r + step - 1).min(g.nrows - 1),
-                (c + step - 1).min(g.ncols - 1),
-            );
-            let corners = [
-                g.cell_corners(r, c)[0],
-                g.cell_corners(r, c1)[1],
-                g.cell_corners(r1, c1)[2],
-                g.cell_corners(r1, c)[3],
-            ];
-            let pts: Vec<_> = corners.iter().map(|w| frame.to_planning(w)).collect();
+            let pts = crate::dem::block_footprint(d, r, c, step);
             pic.shaded_polygon(layer, &pts, layer.fill());
             if layer == Layer::Saddle
                 && i % DIRECTION_EVERY == 0
