@@ -139,7 +139,9 @@ pub fn answer(
         .with_max_classes(Some(classes))
         .map_err(|e| QueryError::Option(e.to_string()))?;
     let mut out = Vec::with_capacity(pairs.len());
+    let progress = crate::progress::Progress::new(pairs.len() as u64, "pairs");
     for (index, pair) in pairs.iter().enumerate() {
+        progress.inc(1);
         let mut answer = QueryAnswer {
             index,
             start: pair.start,
@@ -186,5 +188,6 @@ pub fn answer(
         answer.median_us = times[times.len() / 2];
         out.push(answer);
     }
+    progress.finish();
     Ok(out)
 }

@@ -22,8 +22,9 @@ const SUITE: &str = "online";
 
 /// The online form of frictional planning: a PTFO believed to hold is sensed to be nearly
 /// frictionless during the descent; the session reclassifies it, its corner slips and is clipped
-/// as a map change. Reference: the frictional planner (Alg. 7 with 8, 9 and 14) on the true
-/// scenario, from scratch.
+/// as a map change. References: the frictional planner (Alg. 7 with 8, 9 and 14) on the true
+/// scenario, from scratch (it shares the anchor decision and the clip with the session, so it
+/// checks the online mechanism), and the closed form of the straight tether.
 fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
     use rappel::planners::online::simulate::Difference;
     let name = "online/friction-weaker";
@@ -59,6 +60,17 @@ fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
             format!("{l:.6} (Alg. 7 on the true scenario, from scratch)")
         }),
         same,
+    ));
+    // Independent of the friction code both sides above share (Alg. 8-9 decisions, the clip): at
+    // friction 0.01 no wrap of the pillar holds, and the start and goal lie on the line through
+    // its diagonal corners, so the tether ends straight: |goal - start|.
+    let straight = (truth.goal - truth.start).norm();
+    cases.push(Case::new(
+        SUITE,
+        format!("{name}: final class SHP against the closed form, m"),
+        measured.map_or("none".into(), |l| format!("{l:.6}")),
+        format!("{straight:.6} (|goal - start|: the nearly frictionless pillar holds nothing)"),
+        measured.is_some_and(|l| (l - straight).abs() <= 1e-9 * straight),
     ));
     cases.push(Case::new(
         SUITE,
