@@ -86,6 +86,22 @@ pub fn print_friction(f: &FrictionReport) {
             let list: Vec<String> = c.waypoints.iter().map(pt).collect();
             crate::outln!("  waypoints  {}", list.join(" "));
         }
+        if let Some(p) = &c.pair {
+            crate::outln!(
+                "  pair       ascent {:.2} m, descent {:.2} m{}, {}",
+                p.ascent_length,
+                p.descent_length,
+                if p.descent_is_reversed_ascent {
+                    " (the ascent reversed)"
+                } else {
+                    ""
+                },
+                p.min_anchor_distance.map_or_else(
+                    || "no anchor kept clear".to_string(),
+                    |d| format!("{d:.3} m from the nearest anchor kept clear")
+                )
+            );
+        }
     }
     crate::outln!("f-verdict    {}", f.verdict);
 }

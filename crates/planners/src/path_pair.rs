@@ -124,21 +124,76 @@ pub fn path_pair(
     report: &FeasibilityReport,
 ) -> Result<PathPair, PairFailure> {
     let taut = &class.shp.taut;
+    let keep = vec![AnchorClearance::Keep; taut.anchors.len()];
+    path_pair_with(
+        ctx,
+        PairInput {
+            rank: class.rank,
+            taut,
+            crossings: &class.shp.crossings,
+            route: &report.route,
+            anchors: &keep,
+        },
+    )
+}
+
+/// How the paths of a pair pass one anchor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AnchorClearance {
+    /// At least the context's clearance away (a geometric anchor, thesis §2.4.3).
+    Keep,
+    /// Through the anchor itself: a solid friction anchor that the robot may drive over (thesis
+    /// Alg. 10), its own waypoint in the ascent route
+    /// ([`crate::feasibility::check_feasibility_with`]).
+    DriveOver,
+}
+
+/// What [`path_pair_with`] builds a pair from: any taut tether with its reduced crossing sequence
+/// in `ctx.btm`, the ascent route of its feasibility check, and how each anchor is passed.
+#[derive(Debug, Clone, Copy)]
+pub struct PairInput<'a> {
+    /// The class's rank in the search.
+    pub rank: usize,
+    /// The taut tether (SHP).
+    pub taut: &'a TautPath,
+    /// Its reduced crossing sequence in `ctx.btm`.
+    pub crossings: &'a CrossingSequence,
+    /// The ascent route of its feasibility report.
+    pub route: &'a [RouteCorner],
+    /// One entry per anchor of `taut`, in order.
+    pub anchors: &'a [AnchorClearance],
+}
+
+/// The pair of [`path_pair`] for any taut tether whose anchors are passed as `input.anchors`
+/// says: anchors to [`AnchorClearance::DriveOver`] get no clearance (their mitre corner is the
+/// anchor itself) and are left out of [`PathPair::min_anchor_distance`]; the checks are the same.
+/// Used for friction classes ([`crate::frictional::search`]).
+pub fn path_pair_with(
+    ctx: &FeasibilityContext<'_>,
+    input: PairInput<'_>,
+) -> Result<PathPair, PairFailure> {
+    let taut = input.taut;
     let anchors: Vec<Point2<f64>> = taut.anchors.iter().map(|a| a.point).collect();
-    let offsets = mitre_offsets(taut, ctx.clearance);
+    let clearances: Vec<f64> = (0..anchors.len())
+        .map(|k| match input.anchors.get(k) {
+            Some(AnchorClearance::DriveOver) => 0.0,
+            _ => ctx.clearance,
+        })
+        .collect();
+    let offsets = mitre_offsets(taut, &clearances);
     let mut descent = vec![Corner::fixed(taut.start())];
     descent.extend(offsets.iter().copied());
     descent.push(Corner::fixed(taut.goal()));
-    let descent = keep_clear("descent", descent, &anchors, ctx.clearance);
+    let descent = keep_clear("descent", descent, &anchors, &clearances);
     let tether_free = ctx.terrain.all_tether_free();
     let ascent = if tether_free {
         descent.clone().map(|d| d.into_iter().rev().collect())
     } else {
-        let bent = bend_around_released(&report.route, &anchors, &offsets, ctx.clearance);
-        keep_clear("ascent", bent, &anchors, ctx.clearance)
+        let bent = bend_around_released(input.route, &anchors, &offsets, &clearances);
+        keep_clear("ascent", bent, &anchors, &clearances)
     };
     let ascent = ascent?;
-    let word = &class.shp.crossings;
+    let word = input.crossings;
     check_path(ctx.btm, "ascent", &ascent, word, true)?;
     if !tether_free && let Some(j) = walk(ctx.terrain, taut, &ascent, true) {
         return Err(PairFailure::OutsideCone { anchor: j });
@@ -166,7 +221,9 @@ pub fn path_pair(
     let length = |p: &[Point2<f64>]| p.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
     let min_anchor_distance = anchors
         .iter()
-        .flat_map(|a| {
+        .zip(&clearances)
+        .filter(|(_, c)| **c > 0.0 || ctx.clearance == 0.0)
+        .flat_map(|(a, _)| {
             ascent
                 .windows(2)
                 .chain(descent.windows(2))
@@ -174,7 +231,7 @@ pub fn path_pair(
         })
         .fold(f64::INFINITY, f64::min);
     Ok(PathPair {
-        rank: class.rank,
+        rank: input.rank,
         ascent_length: length(&ascent),
         descent_length: length(&descent),
         ascent,
@@ -210,7 +267,7 @@ impl Corner {
 }
 
 /// The mitre corners `o_j` (module docs), owned by their anchors.
-fn mitre_offsets(taut: &TautPath, clearance: f64) -> Vec<Corner> {
+fn mitre_offsets(taut: &TautPath, clearances: &[f64]) -> Vec<Corner> {
     let p = &taut.points;
     taut.anchors
         .iter()
@@ -219,6 +276,7 @@ fn mitre_offsets(taut: &TautPath, clearance: f64) -> Vec<Corner> {
             let i = p.iter().position(|x| *x == a.point).unwrap_or(1);
             let (prev, next) = (p[i.saturating_sub(1)], p[(i + 1).min(p.len() - 1)]);
             let outer = (a.point - prev).normalize() - (next - a.point).normalize();
+            let clearance = clearances[k];
             if clearance == 0.0 || outer.norm() == 0.0 {
                 return Corner::fixed(a.point);
             }
@@ -237,10 +295,10 @@ fn bend_around_released(
     route: &[RouteCorner],
     anchors: &[Point2<f64>],
     offsets: &[Corner],
-    clearance: f64,
+    clearances: &[f64],
 ) -> Vec<Corner> {
     let n = anchors.len();
-    let c = clearance * (1.0 - CLEARANCE_TOLERANCE);
+    let c = |k: usize| clearances[k - 1] * (1.0 - CLEARANCE_TOLERANCE);
     let mut out = vec![Corner::fixed(route[0].point)];
     for w in route.windows(2) {
         let released = w[0].released_from.max(1)..=n;
@@ -250,7 +308,7 @@ fn bend_around_released(
             .clone()
             .filter(|k| !bent.contains(k))
             .map(|k| (k, distance_to_segment(&anchors[k - 1], &from, &to)))
-            .filter(|(_, d)| *d < c)
+            .filter(|(k, d)| *d < c(*k))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(k, _)| k)
         {
@@ -273,16 +331,16 @@ fn keep_clear(
     which: &str,
     mut corners: Vec<Corner>,
     anchors: &[Point2<f64>],
-    clearance: f64,
+    clearances: &[f64],
 ) -> Result<Vec<Point2<f64>>, PairFailure> {
-    let c = clearance * (1.0 - CLEARANCE_TOLERANCE);
     for round in 0..=PUSH_ROUNDS {
         let mut worst: Option<(usize, usize, f64)> = None;
         for i in 0..corners.len().saturating_sub(1) {
             let (p, q) = (corners[i].point(), corners[i + 1].point());
             for (k, a) in anchors.iter().enumerate() {
                 let d = distance_to_segment(a, &p, &q);
-                if d < c && worst.is_none_or(|w| d < w.2) {
+                if d < clearances[k] * (1.0 - CLEARANCE_TOLERANCE) && worst.is_none_or(|w| d < w.2)
+                {
                     worst = Some((i, k + 1, d));
                 }
             }
@@ -298,6 +356,7 @@ fn keep_clear(
                 && *owner == k
                 && round < PUSH_ROUNDS
             {
+                let clearance = clearances[k - 1];
                 *m *= (clearance / d.max(1e-3 * clearance)).min(2.0) * (1.0 + 1e-6);
                 moved = true;
             }
@@ -398,6 +457,14 @@ fn walk_stretches(
     let mut j = if up { n } else { 0 };
     for w in points.windows(2) {
         let (mut s, e) = (w[0], w[1]);
+        // A robot standing on an anchor it drives over (a solid friction anchor, its own
+        // waypoint) has no tether beyond it: the anchor before it holds the robot from there.
+        while up && j >= 1 && s == corners[j] {
+            j -= 1;
+        }
+        while !up && j < n && s == corners[j + 1] {
+            j += 1;
+        }
         while up && j >= 1 && side(j, &s) < 0.0 && beyond(j, &s) {
             j -= 1;
         }

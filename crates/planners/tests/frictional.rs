@@ -253,3 +253,77 @@ fn capstan_anchor_classes_follow_exp_mu_theta() {
     // The sweep of μ reaches every class.
     assert_eq!(seen.len(), 3, "{seen:?}");
 }
+
+/// A friction class gets an ascent/descent pair (thesis §3.4.2 with Alg. 6): both paths drive
+/// over the solid friction anchor, keep the clearance from the geometric anchor, and are
+/// homotopic to the class's taut tether: the homotopy crate's SHP of each path (computed from
+/// the path alone) has the taut tether's length.
+#[test]
+fn a_friction_class_gets_a_pair_driving_over_its_solid_anchor() {
+    let square = Polygon::new(vec![
+        p(15.0, 45.0),
+        p(25.0, 45.0),
+        p(25.0, 55.0),
+        p(15.0, 55.0),
+    ]);
+    // A geometric block below the square's lower edge line, in the way of the tether to the goal.
+    let block = Polygon::new(vec![
+        p(17.0, 33.0),
+        p(19.0, 33.0),
+        p(19.0, 37.0),
+        p(17.0, 37.0),
+    ]);
+    let map = Map::new(
+        Polygon::rectangle(0.0, 0.0, 40.0, 100.0),
+        vec![square, block],
+    );
+    let btm = Btm::build(&map).unwrap();
+    let (start, goal) = (p(26.0, 56.0), p(8.0, 20.0));
+    let options = SearchOptions::default().with_max_classes(Some(5)).unwrap();
+    let t = terrain();
+    let clearance = 0.5;
+    let mut q = query(&t, &options, start, goal, None);
+    q.clearance = clearance;
+    let model = pillar_model(0, p(20.0, 50.0), 4.0);
+    let plan = plan_frictional(&btm, &map, &model, &q).unwrap();
+    let chosen = &plan.classes[plan.chosen.expect("a feasible friction class")];
+    let pair = chosen
+        .pair
+        .as_ref()
+        .expect("feasible classes carry their pair");
+    let kinds: Vec<AnchorVerdict> = chosen.check.anchors.iter().map(|d| d.verdict).collect();
+    assert!(
+        kinds.contains(&AnchorVerdict::Friction(PtfoClass::Solid))
+            && kinds.contains(&AnchorVerdict::Geometric),
+        "the case needs both kinds of anchor: {kinds:?}"
+    );
+    let dist = |a: &Point2<f64>, path: &[Point2<f64>]| {
+        path.windows(2)
+            .map(|w| {
+                let (u, v) = (w[1] - w[0], a - w[0]);
+                let t = (v.dot(&u) / u.norm_squared()).clamp(0.0, 1.0);
+                (v - u * t).norm()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    for d in &chosen.check.anchors {
+        for path in [&pair.ascent, &pair.descent] {
+            let gap = dist(&d.anchor.point, path);
+            match d.verdict {
+                AnchorVerdict::Friction(PtfoClass::Solid) => {
+                    assert!(gap < 1e-9, "solid anchor driven over: {gap}");
+                }
+                _ => assert!(gap >= clearance * (1.0 - 1e-6), "geometric anchor: {gap}"),
+            }
+        }
+    }
+    let shp_length = |points: Vec<Point2<f64>>| {
+        let path = Path::new(points).unwrap();
+        shortest_homotopic_path(&btm, &path).unwrap().taut.length
+    };
+    let taut = chosen.check.taut.length;
+    assert!((shp_length(pair.descent.clone()) - taut).abs() < 1e-9 * taut);
+    let up: Vec<Point2<f64>> = pair.ascent.iter().rev().copied().collect();
+    assert!((shp_length(up) - taut).abs() < 1e-9 * taut);
+    assert!(pair.min_anchor_distance >= clearance * (1.0 - 1e-6));
+}

@@ -5,6 +5,7 @@
 //! anchors (Alg. 10), the capstan along the tether and the verdict; the picture colours PTFOs by
 //! verdict and marks the sticking points and the clipped vertices.
 
+use crate::plan::PairReport;
 use crate::ptfo_spec::ResolvedFriction;
 use crate::scenario::Scenario;
 use crate::svg::{Layer, Marker, Picture};
@@ -73,7 +74,10 @@ pub struct FrictionClassReport {
     pub waypoints: Vec<Point2<f64>>,
     /// The capstan along the tether.
     pub holding: Option<HoldingReport>,
-    /// Feasible (no volatile anchor, ascent feasible).
+    /// The ascent/descent pair of a feasible class (geometric anchors kept at the robot's
+    /// clearance, solid friction anchors driven over), `null` otherwise.
+    pub pair: Option<PairReport>,
+    /// Feasible (no volatile anchor, ascent feasible, a pair built).
     pub feasible: bool,
     /// Why not, or `feasible`.
     pub verdict: String,
@@ -158,6 +162,7 @@ pub fn plan_friction(
                 .map(|f| f.waypoints.clone())
                 .unwrap_or_default(),
             holding: c.holding.clone(),
+            pair: c.pair.as_ref().map(PairReport::from),
             feasible: c.feasible(),
             verdict: c.describe(),
         })
@@ -199,7 +204,7 @@ pub fn plan_friction(
 
 /// Draws the frictional outcome onto `pic`: PTFOs coloured by their verdict in the shown class
 /// (solid, slides, volatile; untouched PTFOs outlined), the clipped vertices, the final SHP, its
-/// sticking points (solid friction anchors) and the waypoints.
+/// sticking points (solid friction anchors), the waypoints and the ascent/descent pair.
 pub fn draw_friction(pic: &mut Picture, scenario: &Scenario, report: &FrictionReport) {
     let shown = report
         .chosen
@@ -224,6 +229,10 @@ pub fn draw_friction(pic: &mut Picture, scenario: &Scenario, report: &FrictionRe
         }
     }
     if let Some(c) = shown {
+        if let Some(pair) = &c.pair {
+            pic.polyline(Layer::Descent, &pair.descent);
+            pic.polyline(Layer::Ascent, &pair.ascent);
+        }
         pic.polyline(Layer::Shp, &c.points);
         for s in &c.slips {
             pic.marker(Layer::Slip, s.vertex, Marker::Cross);

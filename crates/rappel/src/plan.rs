@@ -23,7 +23,7 @@ use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::traversability::StabilitySettings;
 use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
 use rappel_planners::feasibility::{self, FeasibilityContext, Passability, fill_reachable_areas};
-use rappel_planners::path_pair::{PairPlan, plan_path_pair};
+use rappel_planners::path_pair::{PairPlan, PathPair, plan_path_pair};
 use rappel_planners::spt::{
     DEFAULT_MAX_EXPANSIONS, SearchError, SearchOptions, SearchStats, SptPlanner, Termination,
 };
@@ -191,6 +191,23 @@ pub struct PairReport {
     pub descent_is_reversed_ascent: bool,
     /// Smallest distance from either path to an anchor, m (`null` without anchors).
     pub min_anchor_distance: Option<f64>,
+}
+
+impl From<&PathPair> for PairReport {
+    fn from(p: &PathPair) -> Self {
+        PairReport {
+            rank: p.rank,
+            ascent: p.ascent.clone(),
+            descent: p.descent.clone(),
+            ascent_length: p.ascent_length,
+            descent_length: p.descent_length,
+            descent_is_reversed_ascent: p.descent_is_reversed_ascent,
+            min_anchor_distance: p
+                .min_anchor_distance
+                .is_finite()
+                .then_some(p.min_anchor_distance),
+        }
+    }
 }
 
 /// What `rappel plan` reports.
@@ -403,18 +420,7 @@ fn report_of(
             }
         })
         .collect();
-    let chosen = outcome.pair.as_ref().map(|p| PairReport {
-        rank: p.rank,
-        ascent: p.ascent.clone(),
-        descent: p.descent.clone(),
-        ascent_length: p.ascent_length,
-        descent_length: p.descent_length,
-        descent_is_reversed_ascent: p.descent_is_reversed_ascent,
-        min_anchor_distance: p
-            .min_anchor_distance
-            .is_finite()
-            .then_some(p.min_anchor_distance),
-    });
+    let chosen = outcome.pair.as_ref().map(PairReport::from);
     let verdict = match (&chosen, classes.first()) {
         (Some(p), _) => format!(
             "class {} is the shortest feasible class: ascent {:.2} m, descent {:.2} m",

@@ -4,17 +4,22 @@
 //! class's own copy of the map ([`super::slip::SlipState`]), so later classes are searched on the
 //! map as given. Bounded by the search's options (classes, expansions, length factor).
 
-use super::anchor_check::{PtfoCheck, check_ptfos};
+use super::anchor_check::{AnchorVerdict, PtfoCheck, check_ptfos};
 use super::feasibility2::{Feasibility2Report, check_feasibility2};
 use super::holding::{HoldingReport, holding};
 use super::slip::SlipState;
 use super::{FrictionModel, FrictionalError, validate_model};
 use crate::feasibility::FeasibilityContext;
+use crate::path_pair::{AnchorClearance, PairFailure, PairInput, PathPair, path_pair_with};
 use crate::spt::{SearchError, SearchOptions, SptPlanner, Termination};
 use crate::terrain::PlaneSeries;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::Map;
+use rappel_homotopy::crossing::CrossingSequence;
+use rappel_homotopy::homotopy::HomotopyError;
+use rappel_homotopy::path::Path;
+use rappel_mechanics::ptfo::PtfoClass;
 use serde::{Deserialize, Serialize};
 
 /// One class examined by Alg. 7.
@@ -32,11 +37,22 @@ pub struct FrictionalClass {
     pub holding: Option<HoldingReport>,
     /// The map after this class's slips (for pictures); `None` without slips.
     pub clipped_map: Option<Map>,
+    /// The ascent/descent pair of a feasible class (Alg. 6 with friction anchors driven over,
+    /// [`pair_for_class`]); `None` when the class is not feasible or no pair was built.
+    pub pair: Option<PathPair>,
+    /// Why no pair was built for a feasible class (the class then does not count as feasible).
+    pub pair_failure: Option<PairFailure>,
 }
 
 impl FrictionalClass {
-    /// `true` when no anchor is volatile and the ascent is feasible.
+    /// `true` when no anchor is volatile, the ascent is feasible and its ascent/descent pair was
+    /// built.
     pub fn feasible(&self) -> bool {
+        self.ascent_feasible() && self.pair.is_some()
+    }
+
+    /// `true` when no anchor is volatile and Alg. 10 passes (whether or not a pair was built).
+    pub fn ascent_feasible(&self) -> bool {
         self.check.volatile.is_none() && self.feasibility.as_ref().is_some_and(|f| f.feasible())
     }
 
@@ -48,6 +64,9 @@ impl FrictionalClass {
                 "volatile friction anchor at ({:.3}, {:.3}): unsafe",
                 a.point.x, a.point.y
             );
+        }
+        if let Some(e) = &self.pair_failure {
+            return format!("feasible ascent, but no ascent/descent pair: {e}");
         }
         match &self.feasibility {
             Some(f) => f.blocked.clone().unwrap_or_else(|| "feasible".into()),
@@ -98,6 +117,43 @@ pub enum FrictionalPlanError {
     Frictional(#[from] FrictionalError),
 }
 
+/// The ascent/descent pair of a class that passed Alg. 8 and Alg. 10 (thesis §3.4.2 with §2.4.3):
+/// Alg. 6's construction on the SHP left by the slips, in the BTM the slips ended on
+/// (`ctx.btm`), along Alg. 10's route; geometric anchors keep `ctx.clearance`, solid friction
+/// anchors are driven over ([`AnchorClearance::DriveOver`]). The outer `Err` is a failure to
+/// trace the SHP (a bug), the inner one why no pair exists.
+pub fn pair_for_class(
+    ctx: &FeasibilityContext<'_>,
+    rank: usize,
+    check: &PtfoCheck,
+    feasibility: &Feasibility2Report,
+) -> Result<Result<PathPair, PairFailure>, FrictionalError> {
+    let trace = |e| FrictionalError::Trace(HomotopyError::Path(e));
+    let path = Path::new(check.taut.points.clone()).map_err(trace)?;
+    let crossings = CrossingSequence::reduced_of_path(ctx.btm, &path).map_err(trace)?;
+    let anchors: Vec<AnchorClearance> = check
+        .anchors
+        .iter()
+        .map(|d| {
+            if d.verdict == AnchorVerdict::Friction(PtfoClass::Solid) {
+                AnchorClearance::DriveOver
+            } else {
+                AnchorClearance::Keep
+            }
+        })
+        .collect();
+    Ok(path_pair_with(
+        ctx,
+        PairInput {
+            rank,
+            taut: &check.taut,
+            crossings: &crossings,
+            route: &feasibility.base.route,
+            anchors: &anchors,
+        },
+    ))
+}
+
 /// Alg. 7 on `btm = Btm::build(map)` (module docs).
 pub fn plan_frictional(
     btm: &Btm,
@@ -132,6 +188,21 @@ pub fn plan_frictional(
         } else {
             (None, None)
         };
+        let (pair, pair_failure) = match &feasibility {
+            Some(f) if f.feasible() => {
+                let ctx = FeasibilityContext {
+                    btm: state.btm(),
+                    terrain: query.terrain,
+                    clearance: query.clearance,
+                    tether_length: query.tether_length,
+                };
+                match pair_for_class(&ctx, ranked.rank, &check, f)? {
+                    Ok(p) => (Some(p), None),
+                    Err(e) => (None, Some(e)),
+                }
+            }
+            _ => (None, None),
+        };
         let class = FrictionalClass {
             rank: ranked.rank,
             searched_length,
@@ -139,6 +210,8 @@ pub fn plan_frictional(
             check,
             feasibility,
             holding: hold,
+            pair,
+            pair_failure,
         };
         let ok = class.feasible();
         classes.push(class);
