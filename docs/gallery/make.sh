@@ -12,7 +12,7 @@ $r plan fixtures/thesis-fig-2-7.ron --svg $g/plan-fig-2-7.svg >/dev/null
 $r plan fixtures/friction/slip_then_wrap.ron --svg $g/friction-slip-then-wrap.svg >/dev/null
 $r online fixtures/online-example.ron --truth fixtures/online-example-discovered.ron --svg $g/online-example.svg >/dev/null
 $r dem fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc --out "$tmp/mars.ron" \
-    --ptfo-friction 0.4 --sticking-svg $g/mars-sticking.svg --phi-svg $g/mars-phi.svg >/dev/null
+    --ptfo-friction 0.4 --sticking-svg $g/mars-sticking.svg --phi-svg $g/mars-phi.svg --hill-svg $g/mars-hill.svg >/dev/null
 $r track fixtures/tracking/kumar.json --robot1 fixtures/tracking/robot1-partial.json \
     --robot2 fixtures/tracking/robot2-descent.json --svg $g/track-kumar.svg --svg3d $g/track-kumar-3d.svg >/dev/null || true
 echo "gallery written to $g"

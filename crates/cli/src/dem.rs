@@ -1,6 +1,6 @@
 //! `rappel dem FILE.(asc|tif) --out SCENARIO [--hmin M] [--hmax M] [--theta-max DEG] [--friction MU]
 //! [--max-cells N] [--ptfo-friction LO[,HI]] [--svg OUT] [--convexity-svg OUT] [--sticking-svg OUT]
-//! [--phi-svg OUT] [--html OUT]`: turns a digital elevation model into a
+//! [--phi-svg OUT] [--hill-svg OUT] [--html OUT]`: turns a digital elevation model into a
 //! planning scenario (planes, tether obstacles, optionally PTFOs, start and goal) and optionally
 //! draws it over a hillshade.
 
@@ -9,7 +9,7 @@ use rappel::dem::{dem_picture, dem_scenario_with};
 use rappel::dem_ptfo::{PtfoLabelOptions, PtfoLabels, convexity_picture, label_ptfos};
 use rappel::ptfo_spec::FrictionRange;
 use rappel::scenario::Format;
-use rappel::sticking_profile::{phi_chart, sticking_picture, sticking_profile};
+use rappel::sticking_profile::{hill_view, phi_chart, sticking_picture, sticking_profile};
 use rappel::terrain::dem::DemLimits;
 use rappel::terrain::ingest::IngestOptions;
 use std::path::{Path, PathBuf};
@@ -61,6 +61,10 @@ pub struct Args {
     /// Chart |φ| along that tether against the friction bound (thesis Fig. 3.15).
     #[arg(long, value_name = "OUT", requires = "ptfo_friction")]
     phi_svg: Option<PathBuf>,
+    /// Draw that tether draped over the DEM in 3D with its curve normals (red) and the surface
+    /// normals (green) (thesis Fig. 3.14; an axonometric view at true vertical scale).
+    #[arg(long, value_name = "OUT", requires = "ptfo_friction")]
+    hill_svg: Option<PathBuf>,
     /// Print the ingestion summary as JSON.
     #[arg(long)]
     json: bool,
@@ -130,6 +134,16 @@ fn draw_sticking(args: &Args, d: &rappel::dem::DemScenario) -> Result<(), CliErr
     if let Some(out) = &args.phi_svg {
         write_file(out, &phi_chart(&samples, mu, &title))?;
     }
+    if let Some(out) = &args.hill_svg {
+        let title = format!("{title}; tether normals red, surface normals green");
+        let Some(svg) = hill_view(d, &samples, &title) else {
+            return Err(CliError(format!(
+                "{}: the shortest tether has no sample on known heights to draw in 3D",
+                args.file.display()
+            )));
+        };
+        write_file(out, &svg)?;
+    }
     Ok(())
 }
 
@@ -144,6 +158,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         ("--convexity-svg", &args.convexity_svg),
         ("--sticking-svg", &args.sticking_svg),
         ("--phi-svg", &args.phi_svg),
+        ("--hill-svg", &args.hill_svg),
     ] {
         if let Some(p) = out {
             outputs.push((flag, p.as_path()));
@@ -180,7 +195,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     progress.message("reading and ingesting");
     let mut d = dem_scenario_with(&args.file, &options, &limits)?;
     progress.finish();
-    if args.sticking_svg.is_some() || args.phi_svg.is_some() {
+    if args.sticking_svg.is_some() || args.phi_svg.is_some() || args.hill_svg.is_some() {
         draw_sticking(args, &d)?;
     }
     let labels = match &args.ptfo_friction {

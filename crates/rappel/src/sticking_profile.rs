@@ -13,7 +13,7 @@
 
 use crate::dem::DemScenario;
 use crate::svg::{Layer, Marker, Picture};
-use nalgebra::{DMatrix, Point2, Vector2, Vector3};
+use nalgebra::{DMatrix, Point2, Point3, Vector2, Vector3};
 use rappel_mechanics::curvature::height_derivatives;
 use rappel_mechanics::darboux::DarbouxFrame;
 use rappel_mechanics::sticking::omega_squared;
@@ -29,6 +29,13 @@ pub struct StickingSample {
     pub s: f64,
     /// Where, in the planning frame.
     pub at: Point2<f64>,
+    /// Where, in the world (easting, northing, height on the DEM's first-order surface through
+    /// the nearest cell centre), m.
+    pub world: Point3<f64>,
+    /// The unit surface normal there (upwards).
+    pub surface_normal: Vector3<f64>,
+    /// The unit Frenet-Serret normal of the draped tether, `None` where it is straight.
+    pub curve_normal: Option<Vector3<f64>>,
     /// Normal curvature `κ_n`, 1/m (negative where the tether presses into a hump).
     pub normal_curvature: f64,
     /// Geodesic curvature `κ_g`, 1/m.
@@ -107,6 +114,10 @@ pub fn sticking_profile(
             let Ok(f) = DarbouxFrame::new(&velocity, &acceleration, &normal) else {
                 continue;
             };
+            let Some(h0) = d.grid.height(r, c) else {
+                continue;
+            };
+            let world = Point3::new(a.x, a.y, h0 + grad.dot(&(a - g.cell_center(r, c))));
             let phi = f.phi();
             let may_stick = phi.is_some()
                 && f.normal_curvature < 0.0
@@ -114,6 +125,9 @@ pub fn sticking_profile(
             out.push(StickingSample {
                 s: s0 + t * len,
                 at,
+                world,
+                surface_normal: normal.normalize(),
+                curve_normal: f.curve_normal().map(|n| n.into_inner()),
                 normal_curvature: f.normal_curvature,
                 geodesic_curvature: f.geodesic_curvature,
                 phi,
@@ -145,6 +159,152 @@ pub fn sticking_picture(
         pic.marker(layer, s.at, Marker::Circle);
     }
     pic.finish(title)
+}
+
+/// Most grid cells along one side of [`hill_view`]'s terrain (coarser cells are averaged by
+/// taking every k-th height), which bounds the picture to `HILL_VIEW_CELLS²` quads.
+pub const HILL_VIEW_CELLS: usize = 90;
+
+/// Most normal pairs drawn by [`hill_view`] (every k-th sample carries one).
+pub const HILL_VIEW_ARROWS: usize = 60;
+
+/// Thesis Fig. 3.14: an axonometric 3D view of the DEM around the draped tether (true vertical
+/// scale), the tether in red, and at evenly spaced samples its Frenet-Serret normal (red) and the
+/// surface normal (green), each drawn one twentieth of the window's diagonal long. The terrain is
+/// the window of the grid holding the samples plus a margin of a tenth of its size, shaded by
+/// slope and drawn back to front. Returns `None` without samples.
+pub fn hill_view(d: &DemScenario, samples: &[StickingSample], title: &str) -> Option<String> {
+    use std::fmt::Write;
+    let g = d.grid.geometry();
+    let first = samples.first()?;
+    let (mut lo, mut hi) = (first.world, first.world);
+    for s in samples {
+        lo = lo.inf(&s.world);
+        hi = hi.sup(&s.world);
+    }
+    let margin = 0.1 * (hi.x - lo.x).max(hi.y - lo.y) + 2.0 * g.cell_size();
+    // Grid rows grow southwards: the window in grid indices, clamped to the grid.
+    let (r_a, c_a) = g.world_to_grid(&Point2::new(lo.x - margin, hi.y + margin));
+    let (r_b, c_b) = g.world_to_grid(&Point2::new(hi.x + margin, lo.y - margin));
+    let clamp = |v: f64, n: usize| (v.max(0.0) as usize).min(n.saturating_sub(1));
+    let (r0, r1) = (clamp(r_a.min(r_b), g.nrows), clamp(r_a.max(r_b), g.nrows));
+    let (c0, c1) = (clamp(c_a.min(c_b), g.ncols), clamp(c_a.max(c_b), g.ncols));
+    let stride = ((r1 - r0).max(c1 - c0) / HILL_VIEW_CELLS).max(1);
+    let rows: Vec<usize> = (r0..=r1).step_by(stride).collect();
+    let cols: Vec<usize> = (c0..=c1).step_by(stride).collect();
+    let point = |r: usize, c: usize| {
+        d.grid.height(r, c).map(|z| {
+            let p = g.cell_center(r, c);
+            Point3::new(p.x, p.y, z)
+        })
+    };
+    // View from the south-west, 30° above the horizon.
+    let (c30, s30) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let project = |q: &Point3<f64>| Point2::new((q.x - q.y) * c30, (q.x + q.y) * s30 * 0.5 + q.z);
+    let depth = |q: &Point3<f64>| q.x + q.y;
+    let mut quads: Vec<(f64, [Point3<f64>; 4], f64)> = Vec::new();
+    for w in rows.windows(2) {
+        for v in cols.windows(2) {
+            let corners = [
+                point(w[0], v[0]),
+                point(w[0], v[1]),
+                point(w[1], v[1]),
+                point(w[1], v[0]),
+            ];
+            let [Some(a), Some(b), Some(c), Some(e)] = corners else {
+                continue;
+            };
+            let n = (c - a).cross(&(b - e));
+            let cos_slope = (n.z.abs() / n.norm()).clamp(0.0, 1.0);
+            let centre = Point3::from((a.coords + b.coords + c.coords + e.coords) / 4.0);
+            quads.push((depth(&centre), [a, b, c, e], cos_slope));
+        }
+    }
+    // Back (north-east, large x + y) to front.
+    quads.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let arrow = (hi - lo).norm().max(g.cell_size()) / 20.0;
+    let every = samples.len().div_ceil(HILL_VIEW_ARROWS).max(1);
+    let mut extent: Vec<Point2<f64>> = quads
+        .iter()
+        .flat_map(|q| q.1.iter().map(project))
+        .chain(samples.iter().map(|s| project(&s.world)))
+        .collect();
+    for s in samples.iter().step_by(every) {
+        extent.push(project(&(s.world + s.surface_normal * arrow)));
+        if let Some(n) = s.curve_normal {
+            extent.push(project(&(s.world + n * arrow)));
+        }
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for p in &extent {
+        (x0, x1, y0, y1) = (x0.min(p.x), x1.max(p.x), y0.min(p.y), y1.max(p.y));
+    }
+    let size = 900.0;
+    let scale = size / (x1 - x0).max(y1 - y0).max(1e-9);
+    let (w, h) = ((x1 - x0) * scale + 40.0, (y1 - y0) * scale + 70.0);
+    let tx = |q: &Point3<f64>| {
+        let p = project(q);
+        format!(
+            "{:.2},{:.2}",
+            (p.x - x0) * scale + 20.0,
+            (y1 - p.y) * scale + 50.0
+        )
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w:.0}\" height=\"{h:.0}\" viewBox=\"0 0 {w:.0} {h:.0}\">"
+    );
+    let _ = writeln!(
+        out,
+        "<rect width=\"{w:.0}\" height=\"{h:.0}\" fill=\"white\"/>"
+    );
+    let _ = writeln!(
+        out,
+        "<text x=\"20\" y=\"28\" font-family=\"sans-serif\" font-size=\"15\">{}</text>",
+        title.replace('&', "&amp;").replace('<', "&lt;")
+    );
+    let _ = writeln!(out, "<g id=\"terrain\">");
+    for (_, q, cos_slope) in &quads {
+        let shade = (110.0 + 130.0 * cos_slope) as u8;
+        let pts: Vec<String> = q.iter().map(tx).collect();
+        let _ = writeln!(
+            out,
+            "<polygon points=\"{}\" fill=\"rgb({shade},{shade},{shade})\" stroke=\"rgb({shade},{shade},{shade})\" stroke-width=\"0.5\"/>",
+            pts.join(" ")
+        );
+    }
+    let _ = writeln!(out, "</g>\n<g id=\"tether\">");
+    let pts: Vec<String> = samples.iter().map(|s| tx(&s.world)).collect();
+    let _ = writeln!(
+        out,
+        "<polyline points=\"{}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"2.5\"/>",
+        pts.join(" ")
+    );
+    let _ = writeln!(out, "</g>\n<g id=\"normals\">");
+    for s in samples.iter().step_by(every) {
+        let _ = writeln!(
+            out,
+            "<polyline class=\"surface-normal\" points=\"{} {}\" stroke=\"#2ca02c\" stroke-width=\"1.5\" fill=\"none\"/>",
+            tx(&s.world),
+            tx(&(s.world + s.surface_normal * arrow))
+        );
+        if let Some(n) = s.curve_normal {
+            let _ = writeln!(
+                out,
+                "<polyline class=\"curve-normal\" points=\"{} {}\" stroke=\"#d62728\" stroke-width=\"1.5\" fill=\"none\"/>",
+                tx(&s.world),
+                tx(&(s.world + n * arrow))
+            );
+        }
+    }
+    let _ = writeln!(out, "</g>\n</svg>");
+    Some(out)
 }
 
 /// Thesis Fig. 3.15: `|φ|` along the tether's plan length, with the friction bound

@@ -3,7 +3,7 @@
 
 use rappel::dem::dem_scenario;
 use rappel::nalgebra::Point2;
-use rappel::sticking_profile::sticking_profile;
+use rappel::sticking_profile::{HILL_VIEW_ARROWS, hill_view, sticking_profile};
 use rappel::terrain::dem::GridGeometry;
 use rappel::terrain::esri_ascii::write_esri_ascii;
 use rappel::terrain::ingest::IngestOptions;
@@ -61,6 +61,49 @@ fn a_ridge_across_the_slope_holds_at_its_crest_with_the_closed_form_curvature() 
     );
     assert!(crest.may_stick);
     assert!((crest.phi.expect("curved").abs() - std::f64::consts::PI).abs() < 1e-6);
+    // Fig. 3.14's vectors at the crest: the surface normal is the slope's (tilted 20° from the
+    // vertical towards the fall line), and the tether's curve normal points straight into the
+    // ridge, against it.
+    let up = crest.surface_normal;
+    assert!((up.norm() - 1.0).abs() < 1e-12);
+    // (The nearest cell may lie half a cell off the crest, where the ridge tilts the ground by
+    // up to (cell / 2) / R more; twice that is allowed.)
+    assert!(
+        (up.z.acos() - slope.to_radians()).abs() < cell / radius,
+        "{up:?}"
+    );
+    assert!(
+        up.x.abs() < 1e-9 && up.y < 0.0,
+        "tilted towards the fall line (south): {up:?}"
+    );
+    let n = crest.curve_normal.expect("curved at the crest");
+    assert!((n.dot(&up) + 1.0).abs() < 1e-6, "{n:?} vs {up:?}");
+    // The sample's height is the DEM's: the planted plane plus the ridge's cap there.
+    let at = frame.to_world(&crest.at);
+    let dy = at.y - crest_north;
+    // The planted plane rises linearly northwards: read it off two of its cells.
+    let (top, bottom) = (g.cell_center(0, 0), g.cell_center(159, 0));
+    let (z_top, z_bottom) = (
+        plane.height(0, 0).expect("known"),
+        plane.height(159, 0).expect("known"),
+    );
+    let plane_height =
+        |p: &Point2<f64>| z_bottom + (p.y - bottom.y) * (z_top - z_bottom) / (top.y - bottom.y);
+    let cap = (radius * radius - dy * dy).max(0.0).sqrt() - (radius - rise);
+    let z_expected = plane_height(&at) + cap.max(0.0);
+    assert!(
+        (crest.world.z - z_expected).abs() < 0.5 * cell * grad,
+        "{} vs {z_expected}",
+        crest.world.z
+    );
+    // The 3D view draws the terrain, the tether, and the normals: one surface normal per shown
+    // sample, a curve normal only where the tether is curved, no more than the documented cap.
+    let svg = hill_view(&d, &samples, "ridge").expect("samples");
+    let surface = svg.matches("class=\"surface-normal\"").count();
+    let curve = svg.matches("class=\"curve-normal\"").count();
+    assert!((1..=HILL_VIEW_ARROWS).contains(&surface), "{surface}");
+    assert!(curve >= 1 && curve < surface, "{curve} of {surface}");
+    assert!(svg.contains("<g id=\"terrain\">\n<polygon"));
     // Off the ridge the draped tether is straight: nothing to stick on.
     let flat: Vec<_> = samples
         .iter()
