@@ -50,6 +50,9 @@ pub struct Args {
     /// Fewest cells of a PTFO patch (default 4).
     #[arg(long, value_name = "N", requires = "ptfo_friction")]
     ptfo_min_cells: Option<usize>,
+    /// Also label saddle cells convex along the fall line as PTFO cells (docs/friction.md).
+    #[arg(long, requires = "ptfo_friction")]
+    ptfo_saddles: bool,
     /// Draw the convexity map (thesis Figs. 3.11-3.12: convex, concave, saddle cells, saddles'
     /// convex directions) under the PTFO convexity tolerance to this SVG file.
     #[arg(long, value_name = "OUT")]
@@ -205,6 +208,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             if let Some(k) = args.ptfo_curvature {
                 opts.min_curvature = Some(k);
             }
+            opts.saddles = args.ptfo_saddles;
             if let Some(n) = args.ptfo_min_cells {
                 opts.min_cells = n;
             }
@@ -267,10 +271,18 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
         Some(l) => {
             crate::outln!(
-                "PTFOs              {} (from {} convex patches of {} convex cells)",
+                "PTFOs              {} (from {} convex patches of {} convex cells{})",
                 l.ptfos,
                 l.patches,
-                l.convex_cells
+                l.convex_cells,
+                if args.ptfo_saddles {
+                    format!(
+                        " and {} saddle cells convex along the fall line",
+                        l.saddle_cells
+                    )
+                } else {
+                    String::new()
+                }
             );
             for why in &l.dropped {
                 crate::outln!("  dropped          {why}");

@@ -13,6 +13,12 @@
 //!    does not depend on the slope the hump sits on: the signs of the principal curvatures are
 //!    those of the height's Hessian (the first fundamental form is positive definite), and a
 //!    plane adds nothing to the Hessian.
+//!    With [`PtfoLabelOptions::saddles`] a **saddle** cell is a candidate too when the fall line
+//!    lies in its convex directions ([`rappel_mechanics::curvature::ConvexDirections`], the
+//!    re-derived eq. 3.31): a descending tether runs down the fall line between its anchors, so
+//!    that is the direction in which it may press on the saddle; a saddle convex only across the
+//!    fall line is left out. The planner then decides each PTFO on the tether's actual contact
+//!    with the height patch (Alg. 9), whatever its direction there.
 //! 2. Convex cells whose centre lies in free space (not in a geometric obstacle, not outside the
 //!    map), 8-connected, make a patch; patches of fewer than `min_cells` cells are dropped.
 //! 3. The patch's outline is the convex hull of its cells' corners in the planning frame (the
@@ -65,6 +71,9 @@ pub struct PtfoLabelOptions {
     pub min_curvature: Option<f64>,
     /// Fewest cells of a patch (>= 1). Default [`DEFAULT_MIN_CELLS`].
     pub min_cells: usize,
+    /// Also label saddle cells that are convex along the fall line (module docs, step 1).
+    /// Default `false`.
+    pub saddles: bool,
 }
 
 impl PtfoLabelOptions {
@@ -74,6 +83,7 @@ impl PtfoLabelOptions {
             friction,
             min_curvature: None,
             min_cells: DEFAULT_MIN_CELLS,
+            saddles: false,
         }
     }
 }
@@ -83,6 +93,9 @@ impl PtfoLabelOptions {
 pub struct PtfoLabels {
     /// Convex cells in free space.
     pub convex_cells: usize,
+    /// Saddle cells in free space convex along the fall line (counted only with
+    /// [`PtfoLabelOptions::saddles`]; they join the convex cells' patches).
+    pub saddle_cells: usize,
     /// Patches of at least `min_cells` cells.
     pub patches: usize,
     /// PTFOs added to the scenario.
@@ -286,7 +299,8 @@ pub fn convexity_picture(d: &DemScenario, min_curvature: Option<f64>, title: &st
     pic.finish(title)
 }
 
-/// The convex cells in free space, grouped 8-connected into patches of at least `min_cells`,
+/// The convex cells (and with [`PtfoLabelOptions::saddles`] the saddle cells convex along the
+/// fall line) in free space, grouped 8-connected into patches of at least `min_cells`,
 /// largest first.
 fn convex_patches(
     d: &DemScenario,
@@ -294,10 +308,30 @@ fn convex_patches(
     labels: &mut PtfoLabels,
 ) -> Vec<Vec<(usize, usize)>> {
     let g = d.grid.geometry();
-    let Some((_, classes)) = convexity(&d.grid, options.min_curvature) else {
+    let Some((map, classes)) = convexity(&d.grid, options.min_curvature) else {
         return Vec::new();
     };
     let frame = &d.ingested.frame;
+    let tol = tolerance(&d.grid, options.min_curvature);
+    // Downhill in the grid's (column, row) frame: rows run south, so north is -y.
+    let downhill = {
+        let w = frame.to_world(&Point2::new(0.0, 0.0)) - frame.to_world(&Point2::new(0.0, 1.0));
+        nalgebra::Vector2::new(w.x, -w.y)
+    };
+    let saddle_along_fall_line = |r: usize, c: usize| {
+        let Some(k) = map.get(r, c) else {
+            return false;
+        };
+        let Ok(Some(dirs)) = k.convex_directions(tol) else {
+            return false;
+        };
+        // The fall line lifted into the tangent plane: z = h_x dx + h_y dy, with the height's
+        // gradient from the normal (-h_x, -h_y, 1).
+        let n = k.normal.into_inner();
+        let (hx, hy) = (-n.x / n.z, -n.y / n.z);
+        let t = nalgebra::Vector3::new(downhill.x, downhill.y, hx * downhill.x + hy * downhill.y);
+        dirs.contains(&t)
+    };
     let scenario_map = &d.scenario.map;
     let free = |r: usize, c: usize| {
         let p = frame.to_planning(&g.cell_center(r, c));
@@ -310,9 +344,17 @@ fn convex_patches(
     let mut convex = vec![false; g.len()];
     for r in 0..g.nrows {
         for c in 0..g.ncols {
-            if classes[(r, c)] == Some(Convexity::Convex) && free(r, c) {
+            let class = classes[(r, c)];
+            if class == Some(Convexity::Convex) && free(r, c) {
                 convex[g.index(r, c)] = true;
                 labels.convex_cells += 1;
+            } else if options.saddles
+                && class == Some(Convexity::Saddle)
+                && saddle_along_fall_line(r, c)
+                && free(r, c)
+            {
+                convex[g.index(r, c)] = true;
+                labels.saddle_cells += 1;
             }
         }
     }
