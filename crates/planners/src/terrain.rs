@@ -19,6 +19,16 @@ use nalgebra::Point2;
 use rappel_mechanics::anchor_traversability::{AnchorTraversability, TetherLimit};
 use rappel_mechanics::robot::{RobotError, SlopePlane};
 use rappel_terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
+use rappel_terrain::surface::Terrain;
+
+/// Largest angle, radians, between a surface's unfolded fall line and the frame's `-y` that
+/// [`PlaneSeries::from_terrain`] accepts (charts are built in floating point: a few ulps of a
+/// unit vector); also the gravity component below which a surface counts as level.
+pub const FALL_LINE_TOLERANCE: f64 = 1e-9;
+
+/// Largest difference in `y` between the two ends of a shared edge, relative to the planning
+/// range's height, that [`PlaneSeries::from_terrain`] accepts as a level line.
+pub const EDGE_LEVEL_TOLERANCE: f64 = 1e-12;
 
 /// Why a plane series cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -26,6 +36,17 @@ pub enum TerrainError {
     /// The series is malformed (gap, empty band, slope or friction out of range).
     #[error(transparent)]
     Planes(#[from] PlaneSeriesError),
+    /// A [`Terrain`] that is not a series of bands down one common fall line (see
+    /// [`PlaneSeries::from_terrain`]): what is wrong and where.
+    #[error(
+        "surface {surface}: {problem} (the Chapter-2 planner needs planes down one common fall line, thesis §2.1.2)"
+    )]
+    NotABandSeries {
+        /// The surface (or, for an edge problem, the surface after the edge).
+        surface: usize,
+        /// What is wrong.
+        problem: String,
+    },
     /// The traversability model refuses a plane (for example a slope above 89 degrees).
     #[error("plane {plane}: {source}")]
     Plane {
@@ -79,6 +100,119 @@ impl PlaneSeries {
             planes: planes.to_vec(),
             limits,
         })
+    }
+
+    /// The plane series of any [`Terrain`] whose surfaces are bands down one common fall line,
+    /// the frame's `-y` (thesis §2.1.2: a plane series developed about its edges; the
+    /// plane-series terrain and Kumar's multi-slope chains with a common fall line are such
+    /// terrains), with each surface's tether limit under `model`. The top band reaches up to
+    /// `y_range.1`, the bottom one down to `y_range.0` (the map's extent: the trait does not
+    /// bound a terrain). Refused with [`TerrainError::NotABandSeries`] when a sloping surface's
+    /// fall line, unfolded, is not `-y` within [`FALL_LINE_TOLERANCE`], or an edge is not a level
+    /// line `y = const` within [`EDGE_LEVEL_TOLERANCE`] of the range, or the edges do not step
+    /// down the frame in chain order.
+    ///
+    /// ```
+    /// use rappel_terrain::plane_series::TerrainPlane;
+    /// use rappel_terrain::plane_series_terrain::PlaneSeriesTerrain;
+    /// use rappel_mechanics::friction_cone::TetherFrictionCone;
+    /// use rappel_planners::terrain::PlaneSeries;
+    /// let planes = [TerrainPlane::new(100.0, 50.0, 20.0, 0.4), TerrainPlane::new(50.0, 0.0, 45.0, 0.4)];
+    /// let t = PlaneSeriesTerrain::new(&planes, (0.0, 40.0), vec![]).unwrap();
+    /// let from_trait = PlaneSeries::from_terrain(&t, (0.0, 100.0), &TetherFrictionCone).unwrap();
+    /// assert_eq!(from_trait.limits(), PlaneSeries::new(&planes, &TetherFrictionCone).unwrap().limits());
+    /// ```
+    pub fn from_terrain<T: Terrain + ?Sized>(
+        terrain: &T,
+        y_range: (f64, f64),
+        model: &dyn AnchorTraversability,
+    ) -> Result<PlaneSeries, TerrainError> {
+        let n = terrain.surface_count();
+        let bad =
+            |surface: usize, problem: String| TerrainError::NotABandSeries { surface, problem };
+        if n == 0 {
+            return Err(bad(0, "the terrain has no surface".into()));
+        }
+        let span = y_range.1 - y_range.0;
+        if !(span.is_finite() && span > 0.0) {
+            return Err(bad(
+                0,
+                format!("the y range {y_range:?} is empty or not finite"),
+            ));
+        }
+        for s in 0..n {
+            let normal = terrain.normal(s);
+            // Gravity's component in the surface's plane points down its fall line.
+            let downhill = normal * normal.z - nalgebra::Vector3::z();
+            if downhill.norm() <= FALL_LINE_TOLERANCE {
+                continue; // level: no fall line
+            }
+            let c = terrain.chart(s);
+            let d2 = c.u2 * downhill.dot(&c.u3) + c.w2 * downhill.dot(&c.w3);
+            let off = d2.x.atan2(-d2.y).abs();
+            if !(off <= FALL_LINE_TOLERANCE) {
+                return Err(bad(
+                    s,
+                    format!(
+                        "its fall line unfolds {:.6}° away from the frame's -y",
+                        off.to_degrees()
+                    ),
+                ));
+            }
+        }
+        let edges = terrain.edges();
+        if edges.len() + 1 != n {
+            return Err(bad(
+                0,
+                format!(
+                    "{} surfaces but {} shared edges (a chain has one fewer)",
+                    n,
+                    edges.len()
+                ),
+            ));
+        }
+        let mut tops = vec![y_range.1];
+        for (k, e) in edges.iter().enumerate() {
+            if e.from != k || e.to != k + 1 {
+                return Err(bad(
+                    k + 1,
+                    format!(
+                        "edge {k} joins {} and {}, not {k} and {}",
+                        e.from,
+                        e.to,
+                        k + 1
+                    ),
+                ));
+            }
+            if (e.a.y - e.b.y).abs() > EDGE_LEVEL_TOLERANCE * span {
+                return Err(bad(
+                    k + 1,
+                    format!(
+                        "its upper edge runs from y {} to y {}, not level",
+                        e.a.y, e.b.y
+                    ),
+                ));
+            }
+            let y = 0.5 * (e.a.y + e.b.y);
+            if !(y < *tops.last().unwrap_or(&f64::INFINITY) && y > y_range.0) {
+                return Err(bad(
+                    k + 1,
+                    format!(
+                        "its upper edge at y {y} is not below the one above and inside the range"
+                    ),
+                ));
+            }
+            tops.push(y);
+        }
+        let planes: Vec<TerrainPlane> = (0..n)
+            .map(|s| TerrainPlane {
+                y_top: tops[s],
+                y_bottom: tops.get(s + 1).copied().unwrap_or(y_range.0),
+                slope_deg: terrain.slope_rad(s).to_degrees(),
+                friction: terrain.friction(s),
+            })
+            .collect();
+        PlaneSeries::new(&planes, model)
     }
 
     /// Flat ground: no planes, tether-free everywhere.
