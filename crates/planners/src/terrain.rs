@@ -150,7 +150,7 @@ impl PlaneSeries {
             let c = terrain.chart(s);
             let d2 = c.u2 * downhill.dot(&c.u3) + c.w2 * downhill.dot(&c.w3);
             let off = d2.x.atan2(-d2.y).abs();
-            if !(off <= FALL_LINE_TOLERANCE) {
+            if off.is_nan() || off > FALL_LINE_TOLERANCE {
                 return Err(bad(
                     s,
                     format!(
