@@ -42,6 +42,7 @@ pub mod conic;
 pub mod curvature;
 pub mod darboux;
 pub mod four_wheel;
+pub mod four_wheel_settle;
 pub mod friction;
 pub mod friction_cone;
 pub mod heavy_rope;

@@ -151,18 +151,67 @@ impl SettledPose {
         friction: f64,
         anchor: Option<(&Point3<f64>, Option<f64>)>,
     ) -> Result<PlacedRobot, RobotError> {
-        if !(friction.is_finite() && friction >= 0.0) {
-            return Err(RobotError::Parameter("friction must be finite and >= 0"));
-        }
-        let to_world = |q: &Point3<f64>| self.origin + self.rotation * q.coords;
-        let anchor_robot =
-            anchor.map(|(a, _)| Point3::from(self.rotation.inverse() * (a - self.origin)));
-        let config = model.configuration(anchor_robot.as_ref())?;
-        let forward = self.rotation * Vector3::x();
-        let frame = |at: &Point3<f64>| -> Result<Rotation3<f64>, RobotError> {
+        place_on_ground(
+            GroundContacts {
+                origin: self.origin,
+                rotation: self.rotation,
+                contacts: &self.contacts,
+                replaces: 2,
+            },
+            model,
+            ground,
+            friction,
+            anchor,
+        )
+    }
+}
+
+/// A settled pose's placement data for [`place_on_ground`]: the robot frame, the settled ground
+/// contacts (world), and how many of the model's own contacts they stand in for (the first
+/// `replaces`; the model's further contacts are carried by the pose).
+#[derive(Debug, Clone, Copy)]
+pub struct GroundContacts<'a> {
+    /// Robot-frame origin in the world.
+    pub origin: Point3<f64>,
+    /// Robot frame to world rotation.
+    pub rotation: Rotation3<f64>,
+    /// The settled contacts on the ground, world.
+    pub contacts: &'a [Point3<f64>],
+    /// How many of the model's contacts (from the first) the settled ones replace.
+    pub replaces: usize,
+}
+
+/// A settled robot as the stability QP sees it (Paton §IV-C), for any settler: the model's masses
+/// and tether exit carried by the pose, the tether toward the last anchor `anchor` (world;
+/// `None`: untethered) with its optional tension limit, one contact per settled ground contact
+/// with its frame's `z` along the ground's distance gradient there (probed [`CONTACT_PROBE`]
+/// above it) and `x` along the robot's forward axis, and the model's contacts beyond the first
+/// `replaces` carried by the pose (on the settled pose's ground plane).
+pub fn place_on_ground<D: SignedDistance + ?Sized>(
+    pose: GroundContacts<'_>,
+    model: &dyn RobotModel,
+    ground: &D,
+    friction: f64,
+    anchor: Option<(&Point3<f64>, Option<f64>)>,
+) -> Result<PlacedRobot, RobotError> {
+    let GroundContacts {
+        origin,
+        rotation,
+        contacts: settled,
+        replaces,
+    } = pose;
+    if !(friction.is_finite() && friction >= 0.0) {
+        return Err(RobotError::Parameter("friction must be finite and >= 0"));
+    }
+    let to_world = |q: &Point3<f64>| origin + rotation * q.coords;
+    let anchor_robot = anchor.map(|(a, _)| Point3::from(rotation.inverse() * (a - origin)));
+    let config = model.configuration(anchor_robot.as_ref())?;
+    let forward = rotation * Vector3::x();
+    let frame =
+        |at: &Point3<f64>| -> Result<Rotation3<f64>, RobotError> {
             // Evaluated just above the contact: at the contact itself the direction from the
             // closest point is rounding noise.
-            let probe = at + self.rotation * Vector3::z() * CONTACT_PROBE;
+            let probe = at + rotation * Vector3::z() * CONTACT_PROBE;
             let g = ground
                 .distance_gradient(&probe)
                 .and_then(|g| g.try_normalize(1e-12))
@@ -174,51 +223,50 @@ impl SettledPose {
             )?;
             Ok(Rotation3::from_basis_unchecked(&[x, g.cross(&x), g]))
         };
-        let mut contacts = Vec::with_capacity(config.contacts.len());
-        for c in &self.contacts {
-            contacts.push(ContactFrame {
-                position: *c,
-                rotation: frame(c)?,
-            });
-        }
-        for c in config.contacts.iter().skip(2) {
-            contacts.push(ContactFrame {
-                position: to_world(c),
-                rotation: self.rotation,
-            });
-        }
-        let tether = match (anchor, anchor_robot) {
-            (Some((a, max_tension)), Some(_)) => {
-                let exit = to_world(&config.tether_exit);
-                let direction = Unit::try_new(a - exit, MIN_TETHER_LENGTH)
-                    .ok_or(RobotError::Anchor("anchor coincides with the tether exit"))?;
-                Some(TetherLine {
-                    exit,
-                    direction,
-                    max_tension,
-                })
-            }
-            _ => None,
-        };
-        Ok(PlacedRobot {
-            masses: config
-                .masses
-                .iter()
-                .map(|m| PointMass {
-                    mass: m.mass,
-                    position: to_world(&m.position),
-                })
-                .collect(),
-            contacts,
-            tether,
-            friction,
-            moment_coefficient: model.contact_moment_coefficient(),
-            reference: self.origin,
-        })
+    let mut contacts = Vec::with_capacity(settled.len() + config.contacts.len());
+    for c in settled {
+        contacts.push(ContactFrame {
+            position: *c,
+            rotation: frame(c)?,
+        });
     }
+    for c in config.contacts.iter().skip(replaces) {
+        contacts.push(ContactFrame {
+            position: to_world(c),
+            rotation,
+        });
+    }
+    let tether = match (anchor, anchor_robot) {
+        (Some((a, max_tension)), Some(_)) => {
+            let exit = to_world(&config.tether_exit);
+            let direction = Unit::try_new(a - exit, MIN_TETHER_LENGTH)
+                .ok_or(RobotError::Anchor("anchor coincides with the tether exit"))?;
+            Some(TetherLine {
+                exit,
+                direction,
+                max_tension,
+            })
+        }
+        _ => None,
+    };
+    Ok(PlacedRobot {
+        masses: config
+            .masses
+            .iter()
+            .map(|m| PointMass {
+                mass: m.mass,
+                position: to_world(&m.position),
+            })
+            .collect(),
+        contacts,
+        tether,
+        friction,
+        moment_coefficient: model.contact_moment_coefficient(),
+        reference: origin,
+    })
 }
 
-fn dist<D: SignedDistance + ?Sized>(d: &D, q: &Point3<f64>) -> Result<f64, SettleError> {
+pub(crate) fn dist<D: SignedDistance + ?Sized>(d: &D, q: &Point3<f64>) -> Result<f64, SettleError> {
     d.signed_distance(q).ok_or(SettleError::NoGround {
         x: q.x,
         y: q.y,
@@ -245,6 +293,93 @@ pub fn wheel_points(p: &AxelParams) -> [Vec<Point3<f64>>; 2] {
     [circle(-0.5 * p.track), circle(0.5 * p.track)]
 }
 
+/// The ground under a footprint: the ground point under the start, the footprint normal, and
+/// the robot frame on it.
+pub(crate) struct Footprint {
+    /// The ground point under `(x, y)`.
+    pub ground: Point3<f64>,
+    /// The upward footprint normal.
+    pub normal: Vector3<f64>,
+    /// The robot frame: `x` forward in the footprint plane along the yaw (seen from above), `z`
+    /// the normal.
+    pub base: Rotation3<f64>,
+}
+
+/// The ground point straight below `q` by sphere tracing (at most [`MAX_DROP_STEPS`] steps).
+pub(crate) fn drop_vertically<D: SignedDistance + ?Sized>(
+    ground: &D,
+    q: Point3<f64>,
+    tolerance: f64,
+) -> Result<Point3<f64>, SettleError> {
+    let reach = q.z.abs() + 1.0;
+    let mut q = q;
+    for _ in 0..MAX_DROP_STEPS {
+        let d = dist(ground, &q)?;
+        if d.abs() < tolerance {
+            return Ok(q);
+        }
+        q.z -= d;
+    }
+    Err(SettleError::NoContact(reach))
+}
+
+/// Paton §IV-A's first step for a footprint of half-lengths `half = [forward, sideways]` at
+/// ground point `(x, y)` with heading `yaw`: the ground under it (dropped from `z_top`), the
+/// least-squares plane `z = a x + b y + c` through the ground points under a 3 x 3 grid over the
+/// footprint (in coordinates centred on the start point), its normal (refused beyond
+/// `max_slope`) and the robot frame on it.
+pub(crate) fn footprint<D: SignedDistance + ?Sized>(
+    ground: &D,
+    x: f64,
+    y: f64,
+    z_top: f64,
+    yaw: f64,
+    half: [f64; 2],
+    p: &SettleParams,
+) -> Result<Footprint, SettleError> {
+    let pm = drop_vertically(ground, Point3::new(x, y, z_top), p.contact_tolerance)?;
+    let (s, c) = yaw.sin_cos();
+    let fwd = Vector3::new(c, s, 0.0);
+    let left = Vector3::new(-s, c, 0.0);
+    let mut ata = nalgebra::Matrix3::zeros();
+    let mut atb = Vector3::zeros();
+    for i in [-1.0, 0.0, 1.0] {
+        for j in [-1.0, 0.0, 1.0] {
+            let q = pm + fwd * (i * half[0]) + left * (j * half[1]);
+            let g = drop_vertically(ground, Point3::new(q.x, q.y, z_top), p.contact_tolerance)?;
+            let row = Vector3::new(g.x - pm.x, g.y - pm.y, 1.0);
+            ata += row * row.transpose();
+            atb += row * (g.z - pm.z);
+        }
+    }
+    let abc = ata.lu().solve(&atb).ok_or(SettleError::SlopeBeyondModel(
+        "no surface normal over the footprint",
+    ))?;
+    let n = Vector3::new(-abc.x, -abc.y, 1.0).normalize();
+    if n.z.clamp(-1.0, 1.0).acos() > p.max_slope {
+        return Err(SettleError::SlopeBeyondModel(
+            "ground steeper than max_slope",
+        ));
+    }
+    Ok(Footprint {
+        ground: pm,
+        normal: n,
+        base: frame_on_plane(yaw, &n)?,
+    })
+}
+
+/// The robot frame on a plane of upward normal `n` with heading `yaw`: `x` forward in the plane,
+/// its horizontal part along the yaw; `z` the normal.
+pub(crate) fn frame_on_plane(yaw: f64, n: &Vector3<f64>) -> Result<Rotation3<f64>, SettleError> {
+    let (s, c) = yaw.sin_cos();
+    let fwd = Vector3::new(c, s, 0.0);
+    let xa = (fwd - Vector3::z() * (fwd.dot(n) / n.z))
+        .try_normalize(1e-9)
+        .ok_or(SettleError::SlopeBeyondModel("heading along the normal"))?;
+    let ya = n.cross(&xa);
+    Ok(Rotation3::from_basis_unchecked(&[xa, ya, *n]))
+}
+
 /// Settle Axel at ground point `(x, y)` (the ground is found by sphere tracing down from `z_top`)
 /// with heading `yaw` radians from world `+x`, counter-clockwise.
 pub fn settle_axel<D: SignedDistance + ?Sized>(
@@ -269,52 +404,19 @@ pub fn settle_axel<D: SignedDistance + ?Sized>(
             "delta, tolerance, roll and slope must be positive, body_radius below the wheel radius, body_points >= 2, inputs finite",
         ));
     }
-    let reach = z_top.abs() + 1.0;
-    let down = |q: Point3<f64>| -> Result<Point3<f64>, SettleError> {
-        let mut q = q;
-        for _ in 0..MAX_DROP_STEPS {
-            let d = dist(ground, &q)?;
-            if d.abs() < p.contact_tolerance {
-                return Ok(q);
-            }
-            q.z -= d;
-        }
-        Err(SettleError::NoContact(reach))
-    };
-    let pm = down(Point3::new(x, y, z_top))?;
-    // Footprint normal: the least-squares plane `z = a x + b y + c` through the ground points
-    // under a 3 x 3 grid over the footprint (track by 2 wheel radii), in coordinates centred on
-    // the start point.
-    let (s, c) = yaw.sin_cos();
-    let fwd = Vector3::new(c, s, 0.0);
-    let left = Vector3::new(-s, c, 0.0);
-    let mut ata = nalgebra::Matrix3::zeros();
-    let mut atb = Vector3::zeros();
-    for i in [-1.0, 0.0, 1.0] {
-        for j in [-1.0, 0.0, 1.0] {
-            let q = pm + fwd * (i * axel.wheel_radius) + left * (j * 0.5 * axel.track);
-            let g = down(Point3::new(q.x, q.y, z_top))?;
-            let row = Vector3::new(g.x - pm.x, g.y - pm.y, 1.0);
-            ata += row * row.transpose();
-            atb += row * (g.z - pm.z);
-        }
-    }
-    let abc = ata.lu().solve(&atb).ok_or(SettleError::SlopeBeyondModel(
-        "no surface normal over the footprint",
-    ))?;
-    let n = Vector3::new(-abc.x, -abc.y, 1.0).normalize();
-    if n.z.clamp(-1.0, 1.0).acos() > p.max_slope {
-        return Err(SettleError::SlopeBeyondModel(
-            "ground steeper than max_slope",
-        ));
-    }
-    // The forward axis: in the ground plane, seen from above along the yaw (its horizontal part
-    // is parallel to `fwd`).
-    let xa = (fwd - Vector3::z() * (fwd.dot(&n) / n.z))
-        .try_normalize(1e-9)
-        .ok_or(SettleError::SlopeBeyondModel("heading along the normal"))?;
-    let ya = n.cross(&xa);
-    let base = Rotation3::from_basis_unchecked(&[xa, ya, n]);
+    let Footprint {
+        ground: pm,
+        normal: n,
+        base,
+    } = footprint(
+        ground,
+        x,
+        y,
+        z_top,
+        yaw,
+        [axel.wheel_radius, 0.5 * axel.track],
+        p,
+    )?;
     let wheels = wheel_points(axel);
     let max_fall = p.delta + 2.0 * axel.wheel_radius + axel.track;
     // Drop at roll `phi` (about the robot x axis through the origin): the origin and the lowest
