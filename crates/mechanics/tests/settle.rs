@@ -252,3 +252,37 @@ fn settled_stability_matches_planar_placement() {
 fn plane_mesh_b(b: f64) -> TriMesh {
     plane(0.0, b)
 }
+
+/// A horizontal cylinder of radius `r` along the world x axis (axis at the origin): the exact
+/// signed distance `|(y, z)| - r`.
+struct Cylinder(f64);
+
+impl rappel_terrain::surface::SignedDistance for Cylinder {
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
+        Some((q.y * q.y + q.z * q.z).sqrt() - self.0)
+    }
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<nalgebra::Vector3<f64>> {
+        nalgebra::Vector3::new(0.0, q.y, q.z).try_normalize(0.0)
+    }
+}
+
+/// Axel driving along the top of a large cylinder (a log or a rounded ridge crest, along the
+/// heading): each wheel circle, in a plane `y = ±track/2`, rests on the cylinder's line there at
+/// height `sqrt(R² - (track/2)²)` under its lowest point; the body stays level.
+#[test]
+fn on_a_cylinder_the_wheels_touch_where_geometry_puts_them() {
+    let axel = AxelParams::default();
+    let p = SettleParams::default();
+    for r in [2.0, 5.0, 20.0] {
+        let ground = Cylinder(r);
+        let pose = settle_axel(&ground, &axel, 0.3, 0.0, r + 3.0, 0.0, &p).expect("settles");
+        let h = (r * r - 0.25 * axel.track * axel.track).sqrt();
+        for (c, side) in pose.contacts.iter().zip([-1.0, 1.0]) {
+            assert!((c.y - side * 0.5 * axel.track).abs() < 1e-6, "R {r}: {c:?}");
+            assert!((c.z - h).abs() < 1e-6, "R {r}: {c:?} vs {h}");
+            assert!((c.x - 0.3).abs() < 1e-6, "R {r}: {c:?}");
+        }
+        assert!(pose.roll().abs() < 1e-9 && pose.pitch().abs() < 1e-9);
+        assert!((pose.origin.z - h).abs() < 1e-6);
+    }
+}
