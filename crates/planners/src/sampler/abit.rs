@@ -17,7 +17,7 @@
 //! 6. **Histories.** The motion extends the parent's history; a child whose history is already
 //!    set (in the tree, or copied at sampling) accepts only a parent whose extension equals it:
 //!    no rewiring across incompatible histories. A fraction `history_copy_fraction` of new
-//!    samples copy the history of a random one of their k nearest tree states. After each
+//!    samples copy one of the distinct histories of their k nearest tree states. After each
 //!    improved solution a fresh goal state with undetermined history is added.
 //!
 //! Vertices are never pruned (ids stay stable); informed sampling keeps new density where it
@@ -203,6 +203,12 @@ where
         Ok(self.status())
     }
 
+    /// The graph, for white-box tests.
+    #[cfg(test)]
+    pub(crate) fn graph(&self) -> &Graph<S::State, V::History, K> {
+        &self.graph
+    }
+
     /// The current best solution and statistics.
     pub fn status(&self) -> PlannerStatus<S::State, V::History> {
         let solution = self.best_goal.map(|g| {
@@ -286,26 +292,32 @@ where
     }
 
     /// Queues the outgoing edges of tree state `v` that could improve their child and the
-    /// solution.
+    /// solution, and all of `v`'s tree edges (its children may have left its k nearest as the
+    /// graph grew, yet the search must reach them to repair their subtrees).
     fn expand(&mut self, v: u32) {
         let gv = self.graph.nodes[v as usize].g;
         self.expanded_at[v as usize] = gv;
+        for i in 0..self.graph.nodes[v as usize].children.len() {
+            let x = self.graph.nodes[v as usize].children[i];
+            let key = gv + self.c_hat(v, x) + self.inflation * self.h(x);
+            self.queue.push(Reverse((Key(key), v, x)));
+        }
         let key = self.space.key(&self.graph.nodes[v as usize].state);
         for x in self.graph.near(&key, self.k() + 1) {
             if x == v || x == self.start {
                 continue;
             }
             let node = &self.graph.nodes[x as usize];
-            let tree_edge = node.parent == Some(v);
+            if node.parent == Some(v) {
+                continue;
+            }
             let c = self.c_hat(v, x);
             let h = self.h(x);
-            if !tree_edge {
-                if gv + c + h >= self.best_cost || gv + c >= node.g {
-                    continue;
-                }
-                if matches!(self.motions.get(&(v, x)), Some(None)) {
-                    continue;
-                }
+            if gv + c + h >= self.best_cost || gv + c >= node.g {
+                continue;
+            }
+            if matches!(self.motions.get(&(v, x)), Some(None)) {
+                continue;
             }
             self.queue
                 .push(Reverse((Key(gv + c + self.inflation * h), v, x)));
@@ -443,18 +455,22 @@ where
         None
     }
 
-    /// The history of a random one of the k nearest tree states (Paton §V-A), if any.
+    /// A history drawn uniformly from the distinct histories of the k nearest tree states
+    /// (Paton §V-A), so that a minority history in a region is copied as often as the majority.
     fn neighbour_history(&mut self, key: &[f64; K]) -> Option<V::History> {
-        let candidates: Vec<u32> = self
-            .graph
-            .near(key, self.k())
-            .into_iter()
-            .filter(|&i| self.graph.nodes[i as usize].in_tree())
-            .collect();
-        if candidates.is_empty() {
+        let mut distinct: Vec<V::History> = Vec::new();
+        for i in self.graph.near(key, self.k()) {
+            if let Some(h) = &self.graph.nodes[i as usize].history
+                && self.graph.nodes[i as usize].in_tree()
+                && !distinct.contains(h)
+            {
+                distinct.push(h.clone());
+            }
+        }
+        if distinct.is_empty() {
             return None;
         }
-        let pick = candidates[self.rng.random_range(0..candidates.len())];
-        self.graph.nodes[pick as usize].history.clone()
+        let pick = self.rng.random_range(0..distinct.len());
+        Some(distinct.swap_remove(pick))
     }
 }

@@ -91,17 +91,17 @@ fn point_segment<const D: usize>(p: &[f64; D], a: &[f64; D], b: &[f64; D]) -> f6
 
 /// Re-checks a path without the planner's validator: every segment stays out of every obstacle
 /// eroded by half a check step (a discretely checked segment can clip no deeper), the path
-/// starts and ends where asked, and its length equals the reported cost.
-pub(crate) fn recheck<const D: usize>(
+/// starts and ends where asked, and its length equals the reported cost; returns the length.
+pub(crate) fn recheck_geometry<const D: usize>(
     w: &ObstacleWorld<D>,
-    st: &PlannerStatus<[f64; D], ()>,
+    path: &[[f64; D]],
+    cost: f64,
 ) -> f64 {
-    let sol = st.solution.as_ref().expect("a solution");
-    assert_eq!(sol.path.first(), Some(&w.start));
-    assert_eq!(sol.path.last(), Some(&w.goal));
+    assert_eq!(path.first(), Some(&w.start));
+    assert_eq!(path.last(), Some(&w.goal));
     let half = 0.5 * w.step();
     let mut len = 0.0;
-    for s in sol.path.windows(2) {
+    for s in path.windows(2) {
         let (a, b) = (&s[0], &s[1]);
         assert!(w.space.contains(a) && w.space.contains(b));
         len += (0..D).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
@@ -125,11 +125,16 @@ pub(crate) fn recheck<const D: usize>(
         }
     }
     assert!(
-        (len - sol.cost).abs() <= 1e-9 * len.max(1.0),
-        "length {len} != cost {}",
-        sol.cost
+        (len - cost).abs() <= 1e-9 * len.max(1.0),
+        "length {len} != cost {cost}"
     );
     len
+}
+
+/// [`recheck_geometry`] of a planner's solution.
+fn recheck<const D: usize>(w: &ObstacleWorld<D>, st: &PlannerStatus<[f64; D], ()>) -> f64 {
+    let sol = st.solution.as_ref().expect("a solution");
+    recheck_geometry(w, &sol.path, sol.cost)
 }
 
 fn plan<const D: usize>(
