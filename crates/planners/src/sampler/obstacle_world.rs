@@ -78,10 +78,10 @@ impl<const D: usize> MotionValidator<RealVectorSpace<D>, D> for ObstacleWorld<D>
 
     fn motion(&self, from: &[f64; D], _history: &(), to: &[f64; D]) -> Option<(f64, ())> {
         let len = euclidean(from, to);
-        if !self.state_valid(to) {
+        if !self.state_valid(to) || !self.space.contains(from) {
             return None;
         }
-        // Bounded: n <= length / step + 1, and length <= extent inside the bounds.
+        // Bounded: both ends lie in the bounds, so length <= diagonal and n <= 1 / resolution + 1.
         let n = (len / self.step()).ceil().max(1.0) as usize;
         for j in 1..n {
             let p = self.space.interpolate(from, to, j as f64 / n as f64);
