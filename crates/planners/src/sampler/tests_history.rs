@@ -206,3 +206,4 @@ fn tree_histories_are_the_extensions_of_their_parents() {
         }
     }
 }
+
