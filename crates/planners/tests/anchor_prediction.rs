@@ -73,23 +73,23 @@ fn tether_pulled_over_the_ledge_lip_anchors_on_the_lip() {
 
 #[test]
 fn lip_anchor_through_the_distance_field() {
-    // A smaller ground margin keeps the field small; the ledge is the paper's.
+    // A smaller ground margin and a root 0.5 m above the top keep the field small (a 1 m margin
+    // around the scene); the ledge is the paper's.
     let scene = PatonScene {
-        ground_margin: 3.0,
+        ground_margin: 1.0,
         ..PatonScene::paper(false)
     };
     let mesh = scene.mesh().unwrap();
     let h = 0.1;
-    // The margin covers the root anchor, 2 m above the top.
     let field = Sdf::from_mesh(
         &mesh,
         &SdfParams {
-            margin: 2.5,
+            margin: 1.0,
             ..SdfParams::new(h)
         },
     )
     .unwrap();
-    let root = AnchorHistory::new(scene.anchor_points()[0]).unwrap();
+    let root = AnchorHistory::new(Point3::new(-4.5, 0.0, scene.height + 0.5)).unwrap();
     let tips = ledge_tips(&scene, (-1.0, 0.0), (1.4, 1.0), 12);
     let out = predict_path(&field, &PredictParams::new(h), &root, &tips).unwrap();
     assert_eq!(out.history.len(), 2, "{:?}", out.history);
