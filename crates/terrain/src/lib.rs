@@ -23,6 +23,7 @@ pub mod mesh;
 pub mod mesh_file;
 pub mod multi_slope;
 pub mod obstacle_detection;
+pub mod parry_mesh;
 pub mod paton_scene;
 pub mod plane_class;
 pub mod plane_fit;
