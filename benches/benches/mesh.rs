@@ -5,7 +5,8 @@
 //! fast (a truncated or sweep-based propagation) is open work, see `docs/mesh.md`.
 //!
 //! Anchor prediction (Paton Alg. 1) of one motion step across the ledge's lip under the test-1
-//! root anchor, through the same 10 cm field and on the exact mesh (target < 100 us), and the
+//! root anchor, through the same 10 cm field, on the exact mesh by brute force and through the
+//! parry3d BVH adapter (target < 100 us), and the
 //! stability of one settled pose with its predicted anchor (place + QP, boom inline; and both
 //! boom configurations as `rappel settle-map` does; target < 100 us).
 
@@ -68,6 +69,19 @@ fn mesh(c: &mut Criterion) {
     g.bench_function("anchor_prediction_step_over_lip_exact_mesh_5cm", |b| {
         b.iter(|| {
             predict(&m, &PredictParams::new(0.05), &root, black_box(&from), &to).expect("predicts")
+        })
+    });
+    let bvh = rappel_terrain::parry_mesh::ParryMesh::new(&m).expect("parry builds");
+    g.bench_function("anchor_prediction_step_over_lip_parry_bvh_5cm", |b| {
+        b.iter(|| {
+            predict(
+                &bvh,
+                &PredictParams::new(0.05),
+                &root,
+                black_box(&from),
+                &to,
+            )
+            .expect("predicts")
         })
     });
     // Stability of a settled mid-slope pose with the lip anchor.
