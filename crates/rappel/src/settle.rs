@@ -44,7 +44,7 @@ pub fn load_scene(path: &Path) -> Result<PatonScene, SettleFileError> {
     ron::from_str(&text).map_err(|e| err(e.to_string()))
 }
 
-/// The ground of a file.
+/// The ground of a file: a Paton scene, an elevation model or a mesh file (OBJ, STL).
 pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
     let err = |why: String| SettleFileError::Read {
         path: path.display().to_string(),
@@ -60,8 +60,14 @@ pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
             let dem = rappel_terrain::dem::read_dem(path).map_err(|e| err(e.to_string()))?;
             TriMesh::from_height_grid(&dem).map_err(|e| err(e.to_string()))
         }
+        Some("obj" | "stl") => {
+            rappel_terrain::mesh_file::read_mesh(path).map_err(|e| SettleFileError::Read {
+                path: path.display().to_string(),
+                why: e.to_string(),
+            })
+        }
         _ => Err(err(
-            "unknown ground format: use a Paton scene (.ron) or an elevation model (.asc, .tif)"
+            "unknown ground format: use a Paton scene (.ron), an elevation model (.asc, .tif) or a mesh (.obj, .stl)"
                 .into(),
         )),
     }
@@ -95,6 +101,44 @@ pub struct SettleReport {
     pub stability: Vec<BoomVerdict>,
 }
 
+/// The stability QP's verdict for `pose` with the tether toward the last anchor `anchor`, in
+/// both boom configurations (inline, in contact) of Axel `params`, with [`SCENE_FRICTION`].
+pub fn boom_verdicts<D: rappel_terrain::surface::SignedDistance + ?Sized>(
+    ground: &D,
+    pose: &SettledPose,
+    params: &AxelParams,
+    anchor: &Point3<f64>,
+) -> Vec<BoomVerdict> {
+    [
+        ("inline", BoomMode::Inline),
+        ("in-contact", BoomMode::InContact),
+    ]
+    .into_iter()
+    .map(|(name, boom)| {
+        let verdict = Axel::new(AxelParams { boom, ..*params })
+            .and_then(|axel| pose.place(&axel, ground, SCENE_FRICTION, Some((anchor, None))))
+            .map_err(|e| e.to_string())
+            .and_then(|placed| {
+                StabilityQp::default()
+                    .check(&placed)
+                    .map_err(|e| e.to_string())
+            });
+        match verdict {
+            Ok(r) => BoomVerdict {
+                boom: name,
+                stable: Ok(r.stable),
+                margin: r.margin,
+            },
+            Err(e) => BoomVerdict {
+                boom: name,
+                stable: Err(e),
+                margin: 0.0,
+            },
+        }
+    })
+    .collect()
+}
+
 /// Settle Axel (default parameters) at `(x, y)` with yaw `yaw_deg` (degrees from `+x`,
 /// counter-clockwise); with `anchor`, check stability for both boom configurations.
 pub fn settle_report(
@@ -115,35 +159,10 @@ pub fn settle_report(
         yaw_deg.to_radians(),
         &SettleParams::default(),
     )?;
-    let mut stability = Vec::new();
-    if let Some(a) = anchor {
-        let a = Point3::new(a[0], a[1], a[2]);
-        for (name, boom) in [
-            ("inline", BoomMode::Inline),
-            ("in-contact", BoomMode::InContact),
-        ] {
-            let verdict = Axel::new(AxelParams { boom, ..params })
-                .and_then(|axel| pose.place(&axel, ground, SCENE_FRICTION, Some((&a, None))))
-                .map_err(|e| e.to_string())
-                .and_then(|placed| {
-                    StabilityQp::default()
-                        .check(&placed)
-                        .map_err(|e| e.to_string())
-                });
-            stability.push(match verdict {
-                Ok(r) => BoomVerdict {
-                    boom: name,
-                    stable: Ok(r.stable),
-                    margin: r.margin,
-                },
-                Err(e) => BoomVerdict {
-                    boom: name,
-                    stable: Err(e),
-                    margin: 0.0,
-                },
-            });
-        }
-    }
+    let stability = match anchor {
+        Some(a) => boom_verdicts(ground, &pose, &params, &Point3::new(a[0], a[1], a[2])),
+        None => Vec::new(),
+    };
     let p = |q: &Point3<f64>| [q.x, q.y, q.z];
     let report = SettleReport {
         origin: p(&pose.origin),

@@ -1,0 +1,108 @@
+//! The one adapter to `parry3d-f64` (pinned with `=` in the workspace): a [`TriMesh`] behind
+//! parry's BVH for point projection and ray casts. Answers the same questions as
+//! [`TriMesh::signed_distance`] and [`TriMesh::closest`] (which scan every triangle) in roughly
+//! logarithmic time. Parry's types (glam vectors) stay inside this module.
+//!
+//! The sign comes from parry's `ORIENTED` flag (angle-weighted pseudo-normals, the same
+//! Bærentzen-Aanæs construction as [`TriMesh`]), so on the air side and inside a closed mesh
+//! the two agree (tested on Paton's scene); beyond an open mesh's boundary the sign is a
+//! convention in both, see `docs/mesh.md`.
+
+use nalgebra::{Point3, Vector3};
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::{PointQuery, Ray, RayCast};
+use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
+
+use crate::mesh::TriMesh;
+use crate::surface::SignedDistance;
+
+/// Why parry refused a mesh (cannot happen for a validated [`TriMesh`] under `u32::MAX`
+/// vertices, kept typed all the same).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParryMeshError {
+    /// More vertices than parry's `u32` indices address.
+    #[error("{0} vertices exceed parry's u32 indices")]
+    TooManyVertices(usize),
+    /// Parry's builder refused the mesh.
+    #[error("parry refused the mesh: {0}")]
+    Builder(String),
+}
+
+/// A validated mesh behind parry's BVH.
+#[derive(Clone)]
+pub struct ParryMesh {
+    mesh: ParryTriMesh,
+}
+
+impl std::fmt::Debug for ParryMesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ParryMesh")
+            .field("triangles", &self.mesh.indices().len())
+            .finish()
+    }
+}
+
+fn to_parry(p: &Point3<f64>) -> Vector {
+    Vector::new(p.x, p.y, p.z)
+}
+
+fn from_parry(v: Vector) -> Point3<f64> {
+    Point3::new(v.x, v.y, v.z)
+}
+
+impl ParryMesh {
+    /// Builds parry's mesh (and its BVH and pseudo-normals) from a validated mesh.
+    pub fn new(mesh: &TriMesh) -> Result<Self, ParryMeshError> {
+        let n = mesh.vertices().len();
+        if n > u32::MAX as usize {
+            return Err(ParryMeshError::TooManyVertices(n));
+        }
+        let vertices = mesh.vertices().iter().map(to_parry).collect();
+        let indices = mesh
+            .triangles()
+            .iter()
+            .map(|t| t.map(|i| i as u32))
+            .collect();
+        let mesh = ParryTriMesh::with_flags(vertices, indices, TriMeshFlags::ORIENTED)
+            .map_err(|e| ParryMeshError::Builder(format!("{e:?}")))?;
+        Ok(ParryMesh { mesh })
+    }
+
+    /// The closest surface point to `q` and whether `q` is inside (below the ground).
+    pub fn project(&self, q: &Point3<f64>) -> (Point3<f64>, bool) {
+        let p = self.mesh.project_local_point(to_parry(q), false);
+        (from_parry(p.point), p.is_inside)
+    }
+
+    /// The first hit of the ray `origin + t dir`, `0 <= t <= max_t`, with the surface: `t`
+    /// (in units of `dir`'s length), or `None`.
+    pub fn cast_ray(&self, origin: &Point3<f64>, dir: &Vector3<f64>, max_t: f64) -> Option<f64> {
+        let ray = Ray::new(to_parry(origin), Vector::new(dir.x, dir.y, dir.z));
+        self.mesh.cast_local_ray(&ray, max_t, false)
+    }
+
+    fn closest(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
+        if !q.iter().all(|c| c.is_finite()) {
+            return None;
+        }
+        let (p, inside) = self.project(q);
+        let v = q - p;
+        let d = v.norm();
+        let sign = if inside { -1.0 } else { 1.0 };
+        // At the surface itself the direction is undefined: no gradient there.
+        let g = v
+            .try_normalize(0.0)
+            .map(|u| u * sign)
+            .unwrap_or_else(Vector3::zeros);
+        Some((sign * d, g))
+    }
+}
+
+impl SignedDistance for ParryMesh {
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
+        self.closest(q).map(|(d, _)| d)
+    }
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
+        self.closest(q).map(|(_, g)| g)
+    }
+}
