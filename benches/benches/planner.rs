@@ -3,7 +3,8 @@
 //! - **first SHP** (the classic single query, start at the top of the strip, goal at the bottom)
 //!   on the generated 1,000- and 10,000-obstacle crater strips
 //!   (`CraterStripOptions::new(n, 1)`); polyanya's mesh is built from the BTM's free triangles;
-//! - **a ~60 m query** in the middle of the 1,000-, 10,000- and 100,000-obstacle strips (the
+//! - **a ~60 m query** (`spt`: the class with its sleeve, crossings and H-signature;
+//!   `spt_taut_path`: the path and its length only, polyanya's answer) in the middle of the 1,000-, 10,000- and 100,000-obstacle strips (the
 //!   per-query cost must follow the part of the map the search touches, not the map's size);
 //! - **polyanya's arena benchmark**: its published map (`benches/data/polyanya/arena.mesh`,
 //!   turned into a rappel map by chaining the mesh's boundary edges) and the 160 queries of
@@ -356,6 +357,16 @@ fn planner(c: &mut Criterion) {
                     .map(|s| s.map(|s| s.length()))
             })
         });
+        g.bench_with_input(
+            BenchmarkId::new("spt_taut_path", s.n),
+            &s.short,
+            |bch, &(a, b)| {
+                bch.iter(|| {
+                    spt.shortest_taut_path(black_box(a), black_box(b))
+                        .map(|s| s.map(|s| s.length))
+                })
+            },
+        );
         if let Some(mesh) = &s.mesh {
             let (a, b) = (to_vec2(s.short.0, s.origin), to_vec2(s.short.1, s.origin));
             g.bench_with_input(BenchmarkId::new("polyanya", s.n), &(a, b), |bch, &(a, b)| {
@@ -376,6 +387,20 @@ fn planner(c: &mut Criterion) {
                         .ok()
                         .flatten()
                         .map_or(0.0, |s| s.length())
+                })
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("spt_taut_path", |bch| {
+        bch.iter(|| {
+            pairs
+                .iter()
+                .map(|&(a, b)| {
+                    arena_spt
+                        .shortest_taut_path(black_box(a), black_box(b))
+                        .ok()
+                        .flatten()
+                        .map_or(0.0, |s| s.length)
                 })
                 .sum::<f64>()
         })

@@ -511,6 +511,29 @@ impl<'b> SptPlanner<'b> {
         Ok(Some(h))
     }
 
+    /// The globally shortest path from `start` to `goal` as a taut path (its corners, anchors
+    /// and length), without the class's sleeve, crossing sequence and H-signature that
+    /// [`SptPlanner::shortest_path`] also builds: the answer a navigation-mesh planner such as
+    /// Polyanya gives, for batch length queries. `None` when they are not connected; a search
+    /// stopped by its expansion budget is [`SearchError::BudgetExhausted`].
+    pub fn shortest_taut_path(
+        &self,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+    ) -> Result<Option<TautPath>, SearchError> {
+        let options = SearchOptions::default().with_max_classes(Some(1))?;
+        let mut search = SptSearch::new(self, start, goal, options, None)?;
+        match search.next_goal()? {
+            Some((node, _)) => Ok(Some(search.scratch.tree.taut_path(self.btm, node))),
+            None if search.termination == Some(Termination::Expansions) => {
+                Err(SearchError::BudgetExhausted {
+                    expansions: search.stats.expansions,
+                })
+            }
+            None => Ok(None),
+        }
+    }
+
     /// The classic single query: the globally shortest path from `start` to `goal` (the first
     /// class), or `None` when they are not connected. A search stopped by its expansion budget
     /// ([`DEFAULT_MAX_EXPANSIONS`]) is [`SearchError::BudgetExhausted`], not `None`.
@@ -936,6 +959,20 @@ impl<'a> SptSearch<'a> {
     /// The next SHP in non-decreasing length, each in a new homotopy class (Alg. 3 lines 15-20);
     /// `Ok(None)` once the search has stopped ([`SptSearch::termination`] says why).
     pub fn next_best(&mut self) -> Result<Option<RankedShp>, SearchError> {
+        while let Some((node, trail)) = self.next_goal()? {
+            if let Some(found) = self.emit(node, trail)? {
+                if self.options.max_classes == Some(self.emitted) {
+                    self.termination = Some(Termination::ClassCount);
+                }
+                return Ok(Some(found));
+            }
+        }
+        Ok(None)
+    }
+
+    /// Runs Alg. 3's loop to the next goal entry popped (its node and trail), or `None` once the
+    /// search has stopped.
+    fn next_goal(&mut self) -> Result<Option<(NodeId, u32)>, SearchError> {
         if self.termination.is_some() {
             return Ok(None);
         }
@@ -954,12 +991,7 @@ impl<'a> SptSearch<'a> {
                         // The smallest queued goal is the one popped.
                         self.pending_goals.remove(0);
                     }
-                    if let Some(found) = self.emit(node, trail)? {
-                        if self.options.max_classes == Some(self.emitted) {
-                            self.termination = Some(Termination::ClassCount);
-                        }
-                        return Ok(Some(found));
-                    }
+                    return Ok(Some((node, trail)));
                 }
                 Kind::Funnel { funnel, trail } => {
                     if self.dominated(&funnel) {

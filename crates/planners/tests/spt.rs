@@ -350,6 +350,10 @@ fn a_planner_reused_across_queries_answers_like_a_fresh_one() {
             let rel = (first - oracle.length).abs() / oracle.length;
             assert!(rel <= ORACLE_TOLERANCE, "seed {seed} round {round}");
             incumbent_pruned += warm.stats.pruned_incumbent;
+            // The taut-path-only query on the same warm planner: the same path.
+            let taut = reused.shortest_taut_path(*a, *b).unwrap().expect("connected");
+            let best = fresh_planner.shortest_path(*a, *b).unwrap().expect("connected");
+            assert_eq!(taut, best.shp.taut, "seed {seed} round {round}");
         }
     }
     assert!(incumbent_pruned > 0, "the incumbent never pruned a funnel");
