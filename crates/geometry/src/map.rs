@@ -430,9 +430,15 @@ impl Map {
             bounds = Aabb::of_points([&bounds.min, &bounds.max, &b.min, &b.max]);
         }
         let mut grid = SpatialGrid::new(bounds, segs.len());
-        for (i, &s) in segs.iter().enumerate() {
-            let (a, b) = seg_points(s);
-            grid.insert(&Aabb::of_points([&a, &b]), i as u32);
+        let boxes: Vec<Aabb> = segs
+            .iter()
+            .map(|&s| {
+                let (a, b) = seg_points(s);
+                Aabb::of_points([&a, &b])
+            })
+            .collect();
+        for (i, b) in boxes.iter().enumerate() {
+            grid.insert(b, i as u32);
         }
         let ring_id = |r: u32| {
             if r == 0 {
@@ -442,10 +448,21 @@ impl Map {
             }
         };
         let mut found: Vec<EdgeContact> = Vec::new();
-        let mut seen = std::collections::HashSet::new();
-        for bucket in grid.buckets() {
+        // A pair of edges shares every cell that both boxes cover. It is tested only in the cell
+        // holding the lower-left corner of the intersection of their boxes, which both boxes
+        // cover (cells are monotone in the coordinates), so each pair is tested once, without a
+        // set of pairs seen. Disjoint boxes (exact coordinate comparisons) mean disjoint edges.
+        for (cell, bucket) in grid.buckets().enumerate() {
             for (k, &i) in bucket.iter().enumerate() {
                 for &j in &bucket[k + 1..] {
+                    let (bi, bj) = (&boxes[i as usize], &boxes[j as usize]);
+                    let corner = Point2::new(bi.min.x.max(bj.min.x), bi.min.y.max(bj.min.y));
+                    if corner.x > bi.max.x.min(bj.max.x)
+                        || corner.y > bi.max.y.min(bj.max.y)
+                        || grid.cell_of(&corner) != cell
+                    {
+                        continue;
+                    }
                     let (si, sj) = if segs[i as usize] < segs[j as usize] {
                         (segs[i as usize], segs[j as usize])
                     } else {
@@ -455,7 +472,7 @@ impl Map {
                     let (a, b) = seg_points(si);
                     let (c, d) = seg_points(sj);
                     let contact = segment_contact(&a, &b, &c, &d);
-                    if contact == SegmentContact::Disjoint || !seen.insert(key) {
+                    if contact == SegmentContact::Disjoint {
                         continue;
                     }
                     let at = contact_point(&a, &b, &c, &d);

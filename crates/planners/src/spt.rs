@@ -63,6 +63,27 @@
 //! maps; without a count (or in the simple-classes mode, whose dominating classes need not be
 //! simple) no funnel is pruned this way.
 //!
+//! # Pruning and straight-through expansion (Polyanya's rules, on funnels)
+//! - **The incumbent.** When `r` classes are still wanted (a class count is set, and every goal
+//!   reached is returned: not in the simple-classes mode) and `r` goal entries are queued with keys
+//!   at most `b`, every funnel keyed `b` or more is dropped before it enters the queue: its key
+//!   and those of everything below it are at least `b`, goals pop before funnels on equal keys,
+//!   so the `r` queued goals end the search first. For the single query this is Polyanya's "never
+//!   push a node that cannot beat the best path found".
+//! - **Straight through.** When an expansion leaves exactly one child and that child's key equals
+//!   the funnel's (keys are monotone, so it is then a minimum of the queue), the child is expanded
+//!   at once, without a round trip through the heap: Polyanya's expansion of one-successor
+//!   nodes, restricted to equal keys so that the expansion order stays an A* order. Every such
+//!   expansion counts against the budget.
+//!
+//! # Per-query cost
+//! An [`SptPlanner`] keeps a small pool of search scratch spaces (the tree's nodes, the queue, the
+//! trail of mouths, the per-vertex lifts). A search takes one and gives it back when dropped; the
+//! per-vertex lifts are invalidated by a generation stamp, not refilled, so a query on a prepared
+//! map costs what the search touches, and allocates nothing once the pool is warm (beyond its
+//! answer). Searches on several threads each take their own space. [`SptPlanner::shortest_taut_path`]
+//! answers with the path alone, without the sleeve, crossings and H-signature of a class.
+//!
 //! # Simple classes
 //! A class is **simple** when, in its SHP's list of anchors (the map vertices the taut tether
 //! wraps, in order), no map vertex occurs twice and the anchors on each obstacle are consecutive:
@@ -1183,7 +1204,10 @@ impl<'a> SptSearch<'a> {
         } else {
             mirror(&self.goal, &a, &b)
         };
-        let t: &FunnelNode = self.scratch.tree.node(f.predecessor(&self.scratch.tree, &target));
+        let t: &FunnelNode = self
+            .scratch
+            .tree
+            .node(f.predecessor(&self.scratch.tree, &target));
         (t.length + (target - t.point).norm()).max(through_apex)
     }
 
@@ -1226,7 +1250,9 @@ impl<'a> SptSearch<'a> {
     /// and `apex`) form a simple sequence. Cached per node.
     fn prefix_is_simple(&mut self, apex: NodeId) -> bool {
         if self.scratch.simple_prefix.len() < self.scratch.tree.len() {
-            self.scratch.simple_prefix.resize(self.scratch.tree.len(), 0);
+            self.scratch
+                .simple_prefix
+                .resize(self.scratch.tree.len(), 0);
         }
         match self.scratch.simple_prefix[apex.index()] {
             1 => return true,

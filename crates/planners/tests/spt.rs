@@ -351,8 +351,14 @@ fn a_planner_reused_across_queries_answers_like_a_fresh_one() {
             assert!(rel <= ORACLE_TOLERANCE, "seed {seed} round {round}");
             incumbent_pruned += warm.stats.pruned_incumbent;
             // The taut-path-only query on the same warm planner: the same path.
-            let taut = reused.shortest_taut_path(*a, *b).unwrap().expect("connected");
-            let best = fresh_planner.shortest_path(*a, *b).unwrap().expect("connected");
+            let taut = reused
+                .shortest_taut_path(*a, *b)
+                .unwrap()
+                .expect("connected");
+            let best = fresh_planner
+                .shortest_path(*a, *b)
+                .unwrap()
+                .expect("connected");
             assert_eq!(taut, best.shp.taut, "seed {seed} round {round}");
         }
     }
