@@ -430,66 +430,36 @@ impl Map {
             bounds = Aabb::of_points([&bounds.min, &bounds.max, &b.min, &b.max]);
         }
         let mut grid = SpatialGrid::new(bounds, segs.len());
-        for (i, &s) in segs.iter().enumerate() {
-            let (a, b) = seg_points(s);
-            grid.insert(&Aabb::of_points([&a, &b]), i as u32);
+        let boxes: Vec<Aabb> = segs
+            .iter()
+            .map(|&s| {
+                let (a, b) = seg_points(s);
+                Aabb::of_points([&a, &b])
+            })
+            .collect();
+        for (i, b) in boxes.iter().enumerate() {
+            grid.insert(b, i as u32);
         }
-        let ring_id = |r: u32| {
-            if r == 0 {
-                RingId::Boundary
-            } else {
-                RingId::Obstacle(r as usize - 1)
-            }
-        };
         let mut found: Vec<EdgeContact> = Vec::new();
-        let mut seen = std::collections::HashSet::new();
-        for bucket in grid.buckets() {
+        // A pair of edges shares every cell that both boxes cover. It is tested only in the cell
+        // holding the lower-left corner of the intersection of their boxes, which both boxes
+        // cover (cells are monotone in the coordinates), so each pair is tested once, without a
+        // set of pairs seen. Disjoint boxes (exact coordinate comparisons) mean disjoint edges.
+        for (cell, bucket) in grid.buckets().enumerate() {
             for (k, &i) in bucket.iter().enumerate() {
                 for &j in &bucket[k + 1..] {
-                    let (si, sj) = if segs[i as usize] < segs[j as usize] {
-                        (segs[i as usize], segs[j as usize])
-                    } else {
-                        (segs[j as usize], segs[i as usize])
-                    };
-                    let key = (si.0, si.1, sj.0, sj.1);
-                    let (a, b) = seg_points(si);
-                    let (c, d) = seg_points(sj);
-                    let contact = segment_contact(&a, &b, &c, &d);
-                    if contact == SegmentContact::Disjoint || !seen.insert(key) {
+                    let (bi, bj) = (&boxes[i as usize], &boxes[j as usize]);
+                    let corner = Point2::new(bi.min.x.max(bj.min.x), bi.min.y.max(bj.min.y));
+                    if corner.x > bi.max.x.min(bj.max.x)
+                        || corner.y > bi.max.y.min(bj.max.y)
+                        || grid.cell_of(&corner) != cell
+                    {
                         continue;
                     }
-                    let at = contact_point(&a, &b, &c, &d);
-                    let error = if si.0 == sj.0 {
-                        let n = rings[si.0 as usize].len() as u32;
-                        let adjacent = (si.1 + 1) % n == sj.1 || (sj.1 + 1) % n == si.1;
-                        if adjacent && !adjacent_edges_overlap(&a, &b, &c, &d) {
-                            continue;
-                        }
-                        MapError::SelfIntersecting {
-                            ring: ring_id(si.0),
-                            first_edge: si.1 as usize,
-                            second_edge: sj.1 as usize,
-                            at,
-                        }
-                    } else if si.0 == 0 {
-                        MapError::ObstacleCrossesBoundary {
-                            obstacle: sj.0 as usize - 1,
-                            at,
-                        }
-                    } else if contact == SegmentContact::Crossing {
-                        MapError::ObstaclesOverlap {
-                            first: si.0 as usize - 1,
-                            second: sj.0 as usize - 1,
-                            at,
-                        }
-                    } else {
-                        MapError::ObstaclesTouch {
-                            first: si.0 as usize - 1,
-                            second: sj.0 as usize - 1,
-                            at,
-                        }
-                    };
-                    found.push((key, error));
+                    if let Some(contact) = pair_contact(&rings, segs[i as usize], segs[j as usize])
+                    {
+                        found.push(contact);
+                    }
                 }
             }
         }
@@ -588,6 +558,67 @@ fn validate_ring_alone(ring: RingId, poly: &Polygon) -> Result<(), MapError> {
         return Err(MapError::ZeroArea { ring, at: first });
     }
     Ok(())
+}
+
+/// The contact of two edges `(ring, edge)` (rings numbered boundary first) where they must not
+/// meet, as an error keyed by the ordered pair, or `None` when they are disjoint or merely share
+/// the vertex of two consecutive edges of a ring.
+fn pair_contact(rings: &[&Polygon], x: (u32, u32), y: (u32, u32)) -> Option<EdgeContact> {
+    let seg_points = |s: (u32, u32)| {
+        let ring = rings[s.0 as usize];
+        let n = ring.len();
+        (
+            ring.vertices[s.1 as usize],
+            ring.vertices[(s.1 as usize + 1) % n],
+        )
+    };
+    let ring_id = |r: u32| {
+        if r == 0 {
+            RingId::Boundary
+        } else {
+            RingId::Obstacle(r as usize - 1)
+        }
+    };
+    let (si, sj) = if x < y { (x, y) } else { (y, x) };
+    let key = (si.0, si.1, sj.0, sj.1);
+    let (a, b) = seg_points(si);
+    let (c, d) = seg_points(sj);
+    let contact = segment_contact(&a, &b, &c, &d);
+    if contact == SegmentContact::Disjoint {
+        return None;
+    }
+    let at = contact_point(&a, &b, &c, &d);
+    let error = if si.0 == sj.0 {
+        let n = rings[si.0 as usize].len() as u32;
+        let adjacent = (si.1 + 1) % n == sj.1 || (sj.1 + 1) % n == si.1;
+        if adjacent && !adjacent_edges_overlap(&a, &b, &c, &d) {
+            return None;
+        }
+        MapError::SelfIntersecting {
+            ring: ring_id(si.0),
+            first_edge: si.1 as usize,
+            second_edge: sj.1 as usize,
+            at,
+        }
+    } else if si.0 == 0 {
+        MapError::ObstacleCrossesBoundary {
+            obstacle: sj.0 as usize - 1,
+            at,
+        }
+    } else if contact == SegmentContact::Crossing {
+        MapError::ObstaclesOverlap {
+            first: si.0 as usize - 1,
+            second: sj.0 as usize - 1,
+            at,
+        }
+    } else {
+        MapError::ObstaclesTouch {
+            first: si.0 as usize - 1,
+            second: sj.0 as usize - 1,
+            at,
+        }
+    };
+    Some((key, error))
 }
 
 /// Adjacent edges `ab` and `cd` of a ring share one endpoint; they also meet beyond it exactly when
@@ -713,6 +744,47 @@ mod tests {
         check(
             &map(vec![square(10., 10., 5.), square(15., 15., 5.)]),
             "ObstaclesTouch",
+        );
+    }
+
+    #[test]
+    fn edge_contacts_match_all_pairs_on_random_overlapping_maps() {
+        // Grid-snapped random quads (many shared vertices, collinear overlaps and crossings):
+        // the grid's once-per-pair selection must find exactly the contacts of testing every
+        // pair of edges.
+        use rand::{RngExt, SeedableRng};
+        let mut total = 0;
+        for seed in 0..200u64 {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            let mut coord = || f64::from(rng.random_range(0..=40u32)) * 0.5;
+            let obstacles: Vec<Polygon> = (0..8)
+                .map(|_| {
+                    let (x, y) = (coord().min(17.0) + 1.0, coord().min(17.0) + 1.0);
+                    let (w, h) = (coord() * 0.2 + 0.5, coord() * 0.2 + 0.5);
+                    poly(&[(x, y), (x + w, y), (x + w, y + h), (x, y + h)])
+                })
+                .collect();
+            let m = map(obstacles);
+            let rings: Vec<&Polygon> = std::iter::once(&m.boundary).chain(&m.obstacles).collect();
+            let segs: Vec<(u32, u32)> = rings
+                .iter()
+                .enumerate()
+                .flat_map(|(r, ring)| (0..ring.len()).map(move |e| (r as u32, e as u32)))
+                .collect();
+            let mut brute: Vec<EdgeContact> = Vec::new();
+            for (k, &x) in segs.iter().enumerate() {
+                for &y in &segs[k + 1..] {
+                    brute.extend(pair_contact(&rings, x, y));
+                }
+            }
+            brute.sort_by_key(|(k, _)| *k);
+            let found = m.edge_contacts();
+            assert_eq!(found, brute, "seed {seed}");
+            total += found.len();
+        }
+        assert!(
+            total > 100,
+            "only {total} contacts: the maps do not exercise the check"
         );
     }
 

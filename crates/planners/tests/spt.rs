@@ -316,3 +316,51 @@ fn the_goal_distance_bounds_never_exceed_the_geodesic_distance() {
     }
     assert!(exact >= 15, "only {exact} vertices inside the ellipses");
 }
+
+#[test]
+fn a_planner_reused_across_queries_answers_like_a_fresh_one() {
+    // One planner answers a mix of queries (one class, several classes, the simple-classes mode,
+    // swapped endpoints), so its pooled scratch space (generation-stamped lifts, reused tree,
+    // queue and trail) carries state from every kind of query into the next. Each answer must
+    // equal a fresh planner's, counters included, and the first class the visibility-graph
+    // oracle's length.
+    let mut incumbent_pruned = 0;
+    for seed in 0..40u64 {
+        let Some(m) = random_map(7_000 + seed, 6 + (seed % 7) as usize) else {
+            continue;
+        };
+        let btm = Btm::build(&m.map).unwrap();
+        let reused = SptPlanner::new(&btm);
+        let oracle = visibility_graph::shortest_path(&m.map, m.start, m.goal).expect("reachable");
+        let queries = [
+            (m.start, m.goal, options(Some(1))),
+            (m.start, m.goal, options(Some(4))),
+            (m.goal, m.start, options(Some(1))),
+            (m.start, m.goal, options(Some(3)).with_simple_only(true)),
+            (m.start, m.goal, options(Some(1))),
+            (m.goal, m.start, options(Some(6))),
+            (m.start, m.goal, options(Some(1))),
+        ];
+        for (round, (a, b, o)) in queries.iter().enumerate() {
+            let warm = reused.search(*a, *b, o).unwrap().run().unwrap();
+            let fresh_planner = SptPlanner::new(&btm);
+            let fresh = fresh_planner.search(*a, *b, o).unwrap().run().unwrap();
+            assert_eq!(warm, fresh, "seed {seed} round {round}");
+            let first = warm.classes.first().expect("connected").length();
+            let rel = (first - oracle.length).abs() / oracle.length;
+            assert!(rel <= ORACLE_TOLERANCE, "seed {seed} round {round}");
+            incumbent_pruned += warm.stats.pruned_incumbent;
+            // The taut-path-only query on the same warm planner: the same path.
+            let taut = reused
+                .shortest_taut_path(*a, *b)
+                .unwrap()
+                .expect("connected");
+            let best = fresh_planner
+                .shortest_path(*a, *b)
+                .unwrap()
+                .expect("connected");
+            assert_eq!(taut, best.shp.taut, "seed {seed} round {round}");
+        }
+    }
+    assert!(incumbent_pruned > 0, "the incumbent never pruned a funnel");
+}
