@@ -32,9 +32,11 @@ pub enum Answer {
     No,
 }
 
-/// Prints a value as pretty JSON on stdout.
-pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
-    let text = serde_json::to_string_pretty(value)?;
+/// Prints a report as pretty JSON on stdout, in its envelope (`schema_version` and `report`
+/// first; the convention is `rappel::report` and `docs/output-format.md`). Every `--json` goes
+/// through here.
+pub fn print_report<T: rappel::report::Report>(report: &T) -> Result<(), CliError> {
+    let text = serde_json::to_string_pretty(&rappel::report::Envelope::new(report))?;
     crate::outln!("{text}");
     Ok(())
 }

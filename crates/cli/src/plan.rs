@@ -6,7 +6,7 @@
 //! A scenario without a feasible class is an answer, not an error: exit code 1, the reason printed.
 //! With PTFOs (a `friction` section) the frictional planner runs too, and its verdict decides.
 
-use crate::output::{Answer, CliError, print_json, refuse_clashing_outputs, write_file};
+use crate::output::{Answer, CliError, refuse_clashing_outputs, write_file};
 use rappel::export::{ExportFormat, export_plan};
 use rappel::plan::{PlanOptions, PlanReport, plan_detailed};
 use rappel::scenario::Scenario;
@@ -111,9 +111,9 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     };
     let answer = if feasible { Answer::Yes } else { Answer::No };
     if args.json {
-        print_json(&plan.report)?;
+        crate::output::print_report(&plan.report)?;
     } else {
-        print_report(&args.file.display().to_string(), &plan.report);
+        print_text(&args.file.display().to_string(), &plan.report);
         if let Some(f) = &plan.report.friction {
             crate::friction_out::print_friction(f);
         }
@@ -128,7 +128,7 @@ fn degrees(v: Option<f64>) -> String {
     v.map_or_else(|| "free".to_string(), |d| format!("{d:.2}°"))
 }
 
-fn print_report(file: &str, r: &PlanReport) {
+fn print_text(file: &str, r: &PlanReport) {
     crate::outln!("scenario     {file}");
     crate::outln!("model        {}", r.traversability);
     if r.planes.is_empty() {

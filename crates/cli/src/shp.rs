@@ -4,7 +4,7 @@
 //! homotopic` (exit code 1). A path file is a JSON array of `[x, y]` points; a path that leaves free space is
 //! bad input (exit 2, the segment named).
 
-use crate::output::{Answer, CliError, PictureArgs, print_json, refuse_clashing_outputs};
+use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
 use rappel::geometry::btm::Btm;
 use rappel::homotopy::crossing::CrossingSequence;
 use rappel::homotopy::funnel::Side;
@@ -43,15 +43,6 @@ pub struct HomotopicArgs {
     json: bool,
 }
 
-/// The JSON form of `rappel homotopic`'s answer.
-#[derive(serde::Serialize)]
-struct HomotopicAnswer {
-    homotopic: bool,
-    paths: [String; 2],
-    /// Length of each path's reduced crossing sequence (equal sequences mean homotopic).
-    reduced_crossings: [usize; 2],
-}
-
 fn load_btm(file: &std::path::Path) -> Result<(Scenario, Btm), CliError> {
     let s = Scenario::load(file)?;
     let btm = Btm::build(&s.map).map_err(|e| CliError(format!("{}: {e}", file.display())))?;
@@ -77,16 +68,16 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         args.picture.write(&pic.finish(&title), &title)?;
     }
     if args.json {
-        return print_json(&report);
+        return print_report(&report);
     }
     crate::outln!("scenario             {}", args.file.display());
     crate::outln!(
         "path                 {} ({} points, {:.3} m)",
         args.path.display(),
         report.path_points,
-        report.path_length
+        report.path_length_m
     );
-    crate::outln!("SHP length           {:.3} m", report.length);
+    crate::outln!("SHP length           {:.3} m", report.length_m);
     crate::outln!(
         "crossing sequence    {} crossings, {} after reduction",
         report.crossings,
@@ -118,7 +109,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 a.vertex,
                 obstacle,
                 side,
-                a.turning_angle.to_degrees(),
+                a.turning_angle_deg,
                 a.point.x,
                 a.point.y
             );
@@ -148,7 +139,7 @@ pub fn run_homotopic(args: &HomotopicArgs) -> Result<Answer, CliError> {
                 .map(|c| c.len())
                 .map_err(|e| CliError(format!("{}: {e}", f.display())))
         };
-        print_json(&HomotopicAnswer {
+        print_report(&rappel::report::HomotopicReport {
             homotopic: same,
             paths: [a.display().to_string(), b.display().to_string()],
             reduced_crossings: [reduced(&pa, a)?, reduced(&pb, b)?],

@@ -2,7 +2,7 @@
 //! over the scenario's terrain planes, stable poses green and unstable red (Kumar Fig. 5); the
 //! JSON lists each dot with its margin.
 
-use crate::output::{CliError, print_json, refuse_overwriting_inputs, write_file};
+use crate::output::{CliError, print_report, refuse_overwriting_inputs, write_file};
 use rappel::scenario::Scenario;
 use rappel::stability::{StabilityOptions, stability_over_scenario};
 use rappel::svg::{Layer, Marker, Picture};
@@ -48,11 +48,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             } else {
                 Layer::Unstable
             };
-            pic.marker(
-                layer,
-                rappel::nalgebra::Point2::new(d.x, d.y),
-                Marker::Circle,
-            );
+            pic.marker(layer, d.point, Marker::Circle);
         }
         pic.marker(Layer::Start, s.start, Marker::Cross);
         write_file(
@@ -61,7 +57,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         )?;
     }
     if args.json {
-        return print_json(&report);
+        return print_report(&report);
     }
     crate::outln!("scenario    {}", args.file.display());
     crate::outln!("robot       {} ({})", report.robot, report.criterion);
@@ -75,8 +71,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let beyond = report.dots.iter().filter(|d| d.beyond_tether).count();
         crate::outln!("tether      {l} m: {beyond} poses beyond its reach (unstable)");
     }
-    crate::outln!("grid step   {} m", report.grid_step);
-    if let Some(t) = report.tension_limit {
+    crate::outln!("grid step   {} m", report.grid_step_m);
+    if let Some(t) = report.tension_limit_n {
         crate::outln!("tension     <= {t} N");
     }
     for (i, p) in s.terrain.planes.iter().enumerate() {

@@ -21,6 +21,8 @@ pub mod feasibility;
 pub mod frictional;
 pub mod online;
 pub mod path_pair;
+pub mod report_units;
+pub mod search_report;
 pub mod spt;
 pub mod terrain;
 pub mod tether_tracking;

@@ -45,6 +45,7 @@ pub mod plan;
 pub mod progress;
 pub mod ptfo_spec;
 pub mod query;
+pub mod report;
 pub mod robot;
 pub mod scenario;
 pub mod settle;

@@ -18,7 +18,7 @@ fn stable_at(
     anchor: [f64; 3],
 ) -> Result<bool, String> {
     let (_, r) = settle_report(ground, x, y, 0.0, Some(anchor)).map_err(|e| e.to_string())?;
-    Ok(r.stability.iter().any(|v| v.stable == Ok(true)))
+    Ok(r.stability.iter().any(|v| v.stable == Some(true)))
 }
 
 /// The suite.
