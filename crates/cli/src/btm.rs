@@ -18,6 +18,9 @@ pub struct Args {
     /// The picture of the map and its BTM.
     #[command(flatten)]
     picture: PictureArgs,
+    /// The picture's crop.
+    #[command(flatten)]
+    window: crate::output::WindowArg,
 }
 
 /// Runs `rappel btm`.
@@ -27,7 +30,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let (btm, summary) =
         summarize_btm(&s.map).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
     if args.picture.wanted() {
-        let mut pic = Picture::of_map(&s.map);
+        let mut pic = Picture::of_map_in(&s.map, args.window.aabb()?.as_ref());
         pic.btm(&btm);
         pic.map(&s.map);
         pic.start_goal(s.start, s.goal);

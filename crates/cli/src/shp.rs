@@ -28,6 +28,9 @@ pub struct Args {
     /// The picture: the BTM, the path, its sleeve, the SHP and its anchors.
     #[command(flatten)]
     picture: PictureArgs,
+    /// The picture's crop.
+    #[command(flatten)]
+    window: crate::output::WindowArg,
 }
 
 /// Arguments of `rappel homotopic`.
@@ -57,7 +60,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let (shp, report) =
         shp_report(&btm, &path).map_err(|e| CliError(format!("{}: {e}", args.path.display())))?;
     if args.picture.wanted() {
-        let mut pic = Picture::of_map(&s.map);
+        let mut pic = Picture::of_map_in(&s.map, args.window.aabb()?.as_ref());
         pic.sleeve(&btm, &shp.sleeve);
         pic.btm(&btm);
         pic.map(&s.map);

@@ -497,7 +497,18 @@ impl Plan {
     /// shortest when none is feasible), its anchors, friction cones of the tether-demand planes,
     /// visibility edges, waypoints, the ascent and descent paths, start and goal.
     pub fn picture(&self, scenario: &Scenario) -> String {
-        let mut pic = Picture::of_map(&scenario.map);
+        self.picture_in(scenario, None)
+    }
+
+    /// [`Plan::picture`] cropped to `window` (map frame; `--window`), with every infeasible class
+    /// drawn as a thin red tether tagged with its rank and its blocking anchor (or the goal)
+    /// marked with the reason as hover text.
+    pub fn picture_in(
+        &self,
+        scenario: &Scenario,
+        window: Option<&rappel_geometry::polygon::Aabb>,
+    ) -> String {
+        let mut pic = Picture::of_map_in(&scenario.map, window);
         let shown = self
             .outcome
             .pair
@@ -536,6 +547,34 @@ impl Plan {
             for w in &c.feasibility.waypoints {
                 pic.marker(Layer::Waypoint, *w, Marker::Star);
             }
+        }
+        for c in &self.outcome.classes {
+            let Some(b) = &c.feasibility.blockage else {
+                continue;
+            };
+            let taut = &c.class.shp.taut;
+            pic.set_tag(Some(format!("class {} (infeasible)", c.class.rank)));
+            pic.polyline(Layer::InfeasibleShp, &taut.points);
+            let at = match b.anchor {
+                Some(j) => c.feasibility.anchors.get(j - 1).map(|a| a.anchor.point),
+                None => Some(taut.goal()),
+            };
+            if let Some(p) = at {
+                let what = b
+                    .anchor
+                    .map_or("the goal".to_string(), |j| format!("anchor {j}"));
+                pic.titled_marker(
+                    Layer::Blocking,
+                    p,
+                    Marker::Circle,
+                    &format!(
+                        "class {}: {what} blocks the ascent: {}",
+                        c.class.rank,
+                        b.reason.describe()
+                    ),
+                );
+            }
+            pic.set_tag(None);
         }
         if let Some(f) = &self.report.friction {
             crate::friction_plan::draw_friction(&mut pic, scenario, f);
