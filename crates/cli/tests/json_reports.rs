@@ -177,3 +177,65 @@ fn stability_online_track_settle_and_dem_reports_round_trip() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn plan_and_stability_write_html_and_honour_a_window() {
+    let dir = temp_dir("window");
+    let (svg, html) = (dir.join("p.svg"), dir.join("p.html"));
+    let file = fixture("plan/shortest-infeasible.ron");
+    let o = rappel(&[
+        "plan",
+        &file,
+        "--svg",
+        svg.to_str().unwrap_or_default(),
+        "--html",
+        html.to_str().unwrap_or_default(),
+        "--window",
+        "30,30,70,95",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let picture = std::fs::read_to_string(&svg).expect("svg");
+    // The map viewport frames the window (padded 2%), not the whole map (x from 0).
+    let start = picture.find("<svg id=\"rappel-map\"").expect("viewport");
+    let tag = &picture[start..start + picture[start..].find('>').unwrap()];
+    let vb = &tag[tag.find("viewBox=\"").unwrap() + 9..];
+    let min_x: f64 = vb.split(' ').next().unwrap().parse().unwrap();
+    assert!((min_x - (30.0 - 0.02 * 65.0)).abs() < 1e-6, "{tag}");
+    for needle in [
+        "infeasible class (SHP)",
+        "blocking anchor",
+        "blocks the ascent",
+    ] {
+        assert!(picture.contains(needle), "missing {needle}");
+    }
+    assert!(
+        std::fs::read_to_string(&html)
+            .expect("html")
+            .contains("<svg")
+    );
+    // A bad window is one error line, exit 2.
+    let o = rappel(&[
+        "plan",
+        &file,
+        "--svg",
+        svg.to_str().unwrap_or_default(),
+        "--window",
+        "3,0,1",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--window 3,0,1"), "{}", stderr(&o));
+    let o = rappel(&[
+        "stability",
+        &fixture("online-example.ron"),
+        "--grid",
+        "8",
+        "--tension-limit",
+        "300",
+        "--html",
+        html.to_str().unwrap_or_default(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let page = std::fs::read_to_string(&html).expect("html");
+    assert!(page.contains("stability margin") && page.contains("stable pose"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
