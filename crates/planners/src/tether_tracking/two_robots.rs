@@ -61,7 +61,7 @@ pub struct WaypointReport {
     pub surface: usize,
     /// The tether from Robot 1 to Robot 2 (robot, obstacle and ground anchors).
     pub configuration: Vec<TetherAnchor>,
-    /// Total winding angle (Kumar Definition 3), radians.
+    /// Total winding angle (Kumar Definition 3), radians (reported in degrees).
     #[serde(
         rename = "total_winding_deg",
         with = "crate::report_units::radians_as_degrees"
