@@ -9,6 +9,8 @@ g=docs/gallery
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 $r plan fixtures/thesis-fig-2-7.ron --svg $g/plan-fig-2-7.svg >/dev/null
+$r plan fixtures/plan/shortest-infeasible.ron --svg $g/plan-shortest-infeasible.svg >/dev/null
+$r stability fixtures/online-example.ron --grid 4 --tension-limit 300 --svg $g/stability-online-example.svg >/dev/null
 $r plan fixtures/friction/slip_then_wrap.ron --svg $g/friction-slip-then-wrap.svg >/dev/null
 $r online fixtures/online-example.ron --truth fixtures/online-example-discovered.ron --svg $g/online-example.svg >/dev/null
 $r dem fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc --out "$tmp/mars.ron" \

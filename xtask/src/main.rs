@@ -1,6 +1,7 @@
 //! Project automation, run as `cargo xtask <command>` (the alias lives in `.cargo/config.toml`):
 //! `regress` runs the regression suites that reproduce the papers' figures and our invariants,
-//! `gen-fixtures` regenerates the generated fixtures from their seeds.
+//! `gen-fixtures` regenerates the generated fixtures from their seeds, `schemas` writes (or with
+//! `--check` checks) the JSON Schema documents in `docs/schemas/` (`docs/output-format.md`).
 
 mod fixtures;
 mod regress;
@@ -29,6 +30,12 @@ enum Command {
     },
     /// Regenerate the generated fixtures (random maps) from their seeds.
     GenFixtures,
+    /// Write the JSON Schema documents of the scenario and every report to docs/schemas/.
+    Schemas {
+        /// Write nothing; fail when the committed documents differ from the code.
+        #[arg(long)]
+        check: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -39,6 +46,7 @@ fn main() -> ExitCode {
             regress::run(suite.as_deref())
         }
         Command::GenFixtures => fixtures::generate(),
+        Command::Schemas { check } => schemas(check),
     };
     match result {
         Ok(code) => code,
@@ -47,4 +55,28 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// `cargo xtask schemas [--check]`.
+fn schemas(check: bool) -> Result<ExitCode, String> {
+    let dir = regress::workspace_root().join("docs/schemas");
+    if check {
+        let stale = rappel::report::stale_schema_files(&dir);
+        if stale.is_empty() {
+            println!("docs/schemas: up to date");
+            return Ok(ExitCode::SUCCESS);
+        }
+        for line in &stale {
+            eprintln!("docs/schemas/{line}");
+        }
+        return Err("docs/schemas is stale: run `cargo xtask schemas` and commit".into());
+    }
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for (name, text) in rappel::report::schema_files() {
+        let path = dir.join(&name);
+        rappel::io::write_atomically(&path, text.as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote docs/schemas/{name}");
+    }
+    Ok(ExitCode::SUCCESS)
 }

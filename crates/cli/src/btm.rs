@@ -1,7 +1,7 @@
 //! `rappel btm FILE [--json] [--svg OUT] [--html OUT]`: builds the BTM of a scenario's map, checks its
 //! invariants, prints a summary (or JSON) and optionally draws it.
 
-use crate::output::{CliError, PictureArgs, print_json, refuse_clashing_outputs};
+use crate::output::{CliError, PictureArgs, print_report, refuse_clashing_outputs};
 use rappel::btm_summary::summarize_btm;
 use rappel::scenario::Scenario;
 use rappel::svg::Picture;
@@ -18,6 +18,9 @@ pub struct Args {
     /// The picture of the map and its BTM.
     #[command(flatten)]
     picture: PictureArgs,
+    /// The picture's crop.
+    #[command(flatten)]
+    window: crate::output::WindowArg,
 }
 
 /// Runs `rappel btm`.
@@ -27,7 +30,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let (btm, summary) =
         summarize_btm(&s.map).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
     if args.picture.wanted() {
-        let mut pic = Picture::of_map(&s.map);
+        let mut pic = Picture::of_map_in(&s.map, args.window.aabb()?.as_ref());
         pic.btm(&btm);
         pic.map(&s.map);
         pic.start_goal(s.start, s.goal);
@@ -40,7 +43,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         args.picture.write(&pic.finish(&title), &title)?;
     }
     if args.json {
-        print_json(&summary)?;
+        print_report(&summary)?;
     } else {
         crate::outln!("scenario              {}", args.file.display());
         crate::outln!("vertices              {}", summary.vertices);
@@ -64,9 +67,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         );
         crate::outln!(
             "free area             {} m²",
-            crate::output::quantity(summary.free_area)
+            crate::output::quantity(summary.free_area_m2)
         );
-        crate::outln!("build time            {:.2} ms", summary.build_ms);
+        crate::outln!(
+            "build time            {:.2} ms",
+            summary.build_us as f64 / 1e3
+        );
         for (_, out) in args.picture.outputs() {
             crate::outln!("picture               {}", out.display());
         }

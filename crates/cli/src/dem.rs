@@ -4,9 +4,9 @@
 //! planning scenario (planes, tether obstacles, optionally PTFOs, start and goal) and optionally
 //! draws it over a hillshade.
 
-use crate::output::{CliError, PictureArgs, print_json, refuse_clashing_outputs, write_file};
+use crate::output::{CliError, PictureArgs, print_report, refuse_clashing_outputs, write_file};
 use rappel::dem::{dem_picture, dem_scenario_with};
-use rappel::dem_ptfo::{PtfoLabelOptions, PtfoLabels, convexity_picture, label_ptfos};
+use rappel::dem_ptfo::{PtfoLabelOptions, convexity_picture, label_ptfos};
 use rappel::ptfo_spec::FrictionRange;
 use rappel::scenario::Format;
 use rappel::sticking_profile::{hill_view, phi_chart, sticking_picture, sticking_profile};
@@ -74,15 +74,6 @@ pub struct Args {
     /// The picture: the hillshade with planes and obstacles.
     #[command(flatten)]
     picture: PictureArgs,
-}
-
-/// The JSON form of `rappel dem`'s summary.
-#[derive(serde::Serialize)]
-struct DemJson {
-    #[serde(flatten)]
-    summary: rappel::terrain::ingest::IngestSummary,
-    /// PTFO labelling, when asked for.
-    ptfos: Option<PtfoLabels>,
 }
 
 /// `LO` or `LO,HI`.
@@ -232,10 +223,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     d.scenario.save(&args.out)?;
     let s = d.summary();
     if args.json {
-        return print_json(&DemJson {
-            summary: s,
-            ptfos: labels,
-        });
+        return print_report(&d.report(&args.file, &args.out, labels));
     }
     crate::outln!("dem                {}", args.file.display());
     crate::outln!("scenario           {}", args.out.display());
@@ -252,11 +240,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .enumerate()
     {
         crate::outln!(
-            "plane {i}            {:.2} deg, y {:.1} .. {:.1} m, {:?}",
+            "plane {i}            {:.2} deg, y {:.1} .. {:.1} m, {}",
             p.slope_deg,
             p.y_bottom,
             p.y_top,
-            class
+            match class {
+                rappel::terrain::plane_class::PlaneClass::TetherFree => "tether-free",
+                rappel::terrain::plane_class::PlaneClass::TetherDemand => "tether-demand",
+            }
         );
     }
     crate::outln!(

@@ -6,9 +6,7 @@
 //! Exit code 0 at the goal with ascent and descent homotopic, 1 for a clean "no" (no feasible
 //! class within the termination rule, the goal covered, or the step budget spent), 2 for errors.
 
-use crate::output::{
-    Answer, CliError, PictureArgs, print_json, refuse_clashing_outputs, write_file,
-};
+use crate::output::{Answer, CliError, PictureArgs, refuse_clashing_outputs, write_file};
 use rappel::online::{event_picture, picture};
 use rappel::planners::online::simulate::{
     DEFAULT_MAX_STEPS, DEFAULT_SENSOR_RANGE, DEFAULT_STEP, Ending,
@@ -94,9 +92,9 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             .write(&picture(&result.session, &title), &title)?;
     }
     if args.json {
-        print_json(r)?;
+        crate::output::print_report(r)?;
     } else {
-        print_report(&args.prior, &args.truth, r);
+        print_text(&args.prior, &args.truth, r);
         for (_, out) in args.picture.outputs() {
             crate::outln!("picture      {}", out.display());
         }
@@ -136,7 +134,7 @@ fn verdict(r: &SimulationReport) -> String {
     }
 }
 
-fn print_report(prior: &Path, truth: &Path, r: &SimulationReport) {
+fn print_text(prior: &Path, truth: &Path, r: &SimulationReport) {
     crate::outln!("prior        {}", prior.display());
     crate::outln!("truth        {}", truth.display());
     if let Some(l) = r.initial_class_length_m {

@@ -32,9 +32,11 @@ pub enum Answer {
     No,
 }
 
-/// Prints a value as pretty JSON on stdout.
-pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
-    let text = serde_json::to_string_pretty(value)?;
+/// Prints a report as pretty JSON on stdout, in its envelope (`schema_version` and `report`
+/// first; the convention is `rappel::report` and `docs/output-format.md`). Every `--json` goes
+/// through here.
+pub fn print_report<T: rappel::report::Report>(report: &T) -> Result<(), CliError> {
+    let text = serde_json::to_string_pretty(&rappel::report::Envelope::new(report))?;
     crate::outln!("{text}");
     Ok(())
 }
@@ -256,5 +258,64 @@ impl PictureArgs {
             write_file(out, &rappel::viewer::html(svg, title))?;
         }
         Ok(())
+    }
+}
+
+/// `--window XMIN,YMIN,XMAX,YMAX`: crop a picture to a box of the map frame (metres), for
+/// subcommands whose pictures honour it (`btm`, `shp`, `plan`, `stability`).
+#[derive(clap::Args, Debug, Default)]
+pub struct WindowArg {
+    /// Crop the picture to this box of the map frame: XMIN,YMIN,XMAX,YMAX (metres).
+    #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", allow_hyphen_values = true)]
+    pub window: Option<String>,
+}
+
+impl WindowArg {
+    /// The box, when given: four finite numbers with `XMIN < XMAX` and `YMIN < YMAX`.
+    pub fn aabb(&self) -> Result<Option<rappel::geometry::polygon::Aabb>, CliError> {
+        let Some(text) = &self.window else {
+            return Ok(None);
+        };
+        let bad = |why: &str| CliError(format!("--window {text}: {why}"));
+        let v: Vec<f64> = text
+            .split(',')
+            .map(|p| p.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| bad("give four numbers XMIN,YMIN,XMAX,YMAX"))?;
+        let [x0, y0, x1, y1] = v[..] else {
+            return Err(bad("give four numbers XMIN,YMIN,XMAX,YMAX"));
+        };
+        if !v.iter().all(|x| x.is_finite()) {
+            return Err(bad("the numbers must be finite"));
+        }
+        if !(x0 < x1 && y0 < y1) {
+            return Err(bad("XMIN must be below XMAX and YMIN below YMAX"));
+        }
+        Ok(Some(rappel::geometry::polygon::Aabb {
+            min: rappel::nalgebra::Point2::new(x0, y0),
+            max: rappel::nalgebra::Point2::new(x1, y1),
+        }))
+    }
+}
+
+#[cfg(test)]
+mod window_tests {
+    use super::*;
+
+    #[test]
+    fn a_window_is_four_ordered_finite_numbers() {
+        let w = |s: &str| {
+            WindowArg {
+                window: Some(s.into()),
+            }
+            .aabb()
+        };
+        let b = w("-1,2,3.5,4").unwrap().unwrap();
+        assert_eq!((b.min.x, b.min.y, b.max.x, b.max.y), (-1.0, 2.0, 3.5, 4.0));
+        assert!(w("1,2,3").is_err());
+        assert!(w("3,0,1,4").is_err());
+        assert!(w("0,0,inf,4").is_err());
+        assert!(w("a,b,c,d").is_err());
+        assert!(WindowArg::default().aabb().unwrap().is_none());
     }
 }

@@ -1,12 +1,17 @@
 //! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json]
-//! [--reachable-areas] [--svg OUT] [--export OUT.geojson|OUT.csv]`:
+//! [--reachable-areas] [--svg OUT] [--html OUT] [--window XMIN,YMIN,XMAX,YMAX]
+//! [--export OUT.geojson|OUT.csv]`:
 //! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
-//! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths.
+//! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths,
+//! and every infeasible class's tether with its blocking anchor marked; `--html` the same picture as
+//! an interactive page.
 //! A scenario without a feasible class is an answer, not an error: exit code 1, the reason printed.
 //! With PTFOs (a `friction` section) the frictional planner runs too, and its verdict decides.
 
-use crate::output::{Answer, CliError, print_json, refuse_clashing_outputs, write_file};
+use crate::output::{
+    Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_file,
+};
 use rappel::export::{ExportFormat, export_plan};
 use rappel::plan::{PlanOptions, PlanReport, plan_detailed};
 use rappel::scenario::Scenario;
@@ -36,9 +41,12 @@ pub struct Args {
     /// the JSON; a polygon overlay per anchor of every class, so off by default).
     #[arg(long)]
     reachable_areas: bool,
-    /// Draw the plan to this SVG file.
-    #[arg(long, value_name = "OUT")]
-    svg: Option<PathBuf>,
+    /// The picture of the plan (infeasible classes and their blocking anchors marked).
+    #[command(flatten)]
+    picture: PictureArgs,
+    /// The picture's crop.
+    #[command(flatten)]
+    window: WindowArg,
     /// Export tethers, anchors, waypoints and paths to this file: GeoJSON (.geojson) or CSV
     /// (.csv), in the DEM's coordinates for scenarios made by `rappel dem`.
     #[arg(long, value_name = "OUT")]
@@ -57,10 +65,8 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             rappel::plan::MAX_CLASSES
         )));
     }
-    let mut outputs: Vec<(&str, &Path)> = Vec::new();
-    if let Some(out) = &args.svg {
-        outputs.push(("--svg", out.as_path()));
-    }
+    let mut outputs: Vec<(&str, &Path)> = args.picture.outputs();
+    let window = args.window.aabb()?;
     if let Some(out) = &args.export {
         outputs.push(("--export", out.as_path()));
     }
@@ -94,8 +100,13 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     };
     let plan = plan_detailed(&s, &options)
         .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
-    if let Some(out) = &args.svg {
-        write_file(out, &plan.picture(&s))?;
+    if args.picture.wanted() {
+        let title = match &plan.outcome.pair {
+            Some(p) => format!("{}: class {} (ascent/descent pair)", s.name, p.rank),
+            None => format!("{}: no feasible class", s.name),
+        };
+        args.picture
+            .write(&plan.picture_in(&s, window.as_ref()), &title)?;
     }
     if let Some((out, format)) = export {
         write_file(
@@ -111,13 +122,13 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     };
     let answer = if feasible { Answer::Yes } else { Answer::No };
     if args.json {
-        print_json(&plan.report)?;
+        crate::output::print_report(&plan.report)?;
     } else {
-        print_report(&args.file.display().to_string(), &plan.report);
+        print_text(&args.file.display().to_string(), &plan.report);
         if let Some(f) = &plan.report.friction {
             crate::friction_out::print_friction(f);
         }
-        if let Some(out) = &args.svg {
+        for (_, out) in args.picture.outputs() {
             crate::outln!("picture      {}", out.display());
         }
     }
@@ -128,7 +139,7 @@ fn degrees(v: Option<f64>) -> String {
     v.map_or_else(|| "free".to_string(), |d| format!("{d:.2}°"))
 }
 
-fn print_report(file: &str, r: &PlanReport) {
+fn print_text(file: &str, r: &PlanReport) {
     crate::outln!("scenario     {file}");
     crate::outln!("model        {}", r.traversability);
     if r.planes.is_empty() {

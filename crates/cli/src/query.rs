@@ -3,7 +3,7 @@
 //! shortest length (or its K shortest classes) and the median time of its query. Exit 0 when
 //! every pair is connected, 1 when some pair is not, 2 when a pair or a file is bad.
 
-use crate::output::{Answer, CliError, print_json};
+use crate::output::{Answer, CliError, print_report};
 use rappel::query::{answer, load_map, load_pairs};
 use std::path::PathBuf;
 
@@ -33,7 +33,9 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     let pairs = load_pairs(&args.pairs).map_err(err)?;
     let answers = answer(&map, &pairs, args.classes, args.repeat).map_err(err)?;
     if args.json {
-        print_json(&answers)?;
+        print_report(&rappel::query::QueryReport {
+            answers: answers.clone(),
+        })?;
     } else {
         crate::outln!("pair  length(s) m                      median us");
         for a in &answers {
@@ -47,7 +49,10 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
                     .collect::<Vec<_>>()
                     .join(" "),
             };
-            crate::outln!("{:>4}  {:<32} {:>9.1}", a.index, lengths, a.median_us);
+            let median = a
+                .median_ns
+                .map_or_else(|| "-".to_string(), |ns| format!("{:.1}", ns as f64 / 1e3));
+            crate::outln!("{:>4}  {:<32} {:>9}", a.index, lengths, median);
         }
     }
     if let Some(bad) = answers.iter().find_map(|a| a.error.clone()) {

@@ -3,7 +3,7 @@
 //! with `--anchor`, the stability QP's verdict for both boom configurations (exit 1 when neither
 //! is stable).
 
-use crate::output::{Answer, CliError, print_json};
+use crate::output::{Answer, CliError, print_report};
 use rappel::settle::{load_ground, settle_report};
 use std::path::PathBuf;
 
@@ -49,7 +49,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         }
     };
     if args.json {
-        print_json(&report)?;
+        print_report(&report)?;
     } else {
         let o = report.origin;
         crate::outln!(
@@ -70,19 +70,23 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             );
         }
         for v in &report.stability {
-            match &v.stable {
-                Ok(s) => crate::outln!(
+            match (v.stable, &v.error) {
+                (Some(s), _) => crate::outln!(
                     "  boom {:<10} {} (margin {:.3})",
                     v.boom,
-                    if *s { "stable" } else { "not stable" },
+                    if s { "stable" } else { "not stable" },
                     v.margin
                 ),
-                Err(e) => crate::outln!("  boom {:<10} not checked: {e}", v.boom),
+                (None, e) => crate::outln!(
+                    "  boom {:<10} not checked: {}",
+                    v.boom,
+                    e.as_deref().unwrap_or("unknown")
+                ),
             }
         }
     }
     let stable =
-        report.stability.is_empty() || report.stability.iter().any(|v| v.stable == Ok(true));
+        report.stability.is_empty() || report.stability.iter().any(|v| v.stable == Some(true));
     Ok(if stable { Answer::Yes } else { Answer::No })
 }
 

@@ -5,7 +5,7 @@
 //! QP is solved with the tether from the last predicted anchor (boom inline or in contact).
 //! Exit 0 when the map was computed; bad input exits 2.
 
-use crate::output::{Answer, CliError, PictureArgs, print_json, refuse_clashing_outputs};
+use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
 use rappel::mesh_stability::{MapSpec, map_svg, stability_map};
 use rappel::nalgebra::Point3;
 use rappel::planners::anchor_prediction::AnchorHistory;
@@ -133,7 +133,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             .write(&map_svg(&map, &ground), "rappel settle-map")?;
     }
     if args.json {
-        print_json(&map)?;
+        print_report(&map)?;
     } else {
         crate::outln!(
             "stability map {} x {} cells of {} m: {} stable, {} unstable, {} not settled or unreached",

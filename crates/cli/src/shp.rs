@@ -4,7 +4,7 @@
 //! homotopic` (exit code 1). A path file is a JSON array of `[x, y]` points; a path that leaves free space is
 //! bad input (exit 2, the segment named).
 
-use crate::output::{Answer, CliError, PictureArgs, print_json, refuse_clashing_outputs};
+use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
 use rappel::geometry::btm::Btm;
 use rappel::homotopy::crossing::CrossingSequence;
 use rappel::homotopy::funnel::Side;
@@ -28,6 +28,9 @@ pub struct Args {
     /// The picture: the BTM, the path, its sleeve, the SHP and its anchors.
     #[command(flatten)]
     picture: PictureArgs,
+    /// The picture's crop.
+    #[command(flatten)]
+    window: crate::output::WindowArg,
 }
 
 /// Arguments of `rappel homotopic`.
@@ -41,15 +44,6 @@ pub struct HomotopicArgs {
     /// Print the answer as JSON.
     #[arg(long)]
     json: bool,
-}
-
-/// The JSON form of `rappel homotopic`'s answer.
-#[derive(serde::Serialize)]
-struct HomotopicAnswer {
-    homotopic: bool,
-    paths: [String; 2],
-    /// Length of each path's reduced crossing sequence (equal sequences mean homotopic).
-    reduced_crossings: [usize; 2],
 }
 
 fn load_btm(file: &std::path::Path) -> Result<(Scenario, Btm), CliError> {
@@ -66,7 +60,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let (shp, report) =
         shp_report(&btm, &path).map_err(|e| CliError(format!("{}: {e}", args.path.display())))?;
     if args.picture.wanted() {
-        let mut pic = Picture::of_map(&s.map);
+        let mut pic = Picture::of_map_in(&s.map, args.window.aabb()?.as_ref());
         pic.sleeve(&btm, &shp.sleeve);
         pic.btm(&btm);
         pic.map(&s.map);
@@ -77,16 +71,16 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         args.picture.write(&pic.finish(&title), &title)?;
     }
     if args.json {
-        return print_json(&report);
+        return print_report(&report);
     }
     crate::outln!("scenario             {}", args.file.display());
     crate::outln!(
         "path                 {} ({} points, {:.3} m)",
         args.path.display(),
         report.path_points,
-        report.path_length
+        report.path_length_m
     );
-    crate::outln!("SHP length           {:.3} m", report.length);
+    crate::outln!("SHP length           {:.3} m", report.length_m);
     crate::outln!(
         "crossing sequence    {} crossings, {} after reduction",
         report.crossings,
@@ -118,7 +112,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 a.vertex,
                 obstacle,
                 side,
-                a.turning_angle.to_degrees(),
+                a.turning_angle_deg,
                 a.point.x,
                 a.point.y
             );
@@ -148,7 +142,7 @@ pub fn run_homotopic(args: &HomotopicArgs) -> Result<Answer, CliError> {
                 .map(|c| c.len())
                 .map_err(|e| CliError(format!("{}: {e}", f.display())))
         };
-        print_json(&HomotopicAnswer {
+        print_report(&rappel::report::HomotopicReport {
             homotopic: same,
             paths: [a.display().to_string(), b.display().to_string()],
             reduced_crossings: [reduced(&pa, a)?, reduced(&pb, b)?],

@@ -1,11 +1,11 @@
-//! `rappel stability FILE [--tension-limit N] [--grid STEP] [--json] [--svg OUT]`: a stability map
-//! over the scenario's terrain planes, stable poses green and unstable red (Kumar Fig. 5); the
-//! JSON lists each dot with its margin.
+//! `rappel stability FILE [--tension-limit N] [--grid STEP] [--json] [--svg OUT] [--html OUT]
+//! [--window XMIN,YMIN,XMAX,YMAX]`: a stability map over the scenario's terrain planes (Kumar
+//! Fig. 5): stable poses as discs coloured by margin on a colour scale, unstable poses as rings,
+//! sized to the grid step; the JSON lists each dot with its margin.
 
-use crate::output::{CliError, print_json, refuse_overwriting_inputs, write_file};
+use crate::output::{CliError, PictureArgs, WindowArg, print_report, refuse_clashing_outputs};
 use rappel::scenario::Scenario;
 use rappel::stability::{StabilityOptions, stability_over_scenario};
-use rappel::svg::{Layer, Marker, Picture};
 use std::path::PathBuf;
 
 /// Arguments of `rappel stability`.
@@ -22,16 +22,18 @@ pub struct Args {
     /// Print every dot as JSON.
     #[arg(long)]
     json: bool,
-    /// Draw the map with the dots to this SVG file.
-    #[arg(long, value_name = "OUT")]
-    svg: Option<PathBuf>,
+    /// The picture: the map with the dots.
+    #[command(flatten)]
+    picture: PictureArgs,
+    /// The picture's crop.
+    #[command(flatten)]
+    window: WindowArg,
 }
 
 /// Runs `rappel stability`.
 pub fn run(args: &Args) -> Result<(), CliError> {
-    if let Some(out) = &args.svg {
-        refuse_overwriting_inputs(out, &[&args.file])?;
-    }
+    refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
+    let window = args.window.aabb()?;
     let s = Scenario::load(&args.file)?;
     let options = StabilityOptions {
         grid_step: args.grid,
@@ -39,29 +41,18 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     };
     let report = stability_over_scenario(&s, &options)
         .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
-    if let Some(out) = &args.svg {
-        let mut pic = Picture::of_map(&s.map);
-        pic.map(&s.map);
-        for d in &report.dots {
-            let layer = if d.stable {
-                Layer::Stable
-            } else {
-                Layer::Unstable
-            };
-            pic.marker(
-                layer,
-                rappel::nalgebra::Point2::new(d.x, d.y),
-                Marker::Circle,
-            );
-        }
-        pic.marker(Layer::Start, s.start, Marker::Cross);
-        write_file(
-            out,
-            &pic.finish(&format!("stability of {}", args.file.display())),
-        )?;
+    if args.picture.wanted() {
+        let title = format!(
+            "stability of {}: {} of {} poses stable",
+            args.file.display(),
+            report.stable,
+            report.assessed
+        );
+        args.picture
+            .write(&report.picture(&s, window.as_ref(), &title), &title)?;
     }
     if args.json {
-        return print_json(&report);
+        return print_report(&report);
     }
     crate::outln!("scenario    {}", args.file.display());
     crate::outln!("robot       {} ({})", report.robot, report.criterion);
@@ -75,8 +66,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let beyond = report.dots.iter().filter(|d| d.beyond_tether).count();
         crate::outln!("tether      {l} m: {beyond} poses beyond its reach (unstable)");
     }
-    crate::outln!("grid step   {} m", report.grid_step);
-    if let Some(t) = report.tension_limit {
+    crate::outln!("grid step   {} m", report.grid_step_m);
+    if let Some(t) = report.tension_limit_n {
         crate::outln!("tension     <= {t} N");
     }
     for (i, p) in s.terrain.planes.iter().enumerate() {

@@ -3,7 +3,7 @@
 //! a fixed anchor (the one-robot form). Exit 0 when Robot 2 is stable at every waypoint, 1 at the
 //! first unstable one (named), 2 on an error.
 
-use crate::output::{CliError, PictureArgs, print_json, refuse_clashing_outputs, write_file};
+use crate::output::{CliError, PictureArgs, print_report, refuse_clashing_outputs, write_file};
 use rappel::track::{load_path, load_terrain, track, track_picture, track_picture_3d};
 use std::path::{Path, PathBuf};
 
@@ -52,7 +52,7 @@ pub fn run(args: &Args) -> Result<bool, CliError> {
     }
     let stable = report.first_unstable.is_none();
     if args.json {
-        print_json(&report)?;
+        print_report(&report)?;
         return Ok(stable);
     }
     crate::outln!("scenario      {}", args.scenario.display());

@@ -1,7 +1,7 @@
 //! `rappel validate FILE [--json]`: loads and checks a scenario and prints a one-line summary (or
 //! its JSON form).
 
-use crate::output::{CliError, print_json};
+use crate::output::{CliError, print_report};
 use rappel::scenario::Scenario;
 use std::path::PathBuf;
 
@@ -15,24 +15,11 @@ pub struct Args {
     json: bool,
 }
 
-/// The JSON form of a valid scenario's summary.
-#[derive(serde::Serialize)]
-struct Summary {
-    file: String,
-    valid: bool,
-    obstacles: usize,
-    vertices: usize,
-    terrain_planes: usize,
-    free_area_m2: f64,
-    ptfos: usize,
-    georeferenced: bool,
-}
-
 /// Runs `rappel validate`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let s = Scenario::load(&args.file)?;
     if args.json {
-        return print_json(&Summary {
+        return print_report(&rappel::report::ValidateReport {
             file: args.file.display().to_string(),
             valid: true,
             obstacles: s.map.obstacles.len(),

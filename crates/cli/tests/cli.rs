@@ -14,7 +14,9 @@ fn btm_json_reports_the_checked_invariants() {
     assert_eq!(v["holes"], 7);
     assert_eq!(v["triangles"], 38 + 2 * 7 - 2);
     assert_eq!(v["constrained_delaunay"], true);
-    assert!(v["build_ms"].as_f64().is_some());
+    assert!(v["build_us"].as_u64().is_some());
+    assert_eq!(v["schema_version"], 1);
+    assert_eq!(v["report"], "btm");
 }
 
 #[test]
@@ -217,7 +219,7 @@ fn dem_makes_a_valid_scenario_from_real_terrain_and_refuses_bad_files() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
-    assert!(v["planes"].as_u64().unwrap_or(0) >= 1);
+    assert!(v["counts"]["planes"].as_u64().unwrap_or(0) >= 1);
     let o = rappel(&["btm", out.to_str().unwrap_or_default(), "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(

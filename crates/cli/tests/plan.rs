@@ -48,10 +48,10 @@ fn json_and_svg_report_the_plan() {
     assert_eq!(classes[0]["anchors"].as_array().map(Vec::len), Some(2));
     assert_eq!(classes[0]["feasible"], true);
     assert_eq!(v["chosen"]["rank"], 1);
-    assert!(v["chosen"]["min_anchor_distance"].as_f64().unwrap() >= 0.5 * (1.0 - 1e-9));
+    assert!(v["chosen"]["min_anchor_distance_m"].as_f64().unwrap() >= 0.5 * (1.0 - 1e-9));
     let lengths: Vec<f64> = classes
         .iter()
-        .map(|c| c["length"].as_f64().unwrap())
+        .map(|c| c["length_m"].as_f64().unwrap())
         .collect();
     assert!(lengths.windows(2).all(|w| w[0] <= w[1]));
     let picture = std::fs::read_to_string(&svg).expect("picture written");
@@ -256,7 +256,8 @@ fn query_answers_the_shipped_pairs_and_names_a_bad_pair() {
     let run = rappel(&["query", &map, "--pairs", &pairs, "--classes", "2", "--json"]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
     let json: serde_json::Value = serde_json::from_str(&stdout(&run)).expect("JSON");
-    let answers = json.as_array().expect("answers");
+    assert_eq!(json["report"], "query");
+    let answers = json["answers"].as_array().expect("answers");
     assert_eq!(answers.len(), 3);
     assert!(
         answers

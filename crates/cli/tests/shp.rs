@@ -51,13 +51,24 @@ fn shp_json_reports_a_taut_tether_no_longer_than_the_path() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     let (len, path_len) = (
-        v["length"].as_f64().unwrap(),
-        v["path_length"].as_f64().unwrap(),
+        v["length_m"].as_f64().unwrap(),
+        v["path_length_m"].as_f64().unwrap(),
     );
     assert!(len > 0.0 && len < path_len);
     let anchors = v["anchors"].as_array().unwrap();
     assert!(!anchors.is_empty());
     assert!(anchors.iter().all(|a| a["obstacle"].is_u64()));
+    // One schema: angles in degrees in (0, 180), lower-case sides, points as [x, y].
+    assert!(anchors.iter().all(|a| {
+        let t = a["turning_angle_deg"].as_f64().unwrap();
+        t > 0.0 && t < 180.0 && (a["side"] == "left" || a["side"] == "right")
+    }));
+    assert!(
+        anchors
+            .iter()
+            .all(|a| a["point"].as_array().map(Vec::len) == Some(2))
+    );
+    assert_eq!(v["schema_version"], 1);
     assert_eq!(v["points"].as_array().unwrap().len(), anchors.len() + 2);
     assert!(v["reduced_crossings"].as_u64().unwrap() <= v["crossings"].as_u64().unwrap());
     assert_eq!(v["h_signature"]["digest"].as_str().unwrap().len(), 16);

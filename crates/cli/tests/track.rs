@@ -40,8 +40,11 @@ fn a_wound_tether_holds_robot_2_down_the_slopes() {
     let w = v["waypoints"].as_array().expect("waypoints");
     assert_eq!(w.len(), 9);
     // eq. 2 with F_0 = 0: T2max = 0.4 * 35 * 9.81 * exp(0.4 * total winding) at the start.
-    let phi = w[0]["total_winding"].as_f64().expect("winding");
-    let t2 = w[0]["t2max"].as_f64().expect("t2max");
+    let phi = w[0]["total_winding_deg"]
+        .as_f64()
+        .expect("winding")
+        .to_radians();
+    let t2 = w[0]["t2max_n"].as_f64().expect("t2max");
     assert!((t2 - 0.4 * 35.0 * 9.81 * (0.4 * phi).exp()).abs() < 1e-9 * t2);
     // Down on the slopes the last anchor is a ground anchor at the crest above.
     assert_eq!(w[4]["ground_anchored"], true);

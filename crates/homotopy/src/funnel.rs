@@ -36,7 +36,8 @@ use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 
 /// The side of the path an obstacle lies on, looking along the path.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
 pub enum Side {
     /// On the left: the path turns left (counter-clockwise) around it.
     Left,

@@ -23,6 +23,8 @@ pub mod frictional;
 pub mod online;
 pub mod path_pair;
 pub mod sampler;
+pub mod report_units;
+pub mod search_report;
 pub mod spt;
 pub mod terrain;
 pub mod tether_tracking;

@@ -3,11 +3,11 @@
 
 use rappel_geometry::btm::{Btm, BtmError};
 use rappel_geometry::map::Map;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// What `rappel btm` reports.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct BtmSummary {
     /// Map vertices.
     pub vertices: usize,
@@ -24,9 +24,13 @@ pub struct BtmSummary {
     /// The empty-circumcircle test, checked exactly on every diagonal.
     pub constrained_delaunay: bool,
     /// Free-space area, m².
-    pub free_area: f64,
-    /// Wall-clock time of the build, milliseconds.
-    pub build_ms: f64,
+    pub free_area_m2: f64,
+    /// Wall-clock time of the build, whole microseconds.
+    pub build_us: u64,
+}
+
+impl crate::report::Report for BtmSummary {
+    const KIND: &'static str = "btm";
 }
 
 /// Builds the BTM of `map`, timing it, and checks it.
@@ -44,7 +48,7 @@ pub struct BtmSummary {
 pub fn summarize_btm(map: &Map) -> Result<(Btm, BtmSummary), BtmError> {
     let t = Instant::now();
     let btm = Btm::build(map)?;
-    let build_ms = t.elapsed().as_secs_f64() * 1e3;
+    let build_us = crate::report::micros(t.elapsed());
     let check = btm.check_invariants();
     let vertices = btm.vertex_count();
     let holes = btm.hole_count();
@@ -56,8 +60,8 @@ pub fn summarize_btm(map: &Map) -> Result<(Btm, BtmSummary), BtmError> {
         invariants_hold: check.is_ok(),
         invariant_violation: check.as_ref().err().map(ToString::to_string),
         constrained_delaunay: btm.is_constrained_delaunay(),
-        free_area: map.free_area(),
-        build_ms,
+        free_area_m2: map.free_area(),
+        build_us,
     };
     Ok((btm, summary))
 }

@@ -8,6 +8,7 @@ use crate::scenario::{RobotParams, Scenario, Terrain};
 use crate::svg::{Layer, Marker, Picture};
 use rappel_terrain::dem::{DemError, DemLimits, HeightGrid, dem_crs, read_dem_with};
 use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Largest number of shaded cells drawn per picture side; bigger grids are drawn subsampled.
@@ -45,6 +46,50 @@ pub enum DemScenarioError {
     },
 }
 
+/// One plane of a DEM scenario in `rappel dem`'s report.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct DemPlaneReport {
+    /// Index, 0 at the top.
+    pub index: usize,
+    /// Slope, degrees.
+    pub slope_deg: f64,
+    /// Band top in the planning frame, m.
+    pub y_top_m: f64,
+    /// Band bottom, m.
+    pub y_bottom_m: f64,
+    /// Wheel friction.
+    pub friction: f64,
+    /// Tether-free or tether-demand.
+    pub class: rappel_terrain::plane_class::PlaneClass,
+}
+
+/// What `rappel dem --json` prints: everything its text shows.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct DemReport {
+    /// The DEM file read.
+    pub dem: String,
+    /// The scenario file written.
+    pub scenario: String,
+    /// Azimuth of the fall line, degrees clockwise from north.
+    pub fall_line_azimuth_deg: f64,
+    /// The planes, top first.
+    pub planes: Vec<DemPlaneReport>,
+    /// The ingestion's counts.
+    pub counts: IngestSummary,
+    /// PTFO labelling, when asked for (`--ptfo-friction`).
+    pub ptfos: Option<crate::dem_ptfo::PtfoLabels>,
+    /// The start, `[x, y]` in the planning frame.
+    #[schemars(with = "[f64; 2]")]
+    pub start: nalgebra::Point2<f64>,
+    /// The goal.
+    #[schemars(with = "[f64; 2]")]
+    pub goal: nalgebra::Point2<f64>,
+}
+
+impl crate::report::Report for DemReport {
+    const KIND: &'static str = "dem";
+}
+
 /// A scenario made from a DEM, with what ingestion found.
 pub struct DemScenario {
     /// The scenario (map, start, goal, planes).
@@ -59,6 +104,44 @@ impl DemScenario {
     /// Counts for printing and golden files.
     pub fn summary(&self) -> IngestSummary {
         self.ingested.summary()
+    }
+
+    /// The report of `rappel dem`: the DEM `dem` turned into the scenario file `scenario`, with
+    /// the PTFO labelling `ptfos` when it was asked for.
+    pub fn report(
+        &self,
+        dem: &Path,
+        scenario: &Path,
+        ptfos: Option<crate::dem_ptfo::PtfoLabels>,
+    ) -> DemReport {
+        let s = &self.scenario;
+        DemReport {
+            dem: dem.display().to_string(),
+            scenario: scenario.display().to_string(),
+            fall_line_azimuth_deg: crate::report::round_to(
+                self.ingested.frame.fall_line_azimuth_deg(),
+                crate::report::ANGLE_DECIMALS,
+            ),
+            planes: s
+                .terrain
+                .planes
+                .iter()
+                .zip(&self.ingested.plane_classes)
+                .enumerate()
+                .map(|(index, (p, &class))| DemPlaneReport {
+                    index,
+                    slope_deg: p.slope_deg,
+                    y_top_m: p.y_top,
+                    y_bottom_m: p.y_bottom,
+                    friction: p.friction,
+                    class,
+                })
+                .collect(),
+            counts: self.summary(),
+            ptfos,
+            start: s.start,
+            goal: s.goal,
+        }
     }
 }
 

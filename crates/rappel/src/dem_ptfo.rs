@@ -41,7 +41,7 @@ use rappel_mechanics::curvature::{Convexity, CurvatureMap, analyze_height_field}
 use rappel_mechanics::ptfo_surface::{HeightPatch, PtfoSurface};
 use rappel_terrain::dem::HeightGrid;
 use rappel_terrain::plane_fit::FittedPlane;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Default flatness tolerance of the convexity test, in units of one over the DEM's cell size: a
 /// hump must bend with a radius under ten cells in every direction (0.1 1/m on a 1 m HiRISE grid,
@@ -89,7 +89,7 @@ impl PtfoLabelOptions {
 }
 
 /// What [`label_ptfos`] did.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PtfoLabels {
     /// Convex cells in free space.
     pub convex_cells: usize,

@@ -21,25 +21,30 @@ use rappel_planners::frictional::search::{
 use rappel_planners::frictional::slip::SlipEvent;
 use rappel_planners::spt::{SearchOptions, Termination};
 use rappel_planners::terrain::PlaneSeries;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The tension model in force, N.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TensionReport {
     /// `T_min`.
+    #[serde(rename = "t_min_n")]
     pub t_min: f64,
     /// `T_max`.
+    #[serde(rename = "t_max_n")]
     pub t_max: f64,
     /// `T_d`.
+    #[serde(rename = "t_d_n")]
     pub t_d: f64,
     /// `ε`.
+    #[serde(rename = "epsilon_n")]
     pub epsilon: f64,
 }
 
 /// One anchor of a class after Alg. 8.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FrictionAnchorReport {
     /// Position.
+    #[schemars(with = "[f64; 2]")]
     pub point: Point2<f64>,
     /// Map obstacle index (`null` on the boundary).
     pub obstacle: Option<usize>,
@@ -54,15 +59,18 @@ pub struct FrictionAnchorReport {
 }
 
 /// One class examined by Alg. 7.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FrictionClassReport {
     /// Rank in the frictionless search.
     pub rank: usize,
     /// Length as searched, m.
+    #[serde(rename = "searched_length_m")]
     pub searched_length: f64,
     /// Length after the slips, m.
+    #[serde(rename = "length_m")]
     pub length: f64,
     /// The final SHP.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub points: Vec<Point2<f64>>,
     /// Its anchors.
     pub anchors: Vec<FrictionAnchorReport>,
@@ -71,6 +79,7 @@ pub struct FrictionClassReport {
     /// Alg. 10 at friction anchors.
     pub sweeps: Vec<SweepCheck>,
     /// Waypoints in ascent order (friction anchors are their own).
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub waypoints: Vec<Point2<f64>>,
     /// The capstan along the tether.
     pub holding: Option<HoldingReport>,
@@ -84,7 +93,7 @@ pub struct FrictionClassReport {
 }
 
 /// The frictional part of `rappel plan`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FrictionReport {
     /// The tensions in force.
     pub tensions: TensionReport,
@@ -99,6 +108,8 @@ pub struct FrictionReport {
     /// One line.
     pub verdict: String,
     /// Why the search stopped without a feasible class.
+    #[serde(with = "rappel_planners::search_report::option_termination_serde")]
+    #[schemars(with = "Option<rappel_planners::search_report::TerminationName>")]
     pub termination: Option<Termination>,
 }
 

@@ -27,7 +27,7 @@ pub const AXIS_TOLERANCE: f64 = 1e-9;
 /// let grid = d.grid.geometry();
 /// assert!(w.x > grid.west && w.x < grid.east() && w.y > grid.south() && w.y < grid.north);
 /// ```
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Georeference {
     /// The DEM file the scenario was made from, as given to `rappel dem`.

@@ -46,6 +46,7 @@ pub mod plan;
 pub mod progress;
 pub mod ptfo_spec;
 pub mod query;
+pub mod report;
 pub mod robot;
 pub mod scenario;
 pub mod settle;

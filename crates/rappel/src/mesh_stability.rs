@@ -18,7 +18,7 @@
 
 use nalgebra::{Point2, Point3, Vector3};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use rappel_geometry::polygon::Aabb;
 use rappel_mechanics::axel::AxelParams;
@@ -66,7 +66,7 @@ pub enum MeshStabilityError {
 }
 
 /// A settled pose with its anchor history and stability.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PoseStability {
     /// Robot origin (ground under the axle centre), world.
     pub origin: [f64; 3],
@@ -108,7 +108,7 @@ pub fn pose_stability(
     let verdicts = boom_verdicts(ground, pose, &AxelParams::default(), &history.last().point);
     let margin = verdicts
         .iter()
-        .filter(|v| v.stable == Ok(true))
+        .filter(|v| v.stable == Some(true))
         .map(|v| v.margin)
         .fold(f64::NEG_INFINITY, f64::max);
     let stable = margin > f64::NEG_INFINITY;
@@ -169,13 +169,16 @@ pub fn drive_and_check(
 
 /// A map's grid: ground points `(x0 + i step, y0 + j step)` within the bounds, every pose
 /// heading `yaw_deg`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct MapSpec {
     /// `(min, max)` along x, metres.
+    #[serde(rename = "x_range_m")]
     pub x: (f64, f64),
     /// `(min, max)` along y, metres.
+    #[serde(rename = "y_range_m")]
     pub y: (f64, f64),
     /// Grid spacing, metres (`> 0`).
+    #[serde(rename = "step_m")]
     pub step: f64,
     /// Heading of every pose, degrees counter-clockwise from `+x`.
     pub yaw_deg: f64,
@@ -184,12 +187,10 @@ pub struct MapSpec {
 }
 
 /// One map cell.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct MapCell {
-    /// Ground x of the cell.
-    pub x: f64,
-    /// Ground y.
-    pub y: f64,
+    /// The cell's ground point `[x, y]`.
+    pub ground: [f64; 2],
     /// The settled pose and its stability, when it settled and its history could be predicted.
     pub pose: Option<PoseStability>,
     /// Why not, otherwise.
@@ -197,7 +198,7 @@ pub struct MapCell {
 }
 
 /// A stability map.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct StabilityMap {
     /// The grid.
     pub spec: MapSpec,
@@ -351,26 +352,22 @@ pub fn stability_map(
             let (x, y) = at(c % nx, c / nx);
             match (&poses[c], &histories[c]) {
                 (Ok(p), Some(Ok(h))) => MapCell {
-                    x,
-                    y,
+                    ground: [x, y],
                     pose: Some(pose_stability(ground, p, h)),
                     failure: None,
                 },
                 (Err(e), _) => MapCell {
-                    x,
-                    y,
+                    ground: [x, y],
                     pose: None,
                     failure: Some(format!("not settled: {e}")),
                 },
                 (_, Some(Err(e))) => MapCell {
-                    x,
-                    y,
+                    ground: [x, y],
                     pose: None,
                     failure: Some(e.clone()),
                 },
                 (_, None) => MapCell {
-                    x,
-                    y,
+                    ground: [x, y],
                     pose: None,
                     failure: Some("not reached".into()),
                 },
@@ -416,10 +413,10 @@ pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
     for c in &map.cells {
         let Some(p) = &c.pose else { continue };
         let sq = [
-            Point2::new(c.x - h, c.y - h),
-            Point2::new(c.x + h, c.y - h),
-            Point2::new(c.x + h, c.y + h),
-            Point2::new(c.x - h, c.y + h),
+            Point2::new(c.ground[0] - h, c.ground[1] - h),
+            Point2::new(c.ground[0] + h, c.ground[1] - h),
+            Point2::new(c.ground[0] + h, c.ground[1] + h),
+            Point2::new(c.ground[0] - h, c.ground[1] + h),
         ];
         let (layer, fill) = if p.stable {
             // Green, darker for a larger margin.
@@ -500,4 +497,8 @@ pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
         "stability map: {} stable, {} unstable, {} not settled or unreached",
         map.stable, map.unstable, map.failed
     ))
+}
+
+impl crate::report::Report for StabilityMap {
+    const KIND: &'static str = "settle_map";
 }

@@ -15,6 +15,13 @@ use rappel_planners::online::simulate::{
 use rappel_planners::online::{OnlineSession, SimulationOptions, SimulationReport};
 use rappel_planners::terrain::{PlaneSeries, TerrainError};
 
+/// What `rappel online --json` prints: the simulator's report ([`SimulationReport`]).
+pub type OnlineReport = SimulationReport;
+
+impl crate::report::Report for SimulationReport {
+    const KIND: &'static str = "online";
+}
+
 /// Why an online run could not be made (a run without a feasible class is an answer, not an
 /// error: its ending says so).
 #[derive(Debug, thiserror::Error)]

@@ -28,7 +28,7 @@ use rappel_planners::spt::{
     DEFAULT_MAX_EXPANSIONS, SearchError, SearchOptions, SearchStats, SptPlanner, Termination,
 };
 use rappel_planners::terrain::{PlaneSeries, TerrainError};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Default number of classes listed.
 pub const DEFAULT_CLASSES: usize = 5;
@@ -97,13 +97,15 @@ pub enum PlanError {
 }
 
 /// One terrain plane in a report.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PlaneReport {
     /// Index, 0 at the top.
     pub index: usize,
     /// Band top, m.
+    #[serde(rename = "y_top_m")]
     pub y_top: f64,
     /// Band bottom, m.
+    #[serde(rename = "y_bottom_m")]
     pub y_bottom: f64,
     /// Slope, degrees.
     pub slope_deg: f64,
@@ -116,7 +118,7 @@ pub struct PlaneReport {
 }
 
 /// One anchor of a class in a report.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct AnchorReport {
     /// `j`, from 1 at the start's end of the tether.
     pub index: usize,
@@ -125,6 +127,7 @@ pub struct AnchorReport {
     /// Its obstacle (`None` on the map boundary).
     pub obstacle: Option<u32>,
     /// Its position.
+    #[schemars(with = "[f64; 2]")]
     pub point: Point2<f64>,
     /// The side of the tether the obstacle lies on.
     pub side: Side,
@@ -139,6 +142,7 @@ pub struct AnchorReport {
     /// `passable`, `impassable: ...` or `not reached`.
     pub passability: String,
     /// Its waypoint on the visibility edge, when passable.
+    #[schemars(with = "Option<[f64; 2]>")]
     pub waypoint: Option<Point2<f64>>,
     /// Area of its anchor reachable set `C_j` cut to free space, m² (`None` when it was not
     /// asked for, [`PlanOptions::reachable_areas`], or the overlay refused its input).
@@ -146,15 +150,17 @@ pub struct AnchorReport {
 }
 
 /// One homotopy class in a report.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ClassReport {
     /// 1 for the shortest.
     pub rank: usize,
     /// SHP length, m.
+    #[serde(rename = "length_m")]
     pub length: f64,
     /// Simple (no tether winds around an obstacle).
     pub simple: bool,
     /// The SHP polyline.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub points: Vec<Point2<f64>>,
     /// Its anchors.
     pub anchors: Vec<AnchorReport>,
@@ -169,27 +175,33 @@ pub struct ClassReport {
     /// `feasible` or the first impassable anchor and why.
     pub verdict: String,
     /// Waypoints in ascent order.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub waypoints: Vec<Point2<f64>>,
     /// Why a feasible class got no path pair, if it did not.
     pub pair_failure: Option<String>,
 }
 
 /// The chosen ascent/descent pair.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PairReport {
     /// The class's rank.
     pub rank: usize,
     /// Ascent, goal to start.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub ascent: Vec<Point2<f64>>,
     /// Descent, start to goal.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub descent: Vec<Point2<f64>>,
     /// Ascent length, m.
+    #[serde(rename = "ascent_length_m")]
     pub ascent_length: f64,
     /// Descent length, m.
+    #[serde(rename = "descent_length_m")]
     pub descent_length: f64,
     /// The descent is the ascent reversed.
     pub descent_is_reversed_ascent: bool,
     /// Smallest distance from either path to an anchor, m (`null` without anchors).
+    #[serde(rename = "min_anchor_distance_m")]
     pub min_anchor_distance: Option<f64>,
 }
 
@@ -211,13 +223,15 @@ impl From<&PathPair> for PairReport {
 }
 
 /// What `rappel plan` reports.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PlanReport {
     /// The scenario's name.
     pub scenario: String,
     /// Start.
+    #[schemars(with = "[f64; 2]")]
     pub start: Point2<f64>,
     /// Goal.
+    #[schemars(with = "[f64; 2]")]
     pub goal: Point2<f64>,
     /// The traversability model.
     pub traversability: String,
@@ -232,14 +246,21 @@ pub struct PlanReport {
     /// One line: which class was chosen, or why none was.
     pub verdict: String,
     /// Why the search stopped.
+    #[serde(with = "rappel_planners::search_report::termination_serde")]
+    #[schemars(with = "rappel_planners::search_report::TerminationName")]
     pub termination: Termination,
     /// The search's counters.
+    #[schemars(with = "rappel_planners::search_report::SearchStatsReport")]
     pub stats: SearchStats,
     /// Warnings (concave plane edges, approximated robot models).
     pub warnings: Vec<String>,
     /// Frictional planning (Alg. 7), when the scenario has PTFOs.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<crate::friction_plan::FrictionReport>,
+}
+
+impl crate::report::Report for PlanReport {
+    const KIND: &'static str = "plan";
 }
 
 /// A plan with what its picture needs.
@@ -482,7 +503,18 @@ impl Plan {
     /// shortest when none is feasible), its anchors, friction cones of the tether-demand planes,
     /// visibility edges, waypoints, the ascent and descent paths, start and goal.
     pub fn picture(&self, scenario: &Scenario) -> String {
-        let mut pic = Picture::of_map(&scenario.map);
+        self.picture_in(scenario, None)
+    }
+
+    /// [`Plan::picture`] cropped to `window` (map frame; `--window`), with every infeasible class
+    /// drawn as a thin red tether tagged with its rank and its blocking anchor (or the goal)
+    /// marked with the reason as hover text.
+    pub fn picture_in(
+        &self,
+        scenario: &Scenario,
+        window: Option<&rappel_geometry::polygon::Aabb>,
+    ) -> String {
+        let mut pic = Picture::of_map_in(&scenario.map, window);
         let shown = self
             .outcome
             .pair
@@ -521,6 +553,34 @@ impl Plan {
             for w in &c.feasibility.waypoints {
                 pic.marker(Layer::Waypoint, *w, Marker::Star);
             }
+        }
+        for c in &self.outcome.classes {
+            let Some(b) = &c.feasibility.blockage else {
+                continue;
+            };
+            let taut = &c.class.shp.taut;
+            pic.set_tag(Some(format!("class {} (infeasible)", c.class.rank)));
+            pic.polyline(Layer::InfeasibleShp, &taut.points);
+            let at = match b.anchor {
+                Some(j) => c.feasibility.anchors.get(j - 1).map(|a| a.anchor.point),
+                None => Some(taut.goal()),
+            };
+            if let Some(p) = at {
+                let what = b
+                    .anchor
+                    .map_or("the goal".to_string(), |j| format!("anchor {j}"));
+                pic.titled_marker(
+                    Layer::Blocking,
+                    p,
+                    Marker::Circle,
+                    &format!(
+                        "class {}: {what} blocks the ascent: {}",
+                        c.class.rank,
+                        b.reason.describe()
+                    ),
+                );
+            }
+            pic.set_tag(None);
         }
         if let Some(f) = &self.report.friction {
             crate::friction_plan::draw_friction(&mut pic, scenario, f);

@@ -32,7 +32,7 @@ pub const DEFAULT_EPSILON_FRACTION: f64 = 0.1;
 pub const SURGE_FACTOR: f64 = 2.0;
 
 /// The `friction` section of a scenario.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FrictionSpec {
     /// The PTFOs; every other obstacle is geometric.
@@ -49,19 +49,20 @@ pub struct FrictionSpec {
 }
 
 /// One PTFO.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PtfoSpec {
     /// Index of the obstacle in `map.obstacles`.
     pub obstacle: usize,
     /// The surface it stands for.
+    #[schemars(with = "serde_json::Value")]
     pub surface: PtfoSurface,
     /// Tether-terrain friction coefficient range.
     pub friction: FrictionRange,
 }
 
 /// A friction coefficient range `lo <= hi` (equal for a known coefficient).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FrictionRange {
     /// Lowest coefficient (used for "will it hold").
@@ -71,7 +72,7 @@ pub struct FrictionRange {
 }
 
 /// The tension model; every value optional (module docs for the defaults).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct TensionSpec {
     /// `T_min`, N.
@@ -85,7 +86,7 @@ pub struct TensionSpec {
 }
 
 /// The holding robot of Kumar eq. 1.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HoldingSpec {
     /// Extra pull of its wheels `F_0`, N.

@@ -33,20 +33,33 @@ pub struct QueryPair {
 }
 
 /// The answer for one pair.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct QueryAnswer {
     /// Index of the pair in the file, from 0.
     pub index: usize,
     /// The pair.
+    #[schemars(with = "[f64; 2]")]
     pub start: Point2<f64>,
     /// The pair's goal.
+    #[schemars(with = "[f64; 2]")]
     pub goal: Point2<f64>,
     /// Lengths of the shortest homotopy classes found, shortest first, m (empty: not connected).
     pub lengths_m: Vec<f64>,
-    /// Median time of one query over the repeats, microseconds.
-    pub median_us: f64,
+    /// Median time of one query over the repeats, whole nanoseconds (`None` before any run).
+    pub median_ns: Option<u64>,
     /// Why the pair could not be answered (a point outside free space, a spent budget...).
     pub error: Option<String>,
+}
+
+/// What `rappel query --json` prints: the answers in file order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct QueryReport {
+    /// One answer per pair.
+    pub answers: Vec<QueryAnswer>,
+}
+
+impl crate::report::Report for QueryReport {
+    const KIND: &'static str = "query";
 }
 
 /// Why a query run could not start.
@@ -147,7 +160,7 @@ pub fn answer(
             start: pair.start,
             goal: pair.goal,
             lengths_m: Vec::new(),
-            median_us: f64::NAN,
+            median_ns: None,
             error: None,
         };
         let checked = map
@@ -182,7 +195,7 @@ pub fn answer(
                         Ok(lengths)
                     })
             };
-            times.push(t0.elapsed().as_secs_f64() * 1e6);
+            times.push(u64::try_from(t0.elapsed().as_nanos()).unwrap_or(u64::MAX));
             match result {
                 Ok(lengths) => answer.lengths_m = lengths,
                 Err(e) => {
@@ -191,8 +204,8 @@ pub fn answer(
                 }
             }
         }
-        times.sort_by(f64::total_cmp);
-        answer.median_us = times[times.len() / 2];
+        times.sort_unstable();
+        answer.median_ns = times.get(times.len() / 2).copied();
         out.push(answer);
     }
     progress.finish();

@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 /// s.validate().unwrap();
 /// assert_eq!(s.map.obstacles.len(), 1);
 /// ```
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// A short name.
@@ -38,10 +38,13 @@ pub struct Scenario {
     #[serde(default)]
     pub description: String,
     /// The planning map in the unfolded frame (x across the slope, y up the slope).
+    #[schemars(with = "MapSchema")]
     pub map: Map,
     /// Where the tether is anchored and the descent starts (near the top).
+    #[schemars(with = "[f64; 2]")]
     pub start: Point2<f64>,
     /// The science target (lower down).
+    #[schemars(with = "[f64; 2]")]
     pub goal: Point2<f64>,
     /// The robot.
     #[serde(default)]
@@ -59,8 +62,22 @@ pub struct Scenario {
     pub georeference: Option<crate::georeference::Georeference>,
 }
 
+/// The shape of [`Map`] in a scenario file, for its JSON Schema: rings of `[x, y]` points.
+#[derive(schemars::JsonSchema)]
+#[schemars(deny_unknown_fields)]
+#[allow(dead_code)] // only its schema is used
+struct MapSchema {
+    /// The outer boundary of the planning region.
+    boundary: Vec<[f64; 2]>,
+    /// Tether obstacles: holes in the free space.
+    #[serde(default)]
+    obstacles: Vec<Vec<[f64; 2]>>,
+}
+
 /// Which robot model the scenario uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub enum RobotModel {
     /// A point robot (thesis Ch. 2).
     #[default]
@@ -72,7 +89,7 @@ pub enum RobotModel {
 }
 
 /// The robot's parameters. Every field has a documented default.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct RobotParams {
     /// The model. Default: `Point`.
@@ -97,23 +114,28 @@ impl Default for RobotParams {
 }
 
 /// The terrain of a scenario.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Terrain {
     /// Planes from the top of the wall down, meeting edge to edge (may be empty). Read with
     /// unknown fields refused.
     #[serde(deserialize_with = "deserialize_planes")]
+    #[schemars(with = "Vec<PlaneFields>")]
     pub planes: Vec<TerrainPlane>,
 }
 
 /// The fields of a terrain plane as a scenario file gives them: the same as [`TerrainPlane`], with
 /// unknown fields refused (a misspelt `frictoin:` must not silently fall back to nothing).
-#[derive(Deserialize)]
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 struct PlaneFields {
+    /// Band top, m (planning frame, y up the slope).
     y_top: f64,
+    /// Band bottom, m.
     y_bottom: f64,
+    /// Slope, degrees.
     slope_deg: f64,
+    /// Wheel-terrain friction coefficient.
     friction: f64,
 }
 

@@ -15,7 +15,7 @@ use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::paton_scene::PatonScene;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Wheel-ground friction used for the stability verdict (the scenes carry none; Paton's
 /// simulations do not state one). Assumed.
@@ -74,18 +74,20 @@ pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
 }
 
 /// The stability verdict of one boom configuration.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct BoomVerdict {
     /// `inline` or `in-contact`.
-    pub boom: &'static str,
-    /// A static equilibrium exists (or the error that prevented the check).
-    pub stable: Result<bool, String>,
+    pub boom: String,
+    /// A static equilibrium exists (`None`: not checked, `error` says why).
+    pub stable: Option<bool>,
+    /// The error that prevented the check, if one did.
+    pub error: Option<String>,
     /// Paton's normalised eq. 9 margin (0 when not stable).
     pub margin: f64,
 }
 
 /// A settled pose, for printing.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SettleReport {
     /// Robot origin (ground under the axle centre), world.
     pub origin: [f64; 3],
@@ -96,6 +98,7 @@ pub struct SettleReport {
     /// The lowest contact of each wheel (right, left).
     pub contacts: [[f64; 3]; 2],
     /// Smallest body clearance along the axle, metres.
+    #[serde(rename = "body_clearance_m")]
     pub body_clearance: f64,
     /// The verdict per boom configuration when an anchor was given.
     pub stability: Vec<BoomVerdict>,
@@ -125,18 +128,24 @@ pub fn boom_verdicts<D: rappel_terrain::surface::SignedDistance + ?Sized>(
             });
         match verdict {
             Ok(r) => BoomVerdict {
-                boom: name,
-                stable: Ok(r.stable),
+                boom: name.to_string(),
+                stable: Some(r.stable),
+                error: None,
                 margin: r.margin,
             },
             Err(e) => BoomVerdict {
-                boom: name,
-                stable: Err(e),
+                boom: name.to_string(),
+                stable: None,
+                error: Some(e),
                 margin: 0.0,
             },
         }
     })
     .collect()
+}
+
+impl crate::report::Report for SettleReport {
+    const KIND: &'static str = "settle";
 }
 
 /// Settle Axel (default parameters) at `(x, y)` with yaw `yaw_deg` (degrees from `+x`,
@@ -166,8 +175,8 @@ pub fn settle_report(
     let p = |q: &Point3<f64>| [q.x, q.y, q.z];
     let report = SettleReport {
         origin: p(&pose.origin),
-        roll_deg: pose.roll().to_degrees(),
-        pitch_deg: pose.pitch().to_degrees(),
+        roll_deg: crate::report::deg(pose.roll()),
+        pitch_deg: crate::report::deg(pose.pitch()),
         contacts: [p(&pose.contacts[0]), p(&pose.contacts[1])],
         body_clearance: pose.body_clearance,
         stability,

@@ -35,7 +35,7 @@ use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
 use rappel_planners::spt::{SearchError, SptPlanner};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
 /// The most poses one stability map may assess. Each pose costs a QP or LP solve (about a
@@ -63,35 +63,35 @@ impl Default for StabilityOptions {
 }
 
 /// One pose of the map.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct StabilityDot {
     /// Plane index (top first).
     pub plane: usize,
-    /// Position in the unfolded map frame.
-    pub x: f64,
-    /// Position in the unfolded map frame.
-    pub y: f64,
-    /// Heading, radians counter-clockwise from up-slope.
-    pub heading: f64,
+    /// Position in the unfolded map frame, `[x, y]`.
+    #[schemars(with = "[f64; 2]")]
+    pub point: Point2<f64>,
+    /// Heading, degrees counter-clockwise from up-slope.
+    pub heading_deg: f64,
     /// Stable or not.
     pub stable: bool,
     /// Stability margin (larger is safer; QP: eq. 9 normalised, LP: tension headroom), when stable.
     pub margin: Option<f64>,
     /// Tether tension the solution uses, N.
-    pub tether_tension: Option<f64>,
+    pub tether_tension_n: Option<f64>,
     /// Why the pose could not be assessed, if it could not.
     pub failure: Option<String>,
     /// The tether's last anchor (the start, or the last obstacle vertex the taut tether wraps).
+    #[schemars(with = "Option<[f64; 2]>")]
     pub last_anchor: Option<Point2<f64>>,
     /// The taut tether's length from the start to the pose, m (`None`: no path reaches it).
-    pub tether_length: Option<f64>,
+    pub tether_length_m: Option<f64>,
     /// `true` when the taut tether is longer than the robot's tether: the pose cannot be reached
     /// (reported unstable).
     pub beyond_tether: bool,
 }
 
 /// A stability map.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct StabilityReport {
     /// The criterion used: `"paton-qp"` or `"kumar-lp"`.
     pub criterion: String,
@@ -103,15 +103,70 @@ pub struct StabilityReport {
     /// The robot's tether length, m (`None`: unlimited).
     pub tether_length_m: Option<f64>,
     /// Grid step, m.
-    pub grid_step: f64,
+    pub grid_step_m: f64,
     /// Tension limit, N, if any.
-    pub tension_limit: Option<f64>,
+    pub tension_limit_n: Option<f64>,
     /// Stable poses.
     pub stable: usize,
     /// Poses assessed (in free space).
     pub assessed: usize,
     /// Every assessed pose.
     pub dots: Vec<StabilityDot>,
+}
+
+impl crate::report::Report for StabilityReport {
+    const KIND: &'static str = "stability";
+}
+
+impl StabilityReport {
+    /// The picture of the map (cropped to `window`, map frame, when given): each stable pose a
+    /// disc sized to the grid step and coloured by its margin on the colour scale
+    /// ([`crate::svg::SCALE_STOPS`], drawn in the panel from the smallest to the largest margin),
+    /// each unstable pose a thin ring of the same size; dots lie under the obstacles, so that
+    /// none hides one. Every dot's hover text gives its position, margin and tension.
+    pub fn picture(
+        &self,
+        scenario: &Scenario,
+        window: Option<&rappel_geometry::polygon::Aabb>,
+        title: &str,
+    ) -> String {
+        use crate::svg::{Layer, Marker, Picture, scale_colour};
+        let mut pic = Picture::of_map_in(&scenario.map, window);
+        pic.map(&scenario.map);
+        let margins = self.dots.iter().filter_map(|d| d.margin);
+        let lo = margins.clone().fold(f64::INFINITY, f64::min);
+        let hi = margins.fold(f64::NEG_INFINITY, f64::max);
+        let r = 0.45 * self.grid_step_m;
+        for d in &self.dots {
+            let title = format!(
+                "({:.2}, {:.2}) plane {}: {}{}",
+                d.point.x,
+                d.point.y,
+                d.plane,
+                match d.margin {
+                    Some(m) => format!("stable, margin {m:.3}"),
+                    None if d.stable => "stable".to_string(),
+                    None => "not stable".to_string(),
+                },
+                d.tether_tension_n
+                    .map_or(String::new(), |t| format!(", tension {t:.1} N"))
+            );
+            if d.stable {
+                let t = match d.margin {
+                    Some(m) if hi > lo => (m - lo) / (hi - lo),
+                    _ => 1.0,
+                };
+                pic.disc(Layer::Stable, d.point, r, Some(&scale_colour(t)), &title);
+            } else {
+                pic.disc(Layer::Unstable, d.point, 0.8 * r, None, &title);
+            }
+        }
+        if lo.is_finite() && hi.is_finite() {
+            pic.set_colour_scale("stability margin", lo, hi);
+        }
+        pic.marker(Layer::Start, scenario.start, Marker::Cross);
+        pic.finish(title)
+    }
 }
 
 /// Why a stability map could not be made.
@@ -344,15 +399,14 @@ pub fn stability_over_scenario(
             };
             StabilityDot {
                 plane: v.plane,
-                x: v.pose.position.x,
-                y: v.pose.position.y,
-                heading: v.pose.heading,
+                point: v.pose.position,
+                heading_deg: crate::report::deg(v.pose.heading),
                 stable,
                 margin,
-                tether_tension,
+                tether_tension_n: tether_tension,
                 failure,
                 last_anchor: taut.map(|(a, _)| a),
-                tether_length,
+                tether_length_m: tether_length,
                 beyond_tether,
             }
         })
@@ -362,8 +416,8 @@ pub fn stability_over_scenario(
         robot: robot.name().to_string(),
         stand_in_for,
         tether_length_m: scenario.robot.tether_length_m,
-        grid_step: options.grid_step,
-        tension_limit: options.tension_limit,
+        grid_step_m: options.grid_step,
+        tension_limit_n: options.tension_limit,
         stable: dots.iter().filter(|d| d.stable).count(),
         assessed: dots.len(),
         dots,

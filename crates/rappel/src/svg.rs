@@ -79,6 +79,10 @@ pub enum Layer {
     MayStick,
     /// A tether sample where the tether slips whatever the tensions, red.
     WillSlip,
+    /// The taut tether of a class whose ascent is infeasible.
+    InfeasibleShp,
+    /// The anchor (or the goal) that blocks a class's ascent.
+    Blocking,
 }
 
 impl Layer {
@@ -115,6 +119,8 @@ impl Layer {
             Layer::ConvexDirection => "saddle's convex direction",
             Layer::MayStick => "tether may stick",
             Layer::WillSlip => "tether slips",
+            Layer::InfeasibleShp => "infeasible class (SHP)",
+            Layer::Blocking => "blocking anchor",
         }
     }
 
@@ -143,8 +149,8 @@ impl Layer {
             Layer::Terrain => ("#bbbbbb", "none", 0.0, 1.0),
             Layer::PlaneEdge => ("none", "#b15928", 1.4, 0.0),
             Layer::RobotObstacle => ("#fdbf6f", "#ff7f00", 0.8, 0.35),
-            Layer::Stable => ("#31a354", "#006d2c", 0.4, 0.9),
-            Layer::Unstable => ("#e34a33", "#b30000", 0.4, 0.9),
+            Layer::Stable => ("#21918c", "#1b1b1b", 0.3, 1.0),
+            Layer::Unstable => ("none", "#444444", 0.9, 0.0),
             Layer::Ptfo => ("none", "#6a3d9a", 1.2, 0.0),
             Layer::PtfoSolid => ("#41ab5d", "#005a32", 1.0, 0.8),
             Layer::PtfoSlides => ("#fee8c8", "#e34a33", 1.0, 0.6),
@@ -157,6 +163,8 @@ impl Layer {
             Layer::ConvexDirection => ("none", "#00e5ff", 0.7, 0.0),
             Layer::MayStick => ("#000000", "#000000", 0.3, 1.0),
             Layer::WillSlip => ("#de2d26", "#67000d", 0.3, 1.0),
+            Layer::InfeasibleShp => ("none", "#cb181d", 1.4, 0.0),
+            Layer::Blocking => ("#cb181d", "#000000", 1.2, 1.0),
         }
     }
 }
@@ -195,7 +203,39 @@ pub struct Picture {
     tag: Option<String>,
     /// Where north points in the map frame, when the picture has a georeference.
     north: Option<nalgebra::Vector2<f64>>,
+    /// A colour scale drawn in the panel: its title and the values at its ends.
+    scale: Option<(String, f64, f64)>,
     used: Vec<Layer>,
+}
+
+/// The colour scale of margins (viridis at five stops, from low to high): perceptually uniform
+/// and readable by colour-blind readers, unlike red against green.
+pub const SCALE_STOPS: [(u8, u8, u8); 5] = [
+    (68, 1, 84),
+    (59, 82, 139),
+    (33, 145, 140),
+    (94, 201, 98),
+    (253, 231, 37),
+];
+
+/// The colour of `t` in `[0, 1]` on [`SCALE_STOPS`] (clamped), as `#rrggbb`.
+pub fn scale_colour(t: f64) -> String {
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (SCALE_STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(SCALE_STOPS.len() - 2);
+    let f = x - i as f64;
+    let (a, b) = (SCALE_STOPS[i], SCALE_STOPS[i + 1]);
+    let mix = |p: u8, q: u8| (f64::from(p) + f * (f64::from(q) - f64::from(p))).round() as u8;
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        mix(a.0, b.0),
+        mix(a.1, b.1),
+        mix(a.2, b.2)
+    )
 }
 
 /// Width of the side panel, px.
@@ -242,6 +282,7 @@ impl Picture {
             body: Vec::new(),
             tag: None,
             north: None,
+            scale: None,
             used: Vec::new(),
         }
     }
@@ -249,6 +290,44 @@ impl Picture {
     /// A picture framing a map.
     pub fn of_map(map: &Map) -> Self {
         Picture::new(map.aabb())
+    }
+
+    /// A picture framing `window` (`--window`: a crop, in the map frame) or, without one, the
+    /// map. Markers and strokes are sized to what is framed; whatever lies outside is clipped.
+    pub fn of_map_in(map: &Map, window: Option<&Aabb>) -> Self {
+        Picture::new(window.copied().unwrap_or_else(|| map.aabb()))
+    }
+
+    /// World units per pixel of this picture.
+    pub fn unit(&self) -> f64 {
+        self.unit
+    }
+
+    /// Draws a colour scale ([`SCALE_STOPS`]) in the panel, titled `title`, from `lo` to `hi`.
+    pub fn set_colour_scale(&mut self, title: &str, lo: f64, hi: f64) {
+        self.scale = Some((title.to_string(), lo, hi));
+    }
+
+    /// A disc of radius `r` in map units (e.g. sized to a grid step) filled with `fill` (`None`:
+    /// the layer's own look, e.g. a hollow ring), with a hover text.
+    pub fn disc(&mut self, layer: Layer, p: Point2<f64>, r: f64, fill: Option<&str>, title: &str) {
+        self.use_layer(layer);
+        let mut style = self.style(layer);
+        if let Some(f) = fill {
+            style = style.replacen(
+                &format!("fill=\"{}\"", layer.look().0),
+                &format!("fill=\"{f}\""),
+                1,
+            );
+        }
+        let s = format!(
+            "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" {style}><title>{}</title></circle>",
+            fmt(p.x),
+            fmt(p.y),
+            fmt(r),
+            escape(title)
+        );
+        self.push(layer, s);
     }
 
     /// Tags the elements drawn from now on (`None` stops tagging): the HTML viewer
@@ -550,7 +629,7 @@ impl Picture {
                         star.join(" ")
                     )
                 }
-                Layer::Goal | Layer::Stable | Layer::Unstable => {
+                Layer::Goal | Layer::Stable | Layer::Unstable | Layer::Blocking => {
                     format!(
                         "<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
                         fmt(x + 10.0),
@@ -578,6 +657,38 @@ impl Picture {
                 fmt(x + 28.0),
                 fmt(y),
                 layer.label()
+            );
+        }
+        if let Some((title, lo, hi)) = &self.scale {
+            // The colour scale: a ramp over SCALE_STOPS, low at the left.
+            y += 34.0;
+            let _ = writeln!(
+                out,
+                "<text x=\"{}\" y=\"{}\">{}</text>",
+                fmt(x),
+                fmt(y),
+                escape(title)
+            );
+            y += 8.0;
+            for i in 0..20 {
+                let _ = writeln!(
+                    out,
+                    "<rect x=\"{}\" y=\"{}\" width=\"7\" height=\"12\" fill=\"{}\"/>",
+                    fmt(x + 7.0 * f64::from(i)),
+                    fmt(y),
+                    scale_colour(f64::from(i) / 19.0)
+                );
+            }
+            y += 26.0;
+            let _ = writeln!(
+                out,
+                "<text x=\"{}\" y=\"{}\">{}</text><text x=\"{}\" y=\"{}\" text-anchor=\"end\">{}</text>",
+                fmt(x),
+                fmt(y),
+                fmt(*lo),
+                fmt(x + 140.0),
+                fmt(y),
+                fmt(*hi)
             );
         }
         // Scale bar: a round length near 120 px.
@@ -651,13 +762,16 @@ fn draw_order(layer: Layer) -> u8 {
         Layer::Shp => 9,
         Layer::Anchor => 10,
         Layer::Waypoint => 11,
-        Layer::Stable => 12,
-        Layer::Unstable => 13,
+        // Below the obstacles: a dot near an edge never hides one.
+        Layer::Stable => 2,
+        Layer::Unstable => 2,
         Layer::Start => 14,
         Layer::Goal => 15,
         Layer::Ptfo | Layer::PtfoSolid | Layer::PtfoSlides | Layer::PtfoVolatile => 4,
         Layer::Sticking | Layer::MayStick | Layer::WillSlip => 11,
         Layer::Slip => 11,
+        Layer::InfeasibleShp => 8,
+        Layer::Blocking => 12,
     }
 }
 

@@ -11,13 +11,14 @@ use rappel_geometry::btm::Btm;
 use rappel_geometry::compact::Compact;
 use rappel_geometry::domain::{DOMAIN_TEXT, in_domain};
 use rappel_homotopy::crossing::CrossingSequence;
+use rappel_homotopy::funnel::Side;
 use rappel_homotopy::funnel::{Anchor, TautPath};
 use rappel_homotopy::h_signature::{HSignature, Poles};
 use rappel_homotopy::homotopy::HomotopyError;
 use rappel_homotopy::path::{Path, PathError};
 use rappel_homotopy::shp::{ShortestHomotopicPath, shortest_homotopic_path};
 use rappel_homotopy::sleeve::Sleeve;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Why a path file could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -99,33 +100,67 @@ pub fn load_path(file: &std::path::Path, btm: &Btm) -> Result<Path, PathFileErro
 }
 
 /// The H-signature in a report: its digest and the non-zero winding counts.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct HSignatureReport {
     /// [`HSignature::digest`] in hexadecimal.
     pub digest: String,
-    /// `(obstacle id, winding count)` for every obstacle with a non-zero count.
+    /// `[obstacle id, winding count]` for every obstacle with a non-zero count.
     pub windings: Vec<(u32, i64)>,
 }
 
+/// An anchor of a taut tether in a report ([`Anchor`] with its angle in degrees).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct AnchorPoint {
+    /// The map vertex.
+    pub vertex: u32,
+    /// Its position, `[x, y]`.
+    #[schemars(with = "[f64; 2]")]
+    pub point: Point2<f64>,
+    /// The obstacle it belongs to; `None` for a (reflex) vertex of the map boundary.
+    pub obstacle: Option<u32>,
+    /// The side of the path the obstacle lies on.
+    pub side: Side,
+    /// The tether's turning angle at the anchor, degrees in `(0, 180)` (the wrap angle of the
+    /// capstan equation).
+    pub turning_angle_deg: f64,
+}
+
+impl From<&Anchor> for AnchorPoint {
+    fn from(a: &Anchor) -> Self {
+        AnchorPoint {
+            vertex: a.vertex.0,
+            point: a.point,
+            obstacle: a.obstacle.map(|o| o.0),
+            side: a.side,
+            turning_angle_deg: crate::report::deg(a.turning_angle),
+        }
+    }
+}
+
 /// What `rappel shp` prints.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ShpReport {
     /// Number of points of the input path.
     pub path_points: usize,
     /// Length of the input path, m.
-    pub path_length: f64,
-    /// The SHP polyline.
+    pub path_length_m: f64,
+    /// The SHP polyline, `[x, y]` points.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub points: Vec<Point2<f64>>,
     /// The SHP's length, m.
-    pub length: f64,
+    pub length_m: f64,
     /// The anchors, in path order.
-    pub anchors: Vec<Anchor>,
+    pub anchors: Vec<AnchorPoint>,
     /// Length of the raw crossing sequence.
     pub crossings: usize,
     /// Length of the reduced crossing sequence (the homotopy class's word).
     pub reduced_crossings: usize,
     /// The H-signature of the path (and of its SHP).
     pub h_signature: HSignatureReport,
+}
+
+impl crate::report::Report for ShpReport {
+    const KIND: &'static str = "shp";
 }
 
 /// The SHP of `path` with its report.
@@ -158,10 +193,10 @@ pub fn shp_report(
     let h = HSignature::of_path(&Poles::new(btm), path);
     let report = ShpReport {
         path_points: path.points().len(),
-        path_length: path.length(),
+        path_length_m: path.length(),
         points: shp.taut.points.clone(),
-        length: shp.taut.length,
-        anchors: shp.taut.anchors.clone(),
+        length_m: shp.taut.length,
+        anchors: shp.taut.anchors.iter().map(AnchorPoint::from).collect(),
         crossings: raw.len(),
         reduced_crossings: shp.crossings.len(),
         h_signature: HSignatureReport {

@@ -150,7 +150,7 @@ pub fn load_path(path: &Path) -> Result<Vec<Point2<f64>>, TrackRunError> {
 }
 
 /// The result of `rappel track`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TrackReport {
     /// The scenario's name.
     pub name: String,
@@ -160,6 +160,10 @@ pub struct TrackReport {
     pub first_unstable: Option<usize>,
     /// Why: the least tension it needs against the limit, in words.
     pub verdict: String,
+}
+
+impl crate::report::Report for TrackReport {
+    const KIND: &'static str = "track";
 }
 
 /// Runs Kumar Problem 1: Robot 1 along `path1` (a single point for the one-robot form: a fixed

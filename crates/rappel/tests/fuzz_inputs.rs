@@ -329,7 +329,7 @@ fn stability_maps_name_their_robot_honour_the_tether_and_cap_their_poses() {
     // Reference from the input: a pose farther than 20 m from the start (straight-line distance is
     // a lower bound of the taut tether) is beyond reach; every pose within 20 m in plain view is not.
     for d in &r.dots {
-        let straight = ((d.x - s.start.x).powi(2) + (d.y - s.start.y).powi(2)).sqrt();
+        let straight = (d.point - s.start).norm();
         if straight > 20.0 {
             assert!(d.beyond_tether && !d.stable, "{d:?}");
         }
@@ -340,12 +340,12 @@ fn stability_maps_name_their_robot_honour_the_tether_and_cap_their_poses() {
     assert!(
         r.dots
             .iter()
-            .all(|d| seen.insert((d.x.to_bits(), d.y.to_bits())))
+            .all(|d| seen.insert((d.point.x.to_bits(), d.point.y.to_bits())))
     );
     assert!(
         r.dots
             .iter()
-            .any(|d| d.y == 30.0 + 2.0 || d.y == 30.0 || d.y == 28.0)
+            .any(|d| d.point.y == 30.0 + 2.0 || d.point.y == 30.0 || d.point.y == 28.0)
     );
     let fine = StabilityOptions {
         grid_step: 0.05,

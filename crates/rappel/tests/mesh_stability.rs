@@ -66,7 +66,7 @@ fn ledge_map_shades_like_fig_8() {
     assert_eq!(one.nx * one.ny, one.cells.len());
     assert_eq!(one.stable + one.unstable + one.failed, one.cells.len());
     let mut n = 0;
-    for c in one.cells.iter().filter(|c| slope(c.x)) {
+    for c in one.cells.iter().filter(|c| slope(c.ground[0])) {
         let p = c.pose.as_ref().unwrap_or_else(|| panic!("{c:?}"));
         assert!(p.stable, "{c:?}");
         assert!(on_lip(&scene, p.anchors.last().unwrap()), "{c:?}");
@@ -74,7 +74,7 @@ fn ledge_map_shades_like_fig_8() {
     }
     assert!(n >= 27, "{n} slope cells");
     let two = stability_map(&ground, &AnchorHistory::new(roots[1]).unwrap(), &spec).unwrap();
-    for c in two.cells.iter().filter(|c| slope(c.x)) {
+    for c in two.cells.iter().filter(|c| slope(c.ground[0])) {
         let p = c.pose.as_ref().unwrap_or_else(|| panic!("{c:?}"));
         assert!(!p.stable && p.anchors.len() == 1, "{c:?}");
     }

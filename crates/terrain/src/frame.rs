@@ -27,7 +27,7 @@ use crate::slope::FallLine;
 
 /// One piece of the unfolding: from horizontal distance `s_start` up to the next piece's start,
 /// `y = y_start + (s - s_start) * stretch`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct UnfoldPiece {
     /// Where the piece starts, horizontal metres up the fall line.
     pub s_start: f64,
@@ -49,13 +49,16 @@ pub struct UnfoldPiece {
 /// assert!((p - Point2::new(3.0, 4.0)).norm() < 1e-12);
 /// assert!((f.to_world(&p) - Point2::new(103.0, 54.0)).norm() < 1e-12);
 /// ```
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PlanningFrame {
     /// Unit horizontal vector up the fall line (world components).
+    #[schemars(with = "[f64; 2]")]
     pub uphill: Vector2<f64>,
     /// Unit horizontal vector across the slope: `uphill` turned 90 degrees clockwise.
+    #[schemars(with = "[f64; 2]")]
     pub across: Vector2<f64>,
     /// The world point at `t = 0`, `s = 0`.
+    #[schemars(with = "[f64; 2]")]
     pub origin: Point2<f64>,
     /// The unfolding, by increasing `s_start`; the first piece also extends below its start and
     /// the last above. Never empty.

@@ -249,7 +249,7 @@ pub struct Ingested {
 }
 
 /// The counts that summarise an ingestion (for tables and golden files).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct IngestSummary {
     /// Planes in the series.
     pub planes: usize,

@@ -11,7 +11,8 @@
 use serde::{Deserialize, Serialize};
 
 /// Whether a plane needs the tether.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
 pub enum PlaneClass {
     /// The robot can travel freely without tether forces (`mu >= tan eta`).
     TetherFree,

@@ -137,7 +137,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
         let cells: Vec<_> = m
             .cells
             .iter()
-            .filter(|c| c.x > 0.7 && c.x < foot - 0.3)
+            .filter(|c| c.ground[0] > 0.7 && c.ground[0] < foot - 0.3)
             .collect();
         let stable = cells
             .iter()

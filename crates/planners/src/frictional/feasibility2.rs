@@ -32,13 +32,20 @@ use rappel_mechanics::ptfo::PtfoClass;
 use serde::{Deserialize, Serialize};
 
 /// The ascent sweep at one friction anchor.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SweepCheck {
     /// `j`, from 1 (nearest the start).
     pub index: usize,
-    /// The turn at the SHP, radians.
+    /// The turn at the SHP, radians (reported in degrees).
+    #[serde(rename = "turn_deg", with = "crate::report_units::radians_as_degrees")]
+    #[schemars(with = "f64")]
     pub turn: f64,
-    /// `α_r`: below this turn the tether slides off the anchor, radians.
+    /// `α_r`: below this turn the tether slides off the anchor, radians (reported in degrees).
+    #[serde(
+        rename = "release_turn_deg",
+        with = "crate::report_units::radians_as_degrees"
+    )]
+    #[schemars(with = "f64")]
     pub release_turn: f64,
     /// Whether the early release is covered by the previous anchor's tether limit.
     pub release_safe: bool,

@@ -15,15 +15,17 @@ use rappel_mechanics::tension_limit::{TensionLimitError, tension_limit};
 use serde::{Deserialize, Serialize};
 
 /// Tensions along one class's tether.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct HoldingReport {
     /// `I_j` per anchor, in tether order (from `a_1`).
     pub exponents: Vec<f64>,
     /// `Σ I_j`.
     pub total_exponent: f64,
     /// The force `a_0` must hold when the robot pulls `T_max`: `T_max e^{-Σ I_j}`, N.
+    #[serde(rename = "holding_force_at_start_n")]
     pub holding_force_at_start: f64,
     /// Kumar eq. 2: the largest robot-side tension, when a holding limit is given, N.
+    #[serde(rename = "tension_limit_n")]
     pub tension_limit: Option<f64>,
 }
 

@@ -24,21 +24,26 @@ use rappel_homotopy::shp::shortest_homotopic_path;
 use serde::{Deserialize, Serialize};
 
 /// One slip: which vertex was clipped and how the SHP changed.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SlipEvent {
     /// The clipped vertex (the slipping friction anchor).
+    #[schemars(with = "[f64; 2]")]
     pub vertex: Point2<f64>,
     /// The map obstacle index of its PTFO.
     pub obstacle: usize,
     /// `true` when the PTFO disappeared (fewer than three vertices left).
     pub obstacle_removed: bool,
     /// SHP length before and after, m.
+    #[serde(rename = "length_before_m")]
     pub length_before: f64,
     /// SHP length after the slip, m.
+    #[serde(rename = "length_after_m")]
     pub length_after: f64,
     /// Anchor points before the slip.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub anchors_before: Vec<Point2<f64>>,
     /// Anchor points after the slip.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub anchors_after: Vec<Point2<f64>>,
 }
 

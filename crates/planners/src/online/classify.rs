@@ -29,10 +29,10 @@ use rappel_geometry::dcel::{HalfEdgeId, VertexId};
 use rappel_geometry::polygon::Polygon;
 use rappel_geometry::predicates::{SegmentContact, segment_contact};
 use rappel_homotopy::sleeve::Sleeve;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// What a change did to the current sleeve (thesis §3.5.3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ChangeCase {
     /// The change meets no triangle of the current sleeve: kept for later.

@@ -48,7 +48,7 @@ use rappel_homotopy::h_signature::{HSignature, Poles};
 use rappel_homotopy::path::Path;
 use rappel_homotopy::shp::{ShortestHomotopicPath, shortest_homotopic_path};
 use rappel_homotopy::sleeve::Sleeve;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Relative length difference below which two remaining routes count as equally long (rounding
 /// of sums of square roots), times the map's diagonal.
@@ -74,7 +74,7 @@ pub enum Status {
 }
 
 /// What the session decided after a change.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", tag = "decision")]
 pub enum Decision {
     /// Outside the current sleeve: kept for later, the plan goes on.
@@ -87,6 +87,7 @@ pub enum Decision {
     /// zero metres) and descends the new sleeve.
     Switched {
         /// The junction on the travelled path.
+        #[schemars(with = "[f64; 2]")]
         junction: Point2<f64>,
         /// Ascent back to it, m.
         backtrack_m: f64,
@@ -100,7 +101,7 @@ pub enum Decision {
 }
 
 /// A shorter class a change opened (beyond the thesis: it prefers to stay in its sleeve).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ShorterClass {
     /// Remaining travel in it (backtrack plus continuation), m.
     pub remaining_m: f64,
@@ -113,10 +114,10 @@ pub struct ShorterClass {
 }
 
 /// What one change did (one row of the timeline).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ChangeOutcome {
     /// `add`, `remove` or `boundary` (a reshape is a removal and an addition).
-    pub change: &'static str,
+    pub change: String,
     /// The obstacle id concerned (the new id for an addition).
     pub obstacle: Option<u32>,
     /// The case (thesis §3.5.3).
@@ -507,7 +508,7 @@ impl OnlineSession {
         before: Option<f64>,
     ) -> ChangeOutcome {
         ChangeOutcome {
-            change,
+            change: change.to_string(),
             obstacle: obstacle.map(|o| o.0),
             case,
             reason: String::new(),

@@ -36,7 +36,7 @@ use rappel_geometry::dcel::ObstacleId;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::{PointInPolygon, Polygon};
 use rappel_mechanics::friction::FrictionInterval;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Default sensor range, m.
 pub const DEFAULT_SENSOR_RANGE: f64 = 5.0;
@@ -92,7 +92,7 @@ impl SimulationOptions {
 }
 
 /// How a run ended.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", tag = "ending")]
 pub enum Ending {
     /// The robot reached the goal.
@@ -100,6 +100,8 @@ pub enum Ending {
     /// No class within the termination rule is feasible.
     NoFeasibleClass {
         /// Why the last search stopped.
+        #[serde(with = "crate::search_report::termination_serde")]
+        #[schemars(with = "crate::search_report::TerminationName")]
         termination: Termination,
     },
     /// A true obstacle covers the goal.
@@ -116,7 +118,7 @@ impl Ending {
 }
 
 /// One difference between the prior and the true map.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum Difference {
     /// A true obstacle missing from the prior.
@@ -198,11 +200,12 @@ fn friction_differences(
 }
 
 /// One row of the timeline.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TimelineEvent {
     /// The iteration.
     pub step: usize,
     /// Where the robot was.
+    #[schemars(with = "[f64; 2]")]
     pub robot: Point2<f64>,
     /// Distance travelled so far, m.
     pub travelled_m: f64,
@@ -215,7 +218,7 @@ pub struct TimelineEvent {
 }
 
 /// The result of a run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SimulationReport {
     /// How it ended.
     pub ending: Ending,
@@ -242,8 +245,10 @@ pub struct SimulationReport {
     /// Classes rejected and still in the constraints.
     pub rejected: usize,
     /// The robot's path.
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub travelled: Vec<Point2<f64>>,
     /// The final selected ascent, goal to start (empty without a class).
+    #[schemars(with = "Vec<[f64; 2]>")]
     pub ascent: Vec<Point2<f64>>,
 }
 

@@ -39,7 +39,8 @@ use serde::{Deserialize, Serialize};
 pub const EVENTS_PER_VERTEX: usize = 4;
 
 /// What holds the tether at an anchor (Kumar's anchor `type`: 'r', 'o', 'g').
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
 pub enum AnchorKind {
     /// The base: Robot 1 or a fixed anchor.
     Robot,
@@ -61,13 +62,15 @@ pub enum AnchorKind {
 }
 
 /// One anchor: its kind, frame point and world point.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TetherAnchor {
     /// What holds it.
     pub kind: AnchorKind,
     /// Frame point.
+    #[schemars(with = "[f64; 2]")]
     pub point: Point2<f64>,
     /// World point (folded).
+    #[schemars(with = "[f64; 3]")]
     pub world: Point3<f64>,
 }
 

@@ -15,7 +15,7 @@ use rappel_mechanics::tension_limit::{HoldingRobot, TensionLimitError, tension_l
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::StabilityError;
 use rappel_terrain::surface::Terrain;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Why a two-robot run failed.
 #[derive(Debug, thiserror::Error)]
@@ -50,29 +50,39 @@ pub enum TwoRobotError {
 }
 
 /// Robot 2 at one waypoint.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct WaypointReport {
     /// Waypoint index in Robot 2's path.
     pub waypoint: usize,
     /// Robot 2's frame position.
+    #[schemars(with = "[f64; 2]")]
     pub position: Point2<f64>,
     /// The surface it stands on.
     pub surface: usize,
     /// The tether from Robot 1 to Robot 2 (robot, obstacle and ground anchors).
     pub configuration: Vec<TetherAnchor>,
-    /// Total winding angle (Kumar Definition 3), radians.
+    /// Total winding angle (Kumar Definition 3), radians (reported in degrees).
+    #[serde(
+        rename = "total_winding_deg",
+        with = "crate::report_units::radians_as_degrees"
+    )]
+    #[schemars(with = "f64")]
     pub total_winding: f64,
     /// `T_1` limit `F_0 + mu_s0 m_1 g` (eq. 1), N.
+    #[serde(rename = "t1_limit_n")]
     pub t1_limit: f64,
     /// `T_2max` from the obstacle windings only (the paper's depicted values), N.
+    #[serde(rename = "t2max_obstacles_n")]
     pub t2max_obstacles: f64,
     /// `T_2max` from all windings, ground anchors included (eq. 2), N.
+    #[serde(rename = "t2max_n")]
     pub t2max: f64,
     /// Whether a ground anchor lies between Robot 2 and its last obstacle anchor.
     pub ground_anchored: bool,
     /// The LP's verdict.
     pub stable: bool,
     /// The least tension that holds Robot 2, when stable.
+    #[serde(rename = "required_tension_n")]
     pub required_tension: Option<f64>,
 }
 

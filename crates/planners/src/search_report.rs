@@ -1,0 +1,147 @@
+//! The SPT search's outcome as reports spell it (`docs/output-format.md`): [`TerminationName`]
+//! (snake_case names of [`Termination`]) and [`SearchStatsReport`] (the counters of
+//! [`SearchStats`]), both readable back and with JSON Schemas. The search itself keeps its own
+//! types; reports convert at the boundary.
+
+use crate::spt::{SearchStats, Termination};
+use serde::{Deserialize, Serialize};
+
+/// Why a search stopped, as a report spells it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum TerminationName {
+    /// [`Termination::ClassCount`].
+    ClassCount,
+    /// [`Termination::LengthFactor`].
+    LengthFactor,
+    /// [`Termination::Expansions`].
+    Expansions,
+    /// [`Termination::Exhausted`].
+    Exhausted,
+    /// [`Termination::Disconnected`].
+    Disconnected,
+}
+
+impl From<Termination> for TerminationName {
+    fn from(t: Termination) -> Self {
+        match t {
+            Termination::ClassCount => TerminationName::ClassCount,
+            Termination::LengthFactor => TerminationName::LengthFactor,
+            Termination::Expansions => TerminationName::Expansions,
+            Termination::Exhausted => TerminationName::Exhausted,
+            Termination::Disconnected => TerminationName::Disconnected,
+        }
+    }
+}
+
+impl From<TerminationName> for Termination {
+    fn from(t: TerminationName) -> Self {
+        match t {
+            TerminationName::ClassCount => Termination::ClassCount,
+            TerminationName::LengthFactor => Termination::LengthFactor,
+            TerminationName::Expansions => Termination::Expansions,
+            TerminationName::Exhausted => Termination::Exhausted,
+            TerminationName::Disconnected => Termination::Disconnected,
+        }
+    }
+}
+
+/// `#[serde(with = "crate::search_report::termination_serde")]` on a [`Termination`] field:
+/// written and read as its [`TerminationName`].
+pub mod termination_serde {
+    use super::*;
+
+    /// Writes `t` as its snake_case name.
+    pub fn serialize<S: serde::Serializer>(t: &Termination, s: S) -> Result<S::Ok, S::Error> {
+        TerminationName::from(*t).serialize(s)
+    }
+
+    /// Reads a snake_case name.
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Termination, D::Error> {
+        TerminationName::deserialize(d).map(Termination::from)
+    }
+}
+
+/// `#[serde(with = "crate::search_report::option_termination_serde")]` on an
+/// `Option<Termination>` field.
+pub mod option_termination_serde {
+    use super::*;
+
+    /// Writes the snake_case name, or `null`.
+    pub fn serialize<S: serde::Serializer>(
+        t: &Option<Termination>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        t.map(TerminationName::from).serialize(s)
+    }
+
+    /// Reads a snake_case name or `null`.
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<Termination>, D::Error> {
+        Option::<TerminationName>::deserialize(d).map(|t| t.map(Termination::from))
+    }
+}
+
+/// The counters of a search ([`SearchStats`]) in a report.
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+pub struct SearchStatsReport {
+    /// Funnels expanded (Alg. 4 calls).
+    pub expansions: usize,
+    /// Funnels dropped by dominance pruning.
+    pub pruned_dominated: usize,
+    /// Funnels dropped by the length bound.
+    pub pruned_length: usize,
+    /// Funnels dropped because their apex chain is not simple (simple-classes mode).
+    pub pruned_simple: usize,
+    /// Goal lifts reached whose class was not simple (simple-classes mode).
+    pub skipped_not_simple: usize,
+    /// Nodes in the shortest path tree.
+    pub tree_nodes: usize,
+    /// Largest number of queued entries.
+    pub queue_peak: usize,
+    /// Peak bytes held by the search's own structures.
+    pub peak_bytes: usize,
+}
+
+impl From<SearchStats> for SearchStatsReport {
+    fn from(s: SearchStats) -> Self {
+        SearchStatsReport {
+            expansions: s.expansions,
+            pruned_dominated: s.pruned_dominated,
+            pruned_length: s.pruned_length,
+            pruned_simple: s.pruned_simple,
+            skipped_not_simple: s.skipped_not_simple,
+            tree_nodes: s.tree_nodes,
+            queue_peak: s.queue_peak,
+            peak_bytes: s.peak_bytes,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_termination_has_a_snake_case_name_that_reads_back() {
+        for t in [
+            Termination::ClassCount,
+            Termination::LengthFactor,
+            Termination::Expansions,
+            Termination::Exhausted,
+            Termination::Disconnected,
+        ] {
+            let text = serde_json::to_string(&TerminationName::from(t)).unwrap();
+            assert!(text.chars().all(|c| !c.is_ascii_uppercase()), "{text}");
+            let back: TerminationName = serde_json::from_str(&text).unwrap();
+            assert_eq!(Termination::from(back), t);
+        }
+        assert_eq!(
+            serde_json::to_string(&TerminationName::ClassCount).unwrap(),
+            "\"class_count\""
+        );
+    }
+}

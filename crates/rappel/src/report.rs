@@ -1,0 +1,280 @@
+//! The one output schema of every `--json` report (`docs/output-format.md`): the [`Report`] trait
+//! every report type implements, the [`Envelope`] that puts `schema_version` and the report's kind
+//! first, the unit helpers ([`deg`], [`micros`]) that keep float noise out of the numbers, and the
+//! JSON Schema documents generated from the types ([`schemas`], written by `cargo xtask schemas`).
+//!
+//! The convention, in short:
+//! - every report is an object whose first fields are `schema_version` ([`SCHEMA_VERSION`]) and
+//!   `report` (the subcommand's name, [`Report::KIND`]);
+//! - a point is `[x, y]` (or `[x, y, z]`), never an object with `x` and `y`;
+//! - enum values are lower-case `snake_case` strings (`"class_count"`, `"tether_free"`);
+//! - a quantity with a unit carries it in its field name: `_m`, `_m2`, `_deg`, `_n`, `_us`;
+//!   angles are in degrees wherever they are shown, rounded to [`ANGLE_DECIMALS`] decimals;
+//!   durations are integer microseconds;
+//! - every report type derives `Serialize`, `Deserialize` and `JsonSchema`, and reads back what
+//!   it wrote ([`round_trip`]).
+//!
+//! A new report follows it in three steps: derive the three traits on its type (points as
+//! `Point2<f64>` fields with `#[schemars(with = "[f64; 2]")]`, enums with
+//! `#[serde(rename_all = "snake_case")]`), `impl Report for T { const KIND: &str = "name"; }`,
+//! and add it to [`schemas`]; the CLI prints it with `print_report`, the schema test then asks for
+//! its committed document in `docs/schemas/`.
+
+use schemars::{JsonSchema, Schema, SchemaGenerator};
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+/// The version of the output schema. Raised on any change a reader could notice (a field
+/// renamed, removed, or its unit changed); adding a field keeps it.
+pub const SCHEMA_VERSION: u32 = 1;
+
+pub use rappel_planners::report_units::{ANGLE_DECIMALS, deg, radians_as_degrees, round_to};
+
+/// A report a subcommand prints with `--json`.
+pub trait Report: Serialize + DeserializeOwned + JsonSchema {
+    /// The subcommand's name: the `report` field, and the schema file `docs/schemas/KIND.json`.
+    const KIND: &'static str;
+
+    /// This report in its [`Envelope`], as pretty JSON.
+    fn to_json(&self) -> String {
+        serde_json::to_string_pretty(&Envelope::new(self)).unwrap_or_default()
+    }
+}
+
+/// A report as printed: `schema_version` and `report` first, then the report's own fields.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct Envelope<T> {
+    /// [`SCHEMA_VERSION`] of the writer.
+    pub schema_version: u32,
+    /// The subcommand that wrote it ([`Report::KIND`]).
+    pub report: String,
+    /// The report.
+    #[serde(flatten)]
+    pub body: T,
+}
+
+impl<'a, T: Report> Envelope<&'a T> {
+    /// Wraps `body` with the current version and its kind.
+    pub fn new(body: &'a T) -> Self {
+        Envelope {
+            schema_version: SCHEMA_VERSION,
+            report: T::KIND.to_string(),
+            body,
+        }
+    }
+}
+
+/// Why a report could not be read back.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadReportError {
+    /// Not JSON of this report's shape.
+    #[error("not a {kind} report: {message}")]
+    Parse {
+        /// The kind expected.
+        kind: &'static str,
+        /// serde's message.
+        message: String,
+    },
+    /// Another subcommand's report.
+    #[error("a {found} report where a {expected} report was expected")]
+    Kind {
+        /// The kind expected.
+        expected: &'static str,
+        /// The kind found.
+        found: String,
+    },
+    /// A schema version this build does not read.
+    #[error("schema_version {found}: this build reads version {SCHEMA_VERSION}")]
+    Version {
+        /// The version found.
+        found: u32,
+    },
+}
+
+/// Reads a report printed by `--json` back, checking its kind and version.
+///
+/// ```
+/// use rappel::report::{read_report, Report};
+/// use rappel::report::HomotopicReport;
+/// let r = HomotopicReport { homotopic: true, paths: ["a".into(), "b".into()], reduced_crossings: [2, 2] };
+/// assert_eq!(read_report::<HomotopicReport>(&r.to_json()).unwrap(), r);
+/// ```
+pub fn read_report<T: Report>(text: &str) -> Result<T, ReadReportError> {
+    let e: Envelope<T> = serde_json::from_str(text).map_err(|e| ReadReportError::Parse {
+        kind: T::KIND,
+        message: e.to_string(),
+    })?;
+    if e.report != T::KIND {
+        return Err(ReadReportError::Kind {
+            expected: T::KIND,
+            found: e.report,
+        });
+    }
+    if e.schema_version != SCHEMA_VERSION {
+        return Err(ReadReportError::Version {
+            found: e.schema_version,
+        });
+    }
+    Ok(e.body)
+}
+
+/// Serializes `report`, reads it back and serializes it again: the two texts, which are equal
+/// when the report type round-trips (the property every report's test asserts).
+pub fn round_trip<T: Report>(report: &T) -> Result<(String, String), ReadReportError> {
+    let first = report.to_json();
+    let back: T = read_report(&first)?;
+    Ok((first, back.to_json()))
+}
+
+/// A duration as whole microseconds (saturating).
+pub fn micros(d: std::time::Duration) -> u64 {
+    u64::try_from(d.as_micros()).unwrap_or(u64::MAX)
+}
+
+/// The JSON Schema document of `T` in its [`Envelope`].
+pub fn schema_of<T: Report>() -> Schema {
+    let mut g = SchemaGenerator::default();
+    let mut s = g.root_schema_for::<Envelope<T>>();
+    s.insert("title".into(), format!("rappel {} report", T::KIND).into());
+    s
+}
+
+/// The JSON Schema documents `docs/schemas/NAME.json` shipped with the code: the scenario file,
+/// then every report by [`Report::KIND`]. `cargo xtask schemas` writes them and a test checks the
+/// committed files against these.
+pub fn schemas() -> Vec<(&'static str, Schema)> {
+    let mut scenario = SchemaGenerator::default().root_schema_for::<crate::scenario::Scenario>();
+    scenario.insert("title".into(), "rappel scenario file".into());
+    vec![
+        ("scenario", scenario),
+        ("validate", schema_of::<ValidateReport>()),
+        ("btm", schema_of::<crate::btm_summary::BtmSummary>()),
+        ("dem", schema_of::<crate::dem::DemReport>()),
+        (
+            "stability",
+            schema_of::<crate::stability::StabilityReport>(),
+        ),
+        ("shp", schema_of::<crate::tether::ShpReport>()),
+        ("homotopic", schema_of::<HomotopicReport>()),
+        ("plan", schema_of::<crate::plan::PlanReport>()),
+        ("query", schema_of::<crate::query::QueryReport>()),
+        ("online", schema_of::<crate::online::OnlineReport>()),
+        ("track", schema_of::<crate::track::TrackReport>()),
+        ("settle", schema_of::<crate::settle::SettleReport>()),
+        (
+            "settle_map",
+            schema_of::<crate::mesh_stability::StabilityMap>(),
+        ),
+    ]
+}
+
+/// The files of `docs/schemas/`: `(file name, pretty JSON text ending in a newline)` for each of
+/// [`schemas`].
+pub fn schema_files() -> Vec<(String, String)> {
+    schemas()
+        .into_iter()
+        .map(|(name, schema)| {
+            let text = serde_json::to_string_pretty(&schema).unwrap_or_default() + "\n";
+            (format!("{name}.json"), text)
+        })
+        .collect()
+}
+
+/// The files of `dir` (the committed `docs/schemas/`) that differ from [`schema_files`], are
+/// missing, or are not generated: one line each; empty when the directory is up to date.
+pub fn stale_schema_files(dir: &std::path::Path) -> Vec<String> {
+    let mut stale = Vec::new();
+    let files = schema_files();
+    for (name, text) in &files {
+        match std::fs::read_to_string(dir.join(name)) {
+            Ok(committed) if committed == *text => {}
+            Ok(_) => stale.push(format!("{name}: differs from the code")),
+            Err(_) => stale.push(format!("{name}: missing")),
+        }
+    }
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if name.ends_with(".json") && !files.iter().any(|(n, _)| *n == name) {
+                stale.push(format!("{name}: not generated by any report type"));
+            }
+        }
+    }
+    stale.sort();
+    stale
+}
+
+/// The JSON form of `rappel validate`: a valid scenario's summary.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ValidateReport {
+    /// The scenario file.
+    pub file: String,
+    /// Always `true` (an invalid file is an error, exit code 2).
+    pub valid: bool,
+    /// Obstacles.
+    pub obstacles: usize,
+    /// Map vertices.
+    pub vertices: usize,
+    /// Terrain planes.
+    pub terrain_planes: usize,
+    /// Free-space area, m².
+    pub free_area_m2: f64,
+    /// PTFOs of the friction section.
+    pub ptfos: usize,
+    /// The scenario carries a georeference (made from a DEM).
+    pub georeferenced: bool,
+}
+
+impl Report for ValidateReport {
+    const KIND: &'static str = "validate";
+}
+
+/// The JSON form of `rappel homotopic`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct HomotopicReport {
+    /// The answer.
+    pub homotopic: bool,
+    /// The two path files.
+    pub paths: [String; 2],
+    /// Length of each path's reduced crossing sequence (equal sequences mean homotopic).
+    pub reduced_crossings: [usize; 2],
+}
+
+impl Report for HomotopicReport {
+    const KIND: &'static str = "homotopic";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_report_of_another_kind_or_version_is_refused() {
+        let r = ValidateReport {
+            file: "s.ron".into(),
+            valid: true,
+            obstacles: 1,
+            vertices: 7,
+            terrain_planes: 0,
+            free_area_m2: 12.5,
+            ptfos: 0,
+            georeferenced: false,
+        };
+        let text = r.to_json();
+        assert!(
+            text.trim_start()
+                .starts_with("{\n  \"schema_version\": 1,\n  \"report\": \"validate\"")
+        );
+        let (a, b) = round_trip(&r).unwrap();
+        assert_eq!(a, b);
+        assert!(matches!(
+            read_report::<HomotopicReport>(&text),
+            Err(ReadReportError::Parse { .. } | ReadReportError::Kind { .. })
+        ));
+        let old = text.replace("\"schema_version\": 1", "\"schema_version\": 0");
+        assert!(matches!(
+            read_report::<ValidateReport>(&old),
+            Err(ReadReportError::Version { found: 0 })
+        ));
+    }
+}
