@@ -13,8 +13,8 @@ fn slope_cells(v: &serde_json::Value) -> Vec<&serde_json::Value> {
         .expect("cells")
         .iter()
         .filter(|c| {
-            let x = c["x"].as_f64().unwrap_or(f64::NAN);
-            x > 0.7 && x < 2.5 && c["y"].as_f64().is_some_and(|y| y.abs() <= 2.0)
+            let x = c["ground"][0].as_f64().unwrap_or(f64::NAN);
+            x > 0.7 && x < 2.5 && c["ground"][1].as_f64().is_some_and(|y| y.abs() <= 2.0)
         })
         .collect()
 }
@@ -31,6 +31,7 @@ fn ledge_map_is_green_under_test_1_and_red_under_test_2() {
     let o = rappel(&one);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(v["report"], "settle_map");
     let cells = slope_cells(&v);
     assert!(cells.len() >= 27, "{}", cells.len());
     for c in &cells {
