@@ -21,6 +21,7 @@ pub mod feasibility;
 pub mod frictional;
 pub mod online;
 pub mod path_pair;
+pub mod sampler;
 pub mod spt;
 pub mod terrain;
 pub mod tether_tracking;

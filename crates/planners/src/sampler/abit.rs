@@ -1,0 +1,476 @@
+//! ABIT* (Strub & Gammell 2020, as Paton 2020 §V uses it) with non-Markovian states (§V-A).
+//!
+//! One *iteration* processes one edge of the queue, or starts a search when the queue is empty:
+//!
+//! 1. **Batches.** Each batch adds `batch_size` valid samples to the edge-implicit RGG; once a
+//!    solution of cost `c_best` exists they are drawn from the informed set (Gammell et al. 2018).
+//! 2. **Searches.** A batch is searched forward from the start twice: first with the cost-to-go
+//!    inflated by `initial_inflation` (a greedy search that finds a first solution quickly), then
+//!    with `1 + inflation_scaling / n`. The tree persists across searches and batches; a tree edge
+//!    met in the queue just re-expands its child (the repair of ABIT*'s anytime search).
+//! 3. **Edge queue.** Edges `(v, x)` are ordered by `g(v) + ĉ(v, x) + ε ĥ(x)` (inflated potential
+//!    solution quality; ties by ids, so the order is deterministic).
+//! 4. **Truncation.** An edge whose uninflated `f = g(v) + ĉ + ĥ` satisfies
+//!    `(1 + truncation_scaling / n) f >= c_best` is dropped without evaluation.
+//! 5. **Lazy evaluation.** Only a popped edge that could still improve its child and the solution
+//!    is checked by [`MotionValidator::motion`], at most once per ordered pair.
+//! 6. **Histories.** The motion extends the parent's history; a child whose history is already
+//!    set (in the tree, or copied at sampling) accepts only a parent whose extension equals it:
+//!    no rewiring across incompatible histories. A fraction `history_copy_fraction` of new
+//!    samples copy one of the distinct histories of their k nearest tree states. After each
+//!    improved solution a fresh goal state with undetermined history is added.
+//!
+//! Vertices are never pruned (ids stay stable); informed sampling keeps new density where it
+//! can improve the solution, and edges that cannot are never queued.
+
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap};
+use std::time::{Duration, Instant};
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use thiserror::Error;
+
+use super::graph::{Graph, IndexError};
+use super::settings::{AbitSettings, SettingsError};
+use super::space::{Informed, StateSpace};
+use super::termination::Termination;
+use super::validator::MotionValidator;
+
+/// Why the planner could not be set up or run.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AbitError {
+    /// A setting or the termination condition is invalid.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// The start state fails [`MotionValidator::state_valid`].
+    #[error("the start state {0} is invalid")]
+    InvalidStart(String),
+    /// The goal state fails [`MotionValidator::state_valid`].
+    #[error("the goal state {0} is invalid")]
+    InvalidGoal(String),
+    /// The nearest-neighbour index rejected a state.
+    #[error(transparent)]
+    Index(#[from] IndexError),
+}
+
+/// A solution: the states from start to goal and the history at each.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution<S, H> {
+    /// Total cost (sum of the motions' true costs).
+    pub cost: f64,
+    /// The states, start first.
+    pub path: Vec<S>,
+    /// The history at each state of `path`.
+    pub histories: Vec<H>,
+}
+
+/// One improvement of the best solution, for cost-against-time curves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolutionEvent {
+    /// Iterations done when it was found.
+    pub iteration: u64,
+    /// Wall time since the planner was created.
+    pub elapsed: Duration,
+    /// The new best cost.
+    pub cost: f64,
+}
+
+/// What [`Abit::solve`] returns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannerStatus<S, H> {
+    /// The best solution so far, if any.
+    pub solution: Option<Solution<S, H>>,
+    /// Iterations done in total.
+    pub iterations: u64,
+    /// Batches of samples added.
+    pub batches: u64,
+    /// States in the graph (samples, start, goal copies).
+    pub states: usize,
+    /// Motions evaluated by the validator.
+    pub motions_checked: u64,
+    /// Every improvement so far, in order (costs strictly decrease).
+    pub events: Vec<SolutionEvent>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Key(f64);
+impl Eq for Key {}
+impl PartialOrd for Key {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Key {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&o.0)
+    }
+}
+
+type Motion<H> = Option<(f64, H)>;
+
+/// The ABIT* planner over space `S` and validator `V` (k-d embedding dimension `K`).
+pub struct Abit<'a, S, V, const K: usize>
+where
+    S: StateSpace<K>,
+    V: MotionValidator<S, K>,
+{
+    space: &'a S,
+    validator: &'a V,
+    settings: AbitSettings,
+    rng: ChaCha8Rng,
+    graph: Graph<S::State, V::History, K>,
+    start: u32,
+    goal_state: S::State,
+    goals: Vec<u32>,
+    queue: BinaryHeap<Reverse<(Key, u32, u32)>>,
+    motions: HashMap<(u32, u32), Motion<V::History>>,
+    expanded_at: Vec<f64>,
+    best_cost: f64,
+    best_goal: Option<u32>,
+    inflation: f64,
+    truncation: f64,
+    search_in_batch: u32,
+    iterations: u64,
+    batches: u64,
+    events: Vec<SolutionEvent>,
+    created: Instant,
+}
+
+impl<'a, S, V, const K: usize> Abit<'a, S, V, K>
+where
+    S: StateSpace<K>,
+    V: MotionValidator<S, K>,
+{
+    /// Sets up the planner: checks start and goal, adds them and the first batch of samples.
+    pub fn new(
+        space: &'a S,
+        validator: &'a V,
+        start: S::State,
+        goal: S::State,
+        settings: AbitSettings,
+    ) -> Result<Self, AbitError> {
+        if !validator.state_valid(&start) {
+            return Err(AbitError::InvalidStart(format!("{start:?}")));
+        }
+        if !validator.state_valid(&goal) {
+            return Err(AbitError::InvalidGoal(format!("{goal:?}")));
+        }
+        let mut graph = Graph::default();
+        let h0 = validator.initial_history(&start);
+        let s = graph.add(start.clone(), Some(h0), space.key(&start))?;
+        graph.nodes[s as usize].g = 0.0;
+        let gid = graph.add(goal.clone(), None, space.key(&goal))?;
+        graph.set_goal(gid);
+        let mut me = Self {
+            space,
+            validator,
+            rng: ChaCha8Rng::seed_from_u64(settings.seed),
+            settings,
+            graph,
+            start: s,
+            goal_state: goal,
+            goals: vec![gid],
+            queue: BinaryHeap::new(),
+            motions: HashMap::new(),
+            expanded_at: Vec::new(),
+            best_cost: f64::INFINITY,
+            best_goal: None,
+            inflation: 1.0,
+            truncation: 1.0,
+            search_in_batch: 0,
+            iterations: 0,
+            batches: 0,
+            events: Vec::new(),
+            created: Instant::now(),
+        };
+        me.new_batch()?;
+        me.restart_search();
+        Ok(me)
+    }
+
+    /// Runs until `termination` holds; may be called again to continue (anytime).
+    pub fn solve(
+        &mut self,
+        termination: Termination,
+    ) -> Result<PlannerStatus<S::State, V::History>, AbitError> {
+        termination.validate()?;
+        let began = Instant::now();
+        let first = self.iterations;
+        while !termination.reached(self.iterations - first, began.elapsed(), self.best_cost) {
+            self.iterate()?;
+        }
+        Ok(self.status())
+    }
+
+    /// The graph, for white-box tests.
+    #[cfg(test)]
+    pub(crate) fn graph(&self) -> &Graph<S::State, V::History, K> {
+        &self.graph
+    }
+
+    /// The current best solution and statistics.
+    pub fn status(&self) -> PlannerStatus<S::State, V::History> {
+        let solution = self.best_goal.map(|g| {
+            let ids = self.graph.path_to(g);
+            Solution {
+                cost: self.best_cost,
+                path: ids
+                    .iter()
+                    .map(|&i| self.graph.nodes[i as usize].state.clone())
+                    .collect(),
+                histories: ids
+                    .iter()
+                    .filter_map(|&i| self.graph.nodes[i as usize].history.clone())
+                    .collect(),
+            }
+        });
+        PlannerStatus {
+            solution,
+            iterations: self.iterations,
+            batches: self.batches,
+            states: self.graph.nodes.len(),
+            motions_checked: self.motions.len() as u64,
+            events: self.events.clone(),
+        }
+    }
+
+    /// One iteration: process the best edge, or start the next search when the queue is empty.
+    pub fn iterate(&mut self) -> Result<(), AbitError> {
+        self.iterations += 1;
+        match self.queue.pop() {
+            Some(Reverse((_, v, x))) => {
+                self.process(v, x);
+                Ok(())
+            }
+            None => self.next_search(),
+        }
+    }
+
+    fn n(&self) -> f64 {
+        self.graph.location_count().max(2) as f64
+    }
+
+    fn k(&self) -> usize {
+        let d = self.space.dimension().max(1) as f64;
+        let k = self.settings.rgg_k_factor * std::f64::consts::E * (1.0 + 1.0 / d) * self.n().ln();
+        (k.ceil() as usize).max(1)
+    }
+
+    fn h(&self, x: u32) -> f64 {
+        self.space
+            .cost_heuristic(&self.graph.nodes[x as usize].state, &self.goal_state)
+    }
+
+    fn c_hat(&self, v: u32, x: u32) -> f64 {
+        self.space.cost_heuristic(
+            &self.graph.nodes[v as usize].state,
+            &self.graph.nodes[x as usize].state,
+        )
+    }
+
+    /// The queue ran empty: the next search of this batch with a smaller inflation, or a new
+    /// batch searched greedily again.
+    fn next_search(&mut self) -> Result<(), AbitError> {
+        if self.search_in_batch == 0 {
+            self.search_in_batch = 1;
+            self.inflation = 1.0 + self.settings.inflation_scaling / self.n();
+        } else {
+            self.new_batch()?;
+        }
+        self.restart_search();
+        Ok(())
+    }
+
+    fn restart_search(&mut self) {
+        self.queue.clear();
+        self.expanded_at.clear();
+        self.expanded_at
+            .resize(self.graph.nodes.len(), f64::INFINITY);
+        self.truncation = 1.0 + self.settings.truncation_scaling / self.n();
+        self.expand(self.start);
+    }
+
+    /// Queues the outgoing edges of tree state `v` that could improve their child and the
+    /// solution, and all of `v`'s tree edges (its children may have left its k nearest as the
+    /// graph grew, yet the search must reach them to repair their subtrees).
+    fn expand(&mut self, v: u32) {
+        let gv = self.graph.nodes[v as usize].g;
+        self.expanded_at[v as usize] = gv;
+        for i in 0..self.graph.nodes[v as usize].children.len() {
+            let x = self.graph.nodes[v as usize].children[i];
+            let key = gv + self.c_hat(v, x) + self.inflation * self.h(x);
+            self.queue.push(Reverse((Key(key), v, x)));
+        }
+        let key = self.space.key(&self.graph.nodes[v as usize].state);
+        for x in self.graph.near(&key, self.k() + 1) {
+            if x == v || x == self.start {
+                continue;
+            }
+            let node = &self.graph.nodes[x as usize];
+            if node.parent == Some(v) {
+                continue;
+            }
+            let c = self.c_hat(v, x);
+            let h = self.h(x);
+            if gv + c + h >= self.best_cost || gv + c >= node.g {
+                continue;
+            }
+            if matches!(self.motions.get(&(v, x)), Some(None)) {
+                continue;
+            }
+            self.queue
+                .push(Reverse((Key(gv + c + self.inflation * h), v, x)));
+        }
+    }
+
+    fn process(&mut self, v: u32, x: u32) {
+        let gv = self.graph.nodes[v as usize].g;
+        if self.graph.nodes[x as usize].parent == Some(v) {
+            if self.expanded_at[x as usize] > self.graph.nodes[x as usize].g {
+                self.expand(x);
+            }
+            return;
+        }
+        let gx = self.graph.nodes[x as usize].g;
+        let c_hat = self.c_hat(v, x);
+        let h = self.h(x);
+        if self.truncation * (gv + c_hat + h) >= self.best_cost || gv + c_hat >= gx {
+            return;
+        }
+        let Some((c, hist)) = self.motion(v, x) else {
+            return;
+        };
+        let g_new = gv + c;
+        if g_new + h >= self.best_cost || g_new >= gx {
+            return;
+        }
+        if let Some(existing) = &self.graph.nodes[x as usize].history {
+            if *existing != hist {
+                return;
+            }
+        } else {
+            self.graph.nodes[x as usize].history = Some(hist);
+        }
+        self.graph.attach(x, v, g_new);
+        self.update_solution();
+        self.expand(x);
+    }
+
+    fn motion(&mut self, v: u32, x: u32) -> Motion<V::History> {
+        if let Some(m) = self.motions.get(&(v, x)) {
+            return m.clone();
+        }
+        let nv = &self.graph.nodes[v as usize];
+        let m = match &nv.history {
+            Some(hv) => self
+                .validator
+                .motion(&nv.state, hv, &self.graph.nodes[x as usize].state),
+            None => None,
+        };
+        self.motions.insert((v, x), m.clone());
+        m
+    }
+
+    fn update_solution(&mut self) {
+        let Some((cost, id)) = self
+            .goals
+            .iter()
+            .map(|&g| (self.graph.nodes[g as usize].g, g))
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        else {
+            return;
+        };
+        if cost < self.best_cost {
+            self.best_cost = cost;
+            self.best_goal = Some(id);
+            self.events.push(SolutionEvent {
+                iteration: self.iterations,
+                elapsed: self.created.elapsed(),
+                cost,
+            });
+            // Paton §V-A: a fresh goal with undetermined history for the next better path.
+            if self
+                .goals
+                .iter()
+                .all(|&g| self.graph.nodes[g as usize].in_tree())
+                && let Ok(fresh) = self.graph.add_at(id, self.goal_state.clone(), true)
+            {
+                self.goals.push(fresh);
+                self.expanded_at.push(f64::INFINITY);
+            }
+        }
+    }
+
+    /// Adds one batch of valid samples (informed once a solution exists).
+    fn new_batch(&mut self) -> Result<(), AbitError> {
+        self.batches += 1;
+        self.search_in_batch = 0;
+        self.inflation = self.settings.initial_inflation;
+        let start_state = self.graph.nodes[self.start as usize].state.clone();
+        for _ in 0..self.settings.batch_size {
+            let copy = self.rng.random::<f64>() < self.settings.history_copy_fraction;
+            let Some(s) = self.sample(&start_state) else {
+                continue;
+            };
+            let key = self.space.key(&s);
+            let history = if copy {
+                self.neighbour_history(&key)
+            } else {
+                None
+            };
+            self.graph.add(s, history, key)?;
+        }
+        Ok(())
+    }
+
+    /// One valid sample, by informed or rejection sampling within `max_sample_attempts`.
+    fn sample(&mut self, start: &S::State) -> Option<S::State> {
+        for _ in 0..self.settings.max_sample_attempts {
+            let s = if self.best_cost.is_finite() {
+                match self.space.sample_informed(
+                    &mut self.rng,
+                    start,
+                    &self.goal_state,
+                    self.best_cost,
+                ) {
+                    Informed::Sample(s) => s,
+                    Informed::Missed | Informed::Unsupported => {
+                        let s = self.space.sample_uniform(&mut self.rng);
+                        let f = self.space.cost_heuristic(start, &s)
+                            + self.space.cost_heuristic(&s, &self.goal_state);
+                        if f >= self.best_cost {
+                            continue;
+                        }
+                        s
+                    }
+                }
+            } else {
+                self.space.sample_uniform(&mut self.rng)
+            };
+            if self.validator.state_valid(&s) {
+                return Some(s);
+            }
+        }
+        None
+    }
+
+    /// A history drawn uniformly from the distinct histories of the k nearest tree states
+    /// (Paton §V-A), so that a minority history in a region is copied as often as the majority.
+    fn neighbour_history(&mut self, key: &[f64; K]) -> Option<V::History> {
+        let mut distinct: Vec<V::History> = Vec::new();
+        for i in self.graph.near(key, self.k()) {
+            if let Some(h) = &self.graph.nodes[i as usize].history
+                && self.graph.nodes[i as usize].in_tree()
+                && !distinct.contains(h)
+            {
+                distinct.push(h.clone());
+            }
+        }
+        if distinct.is_empty() {
+            return None;
+        }
+        let pick = self.rng.random_range(0..distinct.len());
+        Some(distinct.swap_remove(pick))
+    }
+}

@@ -1,0 +1,168 @@
+//! The edge-implicit random geometric graph (RGG) of ABIT*: every sampled state, the search tree
+//! laid over them (parent, children, cost-to-come, history), and k-nearest-neighbour queries
+//! through a kd-tree (`kiddo`).
+//!
+//! Edges are never stored: the neighbours of a state are its `k` nearest states, with
+//! `k = factor * e (1 + 1/d) ln n` (Karaman & Frazzoli's k-nearest RGG, as in BIT*).
+//! Several graph states may share one location (the fresh goal copies of Paton §V-A), so the
+//! kd-tree indexes locations and each location lists its states.
+
+use std::num::NonZero;
+
+use kiddo::{MutableKdTree, SquaredEuclidean};
+
+/// One state of the graph.
+#[derive(Debug, Clone)]
+pub struct Node<S, H> {
+    /// The state.
+    pub state: S,
+    /// Its history: `None` while undetermined (a fresh sample or goal copy), fixed once set.
+    pub history: Option<H>,
+    /// Cost-to-come through the tree, `f64::INFINITY` while not in the tree.
+    pub g: f64,
+    /// Parent in the tree.
+    pub parent: Option<u32>,
+    /// Children in the tree.
+    pub children: Vec<u32>,
+    /// Whether this is a copy of the goal state.
+    pub is_goal: bool,
+    /// The kd-tree location this state sits at.
+    pub location: u32,
+}
+
+impl<S, H> Node<S, H> {
+    /// Whether the state is connected to the search tree.
+    pub fn in_tree(&self) -> bool {
+        self.g.is_finite()
+    }
+}
+
+/// The RGG: states plus the nearest-neighbour index.
+pub struct Graph<S, H, const K: usize> {
+    /// All states, indexed by `u32` ids (bounded by `u32::MAX` states).
+    pub nodes: Vec<Node<S, H>>,
+    /// The states at each kd-tree location.
+    locations: Vec<Vec<u32>>,
+    kd: MutableKdTree<f64, K>,
+}
+
+/// The kd-tree rejected a point (non-finite coordinates) or the graph is full.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("nearest-neighbour index: {0}")]
+pub struct IndexError(pub String);
+
+impl<S, H, const K: usize> Default for Graph<S, H, K> {
+    fn default() -> Self {
+        Self {
+            nodes: Vec::new(),
+            locations: Vec::new(),
+            kd: MutableKdTree::default(),
+        }
+    }
+}
+
+impl<S, H, const K: usize> Graph<S, H, K> {
+    /// Adds a state at a new location with key `key`; returns its id.
+    pub fn add(&mut self, state: S, history: Option<H>, key: [f64; K]) -> Result<u32, IndexError> {
+        if key.iter().any(|c| !c.is_finite()) {
+            return Err(IndexError(format!("non-finite key {key:?}")));
+        }
+        let loc = u32::try_from(self.locations.len())
+            .map_err(|_| IndexError("more than u32::MAX locations".into()))?;
+        self.kd
+            .add(&key, loc)
+            .map_err(|e| IndexError(format!("{e:?}")))?;
+        self.locations.push(Vec::new());
+        self.push_node(state, history, loc, false)
+    }
+
+    /// Adds a state at the location of state `twin` (a goal copy); returns its id.
+    pub fn add_at(&mut self, twin: u32, state: S, is_goal: bool) -> Result<u32, IndexError> {
+        let loc = self.nodes[twin as usize].location;
+        self.push_node(state, None, loc, is_goal)
+    }
+
+    fn push_node(
+        &mut self,
+        state: S,
+        history: Option<H>,
+        loc: u32,
+        is_goal: bool,
+    ) -> Result<u32, IndexError> {
+        let id = u32::try_from(self.nodes.len())
+            .map_err(|_| IndexError("more than u32::MAX states".into()))?;
+        self.nodes.push(Node {
+            state,
+            history,
+            g: f64::INFINITY,
+            parent: None,
+            children: Vec::new(),
+            is_goal,
+            location: loc,
+        });
+        self.locations[loc as usize].push(id);
+        Ok(id)
+    }
+
+    /// Marks state `id` as a goal copy.
+    pub fn set_goal(&mut self, id: u32) {
+        self.nodes[id as usize].is_goal = true;
+    }
+
+    /// Number of distinct locations (the `n` of the RGG's k).
+    pub fn location_count(&self) -> usize {
+        self.locations.len()
+    }
+
+    /// The states at the `k` locations nearest to `key` (nearest first, the query location
+    /// included), in a deterministic order.
+    pub fn near(&self, key: &[f64; K], k: usize) -> Vec<u32> {
+        let Some(k) = NonZero::new(k.min(self.locations.len())) else {
+            return Vec::new();
+        };
+        let found = self
+            .kd
+            .query(key)
+            .nearest_n::<SquaredEuclidean<f64>>(k)
+            .execute();
+        found
+            .iter()
+            .flat_map(|r| self.locations[r.item as usize].iter().copied())
+            .collect()
+    }
+
+    /// Attaches `child` to `parent` with cost-to-come `g`, detaching it from its old parent.
+    /// Descendants' costs are shifted by the change (bounded by the number of states).
+    pub fn attach(&mut self, child: u32, parent: u32, g: f64) {
+        if let Some(old) = self.nodes[child as usize].parent {
+            self.nodes[old as usize].children.retain(|&c| c != child);
+        }
+        let old_g = self.nodes[child as usize].g;
+        self.nodes[child as usize].parent = Some(parent);
+        self.nodes[child as usize].g = g;
+        self.nodes[parent as usize].children.push(child);
+        if old_g.is_finite() {
+            let delta = g - old_g;
+            let mut stack: Vec<u32> = self.nodes[child as usize].children.clone();
+            while let Some(c) = stack.pop() {
+                self.nodes[c as usize].g += delta;
+                stack.extend(self.nodes[c as usize].children.iter().copied());
+            }
+        }
+    }
+
+    /// The path from the tree's root to `id` (root first); bounded by the number of states.
+    pub fn path_to(&self, id: u32) -> Vec<u32> {
+        let mut path = vec![id];
+        let mut cur = id;
+        while let Some(p) = self.nodes[cur as usize].parent {
+            path.push(p);
+            cur = p;
+            if path.len() > self.nodes.len() {
+                break;
+            }
+        }
+        path.reverse();
+        path
+    }
+}

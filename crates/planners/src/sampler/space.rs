@@ -1,0 +1,55 @@
+//! The state-space trait of the sampling planner: what ABIT* needs to know about states.
+//!
+//! `K` is the dimension of the Euclidean embedding that the k-nearest-neighbour search runs in
+//! ([`StateSpace::key`]); for a real-vector space it is the space itself, for SE(3) rover states it
+//! is, e.g., the position and the yaw's unit vector.
+
+use rand_chacha::ChaCha8Rng;
+
+/// Whether a space can sample directly in the informed set (the prolate hyperspheroid of
+/// Gammell et al. 2018) of states that could improve a solution of a given cost.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Informed<S> {
+    /// A state drawn uniformly from the informed set (intersected with the space's bounds).
+    Sample(S),
+    /// The informed set is empty within the bounds or could not be hit within the space's
+    /// own attempt bound; the planner falls back to rejection sampling.
+    Missed,
+    /// The space has no direct informed sampler; the planner uses rejection sampling.
+    Unsupported,
+}
+
+/// A state space for ABIT*.
+pub trait StateSpace<const K: usize> {
+    /// One state.
+    type State: Clone + std::fmt::Debug;
+
+    /// A state drawn uniformly from the space's bounds (validity is not checked here).
+    fn sample_uniform(&self, rng: &mut ChaCha8Rng) -> Self::State;
+
+    /// A state drawn uniformly from `{x : h(start, x) + h(x, goal) < max_cost}` where the space
+    /// supports it (see [`Informed`]).
+    fn sample_informed(
+        &self,
+        rng: &mut ChaCha8Rng,
+        start: &Self::State,
+        goal: &Self::State,
+        max_cost: f64,
+    ) -> Informed<Self::State>;
+
+    /// The metric distance between two states.
+    fn distance(&self, a: &Self::State, b: &Self::State) -> f64;
+
+    /// An admissible estimate (a lower bound) of the cost of any path from `a` to `b`; used as
+    /// the cost-to-come heuristic, the cost-to-go heuristic and the edge-cost estimate.
+    fn cost_heuristic(&self, a: &Self::State, b: &Self::State) -> f64;
+
+    /// The state at fraction `t` in `[0, 1]` of the way from `a` to `b`.
+    fn interpolate(&self, a: &Self::State, b: &Self::State, t: f64) -> Self::State;
+
+    /// The point that represents `s` in the k-nearest-neighbour search.
+    fn key(&self, s: &Self::State) -> [f64; K];
+
+    /// The number of degrees of freedom, which sets the RGG's k (`k = e (1 + 1/d) ln n`).
+    fn dimension(&self) -> usize;
+}

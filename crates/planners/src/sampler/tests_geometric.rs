@@ -1,0 +1,299 @@
+//! Tests of ABIT* on obstacle worlds: paths found and independently collision-free, anytime
+//! monotone costs, convergence to a closed-form optimum, determinism per seed.
+
+use std::f64::consts::PI;
+
+use super::abit::{Abit, PlannerStatus};
+use super::obstacle_world::{Obstacle, ObstacleWorld, WorldFile};
+use super::real_vector::RealVectorSpace;
+use super::settings::AbitSettings;
+use super::termination::Termination;
+
+/// A 2D world with two boxes forming a detour (shared with the OMPL peer's world files).
+pub(crate) fn boxes_2d() -> ObstacleWorld<2> {
+    ObstacleWorld {
+        space: RealVectorSpace::new([0.0, 0.0], [10.0, 10.0]).unwrap(),
+        obstacles: vec![
+            Obstacle::Box {
+                min: [3.0, 0.0],
+                max: [4.0, 7.0],
+            },
+            Obstacle::Box {
+                min: [6.0, 3.0],
+                max: [7.0, 10.0],
+            },
+        ],
+        start: [1.0, 1.0],
+        goal: [9.0, 9.0],
+        resolution: 0.002,
+    }
+}
+
+/// The circle world: the shortest path is tangent, arc, tangent.
+fn circle_2d() -> ObstacleWorld<2> {
+    ObstacleWorld {
+        space: RealVectorSpace::new([-3.0, -3.0], [3.0, 3.0]).unwrap(),
+        obstacles: vec![Obstacle::Sphere {
+            centre: [0.0, 0.0],
+            radius: 1.0,
+        }],
+        start: [-2.0, 0.0],
+        goal: [2.0, 0.0],
+        resolution: 0.001,
+    }
+}
+
+/// Tangent-arc-tangent length around a disc of radius `r` between two points at distance `d`
+/// from its centre on opposite sides: `2 sqrt(d^2 - r^2) + r (pi - 2 acos(r / d))`.
+fn tangent_arc_tangent(d: f64, r: f64) -> f64 {
+    2.0 * (d * d - r * r).sqrt() + r * (PI - 2.0 * (r / d).acos())
+}
+
+/// Whether segment `a`-`b` meets the closed box, exactly (slab clipping).
+fn segment_hits_box<const D: usize>(
+    a: &[f64; D],
+    b: &[f64; D],
+    min: &[f64; D],
+    max: &[f64; D],
+) -> bool {
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for i in 0..D {
+        let d = b[i] - a[i];
+        if d == 0.0 {
+            if a[i] < min[i] || a[i] > max[i] {
+                return false;
+            }
+        } else {
+            let (mut u, mut v) = ((min[i] - a[i]) / d, (max[i] - a[i]) / d);
+            if u > v {
+                std::mem::swap(&mut u, &mut v);
+            }
+            t0 = t0.max(u);
+            t1 = t1.min(v);
+        }
+    }
+    t0 <= t1
+}
+
+/// Distance from `p` to segment `a`-`b`.
+fn point_segment<const D: usize>(p: &[f64; D], a: &[f64; D], b: &[f64; D]) -> f64 {
+    let ab: f64 = (0..D).map(|i| (b[i] - a[i]).powi(2)).sum();
+    let t = if ab == 0.0 {
+        0.0
+    } else {
+        ((0..D).map(|i| (p[i] - a[i]) * (b[i] - a[i])).sum::<f64>() / ab).clamp(0.0, 1.0)
+    };
+    (0..D)
+        .map(|i| (a[i] + t * (b[i] - a[i]) - p[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Re-checks a path without the planner's validator: every segment stays out of every obstacle
+/// eroded by half a check step (a discretely checked segment can clip no deeper), the path
+/// starts and ends where asked, and its length equals the reported cost; returns the length.
+pub(crate) fn recheck_geometry<const D: usize>(
+    w: &ObstacleWorld<D>,
+    path: &[[f64; D]],
+    cost: f64,
+) -> f64 {
+    assert_eq!(path.first(), Some(&w.start));
+    assert_eq!(path.last(), Some(&w.goal));
+    let half = 0.5 * w.step();
+    let mut len = 0.0;
+    for s in path.windows(2) {
+        let (a, b) = (&s[0], &s[1]);
+        assert!(w.space.contains(a) && w.space.contains(b));
+        len += (0..D).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
+        for o in &w.obstacles {
+            match o {
+                Obstacle::Box { min, max } => {
+                    let emin: [f64; D] = std::array::from_fn(|i| min[i] + half);
+                    let emax: [f64; D] = std::array::from_fn(|i| max[i] - half);
+                    assert!(
+                        !segment_hits_box(a, b, &emin, &emax),
+                        "segment {a:?}-{b:?} crosses {o:?}"
+                    );
+                }
+                Obstacle::Sphere { centre, radius } => {
+                    assert!(
+                        point_segment(centre, a, b) > radius - half,
+                        "segment {a:?}-{b:?} crosses {o:?}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        (len - cost).abs() <= 1e-9 * len.max(1.0),
+        "length {len} != cost {cost}"
+    );
+    len
+}
+
+/// [`recheck_geometry`] of a planner's solution.
+fn recheck<const D: usize>(w: &ObstacleWorld<D>, st: &PlannerStatus<[f64; D], ()>) -> f64 {
+    let sol = st.solution.as_ref().expect("a solution");
+    recheck_geometry(w, &sol.path, sol.cost)
+}
+
+fn plan<const D: usize>(
+    w: &ObstacleWorld<D>,
+    seed: u64,
+    iterations: u64,
+) -> PlannerStatus<[f64; D], ()> {
+    let settings = AbitSettings::default().with_seed(seed);
+    let mut p = Abit::new(&w.space, w, w.start, w.goal, settings).unwrap();
+    p.solve(Termination::iterations(iterations)).unwrap()
+}
+
+#[test]
+fn finds_a_collision_free_path_in_the_box_world() {
+    let w = boxes_2d();
+    let st = plan(&w, 1, 3000);
+    let len = recheck(&w, &st);
+    // The straight line is blocked, so the path is longer than |goal - start|.
+    assert!(len > 8.0 * 2f64.sqrt() + 0.1, "{len}");
+}
+
+#[test]
+fn three_dimensional_box_world() {
+    let w = ObstacleWorld {
+        space: RealVectorSpace::new([0.0; 3], [10.0; 3]).unwrap(),
+        obstacles: vec![
+            Obstacle::Box {
+                min: [4.0, 0.0, 0.0],
+                max: [6.0, 8.0, 10.0],
+            },
+            Obstacle::Sphere {
+                centre: [8.0, 8.0, 5.0],
+                radius: 1.0,
+            },
+        ],
+        start: [1.0, 1.0, 5.0],
+        goal: [9.0, 1.0, 5.0],
+        resolution: 0.002,
+    };
+    let st = plan(&w, 2, 4000);
+    let len = recheck(&w, &st);
+    // Around the wall's free edge at y = 8: at least the two straight legs via (5, 8, 5).
+    let lower = 2.0 * ((4.0f64).powi(2) + 7.0f64.powi(2)).sqrt() - 1.0;
+    assert!(len >= lower, "{len} < {lower}");
+}
+
+#[test]
+fn costs_never_increase_over_iterations() {
+    let w = boxes_2d();
+    let mut p = Abit::new(
+        &w.space,
+        &w,
+        w.start,
+        w.goal,
+        AbitSettings::default().with_seed(5),
+    )
+    .unwrap();
+    let mut last = f64::INFINITY;
+    for _ in 0..20 {
+        let st = p.solve(Termination::iterations(200)).unwrap();
+        if let Some(s) = &st.solution {
+            assert!(s.cost <= last, "cost rose from {last} to {}", s.cost);
+            last = s.cost;
+        }
+    }
+    let st = p.status();
+    assert!(
+        st.events.len() >= 2,
+        "no anytime improvement: {:?}",
+        st.events
+    );
+    for e in st.events.windows(2) {
+        assert!(e[1].cost < e[0].cost && e[1].iteration >= e[0].iteration);
+    }
+    recheck(&w, &st);
+}
+
+#[test]
+fn converges_towards_the_tangent_arc_tangent_optimum() {
+    let w = circle_2d();
+    let optimum = tangent_arc_tangent(2.0, 1.0);
+    let mut p = Abit::new(
+        &w.space,
+        &w,
+        w.start,
+        w.goal,
+        AbitSettings::default().with_seed(11),
+    )
+    .unwrap();
+    let early = p.solve(Termination::iterations(500)).unwrap();
+    let late = p.solve(Termination::iterations(15_000)).unwrap();
+    let (c0, c1) = (early.solution.unwrap().cost, recheck(&w, &late));
+    // Discrete checks may clip the disc by half a step, so the path can be a hair shorter.
+    assert!(c1 > optimum - 0.01, "{c1} below the optimum {optimum}");
+    assert!(c1 <= c0);
+    assert!(
+        c1 < optimum * 1.02,
+        "after 15500 iterations {c1} vs optimum {optimum}"
+    );
+}
+
+#[test]
+fn same_seed_same_path_different_seed_different_path() {
+    let w = boxes_2d();
+    let a = plan(&w, 42, 1500);
+    let b = plan(&w, 42, 1500);
+    let c = plan(&w, 43, 1500);
+    assert_eq!(a.solution, b.solution);
+    assert_eq!(
+        a.events
+            .iter()
+            .map(|e| (e.iteration, e.cost))
+            .collect::<Vec<_>>(),
+        b.events
+            .iter()
+            .map(|e| (e.iteration, e.cost))
+            .collect::<Vec<_>>()
+    );
+    assert_ne!(a.solution.unwrap().path, c.solution.unwrap().path);
+}
+
+#[test]
+fn termination_by_cost_threshold_and_bad_inputs() {
+    let w = boxes_2d();
+    let mut p = Abit::new(&w.space, &w, w.start, w.goal, AbitSettings::default()).unwrap();
+    let st = p
+        .solve(Termination::iterations(100_000).or_cost_at_most(1e9))
+        .unwrap();
+    assert_eq!(
+        st.events.len(),
+        1,
+        "stops at the first solution below the threshold"
+    );
+    assert!(
+        p.solve(Termination::default().or_cost_at_most(3.0))
+            .is_err(),
+        "unbounded loop accepted"
+    );
+    assert!(Abit::new(&w.space, &w, [3.5, 1.0], w.goal, AbitSettings::default()).is_err());
+    assert!(Abit::new(&w.space, &w, w.start, [11.0, 1.0], AbitSettings::default()).is_err());
+}
+
+#[test]
+fn world_files_round_trip_and_name_bad_fields() {
+    let w = boxes_2d();
+    let f = WorldFile::from_world("boxes", &w);
+    assert_eq!(f.to_world::<2>().unwrap(), w);
+    let e = f.to_world::<3>().unwrap_err().to_string();
+    assert!(e.contains("lo"), "{e}");
+    let mut bad = f.clone();
+    bad.boxes[1].max = vec![7.0];
+    assert!(
+        bad.to_world::<2>()
+            .unwrap_err()
+            .to_string()
+            .contains("boxes[1].max")
+    );
+    let json = serde_json::to_string(&f)
+        .unwrap()
+        .replace("\"name\"", "\"nmae\"");
+    assert!(serde_json::from_str::<WorldFile>(&json).is_err());
+}
