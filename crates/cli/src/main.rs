@@ -13,6 +13,7 @@ mod output;
 mod plan;
 mod query;
 mod settle;
+mod settle_map;
 mod shp;
 mod stability;
 mod track;
@@ -56,6 +57,8 @@ enum Command {
     Track(track::Args),
     /// Settle Axel on 3D ground (a Paton scene or a DEM): pose, contacts, optional stability.
     Settle(settle::Args),
+    /// Stability map of settled Axel poses with predicted anchor histories (Paton Fig. 8).
+    SettleMap(settle_map::Args),
 }
 
 fn main() -> ExitCode {
@@ -73,6 +76,7 @@ fn main() -> ExitCode {
         Command::Query(args) => query::run(&args),
         Command::Online(args) => online::run(&args),
         Command::Settle(args) => settle::run(&args),
+        Command::SettleMap(args) => settle_map::run(&args),
         // The clean "no": Robot 2 is unstable at a waypoint.
         Command::Track(args) => {
             track::run(&args).map(|stable| if stable { Answer::Yes } else { Answer::No })

@@ -87,7 +87,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
 }
 
 /// `n` finite comma-separated numbers.
-fn numbers(flag: &str, text: &str, n: usize) -> Result<Vec<f64>, CliError> {
+pub(crate) fn numbers(flag: &str, text: &str, n: usize) -> Result<Vec<f64>, CliError> {
     let v: Vec<f64> = text
         .split(',')
         .map(|t| t.trim().parse::<f64>())

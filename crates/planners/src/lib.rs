@@ -17,6 +17,7 @@
 //! The robot enters only through the [`rappel_mechanics::anchor_traversability::AnchorTraversability`]
 //! trait; definitions and choices are collected in `docs/planner.md`.
 
+pub mod anchor_prediction;
 pub mod feasibility;
 pub mod frictional;
 pub mod online;

@@ -40,6 +40,7 @@ pub mod friction_plan;
 pub mod generated;
 pub mod georeference;
 pub mod io;
+pub mod mesh_stability;
 pub mod online;
 pub mod plan;
 pub mod progress;

@@ -95,6 +95,44 @@ pub struct SettleReport {
     pub stability: Vec<BoomVerdict>,
 }
 
+/// The stability QP's verdict for `pose` with the tether toward the last anchor `anchor`, in
+/// both boom configurations (inline, in contact) of Axel `params`, with [`SCENE_FRICTION`].
+pub fn boom_verdicts<D: rappel_terrain::surface::SignedDistance + ?Sized>(
+    ground: &D,
+    pose: &SettledPose,
+    params: &AxelParams,
+    anchor: &Point3<f64>,
+) -> Vec<BoomVerdict> {
+    [
+        ("inline", BoomMode::Inline),
+        ("in-contact", BoomMode::InContact),
+    ]
+    .into_iter()
+    .map(|(name, boom)| {
+        let verdict = Axel::new(AxelParams { boom, ..*params })
+            .and_then(|axel| pose.place(&axel, ground, SCENE_FRICTION, Some((anchor, None))))
+            .map_err(|e| e.to_string())
+            .and_then(|placed| {
+                StabilityQp::default()
+                    .check(&placed)
+                    .map_err(|e| e.to_string())
+            });
+        match verdict {
+            Ok(r) => BoomVerdict {
+                boom: name,
+                stable: Ok(r.stable),
+                margin: r.margin,
+            },
+            Err(e) => BoomVerdict {
+                boom: name,
+                stable: Err(e),
+                margin: 0.0,
+            },
+        }
+    })
+    .collect()
+}
+
 /// Settle Axel (default parameters) at `(x, y)` with yaw `yaw_deg` (degrees from `+x`,
 /// counter-clockwise); with `anchor`, check stability for both boom configurations.
 pub fn settle_report(
@@ -115,35 +153,10 @@ pub fn settle_report(
         yaw_deg.to_radians(),
         &SettleParams::default(),
     )?;
-    let mut stability = Vec::new();
-    if let Some(a) = anchor {
-        let a = Point3::new(a[0], a[1], a[2]);
-        for (name, boom) in [
-            ("inline", BoomMode::Inline),
-            ("in-contact", BoomMode::InContact),
-        ] {
-            let verdict = Axel::new(AxelParams { boom, ..params })
-                .and_then(|axel| pose.place(&axel, ground, SCENE_FRICTION, Some((&a, None))))
-                .map_err(|e| e.to_string())
-                .and_then(|placed| {
-                    StabilityQp::default()
-                        .check(&placed)
-                        .map_err(|e| e.to_string())
-                });
-            stability.push(match verdict {
-                Ok(r) => BoomVerdict {
-                    boom: name,
-                    stable: Ok(r.stable),
-                    margin: r.margin,
-                },
-                Err(e) => BoomVerdict {
-                    boom: name,
-                    stable: Err(e),
-                    margin: 0.0,
-                },
-            });
-        }
-    }
+    let stability = match anchor {
+        Some(a) => boom_verdicts(ground, &pose, &params, &Point3::new(a[0], a[1], a[2])),
+        None => Vec::new(),
+    };
     let p = |q: &Point3<f64>| [q.x, q.y, q.z];
     let report = SettleReport {
         origin: p(&pose.origin),

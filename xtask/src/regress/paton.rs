@@ -1,24 +1,42 @@
 //! Regression cases of mesh traversability (issue 14, Paton §IV-V): Axel settled on Paton's ledge
 //! scene (`fixtures/paton/ledge.ron`) against closed forms, and Fig. 8's shading: the test-1
 //! anchor (4.9 m behind, 2.0 m above the start) makes the slope in front of the rover stable, the
-//! test-2 anchor (8.2 m in front, 2.0 m above) makes the whole 55° slope unstable. A pose counts
-//! as stable when the QP finds an equilibrium with the boom inline or in contact.
+//! test-2 anchor (8.2 m in front, 2.0 m above) makes the whole 55° slope unstable. Each pose is
+//! reached by a drive from the start with its anchor history predicted (Paton Alg. 1), and the
+//! QP uses the last predicted anchor; a pose counts as stable when the QP finds an equilibrium
+//! with the boom inline or in contact. Test 3: the tether swept around the pole against the
+//! closed-form wrap of a cylinder.
 
 use super::{Case, workspace_root};
+use rappel::mesh_stability::{
+    MapSpec, PREDICT_RESOLUTION, PoseStability, drive_and_check, stability_map,
+};
+use rappel::nalgebra::{Point3, Vector3};
+use rappel::planners::anchor_prediction::{AnchorHistory, PredictParams, predict_path};
 use rappel::settle::{load_ground, load_scene, settle_report};
 use rappel::terrain::paton_scene::PatonScene;
 
 const SUITE: &str = "paton";
 
-/// Settles at `(x, y)` facing `+x` (down the slope); `Some(stable)` with an anchor.
-fn stable_at(
+/// Drives Axel from the scene's start straight to `(x, y)` facing `+x` (down the slope) under
+/// the root anchor `root`, predicting the anchor history on the way (Paton Alg. 1); the settled
+/// pose's stability with the tether from the last predicted anchor.
+fn drive(
     ground: &rappel::terrain::mesh::TriMesh,
+    scene: &PatonScene,
     x: f64,
     y: f64,
-    anchor: [f64; 3],
-) -> Result<bool, String> {
-    let (_, r) = settle_report(ground, x, y, 0.0, Some(anchor)).map_err(|e| e.to_string())?;
-    Ok(r.stability.iter().any(|v| v.stable == Ok(true)))
+    root: &Point3<f64>,
+) -> Result<PoseStability, String> {
+    let s = scene.start();
+    let root = AnchorHistory::new(*root).map_err(|e| e.to_string())?;
+    drive_and_check(ground, &root, [s.x, s.y], [x, y], 0.0).map_err(|e| e.to_string())
+}
+
+/// The predicted anchor lies on the lip (`x = 0`, `z = height`, closed form) within two sampling
+/// resolutions.
+fn on_lip(scene: &PatonScene, a: &[f64; 3]) -> bool {
+    a[0].abs() < 2.0 * PREDICT_RESOLUTION && (a[2] - scene.height).abs() < 2.0 * PREDICT_RESOLUTION
 }
 
 /// The suite.
@@ -54,36 +72,118 @@ pub fn suite() -> Result<Vec<Case>, String> {
         .iter()
         .map(|f| f * scene.slope_foot_x())
         .collect();
-    let shade =
-        |anchor: &rappel::nalgebra::Point3<f64>, ys: &[f64]| -> Result<(usize, usize), String> {
-            let mut stable = 0;
-            let mut n = 0;
-            for &x in &down {
-                for &y in ys {
-                    n += 1;
-                    if stable_at(&ground, x, y, [anchor.x, anchor.y, anchor.z])? {
-                        stable += 1;
-                    }
-                }
+    // Each pose: (stable, anchors in its history, last anchor on the lip).
+    let shade = |anchor: &Point3<f64>, ys: &[f64]| -> Result<Vec<(bool, usize, bool)>, String> {
+        let mut out = Vec::new();
+        for &x in &down {
+            for &y in ys {
+                let p = drive(&ground, &scene, x, y, anchor)?;
+                let last = p.anchors.last().copied().unwrap_or_default();
+                out.push((p.stable, p.anchors.len(), on_lip(&scene, &last)));
             }
-            Ok((stable, n))
-        };
-    let (s1, n1) = shade(&anchors[0], &[-1.0, 0.0, 1.0])?;
+        }
+        Ok(out)
+    };
+    let one = shade(&anchors[0], &[-1.0, 0.0, 1.0])?;
+    let n1 = one.len();
+    let s1 = one.iter().filter(|p| p.0).count();
+    let lip1 = one.iter().filter(|p| p.1 == 2 && p.2).count();
     cases.push(Case::new(
         SUITE,
-        "Fig. 8 test 1 anchor: slope in front of the rover",
+        "Fig. 8 test 1: predicted anchor on the lip (x = 0, z = 4) for slope poses",
+        format!("{lip1}/{n1} with one anchor on the lip"),
+        format!("{n1}/{n1} (the tether from 4.9 m behind bends over the lip)"),
+        lip1 == n1,
+    ));
+    cases.push(Case::new(
+        SUITE,
+        "Fig. 8 test 1 anchor (predicted): slope in front of the rover",
         format!("{s1}/{n1} stable"),
         format!("{n1}/{n1} stable (green)"),
         s1 == n1,
     ));
     let ys: Vec<f64> = (-4..=4).map(f64::from).collect();
-    let (s2, n2) = shade(&anchors[1], &ys)?;
+    let two = shade(&anchors[1], &ys)?;
+    let n2 = two.len();
+    let s2 = two.iter().filter(|p| p.0).count();
+    let free2 = two.iter().filter(|p| p.1 == 1).count();
     cases.push(Case::new(
         SUITE,
-        "Fig. 8 test 2 anchor: the whole 55° slope",
+        "Fig. 8 test 2: no anchor attaches (tether in the air in front)",
+        format!("{free2}/{n2} with the root as last anchor"),
+        format!("{n2}/{n2}"),
+        free2 == n2,
+    ));
+    cases.push(Case::new(
+        SUITE,
+        "Fig. 8 test 2 anchor (predicted): the whole 55° slope",
         format!("{s2}/{n2} stable"),
         format!("0/{n2} stable (red)"),
         s2 == 0,
+    ));
+    // The map: 0.5 m cells, slope cells beyond the boom's reach from the lip (1 m).
+    let s = scene.start();
+    let spec = MapSpec {
+        x: (-2.0, 2.5),
+        y: (-2.0, 2.0),
+        step: 0.5,
+        yaw_deg: 0.0,
+        start: [s.x, s.y],
+    };
+    let foot = scene.slope_foot_x();
+    let map = |root: &Point3<f64>| -> Result<(usize, usize), String> {
+        let h = AnchorHistory::new(*root).map_err(|e| e.to_string())?;
+        let m = stability_map(&ground, &h, &spec).map_err(|e| e.to_string())?;
+        let cells: Vec<_> = m
+            .cells
+            .iter()
+            .filter(|c| c.x > 0.7 && c.x < foot - 0.3)
+            .collect();
+        let stable = cells
+            .iter()
+            .filter(|c| c.pose.as_ref().is_some_and(|p| p.stable))
+            .count();
+        Ok((stable, cells.len()))
+    };
+    let (m1, k1) = map(&anchors[0])?;
+    let (m2, k2) = map(&anchors[1])?;
+    cases.push(Case::new(
+        SUITE,
+        "Fig. 8 map (0.5 m): slope cells stable, test 1 / test 2 root",
+        format!("{m1}/{k1}, {m2}/{k2}"),
+        format!("{k1}/{k1}, 0/{k2} (green / red)"),
+        k1 > 0 && m1 == k1 && m2 == 0,
+    ));
+    // Test 3: a tether swept around the pole wraps it; its length against the closed form of a
+    // cylinder (two tangents and the arc), the tether horizontal 2 m above the top.
+    let pole = PatonScene::paper(true);
+    let pm = pole.mesh().map_err(|e| e.to_string())?;
+    let (c, r) = (
+        pole.pole_center().ok_or("no pole")?,
+        pole.pole.ok_or("no pole")?.radius,
+    );
+    let centre = Point3::new(c.x, c.y, pole.height + 2.0);
+    let (dr, rt) = (4.0, 2.0);
+    let root =
+        AnchorHistory::new(centre - Vector3::new(0.0, dr, 0.0)).map_err(|e| e.to_string())?;
+    let tips: Vec<Point3<f64>> = (0..=46)
+        .map(|k| {
+            let a = (-30.0 + 5.0 * k as f64).to_radians();
+            centre + Vector3::new(a.cos(), a.sin(), 0.0) * rt
+        })
+        .collect();
+    let wrap =
+        predict_path(&pm, &PredictParams::new(0.03), &root, &tips).map_err(|e| e.to_string())?;
+    let t1 = -90.0 + (r / dr).acos().to_degrees();
+    let t2 = 200.0 - (r / rt).acos().to_degrees();
+    let want = (dr * dr - r * r).sqrt() + r * (t2 - t1).to_radians() + (rt * rt - r * r).sqrt();
+    let got = wrap.history.tether_length(tips.last().ok_or("no tips")?);
+    cases.push(Case::new(
+        SUITE,
+        "test 3 pole: tether swept 230° around the pole, length",
+        format!("{got:.3} m, {} anchors", wrap.history.len() - 1),
+        format!("{want:.3} m (tangents + arc of a 0.3 m cylinder), within 1%"),
+        (got - want).abs() < 0.01 * want && wrap.history.len() > 2,
     ));
     Ok(cases)
 }

@@ -1,0 +1,156 @@
+//! `rappel settle-map GROUND [--x MIN,MAX] [--y MIN,MAX] [--step M] [--yaw DEG] [--start X,Y]
+//! (--root X,Y,Z | --test N) [--svg OUT] [--html OUT] [--json]`: a stability map of settled Axel
+//! poses on 3D ground like Paton's Fig. 8. Every grid cell is settled, its anchor history is
+//! predicted from the start outward (Paton Alg. 1, [`rappel::mesh_stability`]) and the stability
+//! QP is solved with the tether from the last predicted anchor (boom inline or in contact).
+//! Exit 0 when the map was computed; bad input exits 2.
+
+use crate::output::{Answer, CliError, PictureArgs, print_json, refuse_clashing_outputs};
+use rappel::mesh_stability::{MapSpec, map_svg, stability_map};
+use rappel::nalgebra::Point3;
+use rappel::planners::anchor_prediction::AnchorHistory;
+use rappel::settle::{load_ground, load_scene};
+use std::path::PathBuf;
+
+/// Arguments of `rappel settle-map`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The ground: a Paton scene (.ron, fixtures/paton/) or an elevation model (.asc, .tif).
+    file: PathBuf,
+    /// Map extent along x, `MIN,MAX` metres (default for a scene: the ledge top to 1 m past the
+    /// slope's foot).
+    #[arg(long, value_name = "MIN,MAX", allow_hyphen_values = true)]
+    x: Option<String>,
+    /// Map extent along y, `MIN,MAX` metres (default for a scene: the ledge's length).
+    #[arg(long, value_name = "MIN,MAX", allow_hyphen_values = true)]
+    y: Option<String>,
+    /// Grid spacing, metres.
+    #[arg(long, default_value_t = 0.25)]
+    step: f64,
+    /// Heading of every pose: degrees counter-clockwise from +x (default: down a scene's slope).
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_negative_numbers = true,
+        default_value_t = 0.0
+    )]
+    yaw: f64,
+    /// The start's ground point `X,Y` (default: the scene's start).
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    start: Option<String>,
+    /// The root anchor `X,Y,Z` (world).
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        allow_hyphen_values = true,
+        conflicts_with = "test"
+    )]
+    root: Option<String>,
+    /// The root anchor of a scene's test N (1: behind the start, 2: in front).
+    #[arg(long, value_name = "N")]
+    test: Option<usize>,
+    #[command(flatten)]
+    picture: PictureArgs,
+    /// Print the map as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `rappel settle-map`.
+pub fn run(args: &Args) -> Result<Answer, CliError> {
+    refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
+    let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
+    let is_scene = args
+        .file
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ron"));
+    let scene = if is_scene {
+        Some(load_scene(&args.file).map_err(|e| CliError(e.to_string()))?)
+    } else {
+        None
+    };
+    let need = |flag: &str| CliError(format!("{flag} is required for an elevation model"));
+    let pair = |flag: &str,
+                v: &Option<String>,
+                dflt: Option<(f64, f64)>|
+     -> Result<(f64, f64), CliError> {
+        match v {
+            Some(t) => {
+                let v = crate::settle::numbers(flag, t, 2)?;
+                Ok((v[0], v[1]))
+            }
+            None => dflt.ok_or_else(|| need(flag)),
+        }
+    };
+    let x = pair(
+        "--x",
+        &args.x,
+        scene.as_ref().map(|s| (-s.width, s.slope_foot_x() + 1.0)),
+    )?;
+    let y = pair(
+        "--y",
+        &args.y,
+        scene.as_ref().map(|s| (-0.5 * s.length, 0.5 * s.length)),
+    )?;
+    let start = pair(
+        "--start",
+        &args.start,
+        scene.as_ref().map(|s| (s.start().x, s.start().y)),
+    )?;
+    let root = match (&args.root, args.test, &scene) {
+        (Some(t), _, _) => {
+            let v = crate::settle::numbers("--root", t, 3)?;
+            Point3::new(v[0], v[1], v[2])
+        }
+        (None, Some(n), Some(s)) => {
+            let a = s.anchor_points();
+            *n.checked_sub(1).and_then(|k| a.get(k)).ok_or_else(|| {
+                CliError(format!("--test {n}: the scene has tests 1 to {}", a.len()))
+            })?
+        }
+        (None, Some(_), None) => {
+            return Err(CliError(
+                "--test needs a Paton scene (.ron); give --root".into(),
+            ));
+        }
+        (None, None, _) => {
+            return Err(CliError(
+                "give the root anchor: --root X,Y,Z or --test N".into(),
+            ));
+        }
+    };
+    let root = AnchorHistory::new(root).map_err(|e| CliError(e.to_string()))?;
+    let spec = MapSpec {
+        x,
+        y,
+        step: args.step,
+        yaw_deg: args.yaw,
+        start: [start.0, start.1],
+    };
+    let map = stability_map(&ground, &root, &spec).map_err(|e| CliError(e.to_string()))?;
+    if args.picture.wanted() {
+        args.picture
+            .write(&map_svg(&map, &ground), "rappel settle-map")?;
+    }
+    if args.json {
+        print_json(&map)?;
+    } else {
+        crate::outln!(
+            "stability map {} x {} cells of {} m: {} stable, {} unstable, {} not settled or unreached",
+            map.nx,
+            map.ny,
+            spec.step,
+            map.stable,
+            map.unstable,
+            map.failed
+        );
+        let best = map
+            .cells
+            .iter()
+            .filter_map(|c| c.pose.as_ref())
+            .map(|p| p.margin)
+            .fold(0.0f64, f64::max);
+        crate::outln!("best margin  {best:.3}");
+    }
+    Ok(Answer::Yes)
+}

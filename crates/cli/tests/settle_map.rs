@@ -1,0 +1,70 @@
+//! `rappel settle-map` on Paton's ledge: the JSON map's slope cells beyond the boom's reach from
+//! the lip are stable under the test-1 root (anchored on the lip) and unstable under the test-2
+//! root; bad input exits 2.
+
+mod common;
+
+use common::*;
+
+fn slope_cells(v: &serde_json::Value) -> Vec<&serde_json::Value> {
+    // The paper's ledge: lip at x = 0, slope foot at x = 4 / tan 55° = 2.80 m.
+    v["cells"]
+        .as_array()
+        .expect("cells")
+        .iter()
+        .filter(|c| {
+            let x = c["x"].as_f64().unwrap_or(f64::NAN);
+            x > 0.7 && x < 2.5 && c["y"].as_f64().is_some_and(|y| y.abs() <= 2.0)
+        })
+        .collect()
+}
+
+#[test]
+fn ledge_map_is_green_under_test_1_and_red_under_test_2() {
+    let dir = temp_dir("settle-map");
+    let svg = dir.join("m.svg");
+    let ledge = fixture("paton/ledge.ron");
+    let args = ["--x", "-2,2.5", "--y", "-2,2", "--step", "0.5", "--json"];
+    let mut one: Vec<&str> = vec!["settle-map", &ledge, "--test", "1", "--svg"];
+    one.push(svg.to_str().unwrap_or_default());
+    one.extend(args);
+    let o = rappel(&one);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let cells = slope_cells(&v);
+    assert!(cells.len() >= 27, "{}", cells.len());
+    for c in &cells {
+        assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(true), "{c}");
+        let last = c["pose"]["anchors"]
+            .as_array()
+            .and_then(|a| a.last())
+            .expect("anchor");
+        assert!(last[0].as_f64().is_some_and(|x| x.abs() < 0.1), "{c}");
+    }
+    assert!(std::fs::read_to_string(&svg).is_ok_and(|s| s.contains("stability map")));
+    let mut two: Vec<&str> = vec!["settle-map", &ledge, "--test", "2"];
+    two.extend(args);
+    let o = rappel(&two);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    for c in slope_cells(&v) {
+        assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(false), "{c}");
+    }
+}
+
+#[test]
+fn bad_settle_map_input_exits_2() {
+    let ledge = fixture("paton/ledge.ron");
+    for extra in [
+        vec!["--test", "7"],
+        vec!["--test", "1", "--step", "0"],
+        vec!["--root", "1,2"],
+        vec![],
+        vec!["--test", "1", "--start", "99,0"],
+    ] {
+        let mut a = vec!["settle-map", ledge.as_str()];
+        a.extend(extra.iter().copied());
+        let o = rappel(&a);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
+    }
+}

@@ -1,0 +1,503 @@
+//! Stability of settled poses on 3D ground with their anchor histories (Paton §IV-B, §IV-C) and
+//! stability maps of mesh scenes like Paton's Fig. 8: the rover drives from a start under a root
+//! anchor, [`rappel_planners::anchor_prediction`] carries the anchor history along, and the last
+//! predicted anchor sets the tether's direction in the stability QP (both boom configurations,
+//! [`crate::settle::boom_verdicts`]).
+//!
+//! The tether end used for prediction is Axel's boom pivot (the axle centre): with the boom
+//! inline the tether from the last anchor to the boom tip lies on the segment from the anchor to
+//! the pivot, so the prediction is exact for it; with the boom in contact the tip is lower (an
+//! approximation, as the in-contact boom's own ground contact is, see `docs/mesh.md`).
+//!
+//! A map is a grid of ground points; every cell is settled (in parallel), then the anchor
+//! histories spread from the start cell outward ring by ring (Chebyshev rings, each in
+//! parallel): a cell's history is its parent's, predicted over one step from the parent's
+//! pivot to its own. The parent is the neighbour one step toward the start (diagonal first),
+//! else the first neighbour on the inner ring that has a history. This is the tree a sampling
+//! planner would grow (Paton §V), on a grid.
+
+use nalgebra::{Point2, Point3, Vector3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use rappel_geometry::polygon::Aabb;
+use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
+use rappel_planners::anchor_prediction::{
+    AnchorError, AnchorHistory, PredictParams, predict, predict_path,
+};
+use rappel_terrain::mesh::TriMesh;
+
+use crate::settle::{BoomVerdict, boom_verdicts};
+use crate::svg::{Layer, Marker, Picture};
+
+/// Sampling resolution of anchor prediction on exact mesh distances, metres: the smallest ground
+/// feature the tether notices (contacts are found once the swept tether is this deep).
+pub const PREDICT_RESOLUTION: f64 = 0.05;
+
+/// Spacing of the settled poses along a drive from the start ([`drive_and_check`]), metres.
+pub const PATH_STEP: f64 = 0.25;
+
+/// Most poses along one drive (a bound on the work; longer drives are refused).
+pub const MAX_PATH_POSES: usize = 4096;
+
+/// Most cells in one map.
+pub const MAX_MAP_CELLS: usize = 1_000_000;
+
+/// Why a drive or a map cannot be computed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshStabilityError {
+    /// A required pose does not settle.
+    #[error("settling at ({x}, {y}): {why}")]
+    Settle {
+        /// Ground x.
+        x: f64,
+        /// Ground y.
+        y: f64,
+        /// The settling error.
+        why: String,
+    },
+    /// Anchor prediction failed.
+    #[error("anchor prediction: {0}")]
+    Anchor(#[from] AnchorError),
+    /// A parameter out of its domain.
+    #[error("{0}")]
+    Parameter(String),
+}
+
+/// A settled pose with its anchor history and stability.
+#[derive(Debug, Clone, Serialize)]
+pub struct PoseStability {
+    /// Robot origin (ground under the axle centre), world.
+    pub origin: [f64; 3],
+    /// The anchor history, root first.
+    pub anchors: Vec<[f64; 3]>,
+    /// The verdict per boom configuration with the tether to the last anchor.
+    pub verdicts: Vec<BoomVerdict>,
+    /// Stable in some boom configuration.
+    pub stable: bool,
+    /// The best margin among the stable configurations (0 when not stable).
+    pub margin: f64,
+}
+
+/// Axel's boom pivot (the axle centre) of a settled pose: the tether end for prediction.
+pub fn tether_end(pose: &SettledPose, axel: &AxelParams) -> Point3<f64> {
+    pose.origin + pose.rotation * Vector3::z() * axel.wheel_radius
+}
+
+fn settle(ground: &TriMesh, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, String> {
+    let (_, hi) = ground.bounds();
+    settle_axel(
+        ground,
+        &AxelParams::default(),
+        x,
+        y,
+        hi.z + 1.0,
+        yaw_deg.to_radians(),
+        &SettleParams::default(),
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// The stability of `pose` with anchor history `history` (the tether from its last anchor).
+pub fn pose_stability(
+    ground: &TriMesh,
+    pose: &SettledPose,
+    history: &AnchorHistory,
+) -> PoseStability {
+    let verdicts = boom_verdicts(ground, pose, &AxelParams::default(), &history.last().point);
+    let margin = verdicts
+        .iter()
+        .filter(|v| v.stable == Ok(true))
+        .map(|v| v.margin)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let stable = margin > f64::NEG_INFINITY;
+    let p = |q: &Point3<f64>| [q.x, q.y, q.z];
+    PoseStability {
+        origin: p(&pose.origin),
+        anchors: history.anchors().iter().map(|a| p(&a.point)).collect(),
+        verdicts,
+        stable,
+        margin: if stable { margin } else { 0.0 },
+    }
+}
+
+/// Axel drives straight (seen from above) from ground point `start` to `target`, heading
+/// `yaw_deg`, under the root anchor of `root`: settled every [`PATH_STEP`] (intermediate poses
+/// that do not settle are skipped; the ends must settle), the anchor history predicted along the
+/// pivots, and the target's stability with it.
+pub fn drive_and_check(
+    ground: &TriMesh,
+    root: &AnchorHistory,
+    start: [f64; 2],
+    target: [f64; 2],
+    yaw_deg: f64,
+) -> Result<PoseStability, MeshStabilityError> {
+    let (s, t) = (Point2::from(start), Point2::from(target));
+    let n = ((t - s).norm() / PATH_STEP).ceil();
+    if !(n.is_finite() && n < MAX_PATH_POSES as f64) {
+        return Err(MeshStabilityError::Parameter(format!(
+            "a drive of {} m needs more than {MAX_PATH_POSES} poses",
+            (t - s).norm()
+        )));
+    }
+    let n = (n as usize).max(1);
+    let axel = AxelParams::default();
+    let mut tips = Vec::with_capacity(n + 1);
+    let mut last = None;
+    for k in 0..=n {
+        let q = s + (t - s) * (k as f64 / n as f64);
+        match settle(ground, q.x, q.y, yaw_deg) {
+            Ok(p) => {
+                tips.push(tether_end(&p, &axel));
+                last = Some(p);
+            }
+            Err(why) if k == 0 || k == n => {
+                return Err(MeshStabilityError::Settle {
+                    x: q.x,
+                    y: q.y,
+                    why,
+                });
+            }
+            Err(_) => {}
+        }
+    }
+    let pose = last.expect("the target settled");
+    let out = predict_path(ground, &PredictParams::new(PREDICT_RESOLUTION), root, &tips)?;
+    Ok(pose_stability(ground, &pose, &out.history))
+}
+
+/// A map's grid: ground points `(x0 + i step, y0 + j step)` within the bounds, every pose
+/// heading `yaw_deg`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MapSpec {
+    /// `(min, max)` along x, metres.
+    pub x: (f64, f64),
+    /// `(min, max)` along y, metres.
+    pub y: (f64, f64),
+    /// Grid spacing, metres (`> 0`).
+    pub step: f64,
+    /// Heading of every pose, degrees counter-clockwise from `+x`.
+    pub yaw_deg: f64,
+    /// The start's ground point (snapped to the nearest cell).
+    pub start: [f64; 2],
+}
+
+/// One map cell.
+#[derive(Debug, Clone, Serialize)]
+pub struct MapCell {
+    /// Ground x of the cell.
+    pub x: f64,
+    /// Ground y.
+    pub y: f64,
+    /// The settled pose and its stability, when it settled and its history could be predicted.
+    pub pose: Option<PoseStability>,
+    /// Why not, otherwise.
+    pub failure: Option<String>,
+}
+
+/// A stability map.
+#[derive(Debug, Clone, Serialize)]
+pub struct StabilityMap {
+    /// The grid.
+    pub spec: MapSpec,
+    /// Cells along x.
+    pub nx: usize,
+    /// Cells along y.
+    pub ny: usize,
+    /// Cells, row by row (`j` major).
+    pub cells: Vec<MapCell>,
+    /// The root anchor.
+    pub root: [f64; 3],
+    /// Stable cells.
+    pub stable: usize,
+    /// Settled, history known, not stable.
+    pub unstable: usize,
+    /// Not settled or no history.
+    pub failed: usize,
+}
+
+/// The stability map of `spec` under root anchor `root` (see the module doc).
+pub fn stability_map(
+    ground: &TriMesh,
+    root: &AnchorHistory,
+    spec: &MapSpec,
+) -> Result<StabilityMap, MeshStabilityError> {
+    let ok = [
+        spec.x.0,
+        spec.x.1,
+        spec.y.0,
+        spec.y.1,
+        spec.yaw_deg,
+        spec.start[0],
+        spec.start[1],
+    ]
+    .iter()
+    .all(|v| v.is_finite());
+    if !ok
+        || !(spec.step > 0.0 && spec.step.is_finite())
+        || spec.x.1 < spec.x.0
+        || spec.y.1 < spec.y.0
+    {
+        return Err(MeshStabilityError::Parameter(
+            "map bounds must be finite and ordered, the step finite and > 0".into(),
+        ));
+    }
+    let count = |a: f64, b: f64| ((b - a) / spec.step).floor() + 1.0;
+    let (fx, fy) = (count(spec.x.0, spec.x.1), count(spec.y.0, spec.y.1));
+    if fx * fy > MAX_MAP_CELLS as f64 {
+        return Err(MeshStabilityError::Parameter(format!(
+            "a map of {fx} x {fy} cells exceeds {MAX_MAP_CELLS}"
+        )));
+    }
+    let (nx, ny) = (fx as usize, fy as usize);
+    let at = |i: usize, j: usize| {
+        (
+            spec.x.0 + i as f64 * spec.step,
+            spec.y.0 + j as f64 * spec.step,
+        )
+    };
+    let snap = |v: f64, lo: f64| ((v - lo) / spec.step).round();
+    let (si, sj) = (snap(spec.start[0], spec.x.0), snap(spec.start[1], spec.y.0));
+    if !(si >= 0.0 && sj >= 0.0 && si < nx as f64 && sj < ny as f64) {
+        return Err(MeshStabilityError::Parameter(
+            "the start is outside the map".into(),
+        ));
+    }
+    let (si, sj) = (si as usize, sj as usize);
+    let axel = AxelParams::default();
+    // Settle every cell.
+    let poses: Vec<Result<SettledPose, String>> = (0..nx * ny)
+        .into_par_iter()
+        .map(|c| {
+            let (x, y) = at(c % nx, c / nx);
+            settle(ground, x, y, spec.yaw_deg)
+        })
+        .collect();
+    let mut histories: Vec<Option<Result<AnchorHistory, String>>> = vec![None; nx * ny];
+    let start = si + sj * nx;
+    histories[start] = Some(match &poses[start] {
+        Ok(_) => Ok(root.clone()),
+        Err(e) => {
+            let (x, y) = at(si, sj);
+            return Err(MeshStabilityError::Settle {
+                x,
+                y,
+                why: e.clone(),
+            });
+        }
+    });
+    let params = PredictParams::new(PREDICT_RESOLUTION);
+    let ring = |i: usize, j: usize| i.abs_diff(si).max(j.abs_diff(sj));
+    let rings = (si.max(nx - 1 - si)).max(sj.max(ny - 1 - sj));
+    // Ring by ring outward (at most max(nx, ny) rings, each cell once).
+    for r in 1..=rings {
+        let cells: Vec<usize> = (0..nx * ny)
+            .filter(|&c| ring(c % nx, c / nx) == r)
+            .collect();
+        let done: Vec<(usize, Result<AnchorHistory, String>)> = cells
+            .par_iter()
+            .map(|&c| {
+                let (i, j) = (c % nx, c / nx);
+                let pose = match &poses[c] {
+                    Ok(p) => p,
+                    Err(e) => return (c, Err(format!("not settled: {e}"))),
+                };
+                // The preferred parent one step toward the start, then the other inner
+                // neighbours in a fixed order.
+                let toward = |v: usize, s: usize| match v.cmp(&s) {
+                    std::cmp::Ordering::Less => v + 1,
+                    std::cmp::Ordering::Greater => v - 1,
+                    std::cmp::Ordering::Equal => v,
+                };
+                let mut parents = vec![(toward(i, si), toward(j, sj))];
+                for dj in [-1i64, 0, 1] {
+                    for di in [-1i64, 0, 1] {
+                        let (pi, pj) = (i as i64 + di, j as i64 + dj);
+                        if pi >= 0 && pj >= 0 && (pi as usize) < nx && (pj as usize) < ny {
+                            let p = (pi as usize, pj as usize);
+                            if ring(p.0, p.1) + 1 == r && !parents.contains(&p) {
+                                parents.push(p);
+                            }
+                        }
+                    }
+                }
+                let mut why = String::from("no neighbour toward the start has an anchor history");
+                for (pi, pj) in parents {
+                    let pc = pi + pj * nx;
+                    if let (Some(Ok(h)), Ok(pp)) = (&histories[pc], &poses[pc]) {
+                        match predict(
+                            ground,
+                            &params,
+                            h,
+                            &tether_end(pp, &axel),
+                            &tether_end(pose, &axel),
+                        ) {
+                            Ok(step) => return (c, Ok(step.history)),
+                            Err(e) => why = format!("anchor prediction: {e}"),
+                        }
+                    }
+                }
+                (c, Err(why))
+            })
+            .collect();
+        for (c, h) in done {
+            histories[c] = Some(h);
+        }
+    }
+    let cells: Vec<MapCell> = (0..nx * ny)
+        .into_par_iter()
+        .map(|c| {
+            let (x, y) = at(c % nx, c / nx);
+            match (&poses[c], &histories[c]) {
+                (Ok(p), Some(Ok(h))) => MapCell {
+                    x,
+                    y,
+                    pose: Some(pose_stability(ground, p, h)),
+                    failure: None,
+                },
+                (Err(e), _) => MapCell {
+                    x,
+                    y,
+                    pose: None,
+                    failure: Some(format!("not settled: {e}")),
+                },
+                (_, Some(Err(e))) => MapCell {
+                    x,
+                    y,
+                    pose: None,
+                    failure: Some(e.clone()),
+                },
+                (_, None) => MapCell {
+                    x,
+                    y,
+                    pose: None,
+                    failure: Some("not reached".into()),
+                },
+            }
+        })
+        .collect();
+    let stable = cells
+        .iter()
+        .filter(|c| c.pose.as_ref().is_some_and(|p| p.stable))
+        .count();
+    let failed = cells.iter().filter(|c| c.pose.is_none()).count();
+    let r = root.root().point;
+    Ok(StabilityMap {
+        spec: *spec,
+        nx,
+        ny,
+        unstable: cells.len() - stable - failed,
+        failed,
+        stable,
+        cells,
+        root: [r.x, r.y, r.z],
+    })
+}
+
+/// A top-down picture of a map like Paton's Fig. 8: stable cells green and unstable ones red
+/// (paler for a smaller margin), cells that did not settle left blank, the ground mesh's creases
+/// (edges between triangles more than 1° apart) as plane edges, the start, the root anchor and
+/// the distinct last anchors (squares).
+pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
+    let h = 0.5 * map.spec.step;
+    let bounds = Aabb {
+        min: Point2::new(map.spec.x.0 - h, map.spec.y.0 - h),
+        max: Point2::new(map.spec.x.1 + h, map.spec.y.1 + h),
+    };
+    let mut pic = Picture::new(bounds);
+    let best = map
+        .cells
+        .iter()
+        .filter_map(|c| c.pose.as_ref())
+        .map(|p| p.margin)
+        .fold(0.0f64, f64::max)
+        .max(1e-12);
+    for c in &map.cells {
+        let Some(p) = &c.pose else { continue };
+        let sq = [
+            Point2::new(c.x - h, c.y - h),
+            Point2::new(c.x + h, c.y - h),
+            Point2::new(c.x + h, c.y + h),
+            Point2::new(c.x - h, c.y + h),
+        ];
+        let (layer, fill) = if p.stable {
+            // Green, darker for a larger margin.
+            let s = (p.margin / best).clamp(0.0, 1.0);
+            let g = (220.0 - 100.0 * s) as u8;
+            (Layer::Stable, format!("#30{g:02x}40"))
+        } else {
+            (Layer::Unstable, "#d04030".to_string())
+        };
+        pic.shaded_polygon(layer, &sq, &fill);
+    }
+    // Creases of the ground within the picture.
+    let (v, t) = (ground.vertices(), ground.triangles());
+    if t.len() <= 20_000 {
+        let mut edges: std::collections::HashMap<(usize, usize), Vec<usize>> = Default::default();
+        for (k, tri) in t.iter().enumerate() {
+            for e in 0..3 {
+                let (a, b) = (tri[e], tri[(e + 1) % 3]);
+                edges.entry((a.min(b), a.max(b))).or_default().push(k);
+            }
+        }
+        let mut segs = Vec::new();
+        let mut keys: Vec<_> = edges.keys().copied().collect();
+        keys.sort_unstable();
+        for key in keys {
+            let f = &edges[&key];
+            let crease = f.len() != 2
+                || ground.face_normal(f[0]).dot(&ground.face_normal(f[1]))
+                    < 1f64.to_radians().cos();
+            if crease {
+                segs.push((
+                    Point2::new(v[key.0].x, v[key.0].y),
+                    Point2::new(v[key.1].x, v[key.1].y),
+                ));
+            }
+        }
+        for (a, b) in segs {
+            pic.polyline(Layer::PlaneEdge, &[a, b]);
+        }
+    }
+    let mut seen: Vec<[f64; 3]> = Vec::new();
+    for c in &map.cells {
+        if let Some(p) = &c.pose
+            && p.anchors.len() > 1
+        {
+            let a = *p.anchors.last().expect("non-empty");
+            if !seen
+                .iter()
+                .any(|s| (s[0] - a[0]).abs() + (s[1] - a[1]).abs() < map.spec.step)
+            {
+                seen.push(a);
+            }
+        }
+    }
+    for a in seen {
+        pic.titled_marker(
+            Layer::Anchor,
+            Point2::new(a[0], a[1]),
+            Marker::Square,
+            &format!("last anchor ({:.2}, {:.2}, {:.2})", a[0], a[1], a[2]),
+        );
+    }
+    pic.titled_marker(
+        Layer::Anchor,
+        Point2::new(map.root[0], map.root[1]),
+        Marker::Square,
+        &format!(
+            "root anchor ({:.2}, {:.2}, {:.2})",
+            map.root[0], map.root[1], map.root[2]
+        ),
+    );
+    pic.marker(
+        Layer::Start,
+        Point2::new(map.spec.start[0], map.spec.start[1]),
+        Marker::Circle,
+    );
+    pic.finish(&format!(
+        "stability map: {} stable, {} unstable, {} not settled or unreached",
+        map.stable, map.unstable, map.failed
+    ))
+}
