@@ -1,28 +1,40 @@
-//! Chapter-2 planner benchmarks (issue 4) on the generated 10,000-obstacle crater strip
-//! (`CraterStripOptions::new(10_000, 1)`, start at the top, goal 7.5 km below):
-//! - the SPT A* search: time to the first SHP (the classic single query) and to the first 10
-//!   classes;
-//! - side by side in the same run, the `polyanya` crate (Cui, Harabor and Grastien's optimal
-//!   any-angle search on navigation meshes) on the same triangulation: its mesh is built from the
-//!   BTM's free triangles, and it answers the same start-goal query, the globally shortest path
-//!   (target: the SPT search within 2x of polyanya's median);
-//! - memory for 100 classes, printed before the timings: the search's own peak bytes (tree nodes,
-//!   queue, trail, pruning lists) and the process's peak resident set growth (`VmHWM` in
-//!   `/proc/self/status`, Linux only) over the search (target: under 200 MB).
+//! Chapter-2 planner benchmarks (issues 4 and 10), each beside the `polyanya` crate (Cui, Harabor
+//! and Grastien's optimal any-angle search on navigation meshes) on identical input, in one run:
+//! - **first SHP** (the classic single query, start at the top of the strip, goal at the bottom)
+//!   on the generated 1,000- and 10,000-obstacle crater strips
+//!   (`CraterStripOptions::new(n, 1)`); polyanya's mesh is built from the BTM's free triangles;
+//! - **a ~60 m query** in the middle of the 1,000-, 10,000- and 100,000-obstacle strips (the
+//!   per-query cost must follow the part of the map the search touches, not the map's size);
+//! - **polyanya's arena benchmark**: its published map (`benches/data/polyanya/arena.mesh`,
+//!   turned into a rappel map by chaining the mesh's boundary edges) and the 160 queries of
+//!   `arena.scen`, all 160 per iteration;
+//! - the first 10 classes on the 10,000-obstacle strip (no peer: polyanya has no classes), and
+//!   memory for 100 classes, printed before the timings: the search's own peak bytes and the
+//!   process's peak resident set growth (`VmHWM` in `/proc/self/status`, Linux only).
 //!
-//! Polyanya works in `f32`; its length agrees with ours to about 1e-5 relative on this map, which
-//! the set-up asserts.
+//! The first SHP on the 100,000-obstacle strip takes seconds per query, so it runs only when the
+//! environment variable `RAPPEL_BENCH_100K` is set (group `planner_first_shp_100k`).
+//!
+//! Polyanya works in `f32`; the set-up asserts that its lengths agree with ours (1e-4 relative on
+//! the strips' long queries, 1e-3 on the short ones, 1e-3 absolute on the arena).
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::Vec2;
+use nalgebra::Point2;
 use polyanya::{Mesh, Trimesh};
-use rappel_geometry::btm::Btm;
-use rappel_geometry::generate::{CraterStripOptions, crater_strip};
+use rappel_geometry::btm::{Btm, Location};
+use rappel_geometry::generate::{CraterStripOptions, GeneratedMap, crater_strip};
+use rappel_geometry::map::Map;
+use rappel_geometry::polygon::Polygon;
 use rappel_planners::spt::{SearchOptions, SptPlanner};
+use std::collections::HashMap;
 use std::hint::black_box;
+use std::time::Duration;
 
-/// The polyanya navigation mesh of a BTM's free triangles (counter-clockwise, compact vertices).
-fn polyanya_mesh(btm: &Btm) -> Mesh {
+/// The polyanya navigation mesh of a BTM's free triangles (counter-clockwise, compact vertices),
+/// in coordinates relative to `origin` (polyanya works in `f32`: the origin keeps the long strips'
+/// coordinates small).
+fn polyanya_mesh(btm: &Btm, origin: Point2<f64>) -> Mesh {
     let d = btm.dcel();
     let mut index = vec![usize::MAX; d.vertex_capacity()];
     let mut vertices = Vec::new();
@@ -31,8 +43,7 @@ fn polyanya_mesh(btm: &Btm) -> Mesh {
         let tri = d.triangle_vertices(t).map(|v| {
             if index[v.index()] == usize::MAX {
                 index[v.index()] = vertices.len();
-                let p = d.point(v);
-                vertices.push(Vec2::new(p.x as f32, p.y as f32));
+                vertices.push(to_vec2(d.point(v), origin));
             }
             index[v.index()]
         });
@@ -59,15 +70,191 @@ fn peak_rss_kb() -> Option<u64> {
         .ok()
 }
 
-fn planner(c: &mut Criterion) {
-    let generated = crater_strip(&CraterStripOptions::new(10_000, 1)).expect("valid options");
-    let (start, goal) = (generated.start, generated.goal);
-    let btm = Btm::build(&generated.map).expect("valid map");
-    let spt = SptPlanner::new(&btm);
-    let mesh = polyanya_mesh(&btm);
-    let to_vec2 = |p: nalgebra::Point2<f64>| Vec2::new(p.x as f32, p.y as f32);
+/// `p - origin` in polyanya's `f32`.
+fn to_vec2(p: Point2<f64>, origin: Point2<f64>) -> Vec2 {
+    Vec2::new((p.x - origin.x) as f32, (p.y - origin.y) as f32)
+}
 
-    // Memory for 100 classes, measured before anything else grows the heap.
+/// `true` when `p` is a point of free space (on a free triangle, edge or map vertex).
+fn free(btm: &Btm, p: &Point2<f64>) -> bool {
+    matches!(
+        btm.locate(p),
+        Location::Triangle(_) | Location::Edge(_) | Location::Vertex(_)
+    )
+}
+
+/// The first free point at or to the right of `p` in steps of 0.25 m (the strips leave at least
+/// 0.5 m between obstacles, so a few steps always suffice).
+fn nudge_free(btm: &Btm, p: Point2<f64>) -> Point2<f64> {
+    (0..400)
+        .map(|i| Point2::new(p.x + 0.25 * f64::from(i), p.y))
+        .find(|q| free(btm, q))
+        .expect("free space within 100 m")
+}
+
+/// One generated strip with its BTM, planner, polyanya mesh and queries.
+struct Strip {
+    n: usize,
+    generated: GeneratedMap,
+    btm: Btm,
+    /// Polyanya's mesh, or `None` when polyanya cannot build it (its `f32` angle sort panics on
+    /// the 100,000-obstacle strip).
+    mesh: Option<Mesh>,
+    /// Where polyanya's coordinates are centred.
+    origin: Point2<f64>,
+    /// A ~60 m query in the middle of the strip.
+    short: (Point2<f64>, Point2<f64>),
+}
+
+impl Strip {
+    fn new(n: usize) -> Strip {
+        let generated = crater_strip(&CraterStripOptions::new(n, 1)).expect("valid options");
+        let btm = Btm::build(&generated.map).expect("valid map");
+        let mid = Point2::new(
+            0.5 * (generated.start.x + generated.goal.x),
+            0.5 * (generated.start.y + generated.goal.y),
+        );
+        let mesh = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            polyanya_mesh(&btm, mid)
+        }))
+        .ok();
+        if mesh.is_none() {
+            eprintln!("{n} obstacles: polyanya could not build its mesh; no peer on this strip");
+        }
+        let a = nudge_free(&btm, Point2::new(mid.x - 20.0, mid.y + 25.0));
+        let b = nudge_free(&btm, Point2::new(mid.x + 20.0, mid.y - 25.0));
+        Strip {
+            n,
+            generated,
+            btm,
+            mesh,
+            origin: mid,
+            short: (a, b),
+        }
+    }
+
+    /// Checks that both planners answer `(a, b)` with the same length (relative tolerance `rel`)
+    /// and prints it.
+    fn check(&self, what: &str, (a, b): (Point2<f64>, Point2<f64>), rel: f64) {
+        let spt = SptPlanner::new(&self.btm);
+        let ours = spt
+            .shortest_path(a, b)
+            .expect("search runs")
+            .expect("connected");
+        let Some(mesh) = &self.mesh else {
+            eprintln!("{} obstacles, {what}: SPT {:.4} m", self.n, ours.length());
+            return;
+        };
+        let theirs = mesh
+            .path(to_vec2(a, self.origin), to_vec2(b, self.origin))
+            .expect("polyanya finds the path");
+        eprintln!(
+            "{} obstacles, {what}: SPT {:.4} m ({} anchors, {} expansions), polyanya {:.4} m",
+            self.n,
+            ours.length(),
+            ours.shp.taut.anchors.len(),
+            ours.expansions,
+            theirs.length,
+        );
+        assert!((ours.length() - f64::from(theirs.length)).abs() < rel * ours.length());
+    }
+}
+
+/// A map from a polyanya v2 mesh file: the free space is the union of its polygons; its boundary
+/// edges (neighbour -1) chain into rings, the one of largest area is the map boundary and the
+/// others are obstacles.
+fn map_from_polyanya_v2(text: &str) -> Map {
+    let mut it = text.split_whitespace();
+    let mut next = || it.next().expect("complete mesh file");
+    assert_eq!(next(), "mesh");
+    assert_eq!(next(), "2");
+    let nv: usize = next().parse().expect("vertex count");
+    let np: usize = next().parse().expect("polygon count");
+    let mut points = Vec::with_capacity(nv);
+    for _ in 0..nv {
+        let x: f64 = next().parse().expect("x");
+        let y: f64 = next().parse().expect("y");
+        let k: usize = next().parse().expect("neighbour count");
+        for _ in 0..k {
+            next();
+        }
+        points.push(Point2::new(x, y));
+    }
+    // Boundary edge a -> b (polygon counter-clockwise, so free space on its left) keyed by a.
+    let mut succ: HashMap<usize, usize> = HashMap::new();
+    for _ in 0..np {
+        let n: usize = next().parse().expect("polygon size");
+        let v: Vec<usize> = (0..n).map(|_| next().parse().expect("vertex")).collect();
+        let p: Vec<i64> = (0..n).map(|_| next().parse().expect("neighbour")).collect();
+        for i in 0..n {
+            // p[i] is across the edge v[i-1] v[i].
+            if p[i] == -1 {
+                let a = v[(i + n - 1) % n];
+                assert!(
+                    succ.insert(a, v[i]).is_none(),
+                    "a pinch vertex in the arena mesh"
+                );
+            }
+        }
+    }
+    let mut rings: Vec<Vec<Point2<f64>>> = Vec::new();
+    while let Some(&first) = succ.keys().min() {
+        let mut ring = Vec::new();
+        let mut v = first;
+        while let Some(w) = succ.remove(&v) {
+            ring.push(points[v]);
+            v = w;
+        }
+        rings.push(ring);
+    }
+    let area = |r: &[Point2<f64>]| {
+        (0..r.len())
+            .map(|i| {
+                let (a, b) = (r[i], r[(i + 1) % r.len()]);
+                a.x * b.y - b.x * a.y
+            })
+            .sum::<f64>()
+    };
+    let outer = (0..rings.len())
+        .max_by(|&i, &j| area(&rings[i]).total_cmp(&area(&rings[j])))
+        .expect("a ring");
+    let boundary = Polygon::new(rings.swap_remove(outer));
+    Map::new(boundary, rings.into_iter().map(Polygon::new).collect())
+}
+
+/// The start-goal pairs of a MovingAI scenario file.
+fn scenario_pairs(text: &str) -> Vec<(Point2<f64>, Point2<f64>)> {
+    text.lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let f: Vec<f64> = l
+                .split_whitespace()
+                .skip(4)
+                .take(4)
+                .map(|x| x.parse().expect("a number"))
+                .collect();
+            (Point2::new(f[0], f[1]), Point2::new(f[2], f[3]))
+        })
+        .collect()
+}
+
+/// The arena's coordinates are small: no shift for polyanya.
+const O: Point2<f64> = Point2::new(0.0, 0.0);
+
+fn planner(c: &mut Criterion) {
+    let strips: Vec<Strip> = [1_000, 10_000, 100_000].map(Strip::new).into();
+    for s in &strips {
+        if s.n <= 10_000 {
+            s.check("first SHP", (s.generated.start, s.generated.goal), 1e-4);
+        }
+        s.check("~60 m query", s.short, 1e-3);
+    }
+    let ten_k = &strips[1];
+    let (start, goal) = (ten_k.generated.start, ten_k.generated.goal);
+
+    // Memory for 100 classes.
+    let spt = SptPlanner::new(&ten_k.btm);
     let before = peak_rss_kb();
     let hundred = SearchOptions::default()
         .with_max_classes(Some(100))
@@ -95,40 +282,113 @@ fn planner(c: &mut Criterion) {
     assert!(out.stats.peak_bytes < 200_000_000);
     drop(out);
 
-    let first = spt
-        .shortest_path(start, goal)
-        .expect("search runs")
-        .expect("connected");
-    let theirs = mesh
-        .path(to_vec2(start), to_vec2(goal))
-        .expect("polyanya finds the path");
+    // Polyanya's arena: its own mesh for polyanya, the same free space as a rappel map.
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/data/polyanya/");
+    let arena_text = std::fs::read_to_string(format!("{data}arena.mesh")).expect("arena mesh");
+    let arena_mesh: Mesh = polyanya::PolyanyaFile::from_bytes(arena_text.as_bytes())
+        .try_into()
+        .expect("polyanya reads its own mesh");
+    let arena_map = map_from_polyanya_v2(&arena_text);
+    let arena_btm = Btm::build(&arena_map).expect("the arena is a valid map");
+    let arena_spt = SptPlanner::new(&arena_btm);
+    let pairs =
+        scenario_pairs(&std::fs::read_to_string(format!("{data}arena.scen")).expect("scenario"));
+    for &(a, b) in &pairs {
+        let ours = arena_spt.shortest_path(a, b).expect("search runs");
+        let theirs = arena_mesh.path(to_vec2(a, O), to_vec2(b, O));
+        match (ours, theirs) {
+            (Some(o), Some(t)) => assert!(
+                (o.length() - f64::from(t.length)).abs() < 1e-3,
+                "arena {a} -> {b}: ours {} polyanya {}",
+                o.length(),
+                t.length
+            ),
+            (o, t) => panic!(
+                "arena {a} -> {b}: ours {:?} polyanya {:?}",
+                o.map(|o| o.length()),
+                t.map(|t| t.length)
+            ),
+        }
+    }
     eprintln!(
-        "shortest path: SPT {:.4} m ({} anchors, {} expansions), polyanya {:.4} m ({} corners)",
-        first.length(),
-        first.shp.taut.anchors.len(),
-        first.expansions,
-        theirs.length,
-        theirs.path.len()
+        "arena: {} queries agree with polyanya ({} obstacles)",
+        pairs.len(),
+        arena_map.obstacles.len()
     );
-    assert!((first.length() - f64::from(theirs.length)).abs() < 1e-4 * first.length());
+
+    let mut g = c.benchmark_group("planner_first_shp");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(5));
+    for s in &strips[..2] {
+        let spt = SptPlanner::new(&s.btm);
+        let (a, b) = (s.generated.start, s.generated.goal);
+        g.bench_with_input(BenchmarkId::new("spt", s.n), &(a, b), |bch, &(a, b)| {
+            bch.iter(|| {
+                spt.shortest_path(black_box(a), black_box(b))
+                    .map(|s| s.map(|s| s.length()))
+            })
+        });
+        if let Some(mesh) = &s.mesh {
+            let (a, b) = (to_vec2(a, s.origin), to_vec2(b, s.origin));
+            g.bench_with_input(BenchmarkId::new("polyanya", s.n), &(a, b), |bch, &(a, b)| {
+                bch.iter(|| mesh.path(black_box(a), black_box(b)).map(|p| p.length))
+            });
+        }
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("planner_short_query");
+    for s in &strips {
+        let spt = SptPlanner::new(&s.btm);
+        g.bench_with_input(BenchmarkId::new("spt", s.n), &s.short, |bch, &(a, b)| {
+            bch.iter(|| {
+                spt.shortest_path(black_box(a), black_box(b))
+                    .map(|s| s.map(|s| s.length()))
+            })
+        });
+        if let Some(mesh) = &s.mesh {
+            let (a, b) = (to_vec2(s.short.0, s.origin), to_vec2(s.short.1, s.origin));
+            g.bench_with_input(BenchmarkId::new("polyanya", s.n), &(a, b), |bch, &(a, b)| {
+                bch.iter(|| mesh.path(black_box(a), black_box(b)).map(|p| p.length))
+            });
+        }
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("planner_arena_160_queries");
+    g.bench_function("spt", |bch| {
+        bch.iter(|| {
+            pairs
+                .iter()
+                .map(|&(a, b)| {
+                    arena_spt
+                        .shortest_path(black_box(a), black_box(b))
+                        .ok()
+                        .flatten()
+                        .map_or(0.0, |s| s.length())
+                })
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("polyanya", |bch| {
+        bch.iter(|| {
+            pairs
+                .iter()
+                .map(|&(a, b)| {
+                    arena_mesh
+                        .path(black_box(to_vec2(a, O)), black_box(to_vec2(b, O)))
+                        .map_or(0.0, |p| p.length)
+                })
+                .sum::<f32>()
+        })
+    });
+    g.finish();
+
     let ten = SearchOptions::default()
         .with_max_classes(Some(10))
         .expect("valid option");
-
     let mut g = c.benchmark_group("planner_10000_obstacles");
-    g.sample_size(20);
-    g.bench_function("spt_first_shp", |b| {
-        b.iter(|| {
-            spt.shortest_path(black_box(start), black_box(goal))
-                .map(|s| s.map(|s| s.length()))
-        })
-    });
-    g.bench_function("polyanya_shortest_path", |b| {
-        b.iter(|| {
-            mesh.path(black_box(to_vec2(start)), black_box(to_vec2(goal)))
-                .map(|p| p.length)
-        })
-    });
+    g.sample_size(10);
     g.bench_function("spt_first_10_shps", |b| {
         b.iter(|| {
             spt.search(black_box(start), black_box(goal), &ten)
@@ -137,6 +397,28 @@ fn planner(c: &mut Criterion) {
         })
     });
     g.finish();
+
+    if std::env::var_os("RAPPEL_BENCH_100K").is_some() {
+        let s = &strips[2];
+        s.check("first SHP", (s.generated.start, s.generated.goal), 1e-4);
+        let spt = SptPlanner::new(&s.btm);
+        let (a, b) = (s.generated.start, s.generated.goal);
+        let mut g = c.benchmark_group("planner_first_shp_100k");
+        g.sample_size(10);
+        g.bench_function("spt", |bch| {
+            bch.iter(|| {
+                spt.shortest_path(black_box(a), black_box(b))
+                    .map(|s| s.map(|s| s.length()))
+            })
+        });
+        if let Some(mesh) = &s.mesh {
+            let (a, b) = (to_vec2(a, s.origin), to_vec2(b, s.origin));
+            g.bench_function("polyanya", |bch| {
+                bch.iter(|| mesh.path(black_box(a), black_box(b)).map(|p| p.length))
+            });
+        }
+        g.finish();
+    }
 }
 
 criterion_group!(benches, planner);

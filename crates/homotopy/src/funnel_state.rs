@@ -86,16 +86,28 @@ pub struct FunnelTree {
 impl FunnelTree {
     /// A tree holding only the root `start`.
     pub fn new(start: Point2<f64>) -> FunnelTree {
-        FunnelTree {
-            nodes: vec![FunnelNode {
-                point: start,
-                vertex: None,
-                length: 0.0,
-                parent: 0,
-                jump: 0,
-                depth: 0,
-            }],
-        }
+        let mut tree = FunnelTree { nodes: Vec::new() };
+        tree.reset(start);
+        tree
+    }
+
+    /// Empties the tree down to a new root `start`, keeping its storage: a search that reuses one
+    /// tree across queries allocates only when a query grows it beyond every earlier one.
+    pub fn reset(&mut self, start: Point2<f64>) {
+        self.nodes.clear();
+        self.nodes.push(FunnelNode {
+            point: start,
+            vertex: None,
+            length: 0.0,
+            parent: 0,
+            jump: 0,
+            depth: 0,
+        });
+    }
+
+    /// Bytes of node storage held (capacity, not length).
+    pub fn capacity_bytes(&self) -> usize {
+        self.nodes.capacity() * std::mem::size_of::<FunnelNode>()
     }
 
     /// The root (the start point).

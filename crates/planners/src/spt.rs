@@ -92,6 +92,7 @@ use rappel_homotopy::sleeve::{Sleeve, SleeveError};
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashSet};
+use std::sync::Mutex;
 
 /// Default number of classes a search returns.
 pub const DEFAULT_MAX_CLASSES: usize = 10;
@@ -274,6 +275,10 @@ pub struct SearchStats {
     pub pruned_dominated: usize,
     /// Funnels dropped by the length bound.
     pub pruned_length: usize,
+    /// Funnels never queued because enough queued goals are at least as short (module docs,
+    /// "Pruning and straight-through expansion").
+    #[serde(default)]
+    pub pruned_incumbent: usize,
     /// Funnels dropped because their apex chain is not simple (simple-classes mode).
     pub pruned_simple: usize,
     /// Goal lifts reached whose class was not simple (simple-classes mode).
@@ -350,11 +355,26 @@ pub struct SearchOutcome {
 /// assert_eq!(search.termination(), Some(Termination::ClassCount));
 /// assert!(third.length() >= second.length());
 /// ```
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct SptPlanner<'b> {
     btm: &'b Btm,
     component: Vec<u32>,
     poles: Poles,
+    /// Scratch spaces of finished searches, reused by the next ones (at most [`POOL_SIZE`], each
+    /// at most [`POOL_MAX_BYTES`]): a query on a prepared planner allocates nothing once warm.
+    pool: Mutex<Vec<Scratch>>,
+}
+
+impl Clone for SptPlanner<'_> {
+    /// The same preparation with an empty scratch pool.
+    fn clone(&self) -> Self {
+        SptPlanner {
+            btm: self.btm,
+            component: self.component.clone(),
+            poles: self.poles.clone(),
+            pool: Mutex::new(Vec::new()),
+        }
+    }
 }
 
 impl<'b> SptPlanner<'b> {
@@ -387,6 +407,29 @@ impl<'b> SptPlanner<'b> {
             btm,
             component,
             poles: Poles::new(btm),
+            pool: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// A scratch space from the pool, or a new one.
+    fn take_scratch(&self) -> Scratch {
+        self.pool
+            .lock()
+            .ok()
+            .and_then(|mut p| p.pop())
+            .unwrap_or_else(Scratch::new)
+    }
+
+    /// Gives a finished search's scratch space back to the pool (dropped when the pool is full
+    /// or the space too large).
+    fn return_scratch(&self, scratch: Scratch) {
+        if scratch.held_bytes() > POOL_MAX_BYTES {
+            return;
+        }
+        if let Ok(mut p) = self.pool.lock()
+            && p.len() < POOL_SIZE
+        {
+            p.push(scratch);
         }
     }
 
@@ -454,11 +497,7 @@ impl<'b> SptPlanner<'b> {
         };
         let shortest = best.length();
         let d = self.btm.dcel();
-        let recorded = |v: usize| {
-            let lifts = reverse.lifts.as_ref()?;
-            let s = *lifts.slot.get(v)?;
-            (s != NONE).then(|| lifts.lists[s as usize].first().copied())?
-        };
+        let recorded = |v: usize| reverse.scratch.lifts.shortest(v);
         let h = (0..d.vertex_capacity())
             .map(|v| {
                 let p = d.point(VertexId(v as u32));
@@ -596,62 +635,181 @@ impl Ord for Entry {
 }
 
 /// The `K` smallest path lengths known per map vertex, for dominance pruning.
-#[derive(Debug, Clone)]
+///
+/// Per-query cost follows the vertices the search touches, not the map: the per-vertex arrays are
+/// allocated once per [`Scratch`] and invalidated by bumping a generation stamp, and the lists of
+/// `K > 1` lengths are buffers reused from query to query (no allocation per vertex once warm).
+/// For `K = 1` the one length lives in the per-vertex array itself.
+#[derive(Debug, Clone, Default)]
 struct Lifts {
     k: usize,
+    /// The current generation; a vertex's entries are valid when its stamp equals it.
+    generation: u32,
+    stamp: Vec<u32>,
+    /// `K = 1`: the shortest length; `K > 1`: unused.
+    shortest: Vec<f64>,
+    /// `K > 1`: the index of the vertex's list in `lists`.
     slot: Vec<u32>,
+    /// Sorted lists of at most `k` lengths; the first `used` belong to this query.
     lists: Vec<Vec<f64>>,
-    /// Bytes held by the lists' buffers.
+    used: usize,
+    /// Bytes of the first `used` lists (header and lengths held, not capacities, so that the
+    /// count does not depend on what earlier queries left in the buffers).
     list_bytes: usize,
 }
 
 impl Lifts {
-    fn new(k: usize, vertices: usize) -> Lifts {
-        Lifts {
-            k,
-            slot: vec![NONE; vertices],
-            lists: Vec::new(),
-            list_bytes: 0,
+    /// Starts a query keeping `k` lengths per vertex among `vertices` vertex ids.
+    fn reset(&mut self, k: usize, vertices: usize) {
+        self.k = k;
+        if self.stamp.len() < vertices {
+            self.stamp.resize(vertices, 0);
+            self.shortest.resize(vertices, 0.0);
+            self.slot.resize(vertices, NONE);
         }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            // After 2^32 queries: clear the stamps once so that no stale entry looks current.
+            self.stamp.fill(0);
+            self.generation = 1;
+        }
+        self.used = 0;
+        self.list_bytes = 0;
     }
 
     fn record(&mut self, v: VertexId, g: f64) {
-        let Some(s) = self.slot.get_mut(v.index()) else {
+        let i = v.index();
+        let Some(stamp) = self.stamp.get_mut(i) else {
             return;
         };
-        if *s == NONE {
-            *s = self.lists.len() as u32;
-            self.lists.push(Vec::with_capacity(self.k.min(4)));
-            self.list_bytes += self.k.min(4) * 8;
+        let fresh = *stamp != self.generation;
+        *stamp = self.generation;
+        if self.k == 1 {
+            if fresh || g < self.shortest[i] {
+                self.shortest[i] = g;
+            }
+            return;
         }
-        let list = &mut self.lists[*s as usize];
+        if fresh {
+            self.slot[i] = self.used as u32;
+            if self.used == self.lists.len() {
+                self.lists.push(Vec::with_capacity(self.k.min(4)));
+            } else {
+                self.lists[self.used].clear();
+            }
+            self.list_bytes += std::mem::size_of::<Vec<f64>>();
+            self.used += 1;
+        }
+        let list = &mut self.lists[self.slot[i] as usize];
         if list.len() == self.k && list[self.k - 1] <= g {
             return;
         }
-        let before = list.capacity();
+        let before = list.len();
         let at = list.partition_point(|&x| x <= g);
         list.insert(at, g);
         list.truncate(self.k);
-        self.list_bytes += (list.capacity() - before) * 8;
+        self.list_bytes += (list.len() - before) * 8;
+    }
+
+    /// The shortest length recorded for `v` in this query.
+    fn shortest(&self, v: usize) -> Option<f64> {
+        if self.stamp.get(v) != Some(&self.generation) {
+            return None;
+        }
+        if self.k == 1 {
+            Some(self.shortest[v])
+        } else {
+            self.lists[self.slot[v] as usize].first().copied()
+        }
     }
 
     /// `true` when `k` lifts of `v` are known strictly shorter than `g`.
     fn dominates(&self, v: VertexId, g: f64) -> bool {
-        match self.slot.get(v.index()) {
-            Some(&s) if s != NONE => {
-                let list = &self.lists[s as usize];
-                list.len() == self.k && list[self.k - 1] < g
-            }
-            _ => false,
+        let i = v.index();
+        if self.stamp.get(i) != Some(&self.generation) {
+            return false;
+        }
+        if self.k == 1 {
+            self.shortest[i] < g
+        } else {
+            let list = &self.lists[self.slot[i] as usize];
+            list.len() == self.k && list[self.k - 1] < g
         }
     }
 
-    fn bytes(&self) -> usize {
-        self.slot.capacity() * 4
+    /// Bytes held (capacities).
+    fn held_bytes(&self) -> usize {
+        self.stamp.capacity() * 4
+            + self.shortest.capacity() * 8
+            + self.slot.capacity() * 4
             + self.lists.capacity() * std::mem::size_of::<Vec<f64>>()
-            + self.list_bytes
+            + self.lists.iter().map(|l| l.capacity() * 8).sum::<usize>()
+    }
+
+    /// Bytes this query uses: the per-vertex arrays and its own lists.
+    fn live_bytes(&self) -> usize {
+        self.stamp.len() * if self.k == 1 { 12 } else { 8 } + self.list_bytes
     }
 }
+
+/// The storage of one search, reused across queries on one BTM ([`SptPlanner`] keeps a pool):
+/// the shortest path tree's nodes, the queue, the trail of mouths, the lifts and the
+/// simple-prefix verdicts. A query clears them (keeping their capacity) instead of growing new
+/// ones from empty.
+#[derive(Debug, Clone)]
+struct Scratch {
+    tree: FunnelTree,
+    queue: BinaryHeap<Entry>,
+    trail: Vec<(HalfEdgeId, u32)>,
+    lifts: Lifts,
+    simple_prefix: Vec<u8>,
+}
+
+impl Scratch {
+    fn new() -> Scratch {
+        Scratch {
+            tree: FunnelTree::new(Point2::origin()),
+            queue: BinaryHeap::new(),
+            trail: Vec::new(),
+            lifts: Lifts::default(),
+            simple_prefix: Vec::new(),
+        }
+    }
+
+    /// Clears everything for a query from `start`.
+    fn reset(&mut self, start: Point2<f64>) {
+        self.tree.reset(start);
+        self.queue.clear();
+        self.trail.clear();
+        self.simple_prefix.clear();
+    }
+
+    /// Bytes held (capacities), for the pool's size limit.
+    fn held_bytes(&self) -> usize {
+        self.tree.capacity_bytes()
+            + self.queue.capacity() * std::mem::size_of::<Entry>()
+            + self.trail.capacity() * std::mem::size_of::<(HalfEdgeId, u32)>()
+            + self.lifts.held_bytes()
+            + self.simple_prefix.capacity()
+    }
+
+    /// Bytes the current query uses (lengths, not capacities: the same for the same query
+    /// whatever earlier queries left in the pool).
+    fn live_bytes(&self, pruning: bool) -> usize {
+        self.tree.len() * std::mem::size_of::<FunnelNode>()
+            + self.queue.len() * std::mem::size_of::<Entry>()
+            + self.trail.len() * std::mem::size_of::<(HalfEdgeId, u32)>()
+            + if pruning { self.lifts.live_bytes() } else { 0 }
+            + self.simple_prefix.len()
+    }
+}
+
+/// Most scratch spaces an [`SptPlanner`] keeps for reuse (one per thread searching at once is
+/// enough; more are dropped).
+const POOL_SIZE: usize = 8;
+/// Largest scratch space kept for reuse, bytes: a search that grew beyond it (a first SHP on a
+/// 100,000-obstacle strip) gives its memory back instead of holding it for the planner's life.
+const POOL_MAX_BYTES: usize = 64 << 20;
 
 /// A running SPT search (Alg. 3's loop, one SHP per [`SptSearch::next_best`]).
 #[derive(Debug, Clone)]
@@ -663,13 +821,16 @@ pub struct SptSearch<'a> {
     /// Geodesic distance from each map vertex to the goal, when known (module docs).
     to_goal: Option<Vec<f64>>,
     options: SearchOptions,
-    tree: FunnelTree,
-    queue: BinaryHeap<Entry>,
-    /// Mouth of every queued funnel and the index of its parent funnel's mouth.
-    trail: Vec<(HalfEdgeId, u32)>,
-    lifts: Option<Lifts>,
-    /// Simple-prefix verdicts per tree node: 0 unknown, 1 simple, 2 not simple.
-    simple_prefix: Vec<u8>,
+    /// The tree, queue, trail (mouth of every queued funnel and the index of its parent
+    /// funnel's mouth), lifts and simple-prefix verdicts (0 unknown, 1 simple, 2 not simple),
+    /// taken from the planner's pool and given back when the search is dropped.
+    scratch: Scratch,
+    /// Whether dominance pruning is on (the lifts are kept).
+    pruning: bool,
+    /// Lengths of the queued goal entries, ascending, at most the number of classes still
+    /// wanted (module docs, "The incumbent"); kept only when a class count is set and every
+    /// goal reached is returned (not in the simple-classes mode).
+    pending_goals: Vec<f64>,
     emitted: usize,
     shortest: Option<f64>,
     termination: Option<Termination>,
@@ -694,9 +855,14 @@ impl<'a> SptSearch<'a> {
         };
         let start_triangle = endpoint("start", start)?;
         let goal_triangle = endpoint("goal", goal)?;
-        let lifts = match options.max_classes {
-            Some(k) if !options.simple_only => Some(Lifts::new(k, btm.dcel().vertex_capacity())),
-            _ => None,
+        let mut scratch = planner.take_scratch();
+        scratch.reset(start);
+        let pruning = match options.max_classes {
+            Some(k) if !options.simple_only => {
+                scratch.lifts.reset(k, btm.dcel().vertex_capacity());
+                true
+            }
+            _ => false,
         };
         let mut search = SptSearch {
             planner,
@@ -705,11 +871,9 @@ impl<'a> SptSearch<'a> {
             goal_triangle,
             to_goal,
             options,
-            tree: FunnelTree::new(start),
-            queue: BinaryHeap::new(),
-            trail: Vec::new(),
-            lifts,
-            simple_prefix: Vec::new(),
+            scratch,
+            pruning,
+            pending_goals: Vec::new(),
             emitted: 0,
             shortest: None,
             termination: None,
@@ -721,26 +885,26 @@ impl<'a> SptSearch<'a> {
         }
         if goal_triangle == start_triangle {
             // The trivial class: the straight segment inside the (convex) start triangle.
-            let root = search.tree.root();
-            let node = search.tree.extend(root, search.goal, None);
-            let key = search.tree.node(node).length;
-            search.push(key, Kind::Goal { node, trail: NONE });
+            let root = search.scratch.tree.root();
+            let node = search.scratch.tree.extend(root, search.goal, None);
+            let key = search.scratch.tree.node(node).length;
+            search.push_goal(key, node, NONE);
         }
         // A start on a map vertex is the shortest lift of that vertex.
-        if let (Some(l), Location::Vertex(v)) = (&mut search.lifts, btm.locate(&start)) {
-            l.record(v, 0.0);
+        if let (true, Location::Vertex(v)) = (search.pruning, btm.locate(&start)) {
+            search.scratch.lifts.record(v, 0.0);
         }
-        let funnels = FunnelState::initial(&mut search.tree, btm, start_triangle)?;
+        let funnels = FunnelState::initial(&mut search.scratch.tree, btm, start_triangle)?;
         let mut corners = Vec::with_capacity(3);
         for f in &funnels {
             for tip in [f.left(), f.right()] {
-                let n = *search.tree.node(tip);
+                let n = *search.scratch.tree.node(tip);
                 if let Some(v) = n.vertex
                     && !corners.contains(&v)
                 {
                     corners.push(v);
-                    if let Some(l) = &mut search.lifts {
-                        l.record(v, n.length);
+                    if search.pruning {
+                        search.scratch.lifts.record(v, n.length);
                     }
                 }
             }
@@ -760,7 +924,7 @@ impl<'a> SptSearch<'a> {
     /// The search's counters so far.
     pub fn stats(&self) -> SearchStats {
         let mut s = self.stats;
-        s.tree_nodes = self.tree.len();
+        s.tree_nodes = self.scratch.tree.len();
         s
     }
 
@@ -776,7 +940,7 @@ impl<'a> SptSearch<'a> {
             return Ok(None);
         }
         loop {
-            let Some(entry) = self.queue.pop() else {
+            let Some(entry) = self.scratch.queue.pop() else {
                 self.termination = Some(Termination::Exhausted);
                 return Ok(None);
             };
@@ -786,6 +950,10 @@ impl<'a> SptSearch<'a> {
             }
             match entry.kind {
                 Kind::Goal { node, trail } => {
+                    if self.still_wanted().is_some() && !self.pending_goals.is_empty() {
+                        // The smallest queued goal is the one popped.
+                        self.pending_goals.remove(0);
+                    }
                     if let Some(found) = self.emit(node, trail)? {
                         if self.options.max_classes == Some(self.emitted) {
                             self.termination = Some(Termination::ClassCount);
@@ -822,51 +990,132 @@ impl<'a> SptSearch<'a> {
     }
 
     /// Alg. 4: reach the goal if it lies beyond the mouth, split, key and queue the children.
-    fn expand(&mut self, key: f64, f: FunnelState, trail: u32) -> Result<(), SearchError> {
+    ///
+    /// Straight through (module docs, "Pruning and straight-through expansion"): when exactly one
+    /// child survives and its key equals the funnel's, it is itself a minimum of the queue, so it
+    /// is expanded at once instead of making a round trip through the heap (within the expansion
+    /// budget, which counts every expansion).
+    fn expand(
+        &mut self,
+        mut key: f64,
+        mut f: FunnelState,
+        mut trail: u32,
+    ) -> Result<(), SearchError> {
         let btm = self.planner.btm;
-        self.stats.expansions += 1;
-        let next = f
-            .next_triangle(btm)
-            .ok_or_else(|| SearchError::Internal("a queued funnel has a closed mouth".into()))?;
-        if next == self.goal_triangle {
-            let node = f.reach(&mut self.tree, self.goal);
-            let goal_key = self.tree.node(node).length.max(key);
-            self.push(goal_key, Kind::Goal { node, trail });
+        loop {
+            self.stats.expansions += 1;
+            let next = f.next_triangle(btm).ok_or_else(|| {
+                SearchError::Internal("a queued funnel has a closed mouth".into())
+            })?;
+            if next == self.goal_triangle {
+                let node = f.reach(&mut self.scratch.tree, self.goal);
+                let goal_key = self.scratch.tree.node(node).length.max(key);
+                self.push_goal(goal_key, node, trail);
+            }
+            let split = f.split(&mut self.scratch.tree, btm)?;
+            if self.pruning {
+                let g = self.scratch.tree.node(split.node).length;
+                self.scratch.lifts.record(split.vertex, g);
+            }
+            let mut kept = [None, None];
+            for (slot, child) in kept.iter_mut().zip([split.left, split.right]) {
+                if let Some(child) = child {
+                    let child_key = self.lower_bound(&child).max(key);
+                    if self.admit(child_key, &child) {
+                        *slot = Some((child_key, child));
+                    }
+                }
+            }
+            let through = match kept {
+                [Some(c), None] | [None, Some(c)] => {
+                    c.0 <= key && self.stats.expansions < self.options.max_expansions
+                }
+                _ => false,
+            };
+            for (child_key, child) in kept.into_iter().flatten() {
+                let child_trail = self.scratch.trail.len() as u32;
+                self.scratch.trail.push((child.mouth(), trail));
+                if through {
+                    (key, f, trail) = (child_key, child, child_trail);
+                } else {
+                    self.push(
+                        child_key,
+                        Kind::Funnel {
+                            funnel: child,
+                            trail: child_trail,
+                        },
+                    );
+                }
+            }
+            self.stats.queue_peak = self.stats.queue_peak.max(self.scratch.queue.len());
+            self.stats.peak_bytes = self.stats.peak_bytes.max(self.bytes());
+            if !through {
+                return Ok(());
+            }
         }
-        let split = f.split(&mut self.tree, btm)?;
-        if let Some(l) = &mut self.lifts {
-            l.record(split.vertex, self.tree.node(split.node).length);
+    }
+
+    /// `true` unless a bound or a pruning rule drops a funnel with this key (and counts why).
+    fn admit(&mut self, key: f64, f: &FunnelState) -> bool {
+        if self.length_limit().is_some_and(|limit| key > limit) {
+            self.stats.pruned_length += 1;
+            return false;
         }
-        for child in [split.left, split.right].into_iter().flatten() {
-            let child_key = self.lower_bound(&child).max(key);
-            self.offer(child_key, child, trail);
+        if self.incumbent().is_some_and(|bound| key >= bound) {
+            self.stats.pruned_incumbent += 1;
+            return false;
         }
-        self.stats.queue_peak = self.stats.queue_peak.max(self.queue.len());
-        self.stats.peak_bytes = self.stats.peak_bytes.max(self.bytes());
-        Ok(())
+        if self.dominated(f) {
+            self.stats.pruned_dominated += 1;
+            return false;
+        }
+        if self.options.simple_only && !self.prefix_is_simple(f.apex()) {
+            self.stats.pruned_simple += 1;
+            return false;
+        }
+        true
     }
 
     /// Queues a funnel unless a bound or a pruning rule drops it.
     fn offer(&mut self, key: f64, f: FunnelState, parent_trail: u32) {
-        if self.length_limit().is_some_and(|limit| key > limit) {
-            self.stats.pruned_length += 1;
+        if !self.admit(key, &f) {
             return;
         }
-        if self.dominated(&f) {
-            self.stats.pruned_dominated += 1;
-            return;
-        }
-        if self.options.simple_only && !self.prefix_is_simple(f.apex()) {
-            self.stats.pruned_simple += 1;
-            return;
-        }
-        let trail = self.trail.len() as u32;
-        self.trail.push((f.mouth(), parent_trail));
+        let trail = self.scratch.trail.len() as u32;
+        self.scratch.trail.push((f.mouth(), parent_trail));
         self.push(key, Kind::Funnel { funnel: f, trail });
     }
 
+    /// Queues a goal entry and notes its key among the pending goals.
+    fn push_goal(&mut self, key: f64, node: NodeId, trail: u32) {
+        if let Some(wanted) = self.still_wanted() {
+            let at = self.pending_goals.partition_point(|&x| x <= key);
+            if at < wanted {
+                self.pending_goals.insert(at, key);
+                self.pending_goals.truncate(wanted);
+            }
+        }
+        self.push(key, Kind::Goal { node, trail });
+    }
+
+    /// The number of classes still to find, when every goal reached is a class returned (a class
+    /// count is set and the simple-classes mode is off): the incumbent is kept only then.
+    fn still_wanted(&self) -> Option<usize> {
+        if self.options.simple_only {
+            return None;
+        }
+        Some(self.options.max_classes?.saturating_sub(self.emitted))
+    }
+
+    /// The incumbent bound (module docs): with `r` classes still wanted and `r` goals queued with
+    /// keys at most `b`, the search ends before any funnel keyed `b` or more is expanded.
+    fn incumbent(&self) -> Option<f64> {
+        let wanted = self.still_wanted()?;
+        (wanted > 0 && self.pending_goals.len() >= wanted).then(|| self.pending_goals[wanted - 1])
+    }
+
     fn push(&mut self, key: f64, kind: Kind) {
-        self.queue.push(Entry { key, kind });
+        self.scratch.queue.push(Entry { key, kind });
     }
 
     /// `f * L_1` once the first class is known.
@@ -876,11 +1125,12 @@ impl<'a> SptSearch<'a> {
 
     /// Dominance pruning (module docs): `K` lifts of the apex's vertex are strictly shorter.
     fn dominated(&self, f: &FunnelState) -> bool {
-        let Some(lifts) = &self.lifts else {
+        if !self.pruning {
             return false;
-        };
-        let apex = self.tree.node(f.apex());
-        apex.vertex.is_some_and(|v| lifts.dominates(v, apex.length))
+        }
+        let apex = self.scratch.tree.node(f.apex());
+        apex.vertex
+            .is_some_and(|v| self.scratch.lifts.dominates(v, apex.length))
     }
 
     /// The A* key of a funnel (module docs): eq. 2.5 at the goal, or at its mirror image across
@@ -889,7 +1139,7 @@ impl<'a> SptSearch<'a> {
         let d = self.planner.btm.dcel();
         let m = f.mouth();
         let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
-        let apex = self.tree.node(f.apex());
+        let apex = self.scratch.tree.node(f.apex());
         // Every SHP through the funnel passes through its apex: g(apex) + h(apex) bounds it.
         let through_apex = match (&self.to_goal, apex.vertex) {
             (Some(h), Some(v)) => apex.length + h[v.index()],
@@ -901,14 +1151,14 @@ impl<'a> SptSearch<'a> {
         } else {
             mirror(&self.goal, &a, &b)
         };
-        let t: &FunnelNode = self.tree.node(f.predecessor(&self.tree, &target));
+        let t: &FunnelNode = self.scratch.tree.node(f.predecessor(&self.scratch.tree, &target));
         (t.length + (target - t.point).norm()).max(through_apex)
     }
 
     /// Builds the class reached at goal node `node` through the funnel mouths of `trail`.
     fn emit(&mut self, node: NodeId, trail: u32) -> Result<Option<RankedShp>, SearchError> {
         let btm = self.planner.btm;
-        let taut = self.tree.taut_path(btm, node);
+        let taut = self.scratch.tree.taut_path(btm, node);
         let simple = is_simple_class(&taut);
         if self.options.simple_only && !simple {
             self.stats.skipped_not_simple += 1;
@@ -917,7 +1167,7 @@ impl<'a> SptSearch<'a> {
         let mut portals = Vec::new();
         let mut t = trail;
         while t != NONE {
-            let (mouth, parent) = self.trail[t as usize];
+            let (mouth, parent) = self.scratch.trail[t as usize];
             portals.push(mouth);
             t = parent;
         }
@@ -943,33 +1193,37 @@ impl<'a> SptSearch<'a> {
     /// `true` when the anchors on the tree path to `apex` (strict turns strictly between the root
     /// and `apex`) form a simple sequence. Cached per node.
     fn prefix_is_simple(&mut self, apex: NodeId) -> bool {
-        if self.simple_prefix.len() < self.tree.len() {
-            self.simple_prefix.resize(self.tree.len(), 0);
+        if self.scratch.simple_prefix.len() < self.scratch.tree.len() {
+            self.scratch.simple_prefix.resize(self.scratch.tree.len(), 0);
         }
-        match self.simple_prefix[apex.index()] {
+        match self.scratch.simple_prefix[apex.index()] {
             1 => return true,
             2 => return false,
             _ => {}
         }
-        let path = self.tree.path(apex);
+        let path = self.scratch.tree.path(apex);
         let btm = self.planner.btm;
         let anchors = path.windows(3).filter_map(|w| {
-            let [a, b, c] = [w[0], w[1], w[2]].map(|n| self.tree.node(n));
+            let [a, b, c] = [w[0], w[1], w[2]].map(|n| self.scratch.tree.node(n));
             let v = b.vertex?;
             (orient2d(&a.point, &b.point, &c.point) != 0.0).then(|| (v, btm.obstacle_of_vertex(v)))
         });
         let simple = anchors_are_simple(anchors);
-        self.simple_prefix[apex.index()] = if simple { 1 } else { 2 };
+        self.scratch.simple_prefix[apex.index()] = if simple { 1 } else { 2 };
         simple
     }
 
     /// Bytes held by the search's structures (see [`SearchStats::peak_bytes`]).
     fn bytes(&self) -> usize {
-        self.tree.len() * std::mem::size_of::<FunnelNode>()
-            + self.queue.capacity() * std::mem::size_of::<Entry>()
-            + self.trail.capacity() * std::mem::size_of::<(HalfEdgeId, u32)>()
-            + self.lifts.as_ref().map_or(0, Lifts::bytes)
-            + self.simple_prefix.capacity()
+        self.scratch.live_bytes(self.pruning)
+    }
+}
+
+impl Drop for SptSearch<'_> {
+    /// Gives the scratch space back to the planner's pool for the next query.
+    fn drop(&mut self) {
+        let scratch = std::mem::replace(&mut self.scratch, Scratch::new());
+        self.planner.return_scratch(scratch);
     }
 }
 

@@ -814,6 +814,7 @@ impl OnlineSession {
             }
         }
         let termination = search.termination().unwrap_or(Termination::Exhausted);
+        drop(search);
         for (h, length, why) in rejected {
             self.reject(h, length, why);
         }
