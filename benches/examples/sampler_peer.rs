@@ -6,12 +6,14 @@
 //! runs our ABIT* on one world and prints, per seed, the time to the first solution and the best
 //! cost at fixed times, in the same table as `benches/ompl_peer/bitstar_peer.py`.
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
 use rappel_planners::sampler::{
-    Abit, AbitSettings, Obstacle, ObstacleWorld, RealVectorSpace, Termination, WorldFile,
+    Abit, AbitSettings, MotionValidator, Obstacle, ObstacleWorld, RealVectorSpace, Termination,
+    WorldFile,
 };
 
 /// The times (seconds) at which the best cost is reported, shared with the Python peer.
@@ -63,6 +65,33 @@ fn boxes_3d() -> ObstacleWorld<3> {
     }
 }
 
+/// The world's validator, counting state checks (the language-neutral effort measure: the Python
+/// peer counts its checker's calls the same way).
+struct Counting<'a, const D: usize> {
+    world: &'a ObstacleWorld<D>,
+    checks: Cell<u64>,
+}
+
+impl<const D: usize> MotionValidator<RealVectorSpace<D>, D> for Counting<'_, D> {
+    type History = ();
+
+    fn initial_history(&self, _start: &[f64; D]) {}
+
+    fn state_valid(&self, s: &[f64; D]) -> bool {
+        self.checks.set(self.checks.get() + 1);
+        self.world.state_valid(s)
+    }
+
+    fn motion(&self, from: &[f64; D], _h: &(), to: &[f64; D]) -> Option<(f64, ())> {
+        self.world
+            .motion_with(from, to, |p| self.state_valid(p))
+            .map(|c| (c, ()))
+    }
+}
+
+/// Iteration cap of the first-solution runs (a bound; never reached on the shipped worlds).
+const FIRST_CAP: u64 = 10_000_000;
+
 fn worlds_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("ompl_peer")
@@ -86,11 +115,27 @@ fn write_worlds() -> Result<(), String> {
 
 fn anytime<const D: usize>(world: &ObstacleWorld<D>, time: f64, runs: u64) -> Result<(), String> {
     println!(
-        "seed  first_s  {}",
+        "seed  first_s  checks_first  {}",
         CHECKPOINTS.map(|t| format!("c@{t}s")).join("  ")
     );
     for seed in 0..runs {
+        let counting = Counting {
+            world,
+            checks: Cell::new(0),
+        };
         let settings = AbitSettings::default().with_seed(seed);
+        let mut first_run = Abit::new(
+            &world.space,
+            &counting,
+            world.start,
+            world.goal,
+            settings.clone(),
+        )
+        .map_err(|e| e.to_string())?;
+        first_run
+            .solve(Termination::iterations(FIRST_CAP).or_cost_at_most(f64::MAX))
+            .map_err(|e| e.to_string())?;
+        let checks_first = counting.checks.get();
         let mut p = Abit::new(&world.space, world, world.start, world.goal, settings)
             .map_err(|e| e.to_string())?;
         let st = p
@@ -106,7 +151,10 @@ fn anytime<const D: usize>(world: &ObstacleWorld<D>, time: f64, runs: u64) -> Re
                 .last()
                 .map_or("-".to_string(), |e| format!("{:.4}", e.cost))
         });
-        println!("{seed:4}  {first:>7}  {}", costs.join("  "));
+        println!(
+            "{seed:4}  {first:>7}  {checks_first:>12}  {}",
+            costs.join("  ")
+        );
     }
     Ok(())
 }

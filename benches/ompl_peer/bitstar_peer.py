@@ -6,7 +6,8 @@ Usage: python3 bitstar_peer.py WORLD.json [TIME_S] [RUNS] [SEED]
 Reads the same JSON world as `cargo run --release -p rappel-benches --example sampler_peer --
 anytime WORLD.json`, with the same validity semantics (closed boxes and balls, closed bounds,
 OMPL's discrete motion validator at `resolution` times the bounds' diagonal), and prints per run
-the time to the first solution and the best cost at fixed times, in the same table.
+the time to the first solution, the state-validity checks made until then (counted in the
+checker; the language-neutral effort measure) and the best cost at fixed times, in the same table.
 
 Needs `pip install ompl` (the PyPI package, OMPL 2.x with nanobind bindings). The validity
 checker is a Python callback, which OMPL calls through the bindings: its cost is part of the
@@ -34,6 +35,9 @@ def load(path):
     return w
 
 
+CHECKS = [0]
+
+
 def make_checker(w):
     d = len(w["lo"])
     lo, hi = w["lo"], w["hi"]
@@ -41,6 +45,7 @@ def make_checker(w):
     spheres = [(s["centre"], s["radius"] ** 2) for s in w.get("spheres", [])]
 
     def valid(s):
+        CHECKS[0] += 1
         p = [s[i] for i in range(d)]
         for i in range(d):
             if p[i] < lo[i] or p[i] > hi[i]:
@@ -79,6 +84,7 @@ def run_once(w, budget):
     planner.setProblemDefinition(pdef)
     planner.setup()
     events = []
+    CHECKS[0] = 0
     t0 = time.perf_counter()
 
     def stop():
@@ -86,7 +92,7 @@ def run_once(w, budget):
         c = planner.bestCost().value()
         if math.isfinite(c):
             if not events or c < events[-1][1]:
-                events.append((now, c))
+                events.append((now, c, CHECKS[0]))
         return now >= budget
 
     planner.solve(ob.PlannerTerminationCondition(stop))
@@ -102,15 +108,16 @@ def main():
     runs = int(sys.argv[3]) if len(sys.argv) > 3 else 10
     ou.RNG.setSeed(int(sys.argv[4]) if len(sys.argv) > 4 else 1)
     ou.setLogLevel(ou.LogLevel.LOG_WARN)
-    print("seed  first_s  " + "  ".join(f"c@{t}s" for t in CHECKPOINTS))
+    print("seed  first_s  checks_first  " + "  ".join(f"c@{t}s" for t in CHECKPOINTS))
     for run in range(runs):
         ev = run_once(w, budget)
         first = f"{ev[0][0]:.4f}" if ev else "-"
+        checks = f"{ev[0][2]}" if ev else "-"
         cols = []
         for t in CHECKPOINTS:
-            best = [c for (s, c) in ev if s <= t]
+            best = [c for (s, c, _) in ev if s <= t]
             cols.append(f"{best[-1]:.4f}" if best else "-")
-        print(f"{run:4}  {first:>7}  " + "  ".join(cols))
+        print(f"{run:4}  {first:>7}  {checks:>12}  " + "  ".join(cols))
 
 
 if __name__ == "__main__":

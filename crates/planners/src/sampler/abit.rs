@@ -415,7 +415,7 @@ where
             };
             let key = self.space.key(&s);
             let history = if copy {
-                self.neighbour_history(&key)
+                self.neighbour_history(&s, &key)
             } else {
                 None
             };
@@ -455,14 +455,16 @@ where
         None
     }
 
-    /// A history drawn uniformly from the distinct histories of the k nearest tree states
-    /// (Paton §V-A), so that a minority history in a region is copied as often as the majority.
-    fn neighbour_history(&mut self, key: &[f64; K]) -> Option<V::History> {
+    /// A history drawn uniformly from the distinct histories of the k nearest tree states that
+    /// `state` can be valid with (Paton §V-A; [`MotionValidator::history_valid`]), so that a
+    /// minority history in a region is copied as often as the majority.
+    fn neighbour_history(&mut self, state: &S::State, key: &[f64; K]) -> Option<V::History> {
         let mut distinct: Vec<V::History> = Vec::new();
         for i in self.graph.near(key, self.k()) {
             if let Some(h) = &self.graph.nodes[i as usize].history
                 && self.graph.nodes[i as usize].in_tree()
                 && !distinct.contains(h)
+                && self.validator.history_valid(state, h)
             {
                 distinct.push(h.clone());
             }

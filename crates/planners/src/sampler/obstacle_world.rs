@@ -65,6 +65,30 @@ impl<const D: usize> ObstacleWorld<D> {
     pub fn step(&self) -> f64 {
         self.resolution * self.space.extent()
     }
+
+    /// The discrete motion check with the state check `valid` (the world's own in
+    /// [`MotionValidator::motion`]; a counting wrapper in the peer example): the motion's length if
+    /// `to` and the interpolated states pass, else `None`; both ends must lie in the bounds.
+    pub fn motion_with(
+        &self,
+        from: &[f64; D],
+        to: &[f64; D],
+        mut valid: impl FnMut(&[f64; D]) -> bool,
+    ) -> Option<f64> {
+        let len = euclidean(from, to);
+        if !self.space.contains(from) || !self.space.contains(to) || !valid(to) {
+            return None;
+        }
+        // Bounded: both ends lie in the bounds, so length <= diagonal and n <= 1 / resolution + 1.
+        let n = (len / self.step()).ceil().max(1.0) as usize;
+        for j in 1..n {
+            let p = self.space.interpolate(from, to, j as f64 / n as f64);
+            if !valid(&p) {
+                return None;
+            }
+        }
+        Some(len)
+    }
 }
 
 impl<const D: usize> MotionValidator<RealVectorSpace<D>, D> for ObstacleWorld<D> {
@@ -77,19 +101,8 @@ impl<const D: usize> MotionValidator<RealVectorSpace<D>, D> for ObstacleWorld<D>
     }
 
     fn motion(&self, from: &[f64; D], _history: &(), to: &[f64; D]) -> Option<(f64, ())> {
-        let len = euclidean(from, to);
-        if !self.state_valid(to) {
-            return None;
-        }
-        // Bounded: n <= length / step + 1, and length <= extent inside the bounds.
-        let n = (len / self.step()).ceil().max(1.0) as usize;
-        for j in 1..n {
-            let p = self.space.interpolate(from, to, j as f64 / n as f64);
-            if !self.state_valid(&p) {
-                return None;
-            }
-        }
-        Some((len, ()))
+        self.motion_with(from, to, |p| self.state_valid(p))
+            .map(|c| (c, ()))
     }
 }
 

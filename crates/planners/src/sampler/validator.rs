@@ -19,6 +19,14 @@ pub trait MotionValidator<S: StateSpace<K>, const K: usize> {
     /// are discarded before they enter the graph.
     fn state_valid(&self, state: &S::State) -> bool;
 
+    /// Whether `state` can be valid when reached with `history` (e.g. stability with those
+    /// anchors). Used when a new sample copies a neighbour's history, so that no sample is given
+    /// a history it can never be valid with. The default accepts every history.
+    fn history_valid(&self, state: &S::State, history: &Self::History) -> bool {
+        let _ = (state, history);
+        true
+    }
+
     /// The motion from `from` (reached with `history`) to `to`: `None` if it is invalid,
     /// otherwise its true cost and the history at `to`. Called lazily, only for edges the search
     /// actually processes, and at most once per ordered pair of graph states.
