@@ -3,10 +3,19 @@
 //! build is timed at 20 cm only: measured once at 1.9 s (20 cm) and 26 s (10 cm, 15 M grid
 //! points, the Dijkstra propagation dominates), 5 cm would take minutes per sample; making it
 //! fast (a truncated or sweep-based propagation) is open work, see `docs/mesh.md`.
+//!
+//! Anchor prediction (Paton Alg. 1) of one motion step across the ledge's lip under the test-1
+//! root anchor, through the same 10 cm field and on the exact mesh (target < 100 us), and the
+//! stability of one settled pose with its predicted anchor (place + QP, boom inline; and both
+//! boom configurations as `rappel settle-map` does; target < 100 us).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use rappel_mechanics::axel::AxelParams;
+use nalgebra::{Point3, Vector3};
+use rappel::mesh_stability::{pose_stability, tether_end};
+use rappel_mechanics::axel::{Axel, AxelParams, BoomMode};
 use rappel_mechanics::settle::{SettleParams, settle_axel};
+use rappel_mechanics::stability_qp::StabilityQp;
+use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict};
 use rappel_terrain::paton_scene::PatonScene;
 use rappel_terrain::sdf::{Sdf, SdfParams};
 use std::hint::black_box;
@@ -29,6 +38,73 @@ fn mesh(c: &mut Criterion) {
     let x = 0.5 * scene.slope_foot_x();
     g.bench_function("settle_axel_slope_sdf_10cm", |b| {
         b.iter(|| settle_axel(&field, &axel, black_box(x), 0.0, 5.9, 0.0, &p).expect("settles"))
+    });
+    // One 0.5 m step of the boom pivot from the top over the lip onto the slope: one attach.
+    let a = scene.slope_deg.to_radians();
+    let pivot = |x: f64| {
+        if x <= 0.0 {
+            Point3::new(x, 0.0, scene.height + axel.wheel_radius)
+        } else {
+            Point3::new(x, 0.0, scene.height - x * a.tan())
+                + Vector3::new(a.sin(), 0.0, a.cos()) * axel.wheel_radius
+        }
+    };
+    let root = AnchorHistory::new(scene.anchor_points()[0]).expect("finite");
+    let (from, to) = (pivot(0.0), pivot(0.5));
+    let step = predict(&field, &PredictParams::new(0.1), &root, &from, &to).expect("predicts");
+    assert_eq!(step.history.len(), 2, "the step attaches on the lip");
+    g.bench_function("anchor_prediction_step_over_lip_sdf_10cm", |b| {
+        b.iter(|| {
+            predict(
+                &field,
+                &PredictParams::new(0.1),
+                &root,
+                black_box(&from),
+                &to,
+            )
+            .expect("predicts")
+        })
+    });
+    g.bench_function("anchor_prediction_step_over_lip_exact_mesh_5cm", |b| {
+        b.iter(|| {
+            predict(&m, &PredictParams::new(0.05), &root, black_box(&from), &to).expect("predicts")
+        })
+    });
+    // Stability of a settled mid-slope pose with the lip anchor.
+    let pose = settle_axel(&m, &axel, x, 0.0, 5.9, 0.0, &p).expect("settles");
+    let tip = tether_end(&pose, &axel);
+    let hist = rappel_planners::anchor_prediction::predict_path(
+        &m,
+        &PredictParams::new(0.05),
+        &root,
+        &[
+            pivot(-1.0),
+            pivot(-0.5),
+            pivot(0.0),
+            pivot(0.5),
+            pivot(1.0),
+            tip,
+        ],
+    )
+    .expect("predicts")
+    .history;
+    let lip = hist.last().point;
+    let inline = Axel::new(AxelParams {
+        boom: BoomMode::Inline,
+        ..axel
+    })
+    .expect("valid");
+    let qp = StabilityQp::default();
+    g.bench_function("stability_settled_pose_inline_lip_anchor", |b| {
+        b.iter(|| {
+            let placed = pose
+                .place(&inline, &m, 0.6, Some((black_box(&lip), None)))
+                .expect("places");
+            qp.check(&placed).expect("solves")
+        })
+    });
+    g.bench_function("stability_settled_pose_both_booms_lip_anchor", |b| {
+        b.iter(|| pose_stability(&m, black_box(&pose), &hist))
     });
     let mut sp = SdfParams::new(0.2);
     sp.margin = 2.0;

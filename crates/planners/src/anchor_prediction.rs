@@ -41,7 +41,7 @@
 //!
 //! ```
 //! use nalgebra::{Point3, Vector3};
-//! use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict};
+//! use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict_path};
 //! use rappel_terrain::surface::SignedDistance;
 //!
 //! /// A ledge: `z = 0` for `x < 0`, a vertical drop at `x = 0` to `z = -10` (a quarter space).
@@ -55,9 +55,9 @@
 //!     }
 //! }
 //! let root = AnchorHistory::new(Point3::new(-5.0, 0.0, 0.5)).unwrap();
-//! // Pull the tip over the lip and down the drop: the tether anchors on the lip.
-//! let step = predict(&Ledge, &PredictParams::new(0.02), &root,
-//!                    &Point3::new(-1.0, 0.0, 0.3), &Point3::new(1.0, 0.0, -3.0)).unwrap();
+//! // Move the tip past the lip, then down the drop: the tether anchors on the lip.
+//! let tips = [Point3::new(-1.0, 0.0, 0.3), Point3::new(0.5, 0.0, 0.3), Point3::new(1.0, 0.0, -3.0)];
+//! let step = predict_path(&Ledge, &PredictParams::new(0.02), &root, &tips).unwrap();
 //! let lip = step.history.last().point;
 //! assert_eq!(step.history.len(), 2);
 //! assert!(lip.x.abs() < 0.05 && lip.z.abs() < 0.05);

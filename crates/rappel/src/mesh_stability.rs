@@ -233,12 +233,12 @@ pub fn stability_map(
         spec.start[1],
     ]
     .iter()
-    .all(|v| v.is_finite());
-    if !ok
-        || !(spec.step > 0.0 && spec.step.is_finite())
-        || spec.x.1 < spec.x.0
-        || spec.y.1 < spec.y.0
-    {
+    .all(|v| v.is_finite())
+        && spec.step > 0.0
+        && spec.step.is_finite()
+        && spec.x.1 >= spec.x.0
+        && spec.y.1 >= spec.y.0;
+    if !ok {
         return Err(MeshStabilityError::Parameter(
             "map bounds must be finite and ordered, the step finite and > 0".into(),
         ));

@@ -44,7 +44,7 @@ pub fn load_scene(path: &Path) -> Result<PatonScene, SettleFileError> {
     ron::from_str(&text).map_err(|e| err(e.to_string()))
 }
 
-/// The ground of a file.
+/// The ground of a file: a Paton scene, an elevation model or a mesh file (OBJ, STL).
 pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
     let err = |why: String| SettleFileError::Read {
         path: path.display().to_string(),
@@ -60,8 +60,14 @@ pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
             let dem = rappel_terrain::dem::read_dem(path).map_err(|e| err(e.to_string()))?;
             TriMesh::from_height_grid(&dem).map_err(|e| err(e.to_string()))
         }
+        Some("obj" | "stl") => {
+            rappel_terrain::mesh_file::read_mesh(path).map_err(|e| SettleFileError::Read {
+                path: path.display().to_string(),
+                why: e.to_string(),
+            })
+        }
         _ => Err(err(
-            "unknown ground format: use a Paton scene (.ron) or an elevation model (.asc, .tif)"
+            "unknown ground format: use a Paton scene (.ron), an elevation model (.asc, .tif) or a mesh (.obj, .stl)"
                 .into(),
         )),
     }

@@ -20,6 +20,7 @@ pub mod ingest;
 pub mod kumar;
 pub mod least_squares;
 pub mod mesh;
+pub mod mesh_file;
 pub mod multi_slope;
 pub mod obstacle_detection;
 pub mod paton_scene;

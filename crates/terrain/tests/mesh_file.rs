@@ -1,0 +1,146 @@
+//! Mesh files (OBJ through tobj, STL through stl_io) into the validated mesh: welded topology and
+//! distances against closed forms, and each kind of bad file a typed error naming the file.
+
+use nalgebra::Point3;
+use rappel_terrain::mesh::MeshError;
+use rappel_terrain::mesh_file::{MeshFileError, read_mesh, read_obj, read_stl};
+use std::path::PathBuf;
+
+fn temp(name: &str, contents: &[u8]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rappel-mesh-file-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, contents).unwrap();
+    p
+}
+
+/// A 2 x 2 square at z = 1 as one quad (triangulated by the reader) plus a triangle sharing
+/// its edge x = 2, tilted up to z = 2 at x = 3: 5 distinct positions, 3 triangles.
+const OBJ: &str = "o ground\nv 0 0 1\nv 2 0 1\nv 2 2 1\nv 0 2 1\nf 1 2 3 4\no ramp\nv 2 0 1\nv 3 1 2\nv 2 2 1\nf 5 6 7\n";
+
+#[test]
+fn obj_is_triangulated_and_welded() {
+    let m = read_obj(&temp("g.obj", OBJ.as_bytes())).unwrap();
+    assert_eq!(m.triangles().len(), 3);
+    assert_eq!(
+        m.vertices().len(),
+        5,
+        "the ramp's two shared corners are welded"
+    );
+    // Above the square's interior: the distance to z = 1.
+    let d = m.signed_distance(&Point3::new(0.5, 1.0, 1.7));
+    assert!((d - 0.7).abs() < 1e-12, "{d}");
+    assert_eq!(
+        read_mesh(&temp("G.OBJ", OBJ.as_bytes()))
+            .unwrap()
+            .triangles()
+            .len(),
+        3
+    );
+}
+
+#[test]
+fn ascii_and_binary_stl_read_the_same_tetrahedron() {
+    let v = [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    // Outward-oriented faces of the tetrahedron.
+    let faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let tris: Vec<stl_io::Triangle> = faces
+        .iter()
+        .map(|f| stl_io::Triangle {
+            normal: stl_io::Normal::new([0.0, 0.0, 0.0]),
+            vertices: f.map(|i| stl_io::Vertex::new(v[i])),
+        })
+        .collect();
+    let mut bin = Vec::new();
+    stl_io::write_stl(&mut bin, tris.iter()).unwrap();
+    let mut ascii = String::from("solid t\n");
+    for f in faces {
+        ascii += "facet normal 0 0 0\nouter loop\n";
+        for i in f {
+            ascii += &format!("vertex {} {} {}\n", v[i][0], v[i][1], v[i][2]);
+        }
+        ascii += "endloop\nendfacet\n";
+    }
+    ascii += "endsolid t\n";
+    for p in [temp("t.stl", &bin), temp("ta.stl", ascii.as_bytes())] {
+        let m = read_stl(&p).unwrap();
+        assert_eq!((m.vertices().len(), m.triangles().len()), (4, 4), "{p:?}");
+        // Inside, 0.1 from the face z = 0 (the nearest): -0.1 (closed tetrahedron).
+        let d = m.signed_distance(&Point3::new(0.2, 0.2, 0.1));
+        assert!((d + 0.1).abs() < 1e-6, "{p:?}: {d}");
+        // Outside below the base.
+        let d = m.signed_distance(&Point3::new(0.2, 0.2, -0.5));
+        assert!((d - 0.5).abs() < 1e-6, "{p:?}: {d}");
+    }
+}
+
+#[test]
+fn bad_mesh_files_are_typed_errors_naming_the_file() {
+    // A NaN coordinate: positioned at the welded vertex.
+    let p = temp("nan.obj", b"v 0 0 0\nv 1 0 NaN\nv 0 1 0\nf 1 2 3\n");
+    match read_obj(&p) {
+        Err(MeshFileError::Mesh {
+            path,
+            source:
+                MeshError::NonFiniteVertex {
+                    vertex: 1,
+                    axis: 'z',
+                    ..
+                },
+        }) => {
+            assert!(path.ends_with("nan.obj"))
+        }
+        Err(MeshFileError::Parse { path, .. }) => assert!(path.ends_with("nan.obj")),
+        other => panic!("{other:?}"),
+    }
+    // Three triangles on one edge: not a 2-manifold.
+    let p = temp(
+        "fan.obj",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    );
+    assert!(
+        matches!(read_obj(&p), Err(MeshFileError::Mesh { .. })),
+        "{:?}",
+        read_obj(&p)
+    );
+    // A face naming a missing vertex.
+    let p = temp("oob.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    assert!(read_obj(&p).is_err());
+    // Degenerate (collinear) triangle.
+    let p = temp("flat.obj", b"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    assert!(matches!(
+        read_obj(&p),
+        Err(MeshFileError::Mesh {
+            source: MeshError::DegenerateTriangle { .. },
+            ..
+        })
+    ));
+    // Empty.
+    let p = temp("empty.obj", b"# nothing\n");
+    assert!(matches!(
+        read_obj(&p),
+        Err(MeshFileError::Mesh {
+            source: MeshError::Empty { .. },
+            ..
+        })
+    ));
+    // Garbage STL.
+    let p = temp("junk.stl", b"this is not an stl file at all");
+    assert!(matches!(
+        read_stl(&p),
+        Err(MeshFileError::Parse { format: "STL", .. })
+    ));
+    assert!(matches!(
+        read_mesh(&temp("x.ply", b"ply\n")),
+        Err(MeshFileError::Format { .. })
+    ));
+    assert!(matches!(
+        read_mesh(std::path::Path::new("/nonexistent/ground.obj")),
+        Err(MeshFileError::Read { .. })
+    ));
+}
