@@ -114,10 +114,9 @@ impl Strip {
             0.5 * (generated.start.x + generated.goal.x),
             0.5 * (generated.start.y + generated.goal.y),
         );
-        let mesh = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            polyanya_mesh(&btm, mid)
-        }))
-        .ok();
+        let mesh =
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| polyanya_mesh(&btm, mid)))
+                .ok();
         if mesh.is_none() {
             eprintln!("{n} obstacles: polyanya could not build its mesh; no peer on this strip");
         }
@@ -330,9 +329,11 @@ fn planner(c: &mut Criterion) {
         });
         if let Some(mesh) = &s.mesh {
             let (a, b) = (to_vec2(a, s.origin), to_vec2(b, s.origin));
-            g.bench_with_input(BenchmarkId::new("polyanya", s.n), &(a, b), |bch, &(a, b)| {
-                bch.iter(|| mesh.path(black_box(a), black_box(b)).map(|p| p.length))
-            });
+            g.bench_with_input(
+                BenchmarkId::new("polyanya", s.n),
+                &(a, b),
+                |bch, &(a, b)| bch.iter(|| mesh.path(black_box(a), black_box(b)).map(|p| p.length)),
+            );
         }
     }
     g.finish();
@@ -348,9 +349,11 @@ fn planner(c: &mut Criterion) {
         });
         if let Some(mesh) = &s.mesh {
             let (a, b) = (to_vec2(s.short.0, s.origin), to_vec2(s.short.1, s.origin));
-            g.bench_with_input(BenchmarkId::new("polyanya", s.n), &(a, b), |bch, &(a, b)| {
-                bch.iter(|| mesh.path(black_box(a), black_box(b)).map(|p| p.length))
-            });
+            g.bench_with_input(
+                BenchmarkId::new("polyanya", s.n),
+                &(a, b),
+                |bch, &(a, b)| bch.iter(|| mesh.path(black_box(a), black_box(b)).map(|p| p.length)),
+            );
         }
     }
     g.finish();

@@ -1151,7 +1151,10 @@ impl<'a> SptSearch<'a> {
         } else {
             mirror(&self.goal, &a, &b)
         };
-        let t: &FunnelNode = self.scratch.tree.node(f.predecessor(&self.scratch.tree, &target));
+        let t: &FunnelNode = self
+            .scratch
+            .tree
+            .node(f.predecessor(&self.scratch.tree, &target));
         (t.length + (target - t.point).norm()).max(through_apex)
     }
 
@@ -1194,7 +1197,9 @@ impl<'a> SptSearch<'a> {
     /// and `apex`) form a simple sequence. Cached per node.
     fn prefix_is_simple(&mut self, apex: NodeId) -> bool {
         if self.scratch.simple_prefix.len() < self.scratch.tree.len() {
-            self.scratch.simple_prefix.resize(self.scratch.tree.len(), 0);
+            self.scratch
+                .simple_prefix
+                .resize(self.scratch.tree.len(), 0);
         }
         match self.scratch.simple_prefix[apex.index()] {
             1 => return true,

@@ -36,7 +36,10 @@ fn the_trait_gives_the_same_series_as_the_planes() {
             .unwrap_or_else(|e| panic!("case {case}: {e}"));
         assert_eq!(through.planes().len(), n);
         for (a, b) in through.planes().iter().zip(direct.planes()) {
-            assert_eq!((a.y_top, a.y_bottom, a.friction), (b.y_top, b.y_bottom, b.friction));
+            assert_eq!(
+                (a.y_top, a.y_bottom, a.friction),
+                (b.y_top, b.y_bottom, b.friction)
+            );
             assert!((a.slope_deg - b.slope_deg).abs() < 1e-9, "case {case}");
         }
         for (a, b) in through.limits().iter().zip(direct.limits()) {
@@ -66,7 +69,12 @@ fn p(x: f64, y: f64, z: f64) -> Point3<f64> {
 fn a_developed_chain_down_the_fall_line_is_accepted_and_a_sideways_one_refused() {
     // A flat top and a 45° slope falling away from its edge y = 0 (down the frame's -y).
     let top = SurfaceSpec {
-        vertices: vec![p(0., 0., 0.), p(10., 0., 0.), p(10., 10., 0.), p(0., 10., 0.)],
+        vertices: vec![
+            p(0., 0., 0.),
+            p(10., 0., 0.),
+            p(10., 10., 0.),
+            p(0., 10., 0.),
+        ],
         friction: 0.4,
     };
     let s = 10.0 / 2f64.sqrt();
@@ -81,11 +89,21 @@ fn a_developed_chain_down_the_fall_line_is_accepted_and_a_sideways_one_refused()
     assert_eq!(series.planes()[1].y_top, 0.0);
     // The same slope, but tilted so that it also falls sideways: its fall line is not -y.
     let skew = SurfaceSpec {
-        vertices: vec![p(0., 0., 0.), p(0., -s, -s), p(10., -s, -s - 3.0), p(10., 0., -3.0)],
+        vertices: vec![
+            p(0., 0., 0.),
+            p(0., -s, -s),
+            p(10., -s, -s - 3.0),
+            p(10., 0., -3.0),
+        ],
         friction: 0.4,
     };
     let top_skew = SurfaceSpec {
-        vertices: vec![p(0., 0., 0.), p(10., 0., -3.0), p(10., 10., -3.0), p(0., 10., 0.)],
+        vertices: vec![
+            p(0., 0., 0.),
+            p(10., 0., -3.0),
+            p(10., 10., -3.0),
+            p(0., 10., 0.),
+        ],
         friction: 0.4,
     };
     let t = MultiSlopeTerrain::new(vec![top_skew, skew], vec![]).expect("terrain");
