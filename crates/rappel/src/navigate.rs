@@ -533,6 +533,19 @@ pub fn navigate(
     Ok(report)
 }
 
+/// Runs [`navigate`] for every seed in `seeds`, in parallel (rayon); reports in seed order.
+pub fn navigate_seeds(
+    problem: &RoverProblem,
+    seeds: &[u64],
+    termination: Termination,
+) -> Result<Vec<NavigateReport>, String> {
+    use rayon::prelude::*;
+    seeds
+        .par_iter()
+        .map(|&s| navigate(problem, s, termination))
+        .collect()
+}
+
 /// Iterations Paton ran per planning problem (§VI-A).
 pub const PATON_ITERATIONS: u64 = 750;
 
@@ -634,5 +647,34 @@ mod tests {
         assert!(r.anchors[1][0].abs() < 0.1 && (r.anchors[1][2] - 4.0).abs() < 0.1);
         let end = r.path.last().unwrap();
         assert!((end[0] - one.goal.x).abs() < 1e-9 && end[2].abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_hand_made_path_around_the_pole_descends_in_test_3() {
+        let three = problem(1, true);
+        let st = |x: f64, y: f64, yaw_deg: f64| RoverState {
+            x,
+            y,
+            yaw: yaw_deg.to_radians(),
+        };
+        let path = [
+            st(-1.0, 0.0, 0.0),
+            st(-1.0, 1.3, 180.0),
+            st(-4.0, 1.3, -90.0),
+            st(-4.0, -1.3, 0.0),
+            st(-0.5, -1.3, 0.0),
+            st(2.0, -1.3, 0.0),
+            three.goal,
+        ];
+        // Paton Fig. 8 right: around the back of the pole, then down the slope: the pole
+        // anchors (on its 0.3 m surface, above the top) and then the lip.
+        let w = three.revalidate(&path).expect("the wrapped descent is valid");
+        let a = w.history.anchors();
+        let pole = |p: &Point3<f64>| ((p.x + 2.5).hypot(p.y) - 0.3).abs() < 0.05 && p.z > 4.0;
+        assert!(a[1..a.len() - 1].iter().all(|x| pole(&x.point)) && a.len() > 3);
+        assert!(a[a.len() - 1].point.x.abs() < 0.1 && (a[a.len() - 1].point.z - 4.0).abs() < 0.1);
+        // Without the loop behind the pole the same descent is unstable.
+        let direct = [path[0], path[4], path[5], path[6]];
+        assert!(three.revalidate(&direct).is_err());
     }
 }
