@@ -24,8 +24,8 @@
 //! pivots, and each pose must be stable with the tether from its last anchor.
 //!
 //! Cost (Paton §III: "a weighted sum of yaw, roll and path length"):
-//! `W_LEN * drive length (3D, between pose origins) + W_YAW * |turns| (rad)
-//!  + W_ROLL * sum |roll| * step length (rad m)`, with [`W_LEN`] = 1 per metre, [`W_YAW`] =
+//! `W_LEN * drive length (3D, between pose origins) + W_YAW * |turns| (rad) + W_ROLL * sum
+//! |roll| * step length (rad m)`, with [`W_LEN`] = 1 per metre, [`W_YAW`] =
 //! 0.5 per radian (a half turn costs as much as 1.57 m of driving) and [`W_ROLL`] = 1 per radian
 //! metre (driving 1 m at 10° roll costs 0.17 m extra). The heuristic `W_LEN * |b - a|` in the
 //! plane is admissible (the 3D drive is at least as long and the other terms are non-negative).
