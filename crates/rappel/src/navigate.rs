@@ -18,9 +18,9 @@
 //! only), drives straight (seen from above) to `b`, and turns in place to `b`'s heading. The
 //! poses along it ([`motion_poses`]) are at most [`DRIVE_STEP`] apart along the drive and
 //! [`TURN_STEP_DEG`] apart in the turns. Every pose must settle (no body collision, slope and
-//! roll within the settler's model), consecutive drive poses may not differ in height by more
-//! than [`MAX_CLIMB`] per metre (no driving off a wall: the settler alone would place the next
-//! pose on the ground below), the anchor history is predicted from pose to pose at the boom
+//! roll within the settler's model), consecutive poses may not differ in height by more than
+//! [`MAX_CLIMB`] per metre the wheels travel (the drive step, or a wheel's arc in a turn: no
+//! driving off a wall, where the settler alone would place the next pose on the ground below), the anchor history is predicted from pose to pose at the boom
 //! pivots, and each pose must be stable with the tether from its last anchor.
 //!
 //! Cost (Paton §III: "a weighted sum of yaw, roll and path length"):
@@ -60,7 +60,7 @@ pub const W_ROLL: f64 = 1.0;
 pub const DRIVE_STEP: f64 = 0.25;
 /// Largest heading change between settled poses of an in-place turn, degrees.
 pub const TURN_STEP_DEG: f64 = 30.0;
-/// Largest height change of consecutive drive poses per metre driven (`tan 70°`): steeper than
+/// Largest height change of consecutive poses per metre the wheels travel (`tan 70°`): steeper than
 /// any slope the settler accepts as driveable ground, so only a drop off a wall exceeds it.
 pub const MAX_CLIMB: f64 = 2.75;
 /// Weight of the heading in the nearest-neighbour key, metres per unit of `(cos yaw, sin yaw)`:
@@ -302,9 +302,16 @@ impl RoverProblem {
             let at = |why: String| format!("pose {k} at ({:.3}, {:.3}): {why}", s.x, s.y);
             let pose = self.settle(s).map_err(at)?;
             if let Some(p) = &prev {
+                // The wheels' travel since the previous pose: the drive step, or in a turn the
+                // arc of a wheel about the axle centre.
+                let travel = if *step > 0.0 {
+                    *step
+                } else {
+                    0.5 * axel.track * angle_diff(poses[k - 1].0.yaw, s.yaw).abs()
+                };
                 let dz = (pose.origin.z - p.origin.z).abs();
-                if dz > MAX_CLIMB * step.max(1e-9) && dz > 1e-6 {
-                    return Err(at(format!("height changes {dz:.3} m over {step:.3} m")));
+                if dz > MAX_CLIMB * travel {
+                    return Err(at(format!("height changes {dz:.3} m over {travel:.3} m")));
                 }
                 h = predict(
                     &self.ground,
