@@ -8,6 +8,7 @@ mod btm;
 mod dem;
 mod friction_out;
 mod gen_map;
+mod navigate;
 mod online;
 mod output;
 mod plan;
@@ -59,6 +60,8 @@ enum Command {
     Settle(settle::Args),
     /// Stability map of settled Axel poses with predicted anchor histories (Paton Fig. 8).
     SettleMap(settle_map::Args),
+    /// Plan the tethered rover's path on a Paton scene with ABIT* (Paton §V-VI).
+    Navigate(navigate::Args),
 }
 
 fn main() -> ExitCode {
@@ -77,6 +80,7 @@ fn main() -> ExitCode {
         Command::Online(args) => online::run(&args),
         Command::Settle(args) => settle::run(&args),
         Command::SettleMap(args) => settle_map::run(&args),
+        Command::Navigate(args) => navigate::run(&args),
         // The clean "no": Robot 2 is unstable at a waypoint.
         Command::Track(args) => {
             track::run(&args).map(|stable| if stable { Answer::Yes } else { Answer::No })

@@ -41,6 +41,7 @@ pub mod generated;
 pub mod georeference;
 pub mod io;
 pub mod mesh_stability;
+pub mod navigate;
 pub mod online;
 pub mod plan;
 pub mod progress;

@@ -85,7 +85,10 @@ pub fn tether_end(pose: &SettledPose, axel: &AxelParams) -> Point3<f64> {
     pose.origin + pose.rotation * Vector3::z() * axel.wheel_radius
 }
 
-fn settle(ground: &TriMesh, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, String> {
+/// Axel settled at ground point `(x, y)` heading `yaw_deg` on `ground` (found from 1 m above the
+/// mesh's top), with the default [`AxelParams`] and [`SettleParams`]; the error is the
+/// [`rappel_mechanics::settle::SettleError`]'s message.
+pub fn settle(ground: &TriMesh, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, String> {
     let (_, hi) = ground.bounds();
     settle_axel(
         ground,

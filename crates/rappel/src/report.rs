@@ -165,6 +165,7 @@ pub fn schemas() -> Vec<(&'static str, Schema)> {
             "settle_map",
             schema_of::<crate::mesh_stability::StabilityMap>(),
         ),
+        ("navigate", schema_of::<crate::navigate::NavigateReport>()),
     ]
 }
 

@@ -1,0 +1,138 @@
+//! `rappel navigate SCENE --seed S [--test N] [--iterations N] [--time T] [--held] [--json]
+//! [--svg OUT] [--html OUT]`: plans the tethered rover's path on a Paton scene with ABIT*
+//! ([`rappel::navigate`]): the start on the ledge, the goal on the ground beyond the slope, the
+//! root anchor of the scene's test N. Prints the path, its anchor history, the stability margin
+//! along it and the search statistics. Exit 0 when a re-validated path was found, 1 when none
+//! was found within the budget (or the planner's path failed re-validation), 2 on errors.
+
+use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
+use rappel::navigate::{DEFAULT_TIME, PATON_ITERATIONS, RoverProblem, navigate, navigate_svg};
+use rappel::planners::sampler::Termination;
+use rappel::settle::load_scene;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Arguments of `rappel navigate`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene: a Paton scene (.ron, fixtures/paton/).
+    file: PathBuf,
+    /// The planner's seed (same seed, same iterations: same path).
+    #[arg(long)]
+    seed: u64,
+    /// The root anchor of the scene's test N: 1 behind the start, 2 in front (the pole scene's
+    /// test 3 uses anchor 2).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    test: usize,
+    /// Iteration budget (one iteration processes one edge; Paton ran 750).
+    #[arg(long, default_value_t = PATON_ITERATIONS)]
+    iterations: u64,
+    /// Wall-time budget, seconds (default 120).
+    #[arg(long, value_name = "T")]
+    time: Option<f64>,
+    /// Count poses whose last anchor is within the boom's reach as held by the boom (see
+    /// `RoverProblem::held_within_boom_reach`; off: the faithful model).
+    #[arg(long)]
+    held: bool,
+    #[command(flatten)]
+    picture: PictureArgs,
+    /// Print the report as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `rappel navigate`.
+pub fn run(args: &Args) -> Result<Answer, CliError> {
+    refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
+    let at = |why: String| CliError(format!("{}: {why}", args.file.display()));
+    let scene = load_scene(&args.file).map_err(|e| CliError(e.to_string()))?;
+    let anchor = args.test.checked_sub(1).ok_or_else(|| {
+        CliError(format!(
+            "--test {}: the scene has tests 1 to {}",
+            args.test,
+            scene.anchors.len()
+        ))
+    })?;
+    if anchor >= scene.anchors.len() {
+        return Err(CliError(format!(
+            "--test {}: the scene has tests 1 to {}",
+            args.test,
+            scene.anchors.len()
+        )));
+    }
+    if args.iterations == 0 {
+        return Err(CliError("--iterations must be at least 1".into()));
+    }
+    let time = match args.time {
+        None => DEFAULT_TIME,
+        Some(t) if t.is_finite() && t > 0.0 && t <= 86_400.0 => Duration::from_secs_f64(t),
+        Some(t) => {
+            return Err(CliError(format!(
+                "--time {t}: must be a positive number of seconds up to 86400"
+            )));
+        }
+    };
+    let mut problem = RoverProblem::paton(&scene, anchor).map_err(at)?;
+    problem.held_within_boom_reach = args.held;
+    let term = Termination::iterations(args.iterations).or_time(time);
+    let report = navigate(&problem, args.seed, term).map_err(at)?;
+    if args.picture.wanted() {
+        args.picture
+            .write(&navigate_svg(&problem, &report), "rappel navigate")?;
+    }
+    let budget_out = report.iterations >= args.iterations || report.elapsed_s >= time.as_secs_f64();
+    if args.json {
+        print_report(&report)?;
+    } else {
+        if report.found {
+            crate::outln!(
+                "path found: cost {:.3}, {} states, first solution after {} iterations ({:.2} s)",
+                report.cost.unwrap_or(f64::NAN),
+                report.path.len(),
+                report.first_solution_iteration.unwrap_or(0),
+                report.first_solution_s.unwrap_or(0.0)
+            );
+            for (p, y) in report.path.iter().zip(&report.yaw_deg) {
+                crate::outln!(
+                    "  state ({:.3}, {:.3}, {:.3}) yaw {y:.1}°",
+                    p[0],
+                    p[1],
+                    p[2]
+                );
+            }
+            for (k, a) in report.anchors.iter().enumerate() {
+                crate::outln!("  anchor {k} ({:.3}, {:.3}, {:.3})", a[0], a[1], a[2]);
+            }
+            crate::outln!(
+                "  stability margin along the path: min {:.2} N over {} poses; max roll {:.1}°",
+                report.min_margin_n.unwrap_or(f64::NAN),
+                report.poses.len(),
+                report.max_roll_deg.unwrap_or(f64::NAN)
+            );
+        } else if let Some(why) = &report.unsafe_reason {
+            crate::outln!("the planner's path failed re-validation: {why}");
+        } else {
+            crate::outln!(
+                "no path within the budget{}",
+                if budget_out {
+                    " (the budget ran out)"
+                } else {
+                    ""
+                }
+            );
+        }
+        crate::outln!(
+            "search: {} iterations, {} batches, {} states, {} motions checked, {:.2} s",
+            report.iterations,
+            report.batches,
+            report.states,
+            report.motions_checked,
+            report.elapsed_s
+        );
+    }
+    Ok(if report.found {
+        Answer::Yes
+    } else {
+        Answer::No
+    })
+}

@@ -1,0 +1,757 @@
+//! The tethered-rover problem of Paton 2020 §III and §V for the ABIT* sampler
+//! ([`rappel_planners::sampler`]): Axel's settled states on a mesh scene, motions that are an
+//! in-place turn, a straight drive and a turn into the target heading, validated through
+//! interpolated settled poses with the anchor history predicted along them (Paton Alg. 1) and
+//! the stability of every pose with the tether from its last anchor (both boom configurations).
+//!
+//! The planner stays generic; this module is the scene-specific glue. It reuses
+//! [`crate::mesh_stability`] for settling ([`settle`]), the tether end ([`tether_end`]) and the
+//! stability verdict ([`pose_stability`]).
+//!
+//! # States, motions, cost
+//! A [`RoverState`] is a ground point `(x, y)` and a heading `yaw` (radians from `+x`,
+//! counter-clockwise); the 3D pose is the settled one ([`settle`]), so states live on the
+//! surface manifold. Samples are uniform in the problem's bounds and heading (a ground point
+//! of the scene and a yaw about the vertical; the settler tilts the pose onto the normal).
+//!
+//! A motion from `a` to `b` turns in place at `a` to the heading of `b - a` (forward driving
+//! only), drives straight (seen from above) to `b`, and turns in place to `b`'s heading. The
+//! poses along it ([`motion_poses`]) are at most [`DRIVE_STEP`] apart along the drive and
+//! [`TURN_STEP_DEG`] apart in the turns. Every pose must settle (no body collision, slope and
+//! roll within the settler's model), consecutive poses may not differ in height by more than
+//! [`MAX_CLIMB`] per metre the wheels travel (the drive step, or a wheel's arc in a turn: no
+//! driving off a wall, where the settler alone would place the next pose on the ground below), the anchor history is predicted from pose to pose at the boom
+//! pivots, and each pose must be stable with the tether from its last anchor.
+//!
+//! Cost (Paton §III: "a weighted sum of yaw, roll and path length"):
+//! `W_LEN * drive length (3D, between pose origins) + W_YAW * |turns| (rad) + W_ROLL * sum
+//! |roll| * step length (rad m)`, with [`W_LEN`] = 1 per metre, [`W_YAW`] =
+//! 0.5 per radian (a half turn costs as much as 1.57 m of driving) and [`W_ROLL`] = 1 per radian
+//! metre (driving 1 m at 10° roll costs 0.17 m extra). The heuristic `W_LEN * |b - a|` in the
+//! plane is admissible (the 3D drive is at least as long and the other terms are non-negative).
+
+use std::time::Duration;
+
+use nalgebra::Point3;
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::settle::SettledPose;
+use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict};
+use rappel_planners::sampler::{
+    Abit, AbitSettings, Informed, MotionValidator, StateSpace, Termination,
+};
+use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::paton_scene::PatonScene;
+
+use crate::mesh_stability::{PREDICT_RESOLUTION, pose_stability, settle, tether_end};
+
+/// Weight of the drive length in the cost, per metre.
+pub const W_LEN: f64 = 1.0;
+/// Weight of in-place turning in the cost, per radian turned.
+pub const W_YAW: f64 = 0.5;
+/// Weight of roll in the cost, per radian of |roll| per metre driven.
+pub const W_ROLL: f64 = 1.0;
+/// Largest spacing of settled poses along a drive, metres (the motion-check resolution; Axel's
+/// wheels are 0.325 m in radius, so no ledge higher than a wheel fits between two poses
+/// unnoticed by [`MAX_CLIMB`]).
+pub const DRIVE_STEP: f64 = 0.25;
+/// Largest heading change between settled poses of an in-place turn, degrees.
+pub const TURN_STEP_DEG: f64 = 30.0;
+/// Largest height change of consecutive poses per metre the wheels travel (`tan 70°`): steeper than
+/// any slope the settler accepts as driveable ground, so only a drop off a wall exceeds it.
+pub const MAX_CLIMB: f64 = 2.75;
+/// Weight of the heading in the nearest-neighbour key, metres per unit of `(cos yaw, sin yaw)`:
+/// states 1 m apart count as near as states at one place 60° apart.
+pub const TURN_KEY_WEIGHT: f64 = 1.0;
+/// Most poses in one motion (a bound on the work of a motion check; longer motions are invalid).
+pub const MAX_MOTION_POSES: usize = 512;
+
+/// A rover state: ground point and heading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoverState {
+    /// Ground x, metres.
+    pub x: f64,
+    /// Ground y, metres.
+    pub y: f64,
+    /// Heading, radians from `+x`, counter-clockwise.
+    pub yaw: f64,
+}
+
+/// The smallest signed angle from `a` to `b`, in `(-pi, pi]`.
+fn angle_diff(a: f64, b: f64) -> f64 {
+    let d = (b - a).rem_euclid(std::f64::consts::TAU);
+    if d > std::f64::consts::PI {
+        d - std::f64::consts::TAU
+    } else {
+        d
+    }
+}
+
+/// The state space: ground points in an axis-aligned box, any heading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoverSpace {
+    /// Lower `(x, y)` corner of the sampled region.
+    pub lo: [f64; 2],
+    /// Upper corner.
+    pub hi: [f64; 2],
+}
+
+impl StateSpace<4> for RoverSpace {
+    type State = RoverState;
+
+    fn sample_uniform(&self, rng: &mut ChaCha8Rng) -> RoverState {
+        RoverState {
+            x: rng.random_range(self.lo[0]..self.hi[0]),
+            y: rng.random_range(self.lo[1]..self.hi[1]),
+            yaw: rng.random_range(-std::f64::consts::PI..std::f64::consts::PI),
+        }
+    }
+
+    fn sample_informed(
+        &self,
+        _: &mut ChaCha8Rng,
+        _: &RoverState,
+        _: &RoverState,
+        _: f64,
+    ) -> Informed<RoverState> {
+        Informed::Unsupported
+    }
+
+    fn distance(&self, a: &RoverState, b: &RoverState) -> f64 {
+        let ka = self.key(a);
+        let kb = self.key(b);
+        ka.iter()
+            .zip(kb)
+            .map(|(p, q)| (p - q) * (p - q))
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    fn cost_heuristic(&self, a: &RoverState, b: &RoverState) -> f64 {
+        W_LEN * (b.x - a.x).hypot(b.y - a.y)
+    }
+
+    fn interpolate(&self, a: &RoverState, b: &RoverState, t: f64) -> RoverState {
+        RoverState {
+            x: a.x + t * (b.x - a.x),
+            y: a.y + t * (b.y - a.y),
+            yaw: a.yaw + t * angle_diff(a.yaw, b.yaw),
+        }
+    }
+
+    fn key(&self, s: &RoverState) -> [f64; 4] {
+        [
+            s.x,
+            s.y,
+            TURN_KEY_WEIGHT * s.yaw.cos(),
+            TURN_KEY_WEIGHT * s.yaw.sin(),
+        ]
+    }
+
+    fn dimension(&self) -> usize {
+        3
+    }
+}
+
+/// The poses of the motion from `a` to `b` (see the module doc), `a` first and `b` last, each
+/// with the drive length since the previous pose (0 in turns). `None` when it needs more than
+/// [`MAX_MOTION_POSES`] poses.
+pub fn motion_poses(a: &RoverState, b: &RoverState) -> Option<Vec<(RoverState, f64)>> {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let len = dx.hypot(dy);
+    let mut out = vec![(*a, 0.0)];
+    let turn = |out: &mut Vec<(RoverState, f64)>, x: f64, y: f64, from: f64, to: f64| {
+        let d = angle_diff(from, to);
+        let n = (d.abs() / TURN_STEP_DEG.to_radians()).ceil() as usize;
+        for k in 1..=n {
+            out.push((
+                RoverState {
+                    x,
+                    y,
+                    yaw: if k == n {
+                        to
+                    } else {
+                        from + d * k as f64 / n as f64
+                    },
+                },
+                0.0,
+            ));
+        }
+    };
+    let n = (len / DRIVE_STEP).ceil();
+    if !(n.is_finite() && n < MAX_MOTION_POSES as f64) {
+        return None;
+    }
+    let mut yaw = a.yaw;
+    if len > 0.0 {
+        let h = dy.atan2(dx);
+        turn(&mut out, a.x, a.y, a.yaw, h);
+        yaw = h;
+        let n = n as usize;
+        for k in 1..=n {
+            let t = k as f64 / n as f64;
+            out.push((
+                RoverState {
+                    x: a.x + t * dx,
+                    y: a.y + t * dy,
+                    yaw: h,
+                },
+                len / n as f64,
+            ));
+        }
+    }
+    turn(&mut out, b.x, b.y, yaw, b.yaw);
+    Some(out)
+}
+
+/// What a walk along poses found: cost, the history at the end, and per pose its stability.
+#[derive(Debug, Clone)]
+pub struct Walk {
+    /// The cost of the poses (module doc).
+    pub cost: f64,
+    /// The anchor history at the last pose.
+    pub history: AnchorHistory,
+    /// Per pose: origin, roll (radians) and the best stability margin (N; 0 for a pose held
+    /// by [`RoverProblem::held_within_boom_reach`]).
+    pub poses: Vec<([f64; 3], f64, f64)>,
+}
+
+/// The tethered-rover problem on a mesh scene: the ground, the root anchor, the sampled region.
+#[derive(Debug, Clone)]
+pub struct RoverProblem {
+    /// The ground (exact mesh distances).
+    pub ground: TriMesh,
+    /// The root anchor.
+    pub root: Point3<f64>,
+    /// The sampled region and headings.
+    pub space: RoverSpace,
+    /// The start state.
+    pub start: RoverState,
+    /// The goal state.
+    pub goal: RoverState,
+    /// Count a pose whose last anchor lies within the boom's reach of its pivot
+    /// ([`AxelParams::boom_length`]) as held (margin 0) when the QP finds it unstable. Our
+    /// faithful model makes such poses unstable (the inline boom cannot point at the anchor and
+    /// the in-contact boom's tip rides on the pose's plane, `docs/mesh.md`), so every descent
+    /// past the lip fails there; Paton's planner drives over the lip, i.e. treats the boom as
+    /// resting on the near anchor. Off by default (the faithful model).
+    pub held_within_boom_reach: bool,
+}
+
+impl RoverProblem {
+    /// Paton §VI-A on a ledge scene: the start on the ledge facing the slope, the goal 2 m beyond
+    /// the slope's foot on the flat ground facing `+x`, the root anchor `scene.anchors[anchor]`,
+    /// the sampled region the ledge's top and slope and 3 m of ground beyond, 3 m either side of
+    /// the centre line (assumed: the paper gives neither the goal nor a region).
+    pub fn paton(scene: &PatonScene, anchor: usize) -> Result<Self, String> {
+        let ground = scene.mesh().map_err(|e| e.to_string())?;
+        let root = *scene.anchor_points().get(anchor).ok_or_else(|| {
+            format!(
+                "anchor {anchor}: the scene has {} anchors",
+                scene.anchors.len()
+            )
+        })?;
+        let s = scene.start();
+        let foot = scene.slope_foot_x();
+        let half = (0.5 * scene.length - 0.5).clamp(0.5, 3.0);
+        Ok(RoverProblem {
+            ground,
+            root,
+            space: RoverSpace {
+                lo: [-scene.width + 0.5, -half],
+                hi: [foot + 3.0, half],
+            },
+            start: RoverState {
+                x: s.x,
+                y: s.y,
+                yaw: 0.0,
+            },
+            goal: RoverState {
+                x: foot + 2.0,
+                y: 0.0,
+                yaw: 0.0,
+            },
+            held_within_boom_reach: false,
+        })
+    }
+
+    /// The settled pose of a state.
+    pub fn settle(&self, s: &RoverState) -> Result<SettledPose, String> {
+        settle(&self.ground, s.x, s.y, s.yaw.to_degrees())
+    }
+
+    /// Walks `poses` (each with the drive length since the previous one) from `history` at the
+    /// first pose: settles each, checks the height change against [`MAX_CLIMB`], predicts the
+    /// anchor history from pivot to pivot and checks every pose's stability with it. The first
+    /// pose is checked too. The error names the first failing pose.
+    pub fn walk(
+        &self,
+        history: &AnchorHistory,
+        poses: &[(RoverState, f64)],
+    ) -> Result<Walk, String> {
+        let axel = AxelParams::default();
+        let params = PredictParams::new(PREDICT_RESOLUTION);
+        let mut h = history.clone();
+        let mut cost = 0.0;
+        let mut prev: Option<SettledPose> = None;
+        let mut out = Vec::with_capacity(poses.len());
+        for (k, (s, step)) in poses.iter().enumerate() {
+            let at = |why: String| format!("pose {k} at ({:.3}, {:.3}): {why}", s.x, s.y);
+            let pose = self.settle(s).map_err(at)?;
+            if let Some(p) = &prev {
+                // The wheels' travel since the previous pose: the drive step, or in a turn the
+                // arc of a wheel about the axle centre.
+                let travel = if *step > 0.0 {
+                    *step
+                } else {
+                    0.5 * axel.track * angle_diff(poses[k - 1].0.yaw, s.yaw).abs()
+                };
+                let dz = (pose.origin.z - p.origin.z).abs();
+                if dz > MAX_CLIMB * travel {
+                    return Err(at(format!("height changes {dz:.3} m over {travel:.3} m")));
+                }
+                h = predict(
+                    &self.ground,
+                    &params,
+                    &h,
+                    &tether_end(p, &axel),
+                    &tether_end(&pose, &axel),
+                )
+                .map_err(|e| at(e.to_string()))?
+                .history;
+                cost += W_LEN * (pose.origin - p.origin).norm() + W_ROLL * pose.roll().abs() * step;
+            }
+            let st = pose_stability(&self.ground, &pose, &h);
+            let held = self.held_within_boom_reach
+                && (h.last().point - tether_end(&pose, &axel)).norm() < axel.boom_length;
+            if !st.stable && !held {
+                return Err(at(format!(
+                    "unstable with the tether to the anchor at ({:.3}, {:.3}, {:.3})",
+                    h.last().point.x,
+                    h.last().point.y,
+                    h.last().point.z
+                )));
+            }
+            out.push((st.origin, pose.roll(), st.margin));
+            prev = Some(pose);
+        }
+        // Turning cost from the commanded headings (settling keeps the heading about the normal).
+        cost += W_YAW
+            * poses
+                .windows(2)
+                .map(|w| angle_diff(w[0].0.yaw, w[1].0.yaw).abs())
+                .sum::<f64>();
+        Ok(Walk {
+            cost,
+            history: h,
+            poses: out,
+        })
+    }
+
+    /// Independent re-validation of a planned path: every motion's poses re-settled, the anchor
+    /// history re-predicted from the root along the whole path in one walk (not the planner's
+    /// stored histories) and every pose's stability rechecked.
+    pub fn revalidate(&self, path: &[RoverState]) -> Result<Walk, String> {
+        let root = AnchorHistory::new(self.root).map_err(|e| e.to_string())?;
+        let mut poses = vec![(*path.first().ok_or("an empty path")?, 0.0)];
+        for (i, w) in path.windows(2).enumerate() {
+            let m = motion_poses(&w[0], &w[1])
+                .ok_or_else(|| format!("motion {i} needs more than {MAX_MOTION_POSES} poses"))?;
+            poses.extend_from_slice(&m[1..]);
+        }
+        self.walk(&root, &poses)
+    }
+}
+
+impl MotionValidator<RoverSpace, 4> for RoverProblem {
+    type History = AnchorHistory;
+
+    fn initial_history(&self, _: &RoverState) -> AnchorHistory {
+        AnchorHistory::new(self.root).unwrap_or_else(|_| {
+            // `NavigateError` rejects a non-finite root before planning starts.
+            AnchorHistory::new(Point3::origin()).expect("the origin is finite")
+        })
+    }
+
+    fn state_valid(&self, s: &RoverState) -> bool {
+        self.settle(s).is_ok()
+    }
+
+    fn history_valid(&self, s: &RoverState, h: &AnchorHistory) -> bool {
+        self.settle(s)
+            .is_ok_and(|p| pose_stability(&self.ground, &p, h).stable)
+    }
+
+    fn motion(
+        &self,
+        from: &RoverState,
+        history: &AnchorHistory,
+        to: &RoverState,
+    ) -> Option<(f64, AnchorHistory)> {
+        let poses = motion_poses(from, to)?;
+        self.walk(history, &poses).ok().map(|w| (w.cost, w.history))
+    }
+}
+
+/// The planner's settings for the rover: the sampler's recommendation for non-Markovian
+/// problems (`docs/sampler.md`): initial inflation 1.5, history copy fraction 0.5, batches of
+/// 100.
+pub fn rover_settings(seed: u64) -> AbitSettings {
+    AbitSettings::default()
+        .with_initial_inflation(1.5)
+        .and_then(|s| s.with_history_copy_fraction(0.5))
+        .and_then(|s| s.with_batch_size(100))
+        .expect("constant settings are in range")
+        .with_seed(seed)
+}
+
+/// A planning run's outcome.
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct NavigateReport {
+    /// The seed.
+    pub seed: u64,
+    /// Whether a path was found and passed re-validation.
+    pub found: bool,
+    /// A path the planner reported that failed re-validation (never expected; counted as
+    /// unsafe), with the reason.
+    pub unsafe_reason: Option<String>,
+    /// The states of the path, `[x, y, z]` of the settled origins, start first.
+    pub path: Vec<[f64; 3]>,
+    /// The headings of the path's states, degrees.
+    pub yaw_deg: Vec<f64>,
+    /// The anchor history at the goal (re-predicted), root first.
+    pub anchors: Vec<[f64; 3]>,
+    /// The smallest stability margin along the re-validated path, N.
+    pub min_margin_n: Option<f64>,
+    /// The largest |roll| along the path, degrees.
+    pub max_roll_deg: Option<f64>,
+    /// The path's cost (module doc of `rappel::navigate`).
+    pub cost: Option<f64>,
+    /// Iterations run.
+    pub iterations: u64,
+    /// Batches of samples.
+    pub batches: u64,
+    /// States in the graph.
+    pub states: usize,
+    /// Motions checked.
+    pub motions_checked: u64,
+    /// Iterations until the first solution.
+    pub first_solution_iteration: Option<u64>,
+    /// Wall time until the first solution, seconds.
+    pub first_solution_s: Option<f64>,
+    /// Total wall time, seconds.
+    pub elapsed_s: f64,
+    /// Every settled pose along the re-validated path: origin and margin.
+    pub poses: Vec<NavigatePose>,
+}
+
+/// One pose along a re-validated path.
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct NavigatePose {
+    /// Settled origin, `[x, y, z]` metres.
+    pub origin: [f64; 3],
+    /// Roll, degrees.
+    pub roll_deg: f64,
+    /// Best stability margin, N.
+    pub margin_n: f64,
+}
+
+/// Plans on `problem` with `seed` until `termination`; the best path is re-validated
+/// ([`RoverProblem::revalidate`]) before it counts as found.
+pub fn navigate(
+    problem: &RoverProblem,
+    seed: u64,
+    termination: Termination,
+) -> Result<NavigateReport, String> {
+    if !problem.root.iter().all(|c| c.is_finite()) {
+        return Err("the root anchor is not finite".into());
+    }
+    let began = std::time::Instant::now();
+    let mut abit = Abit::new(
+        &problem.space,
+        problem,
+        problem.start,
+        problem.goal,
+        rover_settings(seed),
+    )
+    .map_err(|e| e.to_string())?;
+    let status = abit.solve(termination).map_err(|e| e.to_string())?;
+    let first = status.events.first();
+    let mut report = NavigateReport {
+        seed,
+        found: false,
+        unsafe_reason: None,
+        path: Vec::new(),
+        yaw_deg: Vec::new(),
+        anchors: Vec::new(),
+        min_margin_n: None,
+        max_roll_deg: None,
+        cost: None,
+        iterations: status.iterations,
+        batches: status.batches,
+        states: status.states,
+        motions_checked: status.motions_checked,
+        first_solution_iteration: first.map(|e| e.iteration),
+        first_solution_s: first.map(|e| e.elapsed.as_secs_f64()),
+        elapsed_s: began.elapsed().as_secs_f64(),
+        poses: Vec::new(),
+    };
+    let Some(sol) = status.solution else {
+        return Ok(report);
+    };
+    report.cost = Some(sol.cost);
+    report.yaw_deg = sol.path.iter().map(|s| s.yaw.to_degrees()).collect();
+    match problem.revalidate(&sol.path) {
+        Ok(w) => {
+            report.found = true;
+            let p = |q: &Point3<f64>| [q.x, q.y, q.z];
+            report.anchors = w.history.anchors().iter().map(|a| p(&a.point)).collect();
+            report.min_margin_n = w.poses.iter().map(|q| q.2).reduce(f64::min);
+            report.max_roll_deg = w
+                .poses
+                .iter()
+                .map(|q| q.1.abs().to_degrees())
+                .reduce(f64::max);
+            report.poses = w
+                .poses
+                .iter()
+                .map(|q| NavigatePose {
+                    origin: q.0,
+                    roll_deg: q.1.to_degrees(),
+                    margin_n: q.2,
+                })
+                .collect();
+            report.path = sol
+                .path
+                .iter()
+                .map(|s| {
+                    problem
+                        .settle(s)
+                        .map(|q| p(&q.origin))
+                        .unwrap_or([s.x, s.y, f64::NAN])
+                })
+                .collect();
+        }
+        Err(why) => report.unsafe_reason = Some(why),
+    }
+    Ok(report)
+}
+
+/// Runs [`navigate`] for every seed in `seeds`, in parallel (rayon); reports in seed order.
+pub fn navigate_seeds(
+    problem: &RoverProblem,
+    seeds: &[u64],
+    termination: Termination,
+) -> Result<Vec<NavigateReport>, String> {
+    use rayon::prelude::*;
+    seeds
+        .par_iter()
+        .map(|&s| navigate(problem, s, termination))
+        .collect()
+}
+
+/// A top-down picture of a run: the sampled region's outline, the path (settled origins), the
+/// tether from the root through the anchors to the path's end, the anchors (squares), the
+/// start and the goal.
+pub fn navigate_svg(problem: &RoverProblem, report: &NavigateReport) -> String {
+    use crate::svg::{Layer, Marker, Picture};
+    use nalgebra::Point2;
+    use rappel_geometry::polygon::Aabb;
+    let (lo, hi) = (problem.space.lo, problem.space.hi);
+    let r = problem.root;
+    let bounds = Aabb {
+        min: Point2::new(lo[0].min(r.x) - 0.5, lo[1].min(r.y) - 0.5),
+        max: Point2::new(hi[0].max(r.x) + 0.5, hi[1].max(r.y) + 0.5),
+    };
+    let mut pic = Picture::new(bounds);
+    let outline = [
+        Point2::new(lo[0], lo[1]),
+        Point2::new(hi[0], lo[1]),
+        Point2::new(hi[0], hi[1]),
+        Point2::new(lo[0], hi[1]),
+        Point2::new(lo[0], lo[1]),
+    ];
+    pic.polyline(Layer::Boundary, &outline);
+    let flat = |p: &[f64; 3]| Point2::new(p[0], p[1]);
+    let path: Vec<_> = report.path.iter().map(flat).collect();
+    pic.polyline(Layer::Path, &path);
+    if let Some(end) = report.path.last() {
+        let mut tether: Vec<_> = report.anchors.iter().map(flat).collect();
+        tether.push(flat(end));
+        pic.polyline(Layer::Shp, &tether);
+    }
+    for (k, a) in report.anchors.iter().enumerate() {
+        pic.titled_marker(
+            Layer::Anchor,
+            flat(a),
+            Marker::Square,
+            &format!("anchor {k} ({:.2}, {:.2}, {:.2})", a[0], a[1], a[2]),
+        );
+    }
+    if report.anchors.is_empty() {
+        pic.titled_marker(
+            Layer::Anchor,
+            Point2::new(r.x, r.y),
+            Marker::Square,
+            &format!("root anchor ({:.2}, {:.2}, {:.2})", r.x, r.y, r.z),
+        );
+    }
+    let (s, g) = (problem.start, problem.goal);
+    pic.marker(Layer::Start, Point2::new(s.x, s.y), Marker::Circle);
+    pic.marker(Layer::Goal, Point2::new(g.x, g.y), Marker::Star);
+    pic.finish(&if report.found {
+        format!(
+            "rover path, seed {}: cost {:.2}, {} anchors",
+            report.seed,
+            report.cost.unwrap_or(f64::NAN),
+            report.anchors.len()
+        )
+    } else {
+        format!(
+            "no path, seed {} ({} iterations)",
+            report.seed, report.iterations
+        )
+    })
+}
+
+/// Iterations Paton ran per planning problem (§VI-A).
+pub const PATON_ITERATIONS: u64 = 750;
+
+/// A default wall-time bound for one run, as a safety net beside the iteration limit.
+pub const DEFAULT_TIME: Duration = Duration::from_secs(120);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn problem(anchor: usize, pole: bool) -> RoverProblem {
+        RoverProblem::paton(&PatonScene::paper(pole), anchor).unwrap()
+    }
+
+    #[test]
+    fn motion_poses_start_and_end_at_the_states_within_the_resolution() {
+        let a = RoverState {
+            x: 0.0,
+            y: 0.0,
+            yaw: 3.0,
+        };
+        let b = RoverState {
+            x: 1.3,
+            y: -0.7,
+            yaw: -2.0,
+        };
+        let m = motion_poses(&a, &b).unwrap();
+        assert_eq!(m[0].0, a);
+        assert_eq!(m.last().unwrap().0, b);
+        let mut driven = 0.0;
+        for w in m.windows(2) {
+            let (p, q) = (w[0].0, w[1].0);
+            let d = (q.x - p.x).hypot(q.y - p.y);
+            assert!(d <= DRIVE_STEP + 1e-12);
+            assert!((d - w[1].1).abs() < 1e-12);
+            assert!(angle_diff(p.yaw, q.yaw).abs() <= TURN_STEP_DEG.to_radians() + 1e-12);
+            // A pose either turns in place or drives along the heading of b - a.
+            if d > 0.0 {
+                assert!(angle_diff(q.yaw, (-0.7f64).atan2(1.3)).abs() < 1e-12);
+            }
+            driven += d;
+        }
+        assert!((driven - 1.3f64.hypot(0.7)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn straight_descent_is_valid_with_the_test_1_anchor_only() {
+        let t = std::time::Instant::now();
+        let one = problem(0, false);
+        let h = one.initial_history(&one.start);
+        let poses = motion_poses(&one.start, &one.goal).unwrap();
+        // The faithful model: unstable just past the lip, within the boom's reach of the lip
+        // anchor (docs/mesh.md).
+        let why = one.walk(&h, &poses).unwrap_err();
+        assert!(why.contains("unstable"), "{why}");
+        let mut one = one;
+        one.held_within_boom_reach = true;
+        let w = one.walk(&h, &poses).expect("test 1 descends");
+        let (cost, h1) = (w.cost, w.history);
+        // Only poses near the lip are held; the rest of the slope is stable with a margin.
+        let held = w.poses.iter().filter(|p| p.2 == 0.0).count();
+        assert!(held > 0 && held < 6, "{held}");
+        assert!(
+            w.poses
+                .iter()
+                .filter(|p| p.2 == 0.0)
+                .all(|p| p.0[0] > -0.5 && p.0[0] < 1.2)
+        );
+        // Paton Fig. 9: one intermediate anchor on the lip (x = 0, z = 4).
+        assert_eq!(h1.len(), 2);
+        let lip = h1.last().point;
+        assert!(lip.x.abs() < 0.1 && (lip.z - 4.0).abs() < 0.1, "{lip:?}");
+        // The drive is at least as long as start to goal in 3D (4 m down, 5.8 m along).
+        let chord = (5.8f64 * 5.8 + 4.0 * 4.0).sqrt();
+        assert!(cost >= chord && cost < chord + 2.0, "{cost}");
+        let mut two = problem(1, false);
+        two.held_within_boom_reach = true;
+        let h = two.initial_history(&two.start);
+        assert!(two.motion(&two.start, &h, &two.goal).is_none());
+        eprintln!("two motion checks: {:?}", t.elapsed());
+    }
+
+    #[test]
+    fn the_planner_descends_in_test_1_and_its_path_revalidates() {
+        let mut one = problem(0, false);
+        one.held_within_boom_reach = true;
+        let r = navigate(&one, 3, Termination::iterations(PATON_ITERATIONS)).unwrap();
+        eprintln!(
+            "{:?}",
+            (
+                r.found,
+                r.first_solution_iteration,
+                r.first_solution_s,
+                r.elapsed_s
+            )
+        );
+        assert!(r.found, "{:?}", r.unsafe_reason);
+        assert_eq!(r.anchors.len(), 2);
+        assert!(r.anchors[1][0].abs() < 0.1 && (r.anchors[1][2] - 4.0).abs() < 0.1);
+        let end = r.path.last().unwrap();
+        assert!((end[0] - one.goal.x).abs() < 1e-9 && end[2].abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_hand_made_path_around_the_pole_descends_in_test_3() {
+        let three = problem(1, true);
+        let st = |x: f64, y: f64, yaw_deg: f64| RoverState {
+            x,
+            y,
+            yaw: yaw_deg.to_radians(),
+        };
+        let path = [
+            st(-1.0, 0.0, 0.0),
+            st(-1.0, 1.3, 180.0),
+            st(-4.0, 1.3, -90.0),
+            st(-4.0, -1.3, 0.0),
+            st(-0.5, -1.3, 0.0),
+            st(2.0, -1.3, 0.0),
+            three.goal,
+        ];
+        // Paton Fig. 8 right: around the back of the pole, then down the slope: the pole
+        // anchors (on its 0.3 m surface, above the top) and then the lip.
+        let w = three
+            .revalidate(&path)
+            .expect("the wrapped descent is valid");
+        let a = w.history.anchors();
+        let pole = |p: &Point3<f64>| ((p.x + 2.5).hypot(p.y) - 0.3).abs() < 0.05 && p.z > 4.0;
+        assert!(a[1..a.len() - 1].iter().all(|x| pole(&x.point)) && a.len() > 3);
+        assert!(a[a.len() - 1].point.x.abs() < 0.1 && (a[a.len() - 1].point.z - 4.0).abs() < 0.1);
+        // Without the loop behind the pole the same descent is unstable.
+        let direct = [path[0], path[4], path[5], path[6]];
+        assert!(three.revalidate(&direct).is_err());
+    }
+}
+
+impl crate::report::Report for NavigateReport {
+    const KIND: &'static str = "navigate";
+}
