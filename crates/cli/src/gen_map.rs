@@ -1,4 +1,4 @@
-//! `rappel gen-map --obstacles N --seed S --out FILE`: writes a random crater-strip scenario
+//! `rappel gen-map --obstacles N --seed S --out FILE [--json]`: writes a random crater-strip scenario
 //! (non-overlapping convex obstacles of varied size), reproducible from the seed.
 
 use crate::output::CliError;
@@ -20,6 +20,9 @@ pub struct Args {
     /// Output scenario (.ron or .json).
     #[arg(long)]
     out: PathBuf,
+    /// Print what was written as JSON.
+    #[arg(long)]
+    json: bool,
 }
 
 /// Runs `rappel gen-map`.
@@ -32,12 +35,22 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     let s = rappel::generated::crater_strip_scenario(args.obstacles, args.seed, args.width)?;
     s.save(&args.out)?;
+    let report = rappel::report::GenMapReport {
+        file: args.out.display().to_string(),
+        obstacles: s.map.obstacles.len(),
+        vertices: s.map.vertex_count(),
+        seed: args.seed,
+        width_m: args.width,
+    };
+    if args.json {
+        return crate::output::print_report(&report);
+    }
     crate::outln!(
         "{}: {} obstacles, {} vertices, seed {}",
-        args.out.display(),
-        s.map.obstacles.len(),
-        s.map.vertex_count(),
-        args.seed
+        report.file,
+        report.obstacles,
+        report.vertices,
+        report.seed
     );
     Ok(())
 }

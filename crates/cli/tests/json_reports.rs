@@ -239,3 +239,36 @@ fn plan_and_stability_write_html_and_honour_a_window() {
     assert!(page.contains("stability margin") && page.contains("stable pose"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn gen_map_and_settle_map_reports_round_trip() {
+    let dir = temp_dir("json-gen-map");
+    let out = dir.join("strip.ron");
+    let v = round_trip::<rappel::report::GenMapReport>(&[
+        "gen-map",
+        "--obstacles",
+        "12",
+        "--seed",
+        "3",
+        "--out",
+        out.to_str().unwrap_or_default(),
+        "--json",
+    ]);
+    assert_eq!(v["obstacles"], 12);
+    assert!(out.exists());
+    let ledge = fixture("paton/ledge.ron");
+    let v = round_trip::<rappel::mesh_stability::StabilityMap>(&[
+        "settle-map",
+        &ledge,
+        "--test",
+        "1",
+        "--x",
+        "-3,1.5",
+        "--y",
+        "-0.5,0.5",
+        "--step",
+        "0.5",
+        "--json",
+    ]);
+    assert!(v["cells"][0]["ground"].is_array());
+}

@@ -496,7 +496,7 @@ fn report_of(
 /// How far down a friction-cone wedge is drawn, in multiples of the tether segment below its
 /// anchor (the wedges of the reachable sets reach the map's edge; drawn whole they swamp a tall
 /// strip).
-const CONE_DRAW_FACTOR: f64 = 1.25;
+pub(crate) const CONE_DRAW_FACTOR: f64 = 1.25;
 
 impl Plan {
     /// The picture (thesis Figs. 2.31-2.44): BTM, the sleeve and SHP of the chosen class (the

@@ -156,6 +156,7 @@ pub fn schemas() -> Vec<(&'static str, Schema)> {
         ),
         ("shp", schema_of::<crate::tether::ShpReport>()),
         ("homotopic", schema_of::<HomotopicReport>()),
+        ("gen_map", schema_of::<GenMapReport>()),
         ("plan", schema_of::<crate::plan::PlanReport>()),
         ("query", schema_of::<crate::query::QueryReport>()),
         ("online", schema_of::<crate::online::OnlineReport>()),
@@ -228,6 +229,25 @@ pub struct ValidateReport {
 
 impl Report for ValidateReport {
     const KIND: &'static str = "validate";
+}
+
+/// The JSON form of `rappel gen-map`: what was written.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct GenMapReport {
+    /// The scenario file written.
+    pub file: String,
+    /// Obstacles.
+    pub obstacles: usize,
+    /// Map vertices.
+    pub vertices: usize,
+    /// The seed.
+    pub seed: u64,
+    /// Strip width across the slope, m.
+    pub width_m: f64,
+}
+
+impl Report for GenMapReport {
+    const KIND: &'static str = "gen_map";
 }
 
 /// The JSON form of `rappel homotopic`.

@@ -86,6 +86,18 @@ pub enum Layer {
 }
 
 impl Layer {
+    /// A second, small legend line where a reader needs it to read the layer right (the
+    /// friction cones' drawn radius).
+    fn legend_note(self) -> Option<String> {
+        match self {
+            Layer::FrictionCone => Some(format!(
+                "radius {}x the tether below",
+                crate::plan::CONE_DRAW_FACTOR
+            )),
+            _ => None,
+        }
+    }
+
     fn label(self) -> &'static str {
         match self {
             Layer::Boundary => "map boundary",
@@ -658,6 +670,16 @@ impl Picture {
                 fmt(y),
                 layer.label()
             );
+            if let Some(note) = layer.legend_note() {
+                y += 13.0;
+                let _ = writeln!(
+                    out,
+                    "<text x=\"{}\" y=\"{}\" font-size=\"10\">{}</text>",
+                    fmt(x + 28.0),
+                    fmt(y),
+                    escape(&note)
+                );
+            }
         }
         if let Some((title, lo, hi)) = &self.scale {
             // The colour scale: a ramp over SCALE_STOPS, low at the left.
