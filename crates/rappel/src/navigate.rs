@@ -623,6 +623,10 @@ pub const PATON_ITERATIONS: u64 = 750;
 /// A default wall-time bound for one run, as a safety net beside the iteration limit.
 pub const DEFAULT_TIME: Duration = Duration::from_secs(120);
 
+impl crate::report::Report for NavigateReport {
+    const KIND: &'static str = "navigate";
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -750,8 +754,4 @@ mod tests {
         let direct = [path[0], path[4], path[5], path[6]];
         assert!(three.revalidate(&direct).is_err());
     }
-}
-
-impl crate::report::Report for NavigateReport {
-    const KIND: &'static str = "navigate";
 }
