@@ -75,7 +75,12 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     let mut problem = RoverProblem::paton(&scene, anchor).map_err(at)?;
     problem.held_within_boom_reach = args.held;
     let term = Termination::iterations(args.iterations).or_time(time);
-    let report = navigate(&problem, args.seed, term).map_err(at)?;
+    // A search checks motions for seconds to minutes: say so on a terminal.
+    let progress = rappel::progress::Progress::spinner("navigate");
+    progress.message("sampling and checking motions");
+    let report = navigate(&problem, args.seed, term).map_err(at);
+    progress.finish();
+    let report = report?;
     if args.picture.wanted() {
         args.picture
             .write(&navigate_svg(&problem, &report), "rappel navigate")?;

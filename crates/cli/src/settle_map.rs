@@ -127,7 +127,12 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         yaw_deg: args.yaw,
         start: [start.0, start.1],
     };
-    let map = stability_map(&ground, &root, &spec).map_err(|e| CliError(e.to_string()))?;
+    // Thousands of settled poses take seconds: say so on a terminal.
+    let progress = rappel::progress::Progress::spinner("settle-map");
+    progress.message("settling poses and predicting their anchors");
+    let map = stability_map(&ground, &root, &spec).map_err(|e| CliError(e.to_string()));
+    progress.finish();
+    let map = map?;
     if args.picture.wanted() {
         args.picture
             .write(&map_svg(&map, &ground), "rappel settle-map")?;

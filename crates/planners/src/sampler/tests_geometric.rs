@@ -9,7 +9,8 @@ use super::real_vector::RealVectorSpace;
 use super::settings::AbitSettings;
 use super::termination::Termination;
 
-/// A 2D world with two boxes forming a detour (shared with the OMPL peer's world files).
+/// A 2D world with two boxes forming a detour (the OMPL peer's `boxes_2d` world, written by
+/// `benches/examples/sampler_peer.rs`, adds a third, small box to it).
 pub(crate) fn boxes_2d() -> ObstacleWorld<2> {
     ObstacleWorld {
         space: RealVectorSpace::new([0.0, 0.0], [10.0, 10.0]).unwrap(),
