@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
+use rappel_planners::sampler::peer_worlds::{boxes_2d, boxes_3d};
 use rappel_planners::sampler::{
     Abit, AbitSettings, MotionValidator, Obstacle, ObstacleWorld, RealVectorSpace, Termination,
     WorldFile,
@@ -18,52 +19,6 @@ use rappel_planners::sampler::{
 
 /// The times (seconds) at which the best cost is reported, shared with the Python peer.
 const CHECKPOINTS: [f64; 6] = [0.01, 0.03, 0.1, 0.3, 1.0, 3.0];
-
-fn boxes_2d() -> ObstacleWorld<2> {
-    ObstacleWorld {
-        space: RealVectorSpace::new([0.0, 0.0], [10.0, 10.0]).expect("bounds"),
-        obstacles: vec![
-            Obstacle::Box {
-                min: [3.0, 0.0],
-                max: [4.0, 7.0],
-            },
-            Obstacle::Box {
-                min: [6.0, 3.0],
-                max: [7.0, 10.0],
-            },
-            Obstacle::Box {
-                min: [4.8, 5.0],
-                max: [5.2, 5.4],
-            },
-        ],
-        start: [1.0, 1.0],
-        goal: [9.0, 9.0],
-        resolution: 0.002,
-    }
-}
-
-fn boxes_3d() -> ObstacleWorld<3> {
-    ObstacleWorld {
-        space: RealVectorSpace::new([0.0; 3], [10.0; 3]).expect("bounds"),
-        obstacles: vec![
-            Obstacle::Box {
-                min: [4.0, 0.0, 0.0],
-                max: [5.0, 8.0, 10.0],
-            },
-            Obstacle::Box {
-                min: [7.0, 2.0, 0.0],
-                max: [8.0, 10.0, 7.0],
-            },
-            Obstacle::Box {
-                min: [1.0, 4.0, 4.0],
-                max: [3.0, 6.0, 6.0],
-            },
-        ],
-        start: [1.0, 1.0, 5.0],
-        goal: [9.0, 9.0, 5.0],
-        resolution: 0.002,
-    }
-}
 
 /// The world's validator, counting state checks (the language-neutral effort measure: the Python
 /// peer counts its checker's calls the same way).

@@ -11,6 +11,7 @@
 //! | [`abit`] | the [`Abit`] planner itself: batches, inflated edge queue, truncation, anytime solutions |
 //! | [`real_vector`] | [`RealVectorSpace`], the box-bounded Euclidean space in D dimensions with informed sampling |
 //! | [`obstacle_world`] | [`ObstacleWorld`]: axis-aligned boxes and spheres, a discrete motion-check resolution |
+//! | [`peer_worlds`] | the 2D and 3D worlds of the comparison with OMPL's BIT* (also the tests' worlds) |
 //!
 //! The algorithm, its settings and the comparison with OMPL's BIT* are described in
 //! `docs/sampler.md`.
@@ -18,6 +19,7 @@
 pub mod abit;
 pub mod graph;
 pub mod obstacle_world;
+pub mod peer_worlds;
 pub mod real_vector;
 pub mod settings;
 pub mod space;

@@ -5,30 +5,10 @@ use std::f64::consts::PI;
 
 use super::abit::{Abit, PlannerStatus};
 use super::obstacle_world::{Obstacle, ObstacleWorld, WorldFile};
+use super::peer_worlds::boxes_2d;
 use super::real_vector::RealVectorSpace;
 use super::settings::AbitSettings;
 use super::termination::Termination;
-
-/// A 2D world with two boxes forming a detour (the OMPL peer's `boxes_2d` world, written by
-/// `benches/examples/sampler_peer.rs`, adds a third, small box to it).
-pub(crate) fn boxes_2d() -> ObstacleWorld<2> {
-    ObstacleWorld {
-        space: RealVectorSpace::new([0.0, 0.0], [10.0, 10.0]).unwrap(),
-        obstacles: vec![
-            Obstacle::Box {
-                min: [3.0, 0.0],
-                max: [4.0, 7.0],
-            },
-            Obstacle::Box {
-                min: [6.0, 3.0],
-                max: [7.0, 10.0],
-            },
-        ],
-        start: [1.0, 1.0],
-        goal: [9.0, 9.0],
-        resolution: 0.002,
-    }
-}
 
 /// The circle world: the shortest path is tangent, arc, tangent.
 fn circle_2d() -> ObstacleWorld<2> {
