@@ -89,26 +89,43 @@ impl SpatialGrid {
     /// the cell itself), for searches that widen until something is found. `None` once the ring
     /// lies entirely outside the grid.
     pub fn ring_around(&self, p: &Point2<f64>, ring: usize) -> Option<Vec<u32>> {
+        let mut out = Vec::new();
+        self.find_in_ring(p, ring, |id| {
+            out.push(id);
+            None::<()>
+        })?;
+        Some(out)
+    }
+
+    /// The first `Some` that `f` returns for the ids of the cells at Chebyshev ring distance
+    /// exactly `ring` around the cell of `p`, visited in the order of [`SpatialGrid::ring_around`],
+    /// without collecting them: `Some(None)` when `f` answers `None` for all of them, `None` once
+    /// the ring lies entirely outside the grid. At most `8 * ring + 1` cells are visited.
+    pub fn find_in_ring<T>(
+        &self,
+        p: &Point2<f64>,
+        ring: usize,
+        mut f: impl FnMut(u32) -> Option<T>,
+    ) -> Option<Option<T>> {
         let (c, r) = self.col_row(p);
         let (c, r, k) = (c as isize, r as isize, ring as isize);
         if c - k < 0 && r - k < 0 && c + k >= self.cols as isize && r + k >= self.rows as isize {
             return None;
         }
-        let mut out = Vec::new();
-        for rr in (r - k)..=(r + k) {
-            for cc in (c - k)..=(c + k) {
-                let on_ring = (rr - r).abs() == k || (cc - c).abs() == k;
-                if on_ring
-                    && rr >= 0
-                    && cc >= 0
-                    && (rr as usize) < self.rows
-                    && (cc as usize) < self.cols
-                {
-                    out.extend_from_slice(&self.buckets[rr as usize * self.cols + cc as usize]);
+        for rr in (r - k).max(0)..=(r + k).min(self.rows as isize - 1) {
+            let on_row_edge = (rr - r).abs() == k;
+            for cc in (c - k).max(0)..=(c + k).min(self.cols as isize - 1) {
+                if !on_row_edge && (cc - c).abs() != k {
+                    continue;
+                }
+                for &id in &self.buckets[rr as usize * self.cols + cc as usize] {
+                    if let Some(found) = f(id) {
+                        return Some(Some(found));
+                    }
                 }
             }
         }
-        Some(out)
+        Some(None)
     }
 }
 

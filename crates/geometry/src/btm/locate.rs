@@ -157,13 +157,15 @@ impl Locator {
 
     /// A live triangle near `p` to start a walk from.
     pub(crate) fn hint(&self, dcel: &Dcel, p: &Point2<f64>) -> Option<u32> {
+        // Rings widen until one holds a live vertex or the grid is exhausted: at most
+        // max(cols, rows) rings.
         for ring in 0.. {
-            let ids = self.grid.ring_around(p, ring)?;
-            for v in ids {
+            let found = self.grid.find_in_ring(p, ring, |v| {
                 let e = dcel.vertex_edge[v as usize];
-                if e != NONE {
-                    return Some(e / 3);
-                }
+                (e != NONE).then_some(e / 3)
+            })?;
+            if found.is_some() {
+                return found;
             }
         }
         None
