@@ -429,7 +429,6 @@ impl Map {
             let b = o.aabb();
             bounds = Aabb::of_points([&bounds.min, &bounds.max, &b.min, &b.max]);
         }
-        let mut grid = SpatialGrid::new(bounds, segs.len());
         let boxes: Vec<Aabb> = segs
             .iter()
             .map(|&s| {
@@ -437,9 +436,7 @@ impl Map {
                 Aabb::of_points([&a, &b])
             })
             .collect();
-        for (i, b) in boxes.iter().enumerate() {
-            grid.insert(b, i as u32);
-        }
+        let grid = SpatialGrid::packed(bounds, boxes.len(), &boxes);
         let mut found: Vec<EdgeContact> = Vec::new();
         // A pair of edges shares every cell that both boxes cover. It is tested only in the cell
         // holding the lower-left corner of the intersection of their boxes, which both boxes
@@ -478,10 +475,8 @@ impl Map {
     /// Pairs of obstacles `(i, j)`, `i < j`, one of which holds a vertex of the other (checked
     /// for one vertex each: with no edge contacts that decides nesting).
     pub(crate) fn nested_obstacles(&self) -> Vec<(usize, usize, Point2<f64>)> {
-        let mut grid = SpatialGrid::new(self.boundary.aabb(), self.obstacles.len());
-        for (i, o) in self.obstacles.iter().enumerate() {
-            grid.insert(&o.aabb(), i as u32);
-        }
+        let boxes: Vec<Aabb> = self.obstacles.iter().map(Polygon::aabb).collect();
+        let grid = SpatialGrid::packed(self.boundary.aabb(), boxes.len(), &boxes);
         let mut out = Vec::new();
         for (i, o) in self.obstacles.iter().enumerate() {
             let v = o.vertices[0];
@@ -536,11 +531,19 @@ fn validate_ring_alone(ring: RingId, poly: &Polygon) -> Result<(), MapError> {
         }
     }
     let first = poly.vertices.first().copied().unwrap_or(Point2::origin());
-    let distinct = poly.distinct_vertex_count();
-    if distinct < 3 {
+    // Three distinct vertices (by bits, as `distinct_vertex_count` counts them) are found in one
+    // pass; the exact count (a sort) only for the error.
+    let key = |p: &Point2<f64>| (p.x.to_bits(), p.y.to_bits());
+    let keys = || poly.vertices.iter().map(key);
+    let three_distinct = keys().next().is_some_and(|a| {
+        keys()
+            .find(|&p| p != a)
+            .is_some_and(|b| keys().any(|p| p != a && p != b))
+    });
+    if !three_distinct {
         return Err(MapError::TooFewVertices {
             ring,
-            distinct,
+            distinct: poly.distinct_vertex_count(),
             at: first,
         });
     }
