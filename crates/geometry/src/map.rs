@@ -410,33 +410,31 @@ impl Map {
         let rings: Vec<&Polygon> = std::iter::once(&self.boundary)
             .chain(&self.obstacles)
             .collect();
-        let mut segs: Vec<(u32, u32)> = Vec::with_capacity(self.vertex_count());
-        for (r, ring) in rings.iter().enumerate() {
-            for e in 0..ring.len() {
-                segs.push((r as u32, e as u32));
-            }
-        }
-        let seg_points = |s: (u32, u32)| {
-            let ring = rings[s.0 as usize];
-            let n = ring.len();
-            (
-                ring.vertices[s.1 as usize],
-                ring.vertices[(s.1 as usize + 1) % n],
-            )
-        };
         let mut bounds = self.boundary.aabb();
         for o in &self.obstacles {
             let b = o.aabb();
             bounds = Aabb::of_points([&bounds.min, &bounds.max, &b.min, &b.max]);
         }
-        let boxes: Vec<Aabb> = segs
+        let frame = SpatialGrid::new(bounds, self.vertex_count());
+        // Rings taken in the order of the cell of their first vertex, so that the segments of
+        // neighbouring cells are neighbours in memory (on large maps the pass over the cells is
+        // bound by memory traffic otherwise: obstacles are numbered in no spatial order).
+        let firsts: Vec<Point2<f64>> = rings
             .iter()
-            .map(|&s| {
-                let (a, b) = seg_points(s);
-                Aabb::of_points([&a, &b])
-            })
+            .map(|r| r.vertices.first().copied().unwrap_or(bounds.min))
             .collect();
-        let grid = SpatialGrid::packed(bounds, boxes.len(), &boxes);
+        let mut segs: Vec<(u32, u32)> = Vec::with_capacity(self.vertex_count());
+        let mut boxes: Vec<Aabb> = Vec::with_capacity(self.vertex_count());
+        for r in frame.order_by_cell(&firsts) {
+            let ring = rings[r as usize];
+            let n = ring.len();
+            for e in 0..n {
+                let (a, b) = (ring.vertices[e], ring.vertices[(e + 1) % n]);
+                segs.push((r, e as u32));
+                boxes.push(Aabb::of_points([&a, &b]));
+            }
+        }
+        let grid = frame.pack(&boxes);
         let mut found: Vec<EdgeContact> = Vec::new();
         // A pair of edges shares every cell that both boxes cover. It is tested only in the cell
         // holding the lower-left corner of the intersection of their boxes, which both boxes
@@ -477,22 +475,27 @@ impl Map {
     pub(crate) fn nested_obstacles(&self) -> Vec<(usize, usize, Point2<f64>)> {
         let boxes: Vec<Aabb> = self.obstacles.iter().map(Polygon::aabb).collect();
         let grid = SpatialGrid::packed(self.boundary.aabb(), boxes.len(), &boxes);
+        let firsts: Vec<Point2<f64>> = self.obstacles.iter().map(|o| o.vertices[0]).collect();
         let mut out = Vec::new();
-        for (i, o) in self.obstacles.iter().enumerate() {
-            let v = o.vertices[0];
+        // Obstacles in the order of their first vertex's cell: neighbouring lookups touch
+        // neighbouring memory. The result is sorted below by pair and then by the obstacle whose
+        // vertex was found, so the visiting order does not show.
+        for i in grid.order_by_cell(&firsts) {
+            let i = i as usize;
+            let v = firsts[i];
             for &j in grid.at(&v) {
                 let j = j as usize;
                 if j != i
-                    && self.obstacles[j].aabb().contains(&v)
+                    && boxes[j].contains(&v)
                     && self.obstacles[j].locate(&v) != PointInPolygon::Outside
                 {
-                    out.push((i.min(j), i.max(j), v));
+                    out.push((i.min(j), i.max(j), i, v));
                 }
             }
         }
-        out.sort_by_key(|&(i, j, _)| (i, j));
-        out.dedup_by_key(|&mut (i, j, _)| (i, j));
-        out
+        out.sort_by_key(|&(i, j, visitor, _)| (i, j, visitor));
+        out.dedup_by_key(|&mut (i, j, _, _)| (i, j));
+        out.into_iter().map(|(i, j, _, v)| (i, j, v)).collect()
     }
 
     /// With no edge contacts, rings are nested or disjoint: check each obstacle is inside the

@@ -51,7 +51,8 @@ impl SpatialGrid {
             cell,
             cols,
             rows,
-            buckets: Buckets::Growing(vec![Vec::new(); cols * rows]),
+            // Allocated on the first insertion: a grid packed right away never needs it.
+            buckets: Buckets::Growing(Vec::new()),
         }
     }
 
@@ -70,7 +71,13 @@ impl SpatialGrid {
     /// assert_eq!(grid.at(&Point2::new(9.9, 9.9)), &[1, 2]);
     /// ```
     pub fn packed(bounds: Aabb, expected_items: usize, boxes: &[Aabb]) -> Self {
-        let mut grid = SpatialGrid::new(bounds, expected_items);
+        SpatialGrid::new(bounds, expected_items).pack(boxes)
+    }
+
+    /// This grid's cells holding exactly `boxes` (item `i` with id `i`), packed as in
+    /// [`SpatialGrid::packed`]; whatever it held before is dropped.
+    pub fn pack(mut self, boxes: &[Aabb]) -> Self {
+        let grid = &mut self;
         let cells = grid.cols * grid.rows;
         let ranges: Vec<[usize; 4]> = boxes.iter().map(|b| grid.cell_range(b)).collect();
         let mut start = vec![0u32; cells + 1];
@@ -96,7 +103,29 @@ impl SpatialGrid {
             }
         }
         grid.buckets = Buckets::Packed { start, items };
-        grid
+        self
+    }
+
+    /// The indices of `points` ordered by the cell holding each (row by row, stable within a
+    /// cell): a counting sort, linear in the points and cells. Items numbered in this order lie
+    /// near their neighbours in memory as in space, so a pass over the cells touches them in
+    /// order.
+    pub fn order_by_cell(&self, points: &[Point2<f64>]) -> Vec<u32> {
+        let cells = self.cols * self.rows;
+        let mut start = vec![0u32; cells + 1];
+        let keys: Vec<usize> = points.iter().map(|p| self.cell_of(p)).collect();
+        for &k in &keys {
+            start[k + 1] += 1;
+        }
+        for i in 0..cells {
+            start[i + 1] += start[i];
+        }
+        let mut order = vec![0u32; points.len()];
+        for (i, &k) in keys.iter().enumerate() {
+            order[start[k] as usize] = i as u32;
+            start[k] += 1;
+        }
+        order
     }
 
     /// Column and row of the cell holding `p`, clamped to the grid (NaN to the first cell). The
@@ -124,11 +153,16 @@ impl SpatialGrid {
     /// Adds `id` to every cell that `bounds` covers (a packed grid is unpacked first).
     pub fn insert(&mut self, bounds: &Aabb, id: u32) {
         let [c0, r0, c1, r1] = self.cell_range(bounds);
-        if let Buckets::Packed { .. } = self.buckets {
-            let unpacked = (0..self.cols * self.rows)
-                .map(|i| self.bucket(i).to_vec())
-                .collect();
-            self.buckets = Buckets::Growing(unpacked);
+        let cells = self.cols * self.rows;
+        match &self.buckets {
+            Buckets::Packed { .. } => {
+                let unpacked = (0..cells).map(|i| self.bucket(i).to_vec()).collect();
+                self.buckets = Buckets::Growing(unpacked);
+            }
+            Buckets::Growing(b) if b.is_empty() => {
+                self.buckets = Buckets::Growing(vec![Vec::new(); cells]);
+            }
+            Buckets::Growing(_) => {}
         }
         let Buckets::Growing(buckets) = &mut self.buckets else {
             return;
@@ -143,7 +177,7 @@ impl SpatialGrid {
     /// The ids in cell `i`.
     fn bucket(&self, i: usize) -> &[u32] {
         match &self.buckets {
-            Buckets::Growing(b) => &b[i],
+            Buckets::Growing(b) => b.get(i).map_or(&[], Vec::as_slice),
             Buckets::Packed { start, items } => &items[start[i] as usize..start[i + 1] as usize],
         }
     }
@@ -280,6 +314,17 @@ mod tests {
                     (f, a) => panic!("ring {ring}: {f:?} vs {a:?}"),
                 }
             }
+            // Ordering by cell is a permutation with non-decreasing cells, stable within one.
+            let points: Vec<Point2<f64>> = boxes.iter().map(|b| b.min).collect();
+            let order = packed.order_by_cell(&points);
+            let mut seen = order.clone();
+            seen.sort_unstable();
+            assert!(seen.iter().copied().eq(0..points.len() as u32));
+            assert!(order.windows(2).all(|w| {
+                let (a, b) = (w[0] as usize, w[1] as usize);
+                let (ca, cb) = (packed.cell_of(&points[a]), packed.cell_of(&points[b]));
+                ca < cb || (ca == cb && a < b)
+            }));
             // Inserting into a packed grid unpacks it first and keeps every id.
             let mut more = packed.clone();
             more.insert(&boxes[0], 9999);
