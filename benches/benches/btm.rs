@@ -1,5 +1,6 @@
-//! BTM benchmarks (issue 2): building the constrained Delaunay BTM of the generated
-//! 10,000-obstacle crater strip, side by side in one run with spade's constrained Delaunay bulk
+//! BTM benchmarks (issues 2 and 10): building the constrained Delaunay BTM of the generated
+//! 10,000-obstacle crater strip (and of the 100,000-obstacle strip when the environment variable
+//! `RAPPEL_BENCH_100K` is set), side by side in one run with spade's constrained Delaunay bulk
 //! load of the same vertices and edges; and a local update (insert or remove one obstacle) versus
 //! a full rebuild.
 //!
@@ -17,16 +18,29 @@ use spade::{ConstrainedDelaunayTriangulation, Point2 as SpadePoint, Triangulatio
 use std::hint::black_box;
 
 fn big_map() -> Map {
-    crater_strip(&CraterStripOptions::new(10_000, 1))
+    strip(10_000)
+}
+
+/// The generated crater strip with `n` obstacles (seed 1).
+fn strip(n: usize) -> Map {
+    crater_strip(&CraterStripOptions::new(n, 1))
         .expect("valid options")
         .map
 }
 
 fn build(c: &mut Criterion) {
-    let map = big_map();
+    build_group(c, 10_000, 30);
+    if std::env::var_os("RAPPEL_BENCH_100K").is_some() {
+        build_group(c, 100_000, 10);
+    }
+}
+
+/// `btm_build_{n}_obstacles`: rappel's build, its validation alone and spade's bulk load.
+fn build_group(c: &mut Criterion, n: usize, samples: usize) {
+    let map = strip(n);
     let (pts, edges) = spade_input(&map);
-    let mut g = c.benchmark_group("btm_build_10000_obstacles");
-    g.sample_size(30);
+    let mut g = c.benchmark_group(format!("btm_build_{n}_obstacles"));
+    g.sample_size(samples);
     g.bench_function("rappel/build", |b| {
         b.iter(|| Btm::build(black_box(&map)).map(|btm| btm.triangle_count()))
     });

@@ -14,7 +14,9 @@
 //!   process's peak resident set growth (`VmHWM` in `/proc/self/status`, Linux only).
 //!
 //! The first SHP on the 100,000-obstacle strip takes seconds per query, so it runs only when the
-//! environment variable `RAPPEL_BENCH_100K` is set (group `planner_first_shp_100k`).
+//! environment variable `RAPPEL_BENCH_100K` is set: once per side, timed, with its memory (the
+//! search's peak bytes and the process's peak resident set growth, the peak reset before each
+//! run), printed in the set-up; then the criterion group `planner_first_shp_100k`.
 //!
 //! Polyanya works in `f32`; the set-up asserts that its lengths agree with ours (1e-4 relative on
 //! the strips' long queries, 1e-3 on the short ones, 1e-3 absolute on the arena).
@@ -79,6 +81,35 @@ fn peak_rss_kb() -> Option<u64> {
         .nth(1)?
         .parse()
         .ok()
+}
+
+/// Current resident set size of this process, kB (`None` off Linux).
+fn rss_kb() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status
+        .lines()
+        .find(|l| l.starts_with("VmRSS:"))?
+        .split_whitespace()
+        .nth(1)?
+        .parse()
+        .ok()
+}
+
+/// Runs `f` once and returns its result, its wall time and how far the process's peak resident
+/// set rose above the resident set before the call, MB: the peak is reset first (writing `5` to
+/// `/proc/self/clear_refs`, Linux), so earlier peaks of the set-up do not hide the growth
+/// (`None` when the kernel does not allow it).
+fn measure_once<T>(f: impl FnOnce() -> T) -> (T, Duration, Option<f64>) {
+    let reset = std::fs::write("/proc/self/clear_refs", "5").is_ok();
+    let before = rss_kb();
+    let t = std::time::Instant::now();
+    let out = f();
+    let elapsed = t.elapsed();
+    let growth = match (reset, before, peak_rss_kb()) {
+        (true, Some(b), Some(a)) => Some(a.saturating_sub(b) as f64 / 1e3),
+        _ => None,
+    };
+    (out, elapsed, growth)
 }
 
 /// `p - origin` in polyanya's `f32`.
@@ -438,15 +469,56 @@ fn planner(c: &mut Criterion) {
 
     if std::env::var_os("RAPPEL_BENCH_100K").is_some() {
         let s = &strips[2];
-        s.check("first SHP", (s.generated.start, s.generated.goal), 1e-4);
         let spt = SptPlanner::new(&s.btm);
         let (a, b) = (s.generated.start, s.generated.goal);
+        // One timed run of each side first, with its memory: the criterion group below takes
+        // ten or more runs of each.
+        // The first SHP here takes millions of expansions: above the default budget.
+        let options = SearchOptions::default()
+            .with_max_classes(Some(1))
+            .and_then(|o| o.with_max_expansions(100_000_000))
+            .expect("valid option");
+        let (ours, time, growth) = measure_once(|| {
+            spt.search(a, b, &options)
+                .and_then(|s| s.run())
+                .expect("search runs")
+        });
+        let first = ours
+            .classes
+            .first()
+            .unwrap_or_else(|| panic!("no first SHP: {:?}", ours.termination));
+        eprintln!(
+            "100000 obstacles, first SHP once: SPT {:.4} m in {:.2} s, {} expansions, search peak {:.1} MB, process peak RSS growth {}",
+            first.length(),
+            time.as_secs_f64(),
+            ours.stats.expansions,
+            ours.stats.peak_bytes as f64 / 1e6,
+            growth.map_or("n/a".into(), |g| format!("{g:.1} MB")),
+        );
+        if let Some(mesh) = &s.mesh {
+            let (theirs, time, growth) = measure_once(|| {
+                mesh.path(to_vec2(a, s.origin), to_vec2(b, s.origin))
+                    .expect("polyanya finds the path")
+            });
+            eprintln!(
+                "100000 obstacles, first SHP once: polyanya {:.4} m in {:.2} s, process peak RSS growth {}",
+                theirs.length,
+                time.as_secs_f64(),
+                growth.map_or("n/a".into(), |g| format!("{g:.1} MB")),
+            );
+            assert!(
+                (first.length() - f64::from(theirs.length)).abs() < 1e-4 * first.length(),
+                "polyanya and SPT disagree on the 100k first SHP"
+            );
+        }
+        drop(ours);
         let mut g = c.benchmark_group("planner_first_shp_100k");
         g.sample_size(10);
         g.bench_function("spt", |bch| {
             bch.iter(|| {
-                spt.shortest_path(black_box(a), black_box(b))
-                    .map(|s| s.map(|s| s.length()))
+                spt.search(black_box(a), black_box(b), &options)
+                    .and_then(|s| s.run())
+                    .map(|o| o.classes.first().map(|c| c.length()))
             })
         });
         if let Some(mesh) = &s.mesh {

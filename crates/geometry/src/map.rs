@@ -410,36 +410,31 @@ impl Map {
         let rings: Vec<&Polygon> = std::iter::once(&self.boundary)
             .chain(&self.obstacles)
             .collect();
-        let mut segs: Vec<(u32, u32)> = Vec::with_capacity(self.vertex_count());
-        for (r, ring) in rings.iter().enumerate() {
-            for e in 0..ring.len() {
-                segs.push((r as u32, e as u32));
-            }
-        }
-        let seg_points = |s: (u32, u32)| {
-            let ring = rings[s.0 as usize];
-            let n = ring.len();
-            (
-                ring.vertices[s.1 as usize],
-                ring.vertices[(s.1 as usize + 1) % n],
-            )
-        };
         let mut bounds = self.boundary.aabb();
         for o in &self.obstacles {
             let b = o.aabb();
             bounds = Aabb::of_points([&bounds.min, &bounds.max, &b.min, &b.max]);
         }
-        let mut grid = SpatialGrid::new(bounds, segs.len());
-        let boxes: Vec<Aabb> = segs
+        let frame = SpatialGrid::new(bounds, self.vertex_count());
+        // Rings taken in the order of the cell of their first vertex, so that the segments of
+        // neighbouring cells are neighbours in memory (on large maps the pass over the cells is
+        // bound by memory traffic otherwise: obstacles are numbered in no spatial order).
+        let firsts: Vec<Point2<f64>> = rings
             .iter()
-            .map(|&s| {
-                let (a, b) = seg_points(s);
-                Aabb::of_points([&a, &b])
-            })
+            .map(|r| r.vertices.first().copied().unwrap_or(bounds.min))
             .collect();
-        for (i, b) in boxes.iter().enumerate() {
-            grid.insert(b, i as u32);
+        let mut segs: Vec<(u32, u32)> = Vec::with_capacity(self.vertex_count());
+        let mut boxes: Vec<Aabb> = Vec::with_capacity(self.vertex_count());
+        for r in frame.order_by_cell(&firsts) {
+            let ring = rings[r as usize];
+            let n = ring.len();
+            for e in 0..n {
+                let (a, b) = (ring.vertices[e], ring.vertices[(e + 1) % n]);
+                segs.push((r, e as u32));
+                boxes.push(Aabb::of_points([&a, &b]));
+            }
         }
+        let grid = frame.pack(&boxes);
         let mut found: Vec<EdgeContact> = Vec::new();
         // A pair of edges shares every cell that both boxes cover. It is tested only in the cell
         // holding the lower-left corner of the intersection of their boxes, which both boxes
@@ -478,26 +473,29 @@ impl Map {
     /// Pairs of obstacles `(i, j)`, `i < j`, one of which holds a vertex of the other (checked
     /// for one vertex each: with no edge contacts that decides nesting).
     pub(crate) fn nested_obstacles(&self) -> Vec<(usize, usize, Point2<f64>)> {
-        let mut grid = SpatialGrid::new(self.boundary.aabb(), self.obstacles.len());
-        for (i, o) in self.obstacles.iter().enumerate() {
-            grid.insert(&o.aabb(), i as u32);
-        }
+        let boxes: Vec<Aabb> = self.obstacles.iter().map(Polygon::aabb).collect();
+        let grid = SpatialGrid::packed(self.boundary.aabb(), boxes.len(), &boxes);
+        let firsts: Vec<Point2<f64>> = self.obstacles.iter().map(|o| o.vertices[0]).collect();
         let mut out = Vec::new();
-        for (i, o) in self.obstacles.iter().enumerate() {
-            let v = o.vertices[0];
+        // Obstacles in the order of their first vertex's cell: neighbouring lookups touch
+        // neighbouring memory. The result is sorted below by pair and then by the obstacle whose
+        // vertex was found, so the visiting order does not show.
+        for i in grid.order_by_cell(&firsts) {
+            let i = i as usize;
+            let v = firsts[i];
             for &j in grid.at(&v) {
                 let j = j as usize;
                 if j != i
-                    && self.obstacles[j].aabb().contains(&v)
+                    && boxes[j].contains(&v)
                     && self.obstacles[j].locate(&v) != PointInPolygon::Outside
                 {
-                    out.push((i.min(j), i.max(j), v));
+                    out.push((i.min(j), i.max(j), i, v));
                 }
             }
         }
-        out.sort_by_key(|&(i, j, _)| (i, j));
-        out.dedup_by_key(|&mut (i, j, _)| (i, j));
-        out
+        out.sort_by_key(|&(i, j, visitor, _)| (i, j, visitor));
+        out.dedup_by_key(|&mut (i, j, _, _)| (i, j));
+        out.into_iter().map(|(i, j, _, v)| (i, j, v)).collect()
     }
 
     /// With no edge contacts, rings are nested or disjoint: check each obstacle is inside the
@@ -536,11 +534,19 @@ fn validate_ring_alone(ring: RingId, poly: &Polygon) -> Result<(), MapError> {
         }
     }
     let first = poly.vertices.first().copied().unwrap_or(Point2::origin());
-    let distinct = poly.distinct_vertex_count();
-    if distinct < 3 {
+    // Three distinct vertices (by bits, as `distinct_vertex_count` counts them) are found in one
+    // pass; the exact count (a sort) only for the error.
+    let key = |p: &Point2<f64>| (p.x.to_bits(), p.y.to_bits());
+    let keys = || poly.vertices.iter().map(key);
+    let three_distinct = keys().next().is_some_and(|a| {
+        keys()
+            .find(|&p| p != a)
+            .is_some_and(|b| keys().any(|p| p != a && p != b))
+    });
+    if !three_distinct {
         return Err(MapError::TooFewVertices {
             ring,
-            distinct,
+            distinct: poly.distinct_vertex_count(),
             at: first,
         });
     }
@@ -583,17 +589,22 @@ fn pair_contact(rings: &[&Polygon], x: (u32, u32), y: (u32, u32)) -> Option<Edge
     let key = (si.0, si.1, sj.0, sj.1);
     let (a, b) = seg_points(si);
     let (c, d) = seg_points(sj);
+    // Consecutive edges of a ring share their common vertex, so they always meet; they meet where
+    // they must not exactly when they overlap beyond it. Deciding that first spares the general
+    // contact test for most pairs of a ring (every consecutive pair shares a grid cell).
+    let adjacent = si.0 == sj.0 && {
+        let n = rings[si.0 as usize].len() as u32;
+        (si.1 + 1) % n == sj.1 || (sj.1 + 1) % n == si.1
+    };
+    if adjacent && !adjacent_edges_overlap(&a, &b, &c, &d) {
+        return None;
+    }
     let contact = segment_contact(&a, &b, &c, &d);
     if contact == SegmentContact::Disjoint {
         return None;
     }
     let at = contact_point(&a, &b, &c, &d);
     let error = if si.0 == sj.0 {
-        let n = rings[si.0 as usize].len() as u32;
-        let adjacent = (si.1 + 1) % n == sj.1 || (sj.1 + 1) % n == si.1;
-        if adjacent && !adjacent_edges_overlap(&a, &b, &c, &d) {
-            return None;
-        }
         MapError::SelfIntersecting {
             ring: ring_id(si.0),
             first_edge: si.1 as usize,

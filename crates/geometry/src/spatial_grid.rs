@@ -12,7 +12,20 @@ pub struct SpatialGrid {
     cell: f64,
     cols: usize,
     rows: usize,
-    buckets: Vec<Vec<u32>>,
+    buckets: Buckets,
+}
+
+/// The ids of each cell: grown item by item ([`SpatialGrid::insert`]), or packed in one array
+/// when every item is known up front ([`SpatialGrid::packed`]: two allocations whatever the cell
+/// count, where growing costs one per occupied cell).
+#[derive(Debug, Clone)]
+enum Buckets {
+    Growing(Vec<Vec<u32>>),
+    /// Cell `i` holds `items[start[i]..start[i + 1]]`.
+    Packed {
+        start: Vec<u32>,
+        items: Vec<u32>,
+    },
 }
 
 /// Upper bound on the number of cells, whatever the item count: bounds memory for degenerate
@@ -38,24 +51,97 @@ impl SpatialGrid {
             cell,
             cols,
             rows,
-            buckets: vec![Vec::new(); cols * rows],
+            // Allocated on the first insertion: a grid packed right away never needs it.
+            buckets: Buckets::Growing(Vec::new()),
         }
     }
 
+    /// A grid over `bounds`, sized for about `expected_items` items, holding item `i` (id `i`) in
+    /// every cell that `boxes[i]` covers, each cell's ids in increasing order: the same grid as
+    /// [`SpatialGrid::new`] followed by [`SpatialGrid::insert`] of every box in order, packed
+    /// into one array (a counting pass, then a filling pass).
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::{polygon::Aabb, spatial_grid::SpatialGrid};
+    /// let b = |x0, y0, x1, y1| Aabb { min: Point2::new(x0, y0), max: Point2::new(x1, y1) };
+    /// let boxes = [b(0., 0., 1., 1.), b(0.5, 0.5, 9., 9.), b(9., 9., 10., 10.)];
+    /// let grid = SpatialGrid::packed(b(0., 0., 10., 10.), boxes.len(), &boxes);
+    /// assert_eq!(grid.at(&Point2::new(0.2, 0.2)), &[0, 1]);
+    /// assert_eq!(grid.at(&Point2::new(9.9, 9.9)), &[1, 2]);
+    /// ```
+    pub fn packed(bounds: Aabb, expected_items: usize, boxes: &[Aabb]) -> Self {
+        SpatialGrid::new(bounds, expected_items).pack(boxes)
+    }
+
+    /// This grid's cells holding exactly `boxes` (item `i` with id `i`), packed as in
+    /// [`SpatialGrid::packed`]; whatever it held before is dropped.
+    pub fn pack(mut self, boxes: &[Aabb]) -> Self {
+        let grid = &mut self;
+        let cells = grid.cols * grid.rows;
+        let ranges: Vec<[usize; 4]> = boxes.iter().map(|b| grid.cell_range(b)).collect();
+        let mut start = vec![0u32; cells + 1];
+        for &[c0, r0, c1, r1] in &ranges {
+            for r in r0..=r1 {
+                for c in c0..=c1 {
+                    start[r * grid.cols + c + 1] += 1;
+                }
+            }
+        }
+        for i in 0..cells {
+            start[i + 1] += start[i];
+        }
+        let mut fill: Vec<u32> = start[..cells].to_vec();
+        let mut items = vec![0u32; start[cells] as usize];
+        for (id, &[c0, r0, c1, r1]) in ranges.iter().enumerate() {
+            for r in r0..=r1 {
+                for c in c0..=c1 {
+                    let slot = &mut fill[r * grid.cols + c];
+                    items[*slot as usize] = id as u32;
+                    *slot += 1;
+                }
+            }
+        }
+        grid.buckets = Buckets::Packed { start, items };
+        self
+    }
+
+    /// The indices of `points` ordered by the cell holding each (row by row, stable within a
+    /// cell): a counting sort, linear in the points and cells. Items numbered in this order lie
+    /// near their neighbours in memory as in space, so a pass over the cells touches them in
+    /// order.
+    pub fn order_by_cell(&self, points: &[Point2<f64>]) -> Vec<u32> {
+        let cells = self.cols * self.rows;
+        let mut start = vec![0u32; cells + 1];
+        let keys: Vec<usize> = points.iter().map(|p| self.cell_of(p)).collect();
+        for &k in &keys {
+            start[k + 1] += 1;
+        }
+        for i in 0..cells {
+            start[i + 1] += start[i];
+        }
+        let mut order = vec![0u32; points.len()];
+        for (i, &k) in keys.iter().enumerate() {
+            order[start[k] as usize] = i as u32;
+            start[k] += 1;
+        }
+        order
+    }
+
+    /// Column and row of the cell holding `p`, clamped to the grid (NaN to the first cell). The
+    /// saturating float-to-integer conversion floors non-negative values and sends negative
+    /// ones and NaN to 0, so no `floor` call is needed.
     fn col_row(&self, p: &Point2<f64>) -> (usize, usize) {
-        let c = ((p.x - self.origin.x) / self.cell).floor();
-        let r = ((p.y - self.origin.y) / self.cell).floor();
-        let c = if c.is_nan() {
-            0.0
-        } else {
-            c.clamp(0.0, (self.cols - 1) as f64)
-        };
-        let r = if r.is_nan() {
-            0.0
-        } else {
-            r.clamp(0.0, (self.rows - 1) as f64)
-        };
-        (c as usize, r as usize)
+        let c = ((p.x - self.origin.x) / self.cell) as usize;
+        let r = ((p.y - self.origin.y) / self.cell) as usize;
+        (c.min(self.cols - 1), r.min(self.rows - 1))
+    }
+
+    /// `[c0, r0, c1, r1]`: the columns and rows of the cells a box covers.
+    fn cell_range(&self, bounds: &Aabb) -> [usize; 4] {
+        let (c0, r0) = self.col_row(&bounds.min);
+        let (c1, r1) = self.col_row(&bounds.max);
+        [c0, r0, c1, r1]
     }
 
     /// The index of the cell holding `p` (points outside are clamped to the border cells).
@@ -64,51 +150,89 @@ impl SpatialGrid {
         r * self.cols + c
     }
 
-    /// Adds `id` to every cell that `bounds` covers.
+    /// Adds `id` to every cell that `bounds` covers (a packed grid is unpacked first).
     pub fn insert(&mut self, bounds: &Aabb, id: u32) {
-        let (c0, r0) = self.col_row(&bounds.min);
-        let (c1, r1) = self.col_row(&bounds.max);
+        let [c0, r0, c1, r1] = self.cell_range(bounds);
+        let cells = self.cols * self.rows;
+        match &self.buckets {
+            Buckets::Packed { .. } => {
+                let unpacked = (0..cells).map(|i| self.bucket(i).to_vec()).collect();
+                self.buckets = Buckets::Growing(unpacked);
+            }
+            Buckets::Growing(b) if b.is_empty() => {
+                self.buckets = Buckets::Growing(vec![Vec::new(); cells]);
+            }
+            Buckets::Growing(_) => {}
+        }
+        let Buckets::Growing(buckets) = &mut self.buckets else {
+            return;
+        };
         for r in r0..=r1 {
             for c in c0..=c1 {
-                self.buckets[r * self.cols + c].push(id);
+                buckets[r * self.cols + c].push(id);
             }
+        }
+    }
+
+    /// The ids in cell `i`.
+    fn bucket(&self, i: usize) -> &[u32] {
+        match &self.buckets {
+            Buckets::Growing(b) => b.get(i).map_or(&[], Vec::as_slice),
+            Buckets::Packed { start, items } => &items[start[i] as usize..start[i + 1] as usize],
         }
     }
 
     /// The ids in the cell holding `p`.
     pub fn at(&self, p: &Point2<f64>) -> &[u32] {
-        &self.buckets[self.cell_of(p)]
+        self.bucket(self.cell_of(p))
     }
 
     /// All buckets, for pairwise checks within cells.
     pub fn buckets(&self) -> impl Iterator<Item = &[u32]> {
-        self.buckets.iter().map(Vec::as_slice)
+        (0..self.cols * self.rows).map(|i| self.bucket(i))
     }
 
     /// Ids in cells at Chebyshev ring distance exactly `ring` around the cell of `p` (ring 0 is
     /// the cell itself), for searches that widen until something is found. `None` once the ring
     /// lies entirely outside the grid.
     pub fn ring_around(&self, p: &Point2<f64>, ring: usize) -> Option<Vec<u32>> {
+        let mut out = Vec::new();
+        self.find_in_ring(p, ring, |id| {
+            out.push(id);
+            None::<()>
+        })?;
+        Some(out)
+    }
+
+    /// The first `Some` that `f` returns for the ids of the cells at Chebyshev ring distance
+    /// exactly `ring` around the cell of `p`, visited in the order of [`SpatialGrid::ring_around`],
+    /// without collecting them: `Some(None)` when `f` answers `None` for all of them, `None` once
+    /// the ring lies entirely outside the grid. At most `8 * ring + 1` cells are visited.
+    pub fn find_in_ring<T>(
+        &self,
+        p: &Point2<f64>,
+        ring: usize,
+        mut f: impl FnMut(u32) -> Option<T>,
+    ) -> Option<Option<T>> {
         let (c, r) = self.col_row(p);
         let (c, r, k) = (c as isize, r as isize, ring as isize);
         if c - k < 0 && r - k < 0 && c + k >= self.cols as isize && r + k >= self.rows as isize {
             return None;
         }
-        let mut out = Vec::new();
-        for rr in (r - k)..=(r + k) {
-            for cc in (c - k)..=(c + k) {
-                let on_ring = (rr - r).abs() == k || (cc - c).abs() == k;
-                if on_ring
-                    && rr >= 0
-                    && cc >= 0
-                    && (rr as usize) < self.rows
-                    && (cc as usize) < self.cols
-                {
-                    out.extend_from_slice(&self.buckets[rr as usize * self.cols + cc as usize]);
+        for rr in (r - k).max(0)..=(r + k).min(self.rows as isize - 1) {
+            let on_row_edge = (rr - r).abs() == k;
+            for cc in (c - k).max(0)..=(c + k).min(self.cols as isize - 1) {
+                if !on_row_edge && (cc - c).abs() != k {
+                    continue;
+                }
+                for &id in self.bucket(rr as usize * self.cols + cc as usize) {
+                    if let Some(found) = f(id) {
+                        return Some(Some(found));
+                    }
                 }
             }
         }
-        Some(out)
+        Some(None)
     }
 }
 
@@ -144,5 +268,68 @@ mod tests {
             }
         }
         assert!(found.is_some());
+    }
+
+    #[test]
+    fn a_packed_grid_equals_the_grown_one_and_rings_match() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(10);
+        for round in 0..20 {
+            let bounds = Aabb {
+                min: Point2::new(-5.0, 2.0),
+                max: Point2::new(50.0, 2.0 + 5.0 * f64::from(round + 1)),
+            };
+            let boxes: Vec<Aabb> = (0..rng.random_range(1..300))
+                .map(|_| {
+                    let x = rng.random_range(-10.0..55.0);
+                    let y = rng.random_range(-10.0..120.0);
+                    let (w, h) = (rng.random_range(0.0..8.0), rng.random_range(0.0..8.0));
+                    Aabb {
+                        min: Point2::new(x, y),
+                        max: Point2::new(x + w, y + h),
+                    }
+                })
+                .collect();
+            let expected = boxes.len() / (round as usize % 3 + 1);
+            let packed = SpatialGrid::packed(bounds, expected, &boxes);
+            let mut grown = SpatialGrid::new(bounds, expected);
+            for (i, b) in boxes.iter().enumerate() {
+                grown.insert(b, i as u32);
+            }
+            assert!(packed.buckets().eq(grown.buckets()));
+            let q = Point2::new(rng.random_range(-5.0..50.0), rng.random_range(0.0..100.0));
+            for ring in 0..4 {
+                let mut visited = Vec::new();
+                let first = packed.find_in_ring(&q, ring, |id| {
+                    visited.push(id);
+                    (id % 7 == 3).then_some(id)
+                });
+                let all = grown.ring_around(&q, ring);
+                match (first, all) {
+                    (None, None) => {}
+                    (Some(f), Some(all)) => {
+                        assert_eq!(f, all.iter().copied().find(|id| id % 7 == 3));
+                        assert_eq!(visited[..], all[..visited.len()]);
+                    }
+                    (f, a) => panic!("ring {ring}: {f:?} vs {a:?}"),
+                }
+            }
+            // Ordering by cell is a permutation with non-decreasing cells, stable within one.
+            let points: Vec<Point2<f64>> = boxes.iter().map(|b| b.min).collect();
+            let order = packed.order_by_cell(&points);
+            let mut seen = order.clone();
+            seen.sort_unstable();
+            assert!(seen.iter().copied().eq(0..points.len() as u32));
+            assert!(order.windows(2).all(|w| {
+                let (a, b) = (w[0] as usize, w[1] as usize);
+                let (ca, cb) = (packed.cell_of(&points[a]), packed.cell_of(&points[b]));
+                ca < cb || (ca == cb && a < b)
+            }));
+            // Inserting into a packed grid unpacks it first and keeps every id.
+            let mut more = packed.clone();
+            more.insert(&boxes[0], 9999);
+            grown.insert(&boxes[0], 9999);
+            assert!(more.buckets().eq(grown.buckets()));
+        }
     }
 }

@@ -97,7 +97,7 @@
 //! expanded and the search always ends.
 
 use nalgebra::Point2;
-use rappel_geometry::btm::{Btm, Location};
+use rappel_geometry::btm::Btm;
 use rappel_geometry::compact::Compact;
 use rappel_geometry::dcel::{HalfEdgeId, ObstacleId, TriangleId, VertexId};
 use rappel_geometry::predicates::orient2d;
@@ -934,26 +934,22 @@ impl<'a> SptSearch<'a> {
             let key = search.scratch.tree.node(node).length;
             search.push_goal(key, node, NONE);
         }
-        // A start on a map vertex is the shortest lift of that vertex.
-        if let (true, Location::Vertex(v)) = (search.pruning, btm.locate(&start)) {
-            search.scratch.lifts.record(v, 0.0);
-        }
-        let funnels = FunnelState::initial(&mut search.scratch.tree, btm, start_triangle)?;
-        let mut corners = Vec::with_capacity(3);
-        for f in &funnels {
-            for tip in [f.left(), f.right()] {
-                let n = *search.scratch.tree.node(tip);
-                if let Some(v) = n.vertex
-                    && !corners.contains(&v)
-                {
-                    corners.push(v);
-                    if search.pruning {
-                        search.scratch.lifts.record(v, n.length);
-                    }
-                }
+        let d = btm.dcel();
+        if search.pruning {
+            // The start triangle's corners are reached straight from the start, which is the
+            // shortest lift of a corner it lies on (the canonical triangle of a start on a map
+            // vertex has that vertex as a corner, so no second point location is needed).
+            for v in d.triangle_vertices(start_triangle) {
+                let g = (d.point(v) - start).norm();
+                search.scratch.lifts.record(v, g);
             }
         }
-        for f in funnels {
+        // Alg. 3 lines 5-10, without collecting the (at most three) initial funnels.
+        for h in start_triangle.half_edges() {
+            if d.twin(h).is_none() {
+                continue;
+            }
+            let f = FunnelState::through(&mut search.scratch.tree, btm, h)?;
             let key = search.lower_bound(&f);
             search.offer(key, f, NONE);
         }

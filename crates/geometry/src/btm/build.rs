@@ -50,17 +50,11 @@ impl Btm {
         add_scaffold(&mut dcel, &map.aabb());
 
         // Vertices, rings oriented so free space lies on the left.
-        let mut rings: Vec<(EdgeKind, Vec<u32>)> = Vec::with_capacity(map.obstacles.len() + 1);
-        let boundary = map.boundary.to_counter_clockwise();
-        rings.push((
-            EdgeKind::Boundary,
-            add_ring(&mut dcel, &boundary, EdgeKind::Boundary),
-        ));
+        let mut rings: Vec<Vec<u32>> = Vec::with_capacity(map.obstacles.len() + 1);
+        rings.push(add_ring(&mut dcel, &map.boundary, true, EdgeKind::Boundary));
         for (i, o) in map.obstacles.iter().enumerate() {
-            let mut cw = o.to_counter_clockwise();
-            cw.reverse();
             let kind = EdgeKind::Obstacle(ObstacleId(i as u32));
-            rings.push((kind, add_ring(&mut dcel, &cw, kind)));
+            rings.push(add_ring(&mut dcel, o, false, kind));
         }
 
         // Delaunay insertion in Hilbert order.
@@ -73,25 +67,22 @@ impl Btm {
         }
 
         // Constraints.
-        for (_, ring) in &rings {
+        for ring in &rings {
             for i in 0..ring.len() {
                 insert_constraint(&mut dcel, ring[i], ring[(i + 1) % ring.len()])?;
             }
         }
 
         classify_faces(&mut dcel);
-        let obstacles = rings[1..]
-            .iter()
-            .map(|(_, vs)| {
-                Some(ObstacleRecord {
-                    vertices: vs.clone(),
-                })
-            })
+        let mut rings = rings.into_iter();
+        let boundary = rings.next().unwrap_or_default();
+        let obstacles = rings
+            .map(|vertices| Some(ObstacleRecord { vertices }))
             .collect();
         let locator = Locator::new(&dcel);
         Ok(Btm {
             dcel,
-            boundary: rings[0].1.clone(),
+            boundary,
             obstacles,
             locator,
         })
@@ -110,18 +101,29 @@ pub(crate) fn add_scaffold(dcel: &mut Dcel, b: &Aabb) {
     dcel.push_triangle(a, bb, cc, FaceKind::Exterior);
 }
 
-/// Adds a ring's vertices (already oriented with free space on the left) and their ring links.
-pub(crate) fn add_ring(dcel: &mut Dcel, ring: &Polygon, kind: EdgeKind) -> Vec<u32> {
+/// Adds a ring's vertices and their ring links, oriented counter-clockwise when
+/// `counter_clockwise` (the boundary) and clockwise otherwise (obstacles), so that free space
+/// lies on the left; the ring itself is read in whichever direction gives that orientation.
+pub(crate) fn add_ring(
+    dcel: &mut Dcel,
+    ring: &Polygon,
+    counter_clockwise: bool,
+    kind: EdgeKind,
+) -> Vec<u32> {
     let first = dcel.points.len() as u32;
     let n = ring.len() as u32;
-    ring.vertices
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let next = first + (i as u32 + 1) % n;
-            dcel.add_vertex(*p, Some(RingLink { kind, next }))
-        })
-        .collect()
+    let forward = ring.is_counter_clockwise() == counter_clockwise;
+    let mut ids = Vec::with_capacity(ring.len());
+    for i in 0..ring.len() {
+        let p = if forward {
+            ring.vertices[i]
+        } else {
+            ring.vertices[ring.len() - 1 - i]
+        };
+        let next = first + (i as u32 + 1) % n;
+        ids.push(dcel.add_vertex(p, Some(RingLink { kind, next })));
+    }
+    ids
 }
 
 /// Vertex ids `from..to` sorted along a Hilbert curve over their bounding box.
@@ -316,10 +318,20 @@ fn triangulate_pseudo_polygon(dcel: &Dcel, s: u32, e: u32, chain: &[u32], out: &
 }
 
 /// Labels every live triangle free, obstacle or exterior by flood fill from the map edges.
+///
+/// A triangle is labelled when it is first queued and queued only then, so each is visited once.
+/// The fill never crosses a map edge and every seed of one region carries the same label (free
+/// space lies left of every ring), so the first label a triangle gets is its label.
 pub(crate) fn classify_faces(dcel: &mut Dcel) {
-    const UNSEEN: u8 = 0;
-    let mut seen = vec![UNSEEN; dcel.face.len()];
-    let mut queue: Vec<(u32, FaceKind)> = Vec::new();
+    let mut seen = vec![false; dcel.face.len()];
+    let mut queue: Vec<u32> = Vec::new();
+    let mut label = |dcel: &mut Dcel, queue: &mut Vec<u32>, t: u32, kind: FaceKind| {
+        if !seen[t as usize] {
+            seen[t as usize] = true;
+            dcel.face[t as usize] = kind;
+            queue.push(t);
+        }
+    };
     for h in 0..dcel.origin.len() as u32 {
         if !dcel.constrained[h as usize] || dcel.face[(h / 3) as usize] == FaceKind::Dead {
             continue;
@@ -329,34 +341,31 @@ pub(crate) fn classify_faces(dcel: &mut Dcel) {
             continue;
         };
         if link.next == b {
-            queue.push((h / 3, FaceKind::Free));
+            label(dcel, &mut queue, h / 3, FaceKind::Free);
             let g = dcel.twin[h as usize];
             if g != NONE {
                 let across = match link.kind {
                     EdgeKind::Obstacle(o) => FaceKind::Obstacle(o),
                     _ => FaceKind::Exterior,
                 };
-                queue.push((g / 3, across));
+                label(dcel, &mut queue, g / 3, across);
             }
         }
-    }
-    while let Some((t, kind)) = queue.pop() {
-        if seen[t as usize] != UNSEEN {
-            continue;
-        }
-        seen[t as usize] = 1;
-        dcel.face[t as usize] = kind;
-        for i in 0..3 {
-            let h = 3 * t + i;
-            let g = dcel.twin[h as usize];
-            if !dcel.constrained[h as usize] && g != NONE && seen[(g / 3) as usize] == UNSEEN {
-                queue.push((g / 3, kind));
+        // Fill as we go: the queue stays short and the triangles just labelled are in cache.
+        while let Some(t) = queue.pop() {
+            let kind = dcel.face[t as usize];
+            for i in 0..3 {
+                let e = 3 * t + i;
+                let g = dcel.twin[e as usize];
+                if !dcel.constrained[e as usize] && g != NONE {
+                    label(dcel, &mut queue, g / 3, kind);
+                }
             }
         }
     }
     // Anything unreached (only the scaffold when there are no map edges) is exterior.
     for (t, s) in seen.iter().enumerate() {
-        if *s == UNSEEN && dcel.face[t] != FaceKind::Dead {
+        if !*s && dcel.face[t] != FaceKind::Dead {
             dcel.face[t] = FaceKind::Exterior;
         }
     }

@@ -131,10 +131,14 @@ impl Dcel {
     }
 }
 
-/// Coarse index for cold queries: one map vertex per grid cell.
+/// Coarse index for cold queries: the live vertices bucketed by a grid of about four vertices
+/// per cell.
 #[derive(Debug, Clone)]
 pub(crate) struct Locator {
+    /// Cells of about four vertices each, holding indices into `alive`.
     grid: SpatialGrid,
+    /// The vertices live when the index was built.
+    alive: Vec<u32>,
 }
 
 impl Locator {
@@ -144,26 +148,30 @@ impl Locator {
             .collect();
         let bounds =
             crate::polygon::Aabb::of_points(alive.iter().map(|&v| &dcel.points[v as usize]));
-        // About four vertices per cell: a short walk from any of them.
-        let mut grid = SpatialGrid::new(bounds, alive.len() / 4 + 1);
-        for &v in &alive {
-            let p = dcel.points[v as usize];
-            if grid.at(&p).is_empty() {
-                grid.insert(&crate::polygon::Aabb { min: p, max: p }, v);
-            }
-        }
-        Locator { grid }
+        // About four vertices per cell, every live vertex in the cell holding it (ids are
+        // indices into `alive`, mapped back below): a short walk from any of them.
+        let boxes: Vec<crate::polygon::Aabb> = alive
+            .iter()
+            .map(|&v| {
+                let p = dcel.points[v as usize];
+                crate::polygon::Aabb { min: p, max: p }
+            })
+            .collect();
+        let grid = SpatialGrid::packed(bounds, alive.len() / 4 + 1, &boxes);
+        Locator { grid, alive }
     }
 
     /// A live triangle near `p` to start a walk from.
     pub(crate) fn hint(&self, dcel: &Dcel, p: &Point2<f64>) -> Option<u32> {
+        // Rings widen until one holds a live vertex or the grid is exhausted: at most
+        // max(cols, rows) rings.
         for ring in 0.. {
-            let ids = self.grid.ring_around(p, ring)?;
-            for v in ids {
-                let e = dcel.vertex_edge[v as usize];
-                if e != NONE {
-                    return Some(e / 3);
-                }
+            let found = self.grid.find_in_ring(p, ring, |i| {
+                let e = dcel.vertex_edge[self.alive[i as usize] as usize];
+                (e != NONE).then_some(e / 3)
+            })?;
+            if found.is_some() {
+                return found;
             }
         }
         None

@@ -59,12 +59,10 @@ impl Btm {
     ) -> Result<(ObstacleId, UpdateReport), BtmError> {
         let id = ObstacleId(self.obstacles.len() as u32);
         self.check_new_obstacle(polygon, id.index())?;
-        let mut cw = polygon.to_counter_clockwise();
-        cw.reverse();
 
         let mark = self.begin_update();
         let kind = EdgeKind::Obstacle(id);
-        let vertices = super::build::add_ring(&mut self.dcel, &cw, kind);
+        let vertices = super::build::add_ring(&mut self.dcel, polygon, false, kind);
         let mut rng = WalkRng::new();
         let mut stack = Vec::new();
         let result = (|| {
