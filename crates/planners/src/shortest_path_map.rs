@@ -28,15 +28,19 @@
 //! triangle (the triangle a path ending at `p` is assigned to, [`canonical_triangle`], as for the
 //! SPT search's goal), of `g(t) + |t - p|` with `t` the funnel node whose sector holds `p`; in the
 //! start's own triangle the straight segment from the start. The node `t` is the last anchor:
-//! the start, or the last map vertex the taut tether wraps. Equal lengths keep the first funnel
-//! recorded (the first expanded).
+//! the start, or the last map vertex the taut tether wraps. Each triangle's funnels are kept in
+//! ascending order of a lower bound of their lengths to any point of the triangle (`g(apex)` plus
+//! the apex's distance to the triangle); a query stops at the first bound not below the best
+//! length found, and skips a funnel whose `g(apex) + |apex - p|` (also a lower bound: every path
+//! through the funnel runs from its apex to `p`) is not below it. Equal lengths keep the funnel
+//! met first.
 //!
 //! # Bounds
 //! The expansion stops with [`SearchError::BudgetExhausted`] after
 //! [`ShortestPathMap::build_with_budget`]'s budget of expansions ([`DEFAULT_MAX_EXPANSIONS`] by
 //! default). Each expansion adds at most one tree node (48 bytes), one record (20 bytes, 16 once
-//! packed per triangle) and two queue entries (24 bytes each), so the map holds at most about
-//! 120 bytes per expansion: [`DEFAULT_MAX_EXPANSIONS`] bounds it near 1 GB. A query costs
+//! packed per triangle, plus an 8-byte bound) and two queue entries (24 bytes each), so the map
+//! holds at most about 130 bytes per expansion: [`DEFAULT_MAX_EXPANSIONS`] bounds it near 1 GB. A query costs
 //! `O(f log n)` for the `f` funnels recorded in its triangle (each sector search is logarithmic in
 //! the chain length, funnel module docs).
 
@@ -44,11 +48,12 @@ use crate::spt::{SearchError, canonical_triangle};
 use nalgebra::Point2;
 use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::dcel::{TriangleId, VertexId};
+use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::funnel_state::{FunnelState, FunnelTree, NodeId};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-/// Default budget of funnel expansions of one map (about 120 bytes each, module docs "Bounds").
+/// Default budget of funnel expansions of one map (about 130 bytes each, module docs "Bounds").
 pub const DEFAULT_MAX_EXPANSIONS: usize = 8_000_000;
 
 /// The answer for one point: its geodesic distance from the start and the last anchor of the
@@ -105,6 +110,9 @@ pub struct ShortestPathMap<'b> {
     /// `funnels[offsets[t]..offsets[t + 1]]` entered triangle `t`.
     offsets: Vec<u32>,
     funnels: Vec<FunnelState>,
+    /// `bounds[i]`: a lower bound of the length through `funnels[i]` to any point of its
+    /// triangle; ascending within a triangle.
+    bounds: Vec<f64>,
     stats: MapStats,
 }
 
@@ -218,16 +226,21 @@ impl<'b> ShortestPathMap<'b> {
             stats.queue_peak = stats.queue_peak.max(queue.len());
         }
         stats.tree_nodes = tree.len();
-        // Pack the records per triangle (a stable sort: expansion order within one).
-        records.sort_by_key(|r| r.0);
+        // Pack the records per triangle, each triangle's by ascending bound (module docs, "Query").
+        let mut keyed: Vec<(u32, f64, FunnelState)> = records
+            .into_iter()
+            .map(|(t, f)| (t, triangle_bound(btm, &tree, TriangleId(t), &f), f))
+            .collect();
+        keyed.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
         let mut offsets = vec![0u32; d.triangle_capacity() + 1];
-        for (t, _) in &records {
+        for (t, _, _) in &keyed {
             offsets[*t as usize + 1] += 1;
         }
         for i in 1..offsets.len() {
             offsets[i] += offsets[i - 1];
         }
-        let funnels: Vec<FunnelState> = records.into_iter().map(|r| r.1).collect();
+        let bounds: Vec<f64> = keyed.iter().map(|r| r.1).collect();
+        let funnels: Vec<FunnelState> = keyed.into_iter().map(|r| r.2).collect();
         Ok(ShortestPathMap {
             btm,
             start,
@@ -235,6 +248,7 @@ impl<'b> ShortestPathMap<'b> {
             tree,
             offsets,
             funnels,
+            bounds,
             stats,
         })
     }
@@ -258,6 +272,7 @@ impl<'b> ShortestPathMap<'b> {
     pub fn held_bytes(&self) -> usize {
         self.tree.capacity_bytes()
             + self.funnels.capacity() * std::mem::size_of::<FunnelState>()
+            + self.bounds.capacity() * 8
             + self.offsets.capacity() * 4
     }
 
@@ -271,7 +286,7 @@ impl<'b> ShortestPathMap<'b> {
             source,
         })?;
         let mut best: Option<Geodesic> = None;
-        let mut offer = |node: NodeId| {
+        let offer = |best: &mut Option<Geodesic>, node: NodeId| {
             let mut n = self.tree.node(node);
             // A point on a tree node: the anchor is the node's own predecessor.
             let length = n.length + (p - n.point).norm();
@@ -281,7 +296,7 @@ impl<'b> ShortestPathMap<'b> {
                 n = self.tree.node(parent);
             }
             if best.is_none_or(|b| length < b.length) {
-                best = Some(Geodesic {
+                *best = Some(Geodesic {
                     length,
                     last_anchor: n.point,
                     anchor_vertex: n.vertex,
@@ -290,14 +305,23 @@ impl<'b> ShortestPathMap<'b> {
         };
         if t == self.start_triangle {
             // The start's triangle is convex: the straight segment.
-            offer(self.tree.root());
+            offer(&mut best, self.tree.root());
         }
         let (a, b) = (
             self.offsets[t.index()] as usize,
             self.offsets[t.index() + 1] as usize,
         );
-        for f in &self.funnels[a..b] {
-            offer(f.predecessor(&self.tree, &p));
+        for (f, bound) in self.funnels[a..b].iter().zip(&self.bounds[a..b]) {
+            let known = best.map_or(f64::INFINITY, |b| b.length);
+            if *bound >= known {
+                // Every later funnel's bound is at least this one's.
+                break;
+            }
+            let apex = self.tree.node(f.apex());
+            if apex.length + (p - apex.point).norm() >= known {
+                continue;
+            }
+            offer(&mut best, f.predecessor(&self.tree, &p));
         }
         Ok(best)
     }
@@ -311,6 +335,29 @@ fn lower_bound(btm: &Btm, tree: &FunnelTree, f: &FunnelState) -> f64 {
     let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
     let apex = tree.node(f.apex());
     apex.length + segment_distance(&apex.point, &a, &b)
+}
+
+/// A lower bound of the length of every path through `f` to a point of triangle `t` (beyond
+/// its mouth): `g(apex)` plus the distance from the apex to the triangle (every such path runs
+/// from the apex to the point).
+fn triangle_bound(btm: &Btm, tree: &FunnelTree, t: TriangleId, f: &FunnelState) -> f64 {
+    let apex = tree.node(f.apex());
+    let [a, b, c] = btm.dcel().triangle_points(t);
+    let q = &apex.point;
+    let (ab, bc, ca) = (
+        orient2d(&a, &b, q),
+        orient2d(&b, &c, q),
+        orient2d(&c, &a, q),
+    );
+    let inside = (ab >= 0.0 && bc >= 0.0 && ca >= 0.0) || (ab <= 0.0 && bc <= 0.0 && ca <= 0.0);
+    let distance = if inside {
+        0.0
+    } else {
+        segment_distance(q, &a, &b)
+            .min(segment_distance(q, &b, &c))
+            .min(segment_distance(q, &c, &a))
+    };
+    apex.length + distance
 }
 
 /// Euclidean distance from `p` to the segment `ab`.
