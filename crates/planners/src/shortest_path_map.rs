@@ -23,6 +23,16 @@
 //! one lift only, as in Polyanya, and the expansion ends without a goal: funnels with a fixed apex
 //! do not wind (their chains turn by less than pi).
 //!
+//! **Mouth cover.** Root pruning alone lets every vertex's funnels sweep its whole visibility
+//! wedge. A funnel is also dropped when its mouth `ab` is *covered*: every point `x` of the mouth
+//! is reached by the path to the mouth's endpoint `a` (or `b`) best known so far followed by the
+//! mouth itself, more cheaply than the lower bound `g(apex) + |apex - x|` of any path through the
+//! funnel ([`mouth_is_covered`], one point decides). Every path through the funnel to a point
+//! beyond crosses the mouth at some `x`, where something strictly shorter already arrives, so the
+//! funnel reaches nothing first. A shortest path's funnel is never covered (at its crossing the
+//! bound is at most the geodesic distance, which no known path beats), and the test keeps a
+//! [`COVER_MARGIN`] against rounding.
+//!
 //! # Query
 //! The geodesic length of `p` is the minimum, over the funnels recorded for `p`'s canonical
 //! triangle (the triangle a path ending at `p` is assigned to, [`canonical_triangle`], as for the
@@ -191,6 +201,7 @@ impl<'b> ShortestPathMap<'b> {
         let dominated = |tree: &FunnelTree, best: &[f64], f: &FunnelState| {
             let apex = tree.node(f.apex());
             apex.vertex.is_some_and(|v| best[v.index()] < apex.length)
+                || mouth_is_covered(btm, tree, best, f)
         };
         let mut records: Vec<(u32, FunnelState)> = Vec::new();
         while let Some(Entry { key, funnel }) = queue.pop() {
@@ -335,6 +346,37 @@ fn lower_bound(btm: &Btm, tree: &FunnelTree, f: &FunnelState) -> f64 {
     let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
     let apex = tree.node(f.apex());
     apex.length + segment_distance(&apex.point, &a, &b)
+}
+
+/// Relative margin of the mouth-cover test ([`mouth_is_covered`]): a funnel is dropped only when
+/// its bound exceeds the cover by more than this fraction, far above the rounding of lengths
+/// (about 1e-15 relative), so rounding never drops the funnel of a shortest path.
+pub const COVER_MARGIN: f64 = 1e-9;
+
+/// `true` when every point `x` of the funnel's mouth `ab` (both map vertices) is reached more
+/// cheaply along the mouth from an endpoint than any path through the funnel can reach it (module
+/// docs, "Mouth cover"): `g(apex) + |apex - x| > min(best(a) + |x - a|, best(b) + |x - b|)` for
+/// all `x`, by more than [`COVER_MARGIN`]. The left side minus either term of the minimum is
+/// monotone along the mouth (the slope of `|apex - x|` is at most the mouth's), so both minima
+/// sit where the two terms cross (clamped to the mouth): one point decides.
+fn mouth_is_covered(btm: &Btm, tree: &FunnelTree, best: &[f64], f: &FunnelState) -> bool {
+    let d = btm.dcel();
+    let m = f.mouth();
+    let (va, vb) = (d.origin(m), d.destination(m));
+    let (ga, gb) = (best[va.index()], best[vb.index()]);
+    if !(ga.is_finite() && gb.is_finite()) {
+        return false;
+    }
+    let (a, b) = (d.point(va), d.point(vb));
+    let len = (b - a).norm();
+    if len == 0.0 {
+        return false;
+    }
+    let t = ((gb - ga + len) / (2.0 * len)).clamp(0.0, 1.0);
+    let x = a + (b - a) * t;
+    let cover = (ga + (x - a).norm()).min(gb + (b - x).norm());
+    let apex = tree.node(f.apex());
+    apex.length + (x - apex.point).norm() > cover * (1.0 + COVER_MARGIN)
 }
 
 /// A lower bound of the length of every path through `f` to a point of triangle `t` (beyond
