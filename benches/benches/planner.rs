@@ -22,9 +22,9 @@
 //! the strips' long queries, 1e-3 on the short ones, 1e-3 absolute on the arena).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use glam::Vec2;
 use nalgebra::Point2;
-use polyanya::{Mesh, Polygon as PolyPolygon, Vertex as PolyVertex};
+use polyanya::Mesh;
+use rappel_benches::{polyanya_mesh, to_vec2};
 use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::generate::{CraterStripOptions, GeneratedMap, crater_strip};
 use rappel_geometry::map::Map;
@@ -33,43 +33,6 @@ use rappel_planners::spt::{SearchOptions, SptPlanner};
 use std::collections::HashMap;
 use std::hint::black_box;
 use std::time::Duration;
-
-/// The polyanya navigation mesh of a BTM's free triangles (counter-clockwise, compact vertices),
-/// in coordinates relative to `origin` (polyanya works in `f32`: the origin keeps the long strips'
-/// coordinates small). Built directly from the DCEL (each vertex's free triangles in
-/// counter-clockwise order, then the obstacle gap at a map vertex): polyanya's own `Trimesh`
-/// conversion looks up every vertex's triangles by scanning all triangles, which takes minutes
-/// at 100,000 obstacles.
-fn polyanya_mesh(btm: &Btm, origin: Point2<f64>) -> Mesh {
-    let d = btm.dcel();
-    let mut tri_index = vec![u32::MAX; d.triangle_capacity()];
-    for (i, t) in btm.triangles().enumerate() {
-        tri_index[t.index()] = i as u32;
-    }
-    let mut index = vec![u32::MAX; d.vertex_capacity()];
-    let mut vertices = Vec::new();
-    let mut polygons = Vec::new();
-    for t in btm.triangles() {
-        let tri = d.triangle_vertices(t).map(|v| {
-            if index[v.index()] == u32::MAX {
-                index[v.index()] = vertices.len() as u32;
-                let mut around: Vec<u32> = d
-                    .edges_around_vertex(v)
-                    .map(|h| tri_index[h.triangle().index()])
-                    .collect();
-                if d.is_map_vertex(v) {
-                    around.push(u32::MAX);
-                }
-                vertices.push(PolyVertex::new(to_vec2(d.point(v), origin), around));
-            }
-            index[v.index()]
-        });
-        polygons.push(PolyPolygon::new(tri.to_vec(), false));
-    }
-    let mut mesh = Mesh::new(vertices, polygons).expect("a BTM is a valid navigation mesh");
-    mesh.bake();
-    mesh
-}
 
 /// Peak resident set size of this process, kB (`None` off Linux).
 fn peak_rss_kb() -> Option<u64> {
@@ -110,11 +73,6 @@ fn measure_once<T>(f: impl FnOnce() -> T) -> (T, Duration, Option<f64>) {
         _ => None,
     };
     (out, elapsed, growth)
-}
-
-/// `p - origin` in polyanya's `f32`.
-fn to_vec2(p: Point2<f64>, origin: Point2<f64>) -> Vec2 {
-    Vec2::new((p.x - origin.x) as f32, (p.y - origin.y) as f32)
 }
 
 /// `true` when `p` is a point of free space (on a free triangle, edge or map vertex).

@@ -8,6 +8,7 @@
 //! | module | computes | source |
 //! |---|---|---|
 //! | [`spt`] | SHPs in non-decreasing length, one per homotopy class; termination rules | Alg. 3-4, eq. 2.5 |
+//! | [`shortest_path_map`] | geodesic length and last anchor of every point from one start, built once | Mitchell's continuous Dijkstra, Polyanya's root pruning |
 //! | [`terrain`] | the plane series under the map and each plane's tether limit | §2.1.2, §2.4.4 |
 //! | [`feasibility`] | anchors, anchor reachable sets, passability, waypoints | Alg. 5, Defs. 2.1-2.4, eq. 2.7 |
 //! | [`path_pair`] | homotopic ascent/descent path pairs, next class on failure | Alg. 6, §2.2.4 |
@@ -25,6 +26,7 @@ pub mod path_pair;
 pub mod report_units;
 pub mod sampler;
 pub mod search_report;
+pub mod shortest_path_map;
 pub mod spt;
 pub mod terrain;
 pub mod tether_tracking;
