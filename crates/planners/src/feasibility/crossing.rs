@@ -44,6 +44,7 @@
 
 use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, in_wedge};
 use nalgebra::{Point2, Vector2};
+use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::homotopy::is_contractible;
 use rappel_homotopy::path::Path;
 use rappel_mechanics::anchor_traversability::TetherLimit;
@@ -56,6 +57,10 @@ pub const TIE_WIDTH_FRACTION: f64 = 1e-10;
 /// Bound on the bisection steps that locate the end of the clear sweep (each halves a float
 /// interval; 2,100 steps exhaust any pair of finite doubles, the usual count is about 60).
 const MAX_BISECTION_STEPS: usize = 2_100;
+
+/// Bound on the ulp steps that put a via point on the free side of the tether's line
+/// ([`Climb::snap_via`]); rounding the via point errs by one or two ulps.
+const MAX_SNAP_STEPS: usize = 16;
 
 /// How the robot moves onto the visibility line (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -149,9 +154,52 @@ impl Climb<'_, '_> {
                 let apex = self.points[j];
                 let r = (q - apex).norm();
                 let s = t.max(self.ctx.clearance);
-                (s < r).then(|| apex + (q - apex) * (s / r))
+                (s < r).then(|| self.snap_via(j, q, apex + (q - apex) * (s / r), t))
             }
         }
+    }
+
+    /// The via point `v` on the tether `a_j -> q`, moved by at most [`MAX_SNAP_STEPS`] ulps so
+    /// that it lies on the tether's line or on the side of it the move goes to (exact
+    /// orientation test). The tether may run along an obstacle edge (`a_j` and the released
+    /// `a_{j+1}` consecutive corners of one obstacle): `v` is then on that edge, a true tie that
+    /// rounding would put inside the obstacle or not; snapped, the verdict does not depend on
+    /// those bits. The line is `a_j -> a_{j+1}` while `v` is nearer than `a_{j+1}`, else
+    /// `a_j -> q`.
+    fn snap_via(&self, j: usize, q: &Point2<f64>, v: Point2<f64>, t: f64) -> Point2<f64> {
+        let apex = self.points[j];
+        let end = match self.points.get(j + 1) {
+            Some(released) if (v - apex).norm_squared() < (released - apex).norm_squared() => {
+                *released
+            }
+            _ => *q,
+        };
+        let w = apex + self.direction(j) * t;
+        let side = orient2d(&apex, &end, &w);
+        if side == 0.0 {
+            return v;
+        }
+        // The normal of the line towards the move's side.
+        let d = end - apex;
+        let n = Vector2::new(-d.y, d.x) * side.signum();
+        let mut v = v;
+        for _ in 0..MAX_SNAP_STEPS {
+            let o = orient2d(&apex, &end, &v);
+            if o == 0.0 || o.signum() == side.signum() {
+                break;
+            }
+            let step = |x: f64, towards: f64| {
+                if towards > 0.0 {
+                    x.next_up()
+                } else if towards < 0.0 {
+                    x.next_down()
+                } else {
+                    x
+                }
+            };
+            v = Point2::new(step(v.x, n.x), step(v.y, n.y));
+        }
+        v
     }
 
     /// The start of the move on `route` as a point linear in `t` on `[from, to]` (one route
@@ -192,6 +240,10 @@ impl Climb<'_, '_> {
     /// whenever `from` is beyond it from `a_j`, so the verdict does not depend on those bits.
     pub(super) fn sweep_clear(&self, j: usize, from: &Point2<f64>, w: &Point2<f64>) -> bool {
         let apex = self.points[j];
+        if *w == apex || *from == apex || from == w {
+            // The sweep degenerates to a part of the tether or of the visible ray, both free.
+            return true;
+        }
         let mut corners = vec![apex];
         if let Some(released) = self.points.get(j + 1)
             && (from - apex).norm_squared() > (released - apex).norm_squared()
