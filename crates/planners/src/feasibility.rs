@@ -30,15 +30,16 @@
 //!    wedge of `a_j`);
 //! 2. the robot crossing it stays held by `a_{j-1}`: `theta_max_{j-1} > psi_j` (plane of
 //!    `a_{j-1}`);
-//! 3. Alg. 5 lines 13-19: some point `q'` of the visibility edge `V = L_j ∩ C_j ∩ C_{j-1}` can be
-//!    reached from the robot's position `q` inside `C_j`. rappel tries points of `V` kept
-//!    `clearance` away from `a_j` and from the first obstacle the ray meets: a ladder of doubling
-//!    distances from `a_j`, then the projection of `q`, the middle and the far end; it accepts
-//!    the first `q'` such that the straight
-//!    move `q -> q'` stays in the wedge of `a_j` band by band and the triangle `(a_j, q, q')` swept
-//!    by the tether is obstacle-free (its boundary lies in free space and is a contractible loop,
-//!    exact); waypoints `clearance` away from every anchor, reached by moves that keep
-//!    `clearance` from the anchors not yet released, are preferred.
+//! 3. Alg. 5 lines 13-19: some point `q'` of the visibility edge `V = L_j ∩ C_j ∩ C_{j-1}`, kept
+//!    `clearance` away from `a_j` and from the first obstacle the ray meets, can be reached from
+//!    the robot's position `q` inside `C_j`: straight, or first in along the tether towards `a_j`
+//!    and then across, the move staying in the wedge of `a_j` band by band and the triangle
+//!    swept by the tether obstacle-free (its boundary a contractible loop in free space, exact).
+//!    The reachable part of `V` is computed exactly, as intervals along `L_j` between critical
+//!    values with one exact evaluation per interval (the private module `feasibility::crossing`
+//!    documents the cells), not by trying points; the waypoint is the first point of it, a
+//!    clearance in from its start, that keeps `clearance` from every anchor and is reached by a
+//!    move keeping `clearance` from the anchors not yet released (else the first reachable one).
 //!
 //! The waypoints `q'` are the waypoints of the ascent (Alg. 5 line 19). An SHP is feasible
 //! (Def. 2.4) when every intermediate anchor is passable; otherwise the report names the first
@@ -392,7 +393,9 @@ pub fn check_feasibility_with(
 }
 
 /// Cuts every anchor reachable set of `report` to free space ([`AnchorReachableSet::free_pieces`]),
-/// for reports and pictures: only when asked for, never in the decision path. Each piece is
+/// for reports and pictures: only when asked for, never in the decision path, and locally: with a
+/// tether length, each set is first cut to the square of half-side "tether left at its anchor"
+/// around the anchor (the robot cannot be farther), so the overlay sees only the obstacles there. Each piece is
 /// overlaid with the boundary and with the obstacles whose bounding box meets the piece's (the
 /// others are skipped by [`free_part`]); the map's polygons are gathered once per report. An
 /// overlay that refuses its input leaves that set's `free_pieces_error` set.
@@ -422,10 +425,48 @@ pub fn check_feasibility_with(
 /// ```
 pub fn fill_reachable_areas(ctx: &FeasibilityContext<'_>, report: &mut FeasibilityReport) {
     let map: Map = ctx.btm.map();
+    // The tether used up to each anchor: start, a_1, .., a_n along the taut path.
+    let start = report.route.last().map(|c| c.point);
+    let mut used = vec![0.0];
+    if let Some(mut at) = start {
+        for a in &report.anchors {
+            used.push(used[used.len() - 1] + (a.anchor.point - at).norm());
+            at = a.anchor.point;
+        }
+    }
     for set in &mut report.reachable_sets {
         set.free_pieces.clear();
         set.free_pieces_error = None;
+        // With a tether of known length the set lies within the tether left at its anchor of
+        // it: each piece is cut to that square around the anchor first, so only the obstacles
+        // near the anchor enter the overlay.
+        let reach = ctx
+            .tether_length
+            .zip(used.get(set.anchor))
+            .map(|(total, used)| total - used);
         for (poly, limit) in &set.pieces {
+            let local;
+            let poly = match reach {
+                Some(r) if r <= 0.0 => continue,
+                Some(r) => {
+                    let mut v = poly.vertices.clone();
+                    let a = set.apex;
+                    for (origin, dir) in [
+                        (Point2::new(a.x, a.y - r), Vector2::new(1.0, 0.0)),
+                        (Point2::new(a.x + r, a.y), Vector2::new(0.0, 1.0)),
+                        (Point2::new(a.x, a.y + r), Vector2::new(-1.0, 0.0)),
+                        (Point2::new(a.x - r, a.y), Vector2::new(0.0, -1.0)),
+                    ] {
+                        v = clip(&v, &origin, &dir);
+                    }
+                    if v.len() < 3 {
+                        continue;
+                    }
+                    local = Polygon::new(v);
+                    &local
+                }
+                None => poly,
+            };
             match free_part(poly, &map.boundary, &map.obstacles) {
                 Ok(regions) => set
                     .free_pieces

@@ -338,7 +338,11 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
         } else {
             (m.goal, m.start)
         };
-        let verdicts = |map: &Map| -> Option<Vec<(usize, bool)>> {
+        // Per class: the anchor count, the verdict, and per anchor examined whether it was
+        // passed and the length of its reachable part (computed exactly: it may move by
+        // rounding, never jump).
+        type Verdict = (usize, bool, Vec<(bool, f64)>);
+        let verdicts = |map: &Map| -> Option<Vec<Verdict>> {
             let btm = Btm::build(map).ok()?;
             let ctx = FeasibilityContext {
                 btm: &btm,
@@ -351,7 +355,25 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
             Some(
                 plan.classes
                     .iter()
-                    .map(|c| (c.class.shp.taut.anchors.len(), c.feasibility.feasible()))
+                    .map(|c| {
+                        let anchors = c
+                            .feasibility
+                            .anchors
+                            .iter()
+                            .filter(|a| !matches!(a.passability, Passability::NotReached))
+                            .map(|a| {
+                                (
+                                    matches!(a.passability, Passability::Passable { .. }),
+                                    a.reachable_part.iter().map(|[u, v]| (v - u).norm()).sum(),
+                                )
+                            })
+                            .collect();
+                        (
+                            c.class.shp.taut.anchors.len(),
+                            c.feasibility.feasible(),
+                            anchors,
+                        )
+                    })
                     .collect(),
             )
         };
@@ -386,6 +408,11 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
         for (x, y) in a.iter().zip(&b) {
             if x.0 == y.0 {
                 assert_eq!(x.1, y.1, "seed {seed}: {a:?} vs {b:?}");
+                assert_eq!(x.2.len(), y.2.len(), "seed {seed}: {a:?} vs {b:?}");
+                for (p, q) in x.2.iter().zip(&y.2) {
+                    assert_eq!(p.0, q.0, "seed {seed}: {a:?} vs {b:?}");
+                    assert!((p.1 - q.1).abs() <= 1e-6, "seed {seed}: {a:?} vs {b:?}");
+                }
                 compared += 1;
             } else {
                 ties += 1;
@@ -470,6 +497,41 @@ fn a_reachable_sliver_narrower_than_any_ladder_is_found() {
         panic!("{:?}", a.passability);
     };
     assert!((waypoint - apex).norm() > 0.0 && (waypoint - apex).norm() < expected);
+    // One ulp on every coordinate of B, either way: the same verdict and the same sliver.
+    for sign in [1.0, -1.0] {
+        let nudge = |x: f64, k: usize| {
+            if (k % 2 == 0) == (sign > 0.0) {
+                x.next_up()
+            } else {
+                x.next_down()
+            }
+        };
+        let b = &map.obstacles[1];
+        let moved = Polygon::new(
+            b.vertices
+                .iter()
+                .enumerate()
+                .map(|(k, v)| p(nudge(v.x, k), nudge(v.y, k + 1)))
+                .collect(),
+        );
+        let nudged = Map::new(map.boundary.clone(), vec![map.obstacles[0].clone(), moved]);
+        let btm = Btm::build(&nudged).unwrap();
+        let ctx = FeasibilityContext {
+            btm: &btm,
+            terrain: &terrain,
+            clearance: 0.0,
+            tether_length: None,
+        };
+        let again = SptPlanner::new(&btm)
+            .shortest_path(start, goal)
+            .unwrap()
+            .unwrap();
+        assert_eq!(again.shp.taut.points, taut.points);
+        let r = check_feasibility(&ctx, &again.shp.taut);
+        assert!(r.feasible(), "nudged {sign}: {}", r.describe());
+        let [_, v] = r.anchors[0].reachable_part[0];
+        assert!(((v - apex).norm() - expected).abs() < 1e-9);
+    }
     // Widening the gap past the ladder's first rung keeps it passable; closing it (B's tip on the
     // tether's own line is a tie, so just short of it) leaves a reachable part that shrinks in
     // proportion: the verdict follows the geometry, not a sample spacing.
@@ -787,4 +849,75 @@ fn reachable_parts_agree_with_brute_force_sampling() {
         ends >= 6,
         "only {ends} interior ends ({yes} reachable, {no} not)"
     );
+}
+
+#[test]
+fn reachable_areas_stay_within_the_tether_left() {
+    // With a tether 1 m longer than the taut path, each set's area lies in the square of
+    // half-side "tether left at its anchor" around it, and is no larger than without a tether
+    // length.
+    let map = triangle_map();
+    let btm = Btm::build(&map).unwrap();
+    let best = SptPlanner::new(&btm)
+        .shortest_path(p(50., 100.), p(50., 0.))
+        .unwrap()
+        .unwrap();
+    let taut = &best.shp.taut;
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(110., -10., 30., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let areas = |tether: Option<f64>| {
+        let ctx = FeasibilityContext {
+            btm: &btm,
+            terrain: &terrain,
+            clearance: 0.5,
+            tether_length: tether,
+        };
+        let mut r = check_feasibility(&ctx, taut);
+        fill_reachable_areas(&ctx, &mut r);
+        r.reachable_sets
+    };
+    let unbounded = areas(None);
+    let total = taut.length + 1.0;
+    let bounded = areas(Some(total));
+    assert_eq!(unbounded.len(), bounded.len());
+    let mut used = 0.0;
+    let mut at = taut.start();
+    for (u, b) in unbounded.iter().zip(&bounded) {
+        if b.anchor > 0 {
+            used += (b.apex - at).norm();
+            at = b.apex;
+        }
+        let left = total - used;
+        let area = |s: &rappel_planners::feasibility::AnchorReachableSet| -> f64 {
+            s.free_pieces.iter().map(|(reg, _)| reg.area()).sum()
+        };
+        assert!(area(b) <= area(u) + 1e-6, "set {}", b.anchor);
+        assert!(area(b) > 0.0, "set {}", b.anchor);
+        for (reg, _) in &b.free_pieces {
+            for v in &reg.outer.vertices {
+                assert!(
+                    (v.x - b.apex.x).abs() <= left + 1e-9 && (v.y - b.apex.y).abs() <= left + 1e-9,
+                    "set {}: {v:?} beyond {left} m of {:?}",
+                    b.anchor,
+                    b.apex
+                );
+            }
+        }
+    }
+    // The last anchor's set is cut: its wedge reaches the bottom of the map (y = -10), its tether
+    // (1 m more than the 85 m down to the goal at y = 0) does not.
+    let (b, u) = (bounded.last().unwrap(), unbounded.last().unwrap());
+    assert!(
+        area_of(b) < area_of(u) - 1.0,
+        "{} vs {}",
+        area_of(b),
+        area_of(u)
+    );
+}
+
+fn area_of(s: &rappel_planners::feasibility::AnchorReachableSet) -> f64 {
+    s.free_pieces.iter().map(|(reg, _)| reg.area()).sum()
 }

@@ -88,11 +88,11 @@ pub(super) struct Crossing {
 struct Lin(f64, f64);
 
 impl Lin {
-    fn sub(self, o: Lin) -> Lin {
+    fn minus(self, o: Lin) -> Lin {
         Lin(self.0 - o.0, self.1 - o.1)
     }
     /// The product as `[c0, c1, c2]`.
-    fn mul(self, o: Lin) -> [f64; 3] {
+    fn times(self, o: Lin) -> [f64; 3] {
         [self.0 * o.0, self.0 * o.1 + self.1 * o.0, self.1 * o.1]
     }
 }
@@ -413,8 +413,8 @@ impl Climb<'_, '_> {
                         }
                         for s in [tan * (apex.y - yb), -tan * (apex.y - yb)] {
                             // (Px - ax - s)(Wy - Py) + (yb - Py)(Wx - Px) = 0.
-                            let a = p.x.sub(Lin(apex.x + s, 0.0)).mul(w.y.sub(p.y));
-                            let b = Lin(yb, 0.0).sub(p.y).mul(w.x.sub(p.x));
+                            let a = p.x.minus(Lin(apex.x + s, 0.0)).times(w.y.minus(p.y));
+                            let b = Lin(yb, 0.0).minus(p.y).times(w.x.minus(p.x));
                             cuts.extend(roots([a[0] + b[0], a[1] + b[1], a[2] + b[2]]));
                         }
                     }
@@ -481,7 +481,7 @@ impl Climb<'_, '_> {
                 // cross(w - q, a - q)^2 = c^2 |w - q|^2, with w - q = d0 + t dir.
                 let (d0, aq) = (apex - q, a - q);
                 let m = Lin(d0.x * aq.y - d0.y * aq.x, dir.x * aq.y - dir.y * aq.x);
-                let sq = m.mul(m);
+                let sq = m.times(m);
                 let n = [d0.norm_squared(), 2.0 * d0.dot(&dir), dir.norm_squared()];
                 cuts.extend(roots([
                     sq[0] - c * c * n[0],
