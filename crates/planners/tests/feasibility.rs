@@ -500,7 +500,7 @@ fn a_reachable_sliver_narrower_than_any_ladder_is_found() {
     // One ulp on every coordinate of B, either way: the same verdict and the same sliver.
     for sign in [1.0, -1.0] {
         let nudge = |x: f64, k: usize| {
-            if (k % 2 == 0) == (sign > 0.0) {
+            if k.is_multiple_of(2) == (sign > 0.0) {
                 x.next_up()
             } else {
                 x.next_down()
@@ -580,8 +580,8 @@ fn brute_move(
         wedge &= admits(x, terrain.limit_at(&x));
     }
     let planes = terrain.planes();
-    for k in 1..planes.len() {
-        let yb = planes[k].y_top;
+    for (k, plane) in planes.iter().enumerate().skip(1) {
+        let yb = plane.y_top;
         if (from.y - yb) * (w.y - yb) < 0.0 {
             let x = from + (w - from) * ((yb - from.y) / (w.y - from.y));
             wedge &= admits(x, terrain.limits()[k - 1]) && admits(x, terrain.limits()[k]);
