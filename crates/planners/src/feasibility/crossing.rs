@@ -37,10 +37,12 @@
 //! clearance (at least [`MIN_WAYPOINT_STEP_FRACTION`] of the extent): near the anchor, well inside.
 //!
 //! # Waypoint
-//! The cells are visited from `a_j` outward, the direct route before the via route; the first
-//! reachable representative whose waypoint keeps `clearance` from every anchor and whose move keeps
-//! it from the anchors not yet released ([`Climb::clear_of_anchors`]) is the waypoint; if none
-//! does, the first reachable one.
+//! The cells are visited from `a_j` outward, the direct route before the via route. A point is
+//! *clear* when its waypoint keeps `clearance` from every anchor and its move keeps it from the
+//! anchors not yet released ([`Climb::clear_of_anchors`]). The waypoint is the first clear point at
+//! least [`ROOMY_CLEARANCES`] clearances beyond `a_j` (the representative, or that distance itself
+//! when it falls inside a reachable cell: the predicates are constant there, and it is checked
+//! again exactly); else the first clear representative; else the first reachable one.
 
 use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, in_wedge};
 use nalgebra::{Point2, Vector2};
@@ -57,6 +59,11 @@ pub const TIE_WIDTH_FRACTION: f64 = 1e-10;
 /// Bound on the bisection steps that locate the end of the clear sweep (each halves a float
 /// interval; 2,100 steps exhaust any pair of finite doubles, the usual count is about 60).
 const MAX_BISECTION_STEPS: usize = 2_100;
+
+/// Waypoints at least this many clearances beyond `a_j` are preferred: the ascent leaves the
+/// waypoint bending round the released `a_j` at a clearance (the path pair's mitre point), which a
+/// waypoint just one clearance beyond leaves no room for.
+pub const ROOMY_CLEARANCES: f64 = 2.0;
 
 /// Bound on the ulp steps that put a via point on the free side of the tether's line
 /// ([`Climb::snap_via`]); rounding the via point errs by one or two ulps.
@@ -323,8 +330,8 @@ impl Climb<'_, '_> {
         let (lo_all, hi_all) = (pieces[0].0, pieces[pieces.len() - 1].1);
         let cuts = self.critical_values(j, &q, lo_all, hi_all);
         let mut reachable: Vec<(f64, f64)> = Vec::new();
-        let mut choice = None;
-        let mut fallback = None;
+        // Preferred: clear and roomy; then clear; then any reachable point.
+        let (mut choice, mut clear, mut fallback) = (None, None, None);
         for &(lo, hi) in &pieces {
             let mut ends: Vec<f64> = std::iter::once(lo)
                 .chain(cuts.iter().copied().filter(|&t| lo < t && t < hi))
@@ -341,6 +348,9 @@ impl Climb<'_, '_> {
                     continue;
                 }
                 let w = apex + dir * t;
+                // The roomy point of the cell: [`ROOMY_CLEARANCES`] clearances beyond `a_j` when
+                // that lies inside the cell (or the representative, if farther already).
+                let roomy = t.max(ROOMY_CLEARANCES * c);
                 let mut any = false;
                 for route in [Route::Direct, Route::Via] {
                     let Some(from) = self.reaches(j, &q, route, t) else {
@@ -348,10 +358,18 @@ impl Climb<'_, '_> {
                     };
                     any = true;
                     let via = (route == Route::Via).then_some(from);
-                    if choice.is_none() && self.clear_of_anchors(j, &from, &w) {
-                        choice = Some((w, via));
+                    if self.clear_of_anchors(j, &from, &w) {
+                        clear.get_or_insert((w, via));
                     }
                     fallback.get_or_insert((w, via));
+                    if choice.is_none() && roomy < v - tie {
+                        let wr = apex + dir * roomy;
+                        if let Some(from) = self.reaches(j, &q, route, roomy)
+                            && self.clear_of_anchors(j, &from, &wr)
+                        {
+                            choice = Some((wr, (route == Route::Via).then_some(from)));
+                        }
+                    }
                 }
                 if any {
                     match reachable.last_mut() {
@@ -368,7 +386,7 @@ impl Climb<'_, '_> {
                 .into_iter()
                 .map(|(u, v)| [apex + dir * u, apex + dir * v])
                 .collect(),
-            choice: choice.or(fallback),
+            choice: choice.or(clear).or(fallback),
         }
     }
 
