@@ -30,15 +30,16 @@
 //!    wedge of `a_j`);
 //! 2. the robot crossing it stays held by `a_{j-1}`: `theta_max_{j-1} > psi_j` (plane of
 //!    `a_{j-1}`);
-//! 3. Alg. 5 lines 13-19: some point `q'` of the visibility edge `V = L_j ∩ C_j ∩ C_{j-1}` can be
-//!    reached from the robot's position `q` inside `C_j`. rappel tries points of `V` kept
-//!    `clearance` away from `a_j` and from the first obstacle the ray meets: a ladder of doubling
-//!    distances from `a_j`, then the projection of `q`, the middle and the far end; it accepts
-//!    the first `q'` such that the straight
-//!    move `q -> q'` stays in the wedge of `a_j` band by band and the triangle `(a_j, q, q')` swept
-//!    by the tether is obstacle-free (its boundary lies in free space and is a contractible loop,
-//!    exact); waypoints `clearance` away from every anchor, reached by moves that keep
-//!    `clearance` from the anchors not yet released, are preferred.
+//! 3. Alg. 5 lines 13-19: some point `q'` of the visibility edge `V = L_j ∩ C_j ∩ C_{j-1}`, kept
+//!    `clearance` away from `a_j` and from the first obstacle the ray meets, can be reached from
+//!    the robot's position `q` inside `C_j`: straight, or first in along the tether towards `a_j`
+//!    and then across, the move staying in the wedge of `a_j` band by band and the triangle
+//!    swept by the tether obstacle-free (its boundary a contractible loop in free space, exact).
+//!    The reachable part of `V` is computed exactly, as intervals along `L_j` between critical
+//!    values with one exact evaluation per interval (the private module `feasibility::crossing`
+//!    documents the cells), not by trying points; the waypoint is the first point of it, a
+//!    clearance in from its start, that keeps `clearance` from every anchor and is reached by a
+//!    move keeping `clearance` from the anchors not yet released (else the first reachable one).
 //!
 //! The waypoints `q'` are the waypoints of the ascent (Alg. 5 line 19). An SHP is feasible
 //! (Def. 2.4) when every intermediate anchor is passable; otherwise the report names the first
@@ -52,10 +53,12 @@ use rappel_geometry::polygon::{Aabb, Polygon};
 use rappel_geometry::region::{Region, free_part};
 use rappel_homotopy::crossing::Tracer;
 use rappel_homotopy::funnel::{Anchor, Side, TautPath};
-use rappel_homotopy::homotopy::is_contractible;
-use rappel_homotopy::path::{Path, PathError};
+use rappel_homotopy::path::PathError;
 use rappel_mechanics::anchor_traversability::TetherLimit;
 use serde::{Deserialize, Serialize};
+
+mod crossing;
+pub use crossing::{ROOMY_CLEARANCES, TIE_WIDTH_FRACTION};
 
 /// Relative slack on clearance comparisons (distances are computed in floating point).
 pub const CLEARANCE_TOLERANCE: f64 = 1e-9;
@@ -120,8 +123,9 @@ pub enum Impassability {
     /// Alg. 5 line 14: no point of the visibility edge can be reached from the robot's position
     /// inside the anchor reachable set (obstacles in the way, or the wedge too narrow).
     NoReachableWaypoint {
-        /// Candidate points tried.
-        candidates: usize,
+        /// The length of the usable visibility edge `V ∩ R_{j-1}` examined, m (0 when the
+        /// visible ray has no point both wedges admit).
+        usable: f64,
     },
 }
 
@@ -148,9 +152,9 @@ impl Impassability {
             Impassability::TetherTooShort { needed, available } => format!(
                 "the taut tether to the goal is {needed:.2} m long, more than the robot's {available:.2} m tether"
             ),
-            Impassability::NoReachableWaypoint { candidates } => {
-                format!("no point of its visibility edge is reachable ({candidates} tried)")
-            }
+            Impassability::NoReachableWaypoint { usable } => format!(
+                "no point of its visibility edge is reachable from the robot's position ({usable:.2} m usable)"
+            ),
         }
     }
 }
@@ -189,6 +193,10 @@ pub struct AnchorAssessment {
     pub previous_limit: TetherLimit,
     /// The usable part of the visibility edge (`V ∩ R_{j-1}`), if examined and not empty.
     pub visibility_edge: Option<[Point2<f64>; 2]>,
+    /// The part of it the robot reaches from its position while `a_j` is proximal, computed
+    /// exactly as segments along `L_j`, nearest `a_j` first (empty if not examined or none).
+    #[serde(default)]
+    pub reachable_part: Vec<[Point2<f64>; 2]>,
     /// The verdict.
     pub passability: Passability,
 }
@@ -306,14 +314,6 @@ pub struct FeasibilityContext<'a> {
     pub tether_length: Option<f64>,
 }
 
-/// What [`Climb::pass`] finds for one anchor: the usable visibility edge, the chosen waypoint with
-/// its optional via point, and the number of candidates tried.
-type Crossing = (
-    Option<[Point2<f64>; 2]>,
-    Option<(Point2<f64>, Option<Point2<f64>>)>,
-    usize,
-);
-
 /// Where the ascent stands while Alg. 5 walks up the anchors.
 struct Climb<'c, 'a> {
     ctx: &'c FeasibilityContext<'a>,
@@ -393,7 +393,9 @@ pub fn check_feasibility_with(
 }
 
 /// Cuts every anchor reachable set of `report` to free space ([`AnchorReachableSet::free_pieces`]),
-/// for reports and pictures: only when asked for, never in the decision path. Each piece is
+/// for reports and pictures: only when asked for, never in the decision path, and locally: with a
+/// tether length, each set is first cut to the square of half-side "tether left at its anchor"
+/// around the anchor (the robot cannot be farther), so the overlay sees only the obstacles there. Each piece is
 /// overlaid with the boundary and with the obstacles whose bounding box meets the piece's (the
 /// others are skipped by [`free_part`]); the map's polygons are gathered once per report. An
 /// overlay that refuses its input leaves that set's `free_pieces_error` set.
@@ -423,10 +425,48 @@ pub fn check_feasibility_with(
 /// ```
 pub fn fill_reachable_areas(ctx: &FeasibilityContext<'_>, report: &mut FeasibilityReport) {
     let map: Map = ctx.btm.map();
+    // The tether used up to each anchor: start, a_1, .., a_n along the taut path.
+    let start = report.route.last().map(|c| c.point);
+    let mut used = vec![0.0];
+    if let Some(mut at) = start {
+        for a in &report.anchors {
+            used.push(used[used.len() - 1] + (a.anchor.point - at).norm());
+            at = a.anchor.point;
+        }
+    }
     for set in &mut report.reachable_sets {
         set.free_pieces.clear();
         set.free_pieces_error = None;
+        // With a tether of known length the set lies within the tether left at its anchor of
+        // it: each piece is cut to that square around the anchor first, so only the obstacles
+        // near the anchor enter the overlay.
+        let reach = ctx
+            .tether_length
+            .zip(used.get(set.anchor))
+            .map(|(total, used)| total - used);
         for (poly, limit) in &set.pieces {
+            let local;
+            let poly = match reach {
+                Some(r) if r <= 0.0 => continue,
+                Some(r) => {
+                    let mut v = poly.vertices.clone();
+                    let a = set.apex;
+                    for (origin, dir) in [
+                        (Point2::new(a.x, a.y - r), Vector2::new(1.0, 0.0)),
+                        (Point2::new(a.x + r, a.y), Vector2::new(0.0, 1.0)),
+                        (Point2::new(a.x, a.y + r), Vector2::new(-1.0, 0.0)),
+                        (Point2::new(a.x - r, a.y), Vector2::new(0.0, -1.0)),
+                    ] {
+                        v = clip(&v, &origin, &dir);
+                    }
+                    if v.len() < 3 {
+                        continue;
+                    }
+                    local = Polygon::new(v);
+                    &local
+                }
+                None => poly,
+            };
             match free_part(poly, &map.boundary, &map.obstacles) {
                 Ok(regions) => set
                     .free_pieces
@@ -462,6 +502,7 @@ impl Climb<'_, '_> {
                     limit: terrain.limit_at(&self.points[j]),
                     previous_limit: terrain.limit_at(&self.points[j - 1]),
                     visibility_edge: None,
+                    reachable_part: Vec::new(),
                     passability: Passability::NotReached,
                 }
             })
@@ -529,13 +570,15 @@ impl Climb<'_, '_> {
                 .iter()
                 .find(|set| set.anchor == j)
                 .expect("C_j is built before a_j is examined");
-            let (edge, choice, tried) = self.pass(j, q, psi, set);
+            let reach = set.visibility_line.map_or(0.0, |[a, b]| (b - a).norm());
+            let crossing = self.cross(j, q, psi, reach);
             let choice = if self.own_waypoint[j] {
                 Some((self.points[j], None))
             } else {
-                choice
+                crossing.choice
             };
-            a.visibility_edge = edge;
+            a.visibility_edge = crossing.edge;
+            a.reachable_part = crossing.reachable;
             match choice {
                 Some((w, via)) => {
                     a.passability = Passability::Passable { waypoint: w, via };
@@ -553,7 +596,9 @@ impl Climb<'_, '_> {
                     q = w;
                 }
                 None => {
-                    let reason = Impassability::NoReachableWaypoint { candidates: tried };
+                    let reason = Impassability::NoReachableWaypoint {
+                        usable: crossing.usable,
+                    };
                     a.passability = Passability::Impassable(reason);
                     blockage = Some(Blockage {
                         anchor: Some(j),
@@ -579,97 +624,6 @@ impl Climb<'_, '_> {
             route,
             blockage,
         }
-    }
-
-    /// Alg. 5 lines 9-19 for anchor `j` with the robot at `q`: the visibility edge and the first
-    /// reachable waypoint on it (with the number of candidates tried).
-    fn pass(&self, j: usize, q: Point2<f64>, psi: f64, set: &AnchorReachableSet) -> Crossing {
-        let (apex, prev) = (self.points[j], self.points[j - 1]);
-        let dir = (apex - prev).normalize();
-        let reach = set.visibility_line.map_or(0.0, |[a, b]| (b - a).norm());
-        // V ∩ R_{j-1}: the parts of the visible ray whose band admits psi (both wedges see the ray
-        // at psi from the fall line).
-        let intervals: Vec<(f64, f64)> = self
-            .ctx
-            .terrain
-            .pieces(apex, apex + dir * reach)
-            .into_iter()
-            .filter(|(_, _, limit)| limit.admits(psi))
-            .map(|(a, b, _)| ((a - apex).norm(), (b - apex).norm()))
-            .filter(|(t0, t1)| t1 > t0)
-            .collect();
-        let (Some(first), Some(last)) = (intervals.first(), intervals.last()) else {
-            return (None, None, 0);
-        };
-        let edge = [apex + dir * first.0, apex + dir * last.1];
-        let c = self.ctx.clearance;
-        let mut candidates = Vec::new();
-        for &(t0, t1) in &intervals {
-            let margin = c.min((t1 - t0) / 4.0);
-            let (lo, hi) = (t0 + margin, t1 - margin);
-            // Near the anchor first (a ladder of doubling distances), then the projection of the
-            // robot's position, the middle and the far end.
-            let (w, h) = self.bounds.size();
-            let mut step = margin.max(MIN_WAYPOINT_STEP_FRACTION * w.max(h));
-            while lo + step < hi {
-                candidates.push(lo + step);
-                step *= 2.0;
-            }
-            candidates.extend([lo, (q - apex).dot(&dir).clamp(lo, hi), (lo + hi) / 2.0, hi]);
-        }
-        let mut fallback = None;
-        let mut tried = 0;
-        for t in candidates {
-            if t <= 0.0 {
-                continue;
-            }
-            tried += 1;
-            let w = apex + dir * t;
-            // Straight to `w`, or first in along the tether towards `a_j` and then across.
-            let via = {
-                let r = (q - apex).norm();
-                let s = t.max(self.ctx.clearance);
-                (s < r).then(|| apex + (q - apex) * (s / r))
-            };
-            for route in std::iter::once(None).chain(via.map(Some)) {
-                let from = route.unwrap_or(q);
-                if !self.reachable(j, &from, &w) {
-                    continue;
-                }
-                if self.clear_of_anchors(j, &from, &w) {
-                    return (Some(edge), Some((w, route)), tried);
-                }
-                fallback.get_or_insert((w, route));
-            }
-        }
-        (Some(edge), fallback, tried)
-    }
-
-    /// `true` when the straight move `q -> w` with `a_j` proximal stays in `C_j` (module docs).
-    ///
-    /// The loop tested is the tether's sweep: from `a_j` along the tether to `q`, across to `w`
-    /// and back. Below `a_n` the robot starts on the visibility line `L_{j+1}` it has just
-    /// crossed (or on the tether towards `a_j`), so the tether `a_j -> q` runs through the
-    /// released anchor `a_{j+1}`: a true tie, which rounding `q` in its last bits would put on
-    /// either side of `a_{j+1}`'s obstacle. The loop therefore goes through `a_{j+1}` itself
-    /// (`a_j -> a_{j+1} -> q`, the tether as it lies, a vertex the exact tracer handles) whenever
-    /// `q` is beyond it from `a_j`, so the verdict does not depend on those bits.
-    fn reachable(&self, j: usize, q: &Point2<f64>, w: &Point2<f64>) -> bool {
-        let apex = self.points[j];
-        if !in_wedge(self.ctx.terrain, &apex, q, w) {
-            return false;
-        }
-        let mut corners = vec![apex];
-        if let Some(released) = self.points.get(j + 1)
-            && (q - apex).norm_squared() > (released - apex).norm_squared()
-        {
-            corners.push(*released);
-        }
-        corners.extend([*q, *w, apex]);
-        Path::new(corners)
-            .ok()
-            .and_then(|loop_| is_contractible(self.ctx.btm, &loop_).ok())
-            .unwrap_or(false)
     }
 
     /// `true` when the waypoint `w` keeps the clearance from every intermediate anchor and the

@@ -338,7 +338,11 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
         } else {
             (m.goal, m.start)
         };
-        let verdicts = |map: &Map| -> Option<Vec<(usize, bool)>> {
+        // Per class: the anchor count, the verdict, and per anchor examined whether it was
+        // passed and the length of its reachable part (computed exactly: it may move by
+        // rounding, never jump).
+        type Verdict = (usize, bool, Vec<(bool, f64)>);
+        let verdicts = |map: &Map| -> Option<Vec<Verdict>> {
             let btm = Btm::build(map).ok()?;
             let ctx = FeasibilityContext {
                 btm: &btm,
@@ -351,7 +355,25 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
             Some(
                 plan.classes
                     .iter()
-                    .map(|c| (c.class.shp.taut.anchors.len(), c.feasibility.feasible()))
+                    .map(|c| {
+                        let anchors = c
+                            .feasibility
+                            .anchors
+                            .iter()
+                            .filter(|a| !matches!(a.passability, Passability::NotReached))
+                            .map(|a| {
+                                (
+                                    matches!(a.passability, Passability::Passable { .. }),
+                                    a.reachable_part.iter().map(|[u, v]| (v - u).norm()).sum(),
+                                )
+                            })
+                            .collect();
+                        (
+                            c.class.shp.taut.anchors.len(),
+                            c.feasibility.feasible(),
+                            anchors,
+                        )
+                    })
                     .collect(),
             )
         };
@@ -386,6 +408,11 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
         for (x, y) in a.iter().zip(&b) {
             if x.0 == y.0 {
                 assert_eq!(x.1, y.1, "seed {seed}: {a:?} vs {b:?}");
+                assert_eq!(x.2.len(), y.2.len(), "seed {seed}: {a:?} vs {b:?}");
+                for (p, q) in x.2.iter().zip(&y.2) {
+                    assert_eq!(p.0, q.0, "seed {seed}: {a:?} vs {b:?}");
+                    assert!((p.1 - q.1).abs() <= 1e-6, "seed {seed}: {a:?} vs {b:?}");
+                }
                 compared += 1;
             } else {
                 ties += 1;
@@ -394,4 +421,503 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
     }
     assert!(compared >= 30, "only {compared} classes compared");
     assert!(ties * 10 <= compared, "{ties} ties for {compared} classes");
+}
+
+/// `u(phi)`: the unit vector at `phi` degrees from the fall line (`-y`), positive towards `+x`.
+fn fall(phi: f64) -> nalgebra::Vector2<f64> {
+    let r = phi.to_radians();
+    nalgebra::Vector2::new(r.sin(), -r.cos())
+}
+
+/// The sliver map: the taut tether from `S` wraps the tip `A = (50, 50)` of a long wedge `O1`
+/// coming in at 20° from the fall line and leaves for the goal `G` at -10°; a second wedge `B`
+/// points up at `A`, its tip `p` 35 mm below `A` on the bisector (5°) of the tether to the goal and
+/// the visibility line. Returns the map, start, goal and `p`.
+fn sliver_map(h: f64) -> (Map, Point2<f64>, Point2<f64>, Point2<f64>) {
+    let a = p(50., 50.);
+    let start = a - fall(20.) * 40.;
+    let goal = a + fall(-10.) * 40.;
+    let tip = a + fall(5.) * h;
+    let map = Map::new(
+        Polygon::new(vec![p(0., 0.), p(100., 0.), p(100., 100.), p(0., 100.)]),
+        vec![
+            Polygon::new(vec![a, p(10., 40.), p(10., 60.)]),
+            Polygon::new(vec![tip, a + fall(3.) * 20., a + fall(7.) * 20.]),
+        ],
+    );
+    (map, start, goal, tip)
+}
+
+#[test]
+fn a_reachable_sliver_narrower_than_any_ladder_is_found() {
+    // Zero clearance, so the visibility edge starts at the anchor itself. The tether's sweep from
+    // the goal (directly, or in along the tether first) meets B's tip as soon as the waypoint is
+    // h / cos(15°) from A: the reachable part is (0, 36.2 mm), narrower than the first rung of
+    // the sampled version's ladder (MIN_WAYPOINT_STEP_FRACTION of the 100 m extent: 50 mm), which
+    // therefore found nothing and called A impassable. The reference end is the closed form of
+    // the isosceles sweep triangle (A, A + t e, A + t d) reaching the tip on its axis.
+    let h = 0.035;
+    let (map, start, goal, tip) = sliver_map(h);
+    let btm = Btm::build(&map).unwrap();
+    let best = SptPlanner::new(&btm)
+        .shortest_path(start, goal)
+        .unwrap()
+        .unwrap();
+    let taut = &best.shp.taut;
+    assert_eq!(taut.anchors.len(), 1, "{:?}", taut.points);
+    assert_eq!(taut.anchors[0].point, p(50., 50.));
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(100., 0., 45., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let ctx = FeasibilityContext {
+        btm: &btm,
+        terrain: &terrain,
+        clearance: 0.0,
+        tether_length: None,
+    };
+    let r = check_feasibility(&ctx, taut);
+    assert!(r.feasible(), "{}", r.describe());
+    let a = &r.anchors[0];
+    assert_eq!(a.reachable_part.len(), 1, "{:?}", a.reachable_part);
+    let [u, v] = a.reachable_part[0];
+    let apex = p(50., 50.);
+    let half = ((1.0 + fall(20.).dot(&fall(-10.))) / 2.0).sqrt();
+    let expected = (tip - apex).norm() / half;
+    assert_eq!(u, apex);
+    assert!(
+        ((v - apex).norm() - expected).abs() < 1e-9,
+        "reachable to {} m, closed form {expected} m",
+        (v - apex).norm()
+    );
+    let ladder = rappel_planners::feasibility::MIN_WAYPOINT_STEP_FRACTION * 100.0;
+    assert!((v - apex).norm() < ladder);
+    let Passability::Passable { waypoint, .. } = a.passability else {
+        panic!("{:?}", a.passability);
+    };
+    assert!((waypoint - apex).norm() > 0.0 && (waypoint - apex).norm() < expected);
+    // One ulp on every coordinate of B, either way: the same verdict and the same sliver.
+    for sign in [1.0, -1.0] {
+        let nudge = |x: f64, k: usize| {
+            if k.is_multiple_of(2) == (sign > 0.0) {
+                x.next_up()
+            } else {
+                x.next_down()
+            }
+        };
+        let b = &map.obstacles[1];
+        let moved = Polygon::new(
+            b.vertices
+                .iter()
+                .enumerate()
+                .map(|(k, v)| p(nudge(v.x, k), nudge(v.y, k + 1)))
+                .collect(),
+        );
+        let nudged = Map::new(map.boundary.clone(), vec![map.obstacles[0].clone(), moved]);
+        let btm = Btm::build(&nudged).unwrap();
+        let ctx = FeasibilityContext {
+            btm: &btm,
+            terrain: &terrain,
+            clearance: 0.0,
+            tether_length: None,
+        };
+        let again = SptPlanner::new(&btm)
+            .shortest_path(start, goal)
+            .unwrap()
+            .unwrap();
+        assert_eq!(again.shp.taut.points, taut.points);
+        let r = check_feasibility(&ctx, &again.shp.taut);
+        assert!(r.feasible(), "nudged {sign}: {}", r.describe());
+        let [_, v] = r.anchors[0].reachable_part[0];
+        assert!(((v - apex).norm() - expected).abs() < 1e-9);
+    }
+    // Widening the gap past the ladder's first rung keeps it passable; closing it (B's tip on the
+    // tether's own line is a tie, so just short of it) leaves a reachable part that shrinks in
+    // proportion: the verdict follows the geometry, not a sample spacing.
+    for h in [0.001, 0.01, 0.2] {
+        let (map, start, goal, tip) = sliver_map(h);
+        let btm = Btm::build(&map).unwrap();
+        let best = SptPlanner::new(&btm)
+            .shortest_path(start, goal)
+            .unwrap()
+            .unwrap();
+        let ctx = FeasibilityContext {
+            btm: &btm,
+            terrain: &terrain,
+            clearance: 0.0,
+            tether_length: None,
+        };
+        let r = check_feasibility(&ctx, &best.shp.taut);
+        assert!(r.feasible(), "h {h}: {}", r.describe());
+        let [_, v] = r.anchors[0].reachable_part[0];
+        let expected = (tip - apex).norm() / half;
+        assert!(((v - apex).norm() - expected).abs() < 1e-9 * expected.max(1.0));
+    }
+}
+
+/// Independent reference for one move of the crossing model (`feasibility::crossing` docs): the
+/// straight move `from -> w` lies in the wedge of `apex` (checked at the move's ends, where it
+/// crosses each band edge, against both bands there, and at 64 points between) and the swept
+/// triangle `(apex, from, w)` is free: no map vertex inside it (farther than `tol` from its sides)
+/// and no map edge properly crossing `from -> w`. Plain floating point, written apart from the
+/// code under test (which traces the loop through the BTM).
+fn brute_move(
+    map: &Map,
+    terrain: &PlaneSeries,
+    apex: Point2<f64>,
+    from: Point2<f64>,
+    w: Point2<f64>,
+    tol: f64,
+) -> bool {
+    let admits = |x: Point2<f64>, limit: rappel_mechanics::anchor_traversability::TetherLimit| {
+        let d = x - apex;
+        x == apex || limit.admits(d.x.abs().atan2(-d.y))
+    };
+    let mut wedge = admits(from, terrain.limit_at(&from)) && admits(w, terrain.limit_at(&w));
+    for k in 0..=64 {
+        let x = from + (w - from) * (k as f64 / 64.0);
+        wedge &= admits(x, terrain.limit_at(&x));
+    }
+    let planes = terrain.planes();
+    for (k, plane) in planes.iter().enumerate().skip(1) {
+        let yb = plane.y_top;
+        if (from.y - yb) * (w.y - yb) < 0.0 {
+            let x = from + (w - from) * ((yb - from.y) / (w.y - from.y));
+            wedge &= admits(x, terrain.limits()[k - 1]) && admits(x, terrain.limits()[k]);
+        }
+    }
+    if !wedge {
+        return false;
+    }
+    let cross = |o: Point2<f64>, a: Point2<f64>, b: Point2<f64>| {
+        (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)
+    };
+    let rings: Vec<&Polygon> = std::iter::once(&map.boundary)
+        .chain(map.obstacles.iter())
+        .collect();
+    let corners = [apex, from, w];
+    let area = cross(apex, from, w);
+    for ring in &rings {
+        let n = ring.vertices.len();
+        for i in 0..n {
+            let (a, b) = (ring.vertices[i], ring.vertices[(i + 1) % n]);
+            // A vertex strictly inside the triangle.
+            let inside = (0..3).all(|k| {
+                let (s, e) = (corners[k], corners[(k + 1) % 3]);
+                let side = cross(s, e, a) * area.signum();
+                side > tol * (e - s).norm()
+            });
+            if inside {
+                return false;
+            }
+            // A map edge properly crossing the move.
+            // (Ends within `tol` of the other segment's line touch, as the via point on a
+            // tether running along an obstacle edge does.)
+            let (lm, le) = ((w - from).norm(), (b - a).norm());
+            let (d1, d2) = (cross(from, w, a), cross(from, w, b));
+            let (d3, d4) = (cross(a, b, from), cross(a, b, w));
+            let apart = |x: f64, y: f64, len: f64| x * y < 0.0 && x.abs().min(y.abs()) > tol * len;
+            if apart(d1, d2, lm) && apart(d3, d4, le) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// The reference verdict for `w(t)`: the direct move from `q`, or in along the tether to
+/// `max(t, c)` from `apex` (while nearer than `q`) and across.
+#[allow(clippy::too_many_arguments)]
+fn brute_reached(
+    map: &Map,
+    terrain: &PlaneSeries,
+    apex: Point2<f64>,
+    q: Point2<f64>,
+    dir: nalgebra::Vector2<f64>,
+    c: f64,
+    t: f64,
+    tol: f64,
+) -> bool {
+    let w = apex + dir * t;
+    let r = (q - apex).norm();
+    let s = t.max(c);
+    let mut starts = vec![q];
+    if s < r {
+        starts.push(apex + (q - apex) * (s / r));
+    }
+    starts
+        .into_iter()
+        .any(|from| brute_move(map, terrain, apex, from, w, tol))
+}
+
+/// Every examined anchor's reachable part against the brute-force reference, sampled densely
+/// along the usable visibility edge, and just inside and just outside each end of the part.
+/// Returns (samples reachable, samples not, parts ending strictly inside the usable edge).
+fn check_parts_against_brute_force(
+    map: &Map,
+    terrain: &PlaneSeries,
+    c: f64,
+    taut: &rappel_homotopy::funnel::TautPath,
+    r: &rappel_planners::feasibility::FeasibilityReport,
+    label: &str,
+) -> (usize, usize, usize) {
+    let (mut yes, mut no, mut interior_ends) = (0, 0, 0);
+    let b = map.boundary.aabb();
+    let extent = (b.max.x - b.min.x).max(b.max.y - b.min.y);
+    let (delta, tol) = (1e-6 * extent, 1e-9 * extent);
+    let n = taut.anchors.len();
+    for a in &r.anchors {
+        let j = a.index;
+        if a.visibility_edge.is_none() || matches!(a.passability, Passability::NotReached) {
+            continue;
+        }
+        let q = if j == n {
+            taut.goal()
+        } else {
+            match r.anchors[j].passability {
+                Passability::Passable { waypoint, .. } => waypoint,
+                _ => continue,
+            }
+        };
+        let apex = a.anchor.point;
+        let prev = if j == 1 {
+            taut.start()
+        } else {
+            taut.anchors[j - 2].point
+        };
+        let dir = (apex - prev).normalize();
+        let set = r.reachable_sets.iter().find(|s| s.anchor == j).unwrap();
+        let [_, end] = set.visibility_line.unwrap();
+        let pieces: Vec<(f64, f64)> = terrain
+            .pieces(apex, end)
+            .into_iter()
+            .filter(|(_, _, l)| l.admits(a.psi))
+            .map(|(x, y, _)| ((x - apex).norm(), (y - apex).norm()))
+            .filter(|(t0, t1)| t1 > t0)
+            .map(|(t0, t1)| {
+                let m = c.min((t1 - t0) / 4.0);
+                (t0 + m, t1 - m)
+            })
+            .collect();
+        let part: Vec<(f64, f64)> = a
+            .reachable_part
+            .iter()
+            .map(|[u, v]| ((u - apex).dot(&dir), (v - apex).dot(&dir)))
+            .collect();
+        let inside = |t: f64| part.iter().any(|&(u, v)| u < t && t < v);
+        let near_end = |t: f64| {
+            part.iter()
+                .chain(pieces.iter())
+                .any(|&(u, v)| (t - u).abs() < 2.0 * delta || (t - v).abs() < 2.0 * delta)
+        };
+        let mut ts = Vec::new();
+        for &(lo, hi) in &pieces {
+            ts.extend((1..200).map(|k| lo + (hi - lo) * k as f64 / 200.0));
+        }
+        for &(u, v) in &part {
+            for e in [u, v] {
+                if pieces
+                    .iter()
+                    .any(|&(lo, hi)| lo + 3.0 * delta < e && e < hi - 3.0 * delta)
+                {
+                    interior_ends += 1;
+                    // Just inside and just outside the end: the reference must agree.
+                    ts.extend([e - 3.0 * delta, e + 3.0 * delta]);
+                }
+            }
+        }
+        for t in ts {
+            if t <= 0.0 || near_end(t) || !pieces.iter().any(|&(lo, hi)| lo < t && t < hi) {
+                continue;
+            }
+            let expected = brute_reached(map, terrain, apex, q, dir, c, t, tol);
+            if inside(t) != expected && std::env::var("H10B_DEBUG").is_ok() {
+                let w = apex + dir * t;
+                let rr = (q - apex).norm();
+                let via = apex + (q - apex) * (t.max(c) / rr);
+                eprintln!(
+                    "apex {apex:?} q {q:?} w {w:?} via {via:?} r {rr} released {:?}",
+                    r.anchors.get(j).map(|x| x.anchor.point)
+                );
+                for from in [q, via] {
+                    eprintln!(
+                        "  from {from:?}: move {}",
+                        brute_move(map, terrain, apex, from, w, tol)
+                    );
+                }
+                eprintln!("{:?}", map);
+            }
+            assert_eq!(
+                inside(t),
+                expected,
+                "{label}: anchor {j}, t = {t}: reachable part {part:?} of usable {pieces:?}"
+            );
+            if expected {
+                yes += 1;
+            } else {
+                no += 1;
+            }
+        }
+        // The verdict and the waypoint follow the part.
+        match a.passability {
+            Passability::Passable { waypoint, .. } => {
+                assert!(inside((waypoint - apex).dot(&dir)), "{label}: anchor {j}");
+            }
+            _ => assert!(part.is_empty(), "{label}: anchor {j}: {part:?}"),
+        }
+    }
+    (yes, no, interior_ends)
+}
+
+#[test]
+fn reachable_parts_agree_with_brute_force_sampling() {
+    // Two bands (the wedge narrows across y = 0), a 0.3 m clearance, up to six classes on each
+    // seeded map; plus the sliver map with zero clearance.
+    let terrain = PlaneSeries::new(
+        &[
+            TerrainPlane::new(25.0, 0.0, 35.0, 0.5),
+            TerrainPlane::new(0.0, -25.0, 50.0, 0.5),
+        ],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let c = 0.3;
+    let options = SearchOptions::default().with_max_classes(Some(6)).unwrap();
+    let (mut yes, mut no, mut ends) = (0, 0, 0);
+    for seed in 0..60u64 {
+        let Some(m) = random_map(7_000 + seed, 7) else {
+            continue;
+        };
+        let btm = Btm::build(&m.map).unwrap();
+        let ctx = FeasibilityContext {
+            btm: &btm,
+            terrain: &terrain,
+            clearance: c,
+            tether_length: None,
+        };
+        let (top, bottom) = if m.start.y > m.goal.y {
+            (m.start, m.goal)
+        } else {
+            (m.goal, m.start)
+        };
+        let classes = SptPlanner::new(&btm)
+            .search(top, bottom, &options)
+            .unwrap()
+            .run()
+            .unwrap()
+            .classes;
+        for (k, class) in classes.iter().enumerate() {
+            let r = check_feasibility(&ctx, &class.shp.taut);
+            let (y, n, e) = check_parts_against_brute_force(
+                &m.map,
+                &terrain,
+                c,
+                &class.shp.taut,
+                &r,
+                &format!("seed {seed} class {k}"),
+            );
+            yes += y;
+            no += n;
+            ends += e;
+        }
+    }
+    let (map, start, goal, _) = sliver_map(0.035);
+    let btm = Btm::build(&map).unwrap();
+    let flat_cone = PlaneSeries::new(
+        &[TerrainPlane::new(100., 0., 45., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let ctx = FeasibilityContext {
+        btm: &btm,
+        terrain: &flat_cone,
+        clearance: 0.0,
+        tether_length: None,
+    };
+    let best = SptPlanner::new(&btm)
+        .shortest_path(start, goal)
+        .unwrap()
+        .unwrap();
+    let r = check_feasibility(&ctx, &best.shp.taut);
+    let (_, _, e) =
+        check_parts_against_brute_force(&map, &flat_cone, 0.0, &best.shp.taut, &r, "sliver");
+    assert!(e >= 1, "the sliver's end is checked");
+    // Both verdicts occur, and parts end inside the usable edge often enough to matter.
+    assert!(yes >= 1_000 && no >= 200, "{yes} reachable, {no} not");
+    assert!(
+        ends >= 6,
+        "only {ends} interior ends ({yes} reachable, {no} not)"
+    );
+}
+
+#[test]
+fn reachable_areas_stay_within_the_tether_left() {
+    // With a tether 1 m longer than the taut path, each set's area lies in the square of
+    // half-side "tether left at its anchor" around it, and is no larger than without a tether
+    // length.
+    let map = triangle_map();
+    let btm = Btm::build(&map).unwrap();
+    let best = SptPlanner::new(&btm)
+        .shortest_path(p(50., 100.), p(50., 0.))
+        .unwrap()
+        .unwrap();
+    let taut = &best.shp.taut;
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(110., -10., 30., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let areas = |tether: Option<f64>| {
+        let ctx = FeasibilityContext {
+            btm: &btm,
+            terrain: &terrain,
+            clearance: 0.5,
+            tether_length: tether,
+        };
+        let mut r = check_feasibility(&ctx, taut);
+        fill_reachable_areas(&ctx, &mut r);
+        r.reachable_sets
+    };
+    let unbounded = areas(None);
+    let total = taut.length + 1.0;
+    let bounded = areas(Some(total));
+    assert_eq!(unbounded.len(), bounded.len());
+    let mut used = 0.0;
+    let mut at = taut.start();
+    for (u, b) in unbounded.iter().zip(&bounded) {
+        if b.anchor > 0 {
+            used += (b.apex - at).norm();
+            at = b.apex;
+        }
+        let left = total - used;
+        let area = |s: &rappel_planners::feasibility::AnchorReachableSet| -> f64 {
+            s.free_pieces.iter().map(|(reg, _)| reg.area()).sum()
+        };
+        assert!(area(b) <= area(u) + 1e-6, "set {}", b.anchor);
+        assert!(area(b) > 0.0, "set {}", b.anchor);
+        for (reg, _) in &b.free_pieces {
+            for v in &reg.outer.vertices {
+                assert!(
+                    (v.x - b.apex.x).abs() <= left + 1e-9 && (v.y - b.apex.y).abs() <= left + 1e-9,
+                    "set {}: {v:?} beyond {left} m of {:?}",
+                    b.anchor,
+                    b.apex
+                );
+            }
+        }
+    }
+    // The last anchor's set is cut: its wedge reaches the bottom of the map (y = -10), its tether
+    // (1 m more than the 85 m down to the goal at y = 0) does not.
+    let (b, u) = (bounded.last().unwrap(), unbounded.last().unwrap());
+    assert!(
+        area_of(b) < area_of(u) - 1.0,
+        "{} vs {}",
+        area_of(b),
+        area_of(u)
+    );
+}
+
+fn area_of(s: &rappel_planners::feasibility::AnchorReachableSet) -> f64 {
+    s.free_pieces.iter().map(|(reg, _)| reg.area()).sum()
 }

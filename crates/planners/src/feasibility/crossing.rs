@@ -1,0 +1,512 @@
+//! The crossing of a visibility edge decided exactly (thesis Alg. 5 lines 13-19, issue 10): the
+//! part of the usable visibility edge `V ∩ R_{j-1}` that the robot reaches from its position `q`
+//! while `a_j` is proximal, computed as intervals of the distance `t` from `a_j` along `L_j`
+//! instead of by trying points, and the waypoint chosen on it by a fixed rule.
+//!
+//! # The reachability model (unchanged from the sampled version)
+//! The point `w(t) = a_j + t d` of the visibility line (`d` the unit direction of `L_j`) is reached
+//! by one of two routes:
+//! - [`Route::Direct`]: the straight move `q -> w(t)`;
+//! - [`Route::Via`]: first in along the tether to `v(t) = a_j + s (q - a_j) / |q - a_j|`,
+//!   `s = max(t, clearance)`, then across to `w(t)`; it exists while `s < |q - a_j|`.
+//!
+//! The move `from -> w(t)` is allowed when it lies in the friction-cone wedge of `a_j` band by band
+//! ([`in_wedge`]) and the tether's sweep `a_j -> [a_{j+1}] -> from -> w(t) -> a_j` is a
+//! contractible loop in free space (the exact tracer; see [`Climb::sweep_clear`]).
+//!
+//! # Cells
+//! Along `t` each condition changes only at **critical values**:
+//! - the ends of the usable pieces of `V ∩ R_{j-1}` with their clearance margins;
+//! - the route's structure: `t = clearance`, `t = |q - a_j|`, `t = |a_{j+1} - a_j|`;
+//! - the wedge: where an end of the move crosses a band edge, and where the move crosses a band
+//!   edge exactly on an edge of that band's wedge (the move's ends are linear in `t`, so this is a
+//!   quadratic in `t`, solved in closed form);
+//! - the sweep: for one route structure the swept triangles are nested (they grow with `t`, the
+//!   tether side fixed or scaled about `a_j`), so the sweep is clear on a prefix of `t`; its end is
+//!   found by bisection with the exact loop test down to adjacent floats;
+//! - for the waypoint preference only (never the verdict): the ends of the clearance disks of the
+//!   anchors near `L_j`, and where the direct move passes exactly `clearance` from an anchor not
+//!   yet released (a quadratic).
+//!
+//! Between consecutive critical values every condition is constant, so one evaluation of the
+//! exact predicates at a representative point decides the whole cell: a reachable part narrower
+//! than the spacing of any ladder is found, and rounding an input in its last bits moves the cell
+//! ends by a few ulps but changes a verdict only when a reachable cell is itself that thin (a true
+//! tie). Cells narrower than [`TIE_WIDTH_FRACTION`] of the map's extent are such ties and are not
+//! used. The representative of a cell `[u, v]` is `u + min(step, (v - u) / 2)` with `step` the
+//! clearance (at least [`MIN_WAYPOINT_STEP_FRACTION`] of the extent): near the anchor, well inside.
+//!
+//! # Waypoint
+//! The cells are visited from `a_j` outward, the direct route before the via route. A point is
+//! *clear* when its waypoint keeps `clearance` from every anchor and its move keeps it from the
+//! anchors not yet released ([`Climb::clear_of_anchors`]). The waypoint is the first clear point at
+//! least [`ROOMY_CLEARANCES`] clearances beyond `a_j` (the representative, or that distance itself
+//! when it falls inside a reachable cell: the predicates are constant there, and it is checked
+//! again exactly); else the first clear representative; else the first reachable one.
+
+use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, in_wedge};
+use nalgebra::{Point2, Vector2};
+use rappel_geometry::predicates::orient2d;
+use rappel_homotopy::homotopy::is_contractible;
+use rappel_homotopy::path::Path;
+use rappel_mechanics::anchor_traversability::TetherLimit;
+
+/// Cells of the visibility line narrower than this fraction of the map's extent (the larger side
+/// of its bounding box) are ties and never used: 10 nm on a 100 m map, far above the rounding of
+/// the critical values (a few ulps of the extent) and far below any robot.
+pub const TIE_WIDTH_FRACTION: f64 = 1e-10;
+
+/// Bound on the bisection steps that locate the end of the clear sweep (each halves a float
+/// interval; 2,100 steps exhaust any pair of finite doubles, the usual count is about 60).
+const MAX_BISECTION_STEPS: usize = 2_100;
+
+/// Waypoints at least this many clearances beyond `a_j` are preferred: the ascent leaves the
+/// waypoint bending round the released `a_j` at a clearance (the path pair's mitre point), which a
+/// waypoint just one clearance beyond leaves no room for.
+pub const ROOMY_CLEARANCES: f64 = 2.0;
+
+/// Bound on the ulp steps that put a via point on the free side of the tether's line
+/// ([`Climb::snap_via`]); rounding the via point errs by one or two ulps.
+const MAX_SNAP_STEPS: usize = 16;
+
+/// How the robot moves onto the visibility line (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Route {
+    /// Straight from the robot's position.
+    Direct,
+    /// In along the tether towards `a_j`, then across.
+    Via,
+}
+
+/// What [`Climb::cross`] finds for one anchor.
+pub(super) struct Crossing {
+    /// The usable visibility edge `V ∩ R_{j-1}` (first to last usable point), if not empty.
+    pub edge: Option<[Point2<f64>; 2]>,
+    /// Its total usable length, m.
+    pub usable: f64,
+    /// The reachable part as segments along `L_j`, nearest `a_j` first.
+    pub reachable: Vec<[Point2<f64>; 2]>,
+    /// The waypoint and its via point, if some point is reachable.
+    pub choice: Option<(Point2<f64>, Option<Point2<f64>>)>,
+}
+
+/// A number linear in `t`: `c0 + c1 t`.
+#[derive(Debug, Clone, Copy)]
+struct Lin(f64, f64);
+
+impl Lin {
+    fn minus(self, o: Lin) -> Lin {
+        Lin(self.0 - o.0, self.1 - o.1)
+    }
+    /// The product as `[c0, c1, c2]`.
+    fn times(self, o: Lin) -> [f64; 3] {
+        [self.0 * o.0, self.0 * o.1 + self.1 * o.0, self.1 * o.1]
+    }
+}
+
+/// A point moving linearly in `t`.
+#[derive(Debug, Clone, Copy)]
+struct Moving {
+    x: Lin,
+    y: Lin,
+}
+
+impl Moving {
+    fn fixed(p: Point2<f64>) -> Moving {
+        Moving {
+            x: Lin(p.x, 0.0),
+            y: Lin(p.y, 0.0),
+        }
+    }
+    fn ray(p: Point2<f64>, d: Vector2<f64>) -> Moving {
+        Moving {
+            x: Lin(p.x, d.x),
+            y: Lin(p.y, d.y),
+        }
+    }
+}
+
+/// The real roots of `c[0] + c[1] t + c[2] t^2` (numerically stable form; a double root counts
+/// once, none when the polynomial is zero).
+fn roots(c: [f64; 3]) -> Vec<f64> {
+    let [c0, c1, c2] = c;
+    if c2 == 0.0 {
+        return if c1 == 0.0 { vec![] } else { vec![-c0 / c1] };
+    }
+    let disc = c1 * c1 - 4.0 * c2 * c0;
+    if disc < 0.0 {
+        return vec![];
+    }
+    let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
+    let mut out = vec![q / c2];
+    if q != 0.0 {
+        out.push(c0 / q);
+    }
+    out.retain(|t| t.is_finite());
+    out
+}
+
+impl Climb<'_, '_> {
+    /// The larger side of the map's bounding box, m: the scale of every relative tolerance.
+    fn extent(&self) -> f64 {
+        let (w, h) = self.bounds.size();
+        w.max(h)
+    }
+
+    /// Where the move onto `w(t)` starts on `route`, if the route exists at `t`.
+    fn route_start(&self, j: usize, q: &Point2<f64>, route: Route, t: f64) -> Option<Point2<f64>> {
+        match route {
+            Route::Direct => Some(*q),
+            Route::Via => {
+                let apex = self.points[j];
+                let r = (q - apex).norm();
+                let s = t.max(self.ctx.clearance);
+                (s < r).then(|| self.snap_via(j, q, apex + (q - apex) * (s / r), t))
+            }
+        }
+    }
+
+    /// The via point `v` on the tether `a_j -> q`, moved by at most [`MAX_SNAP_STEPS`] ulps so
+    /// that it lies on the tether's line or on the side of it the move goes to (exact
+    /// orientation test). The tether may run along an obstacle edge (`a_j` and the released
+    /// `a_{j+1}` consecutive corners of one obstacle): `v` is then on that edge, a true tie that
+    /// rounding would put inside the obstacle or not; snapped, the verdict does not depend on
+    /// those bits. The line is `a_j -> a_{j+1}` while `v` is nearer than `a_{j+1}`, else
+    /// `a_j -> q`.
+    fn snap_via(&self, j: usize, q: &Point2<f64>, v: Point2<f64>, t: f64) -> Point2<f64> {
+        let apex = self.points[j];
+        let end = match self.points.get(j + 1) {
+            Some(released) if (v - apex).norm_squared() < (released - apex).norm_squared() => {
+                *released
+            }
+            _ => *q,
+        };
+        let w = apex + self.direction(j) * t;
+        let side = orient2d(&apex, &end, &w);
+        if side == 0.0 {
+            return v;
+        }
+        // The normal of the line towards the move's side.
+        let d = end - apex;
+        let n = Vector2::new(-d.y, d.x) * side.signum();
+        let mut v = v;
+        for _ in 0..MAX_SNAP_STEPS {
+            let o = orient2d(&apex, &end, &v);
+            if o == 0.0 || o.signum() == side.signum() {
+                break;
+            }
+            let step = |x: f64, towards: f64| {
+                if towards > 0.0 {
+                    x.next_up()
+                } else if towards < 0.0 {
+                    x.next_down()
+                } else {
+                    x
+                }
+            };
+            v = Point2::new(step(v.x, n.x), step(v.y, n.y));
+        }
+        v
+    }
+
+    /// The start of the move on `route` as a point linear in `t` on `[from, to]` (one route
+    /// structure), or `None` when the route does not exist there.
+    fn route_start_moving(
+        &self,
+        j: usize,
+        q: &Point2<f64>,
+        route: Route,
+        mid: f64,
+    ) -> Option<Moving> {
+        match route {
+            Route::Direct => Some(Moving::fixed(*q)),
+            Route::Via => {
+                let apex = self.points[j];
+                let r = (q - apex).norm();
+                if r == 0.0 || mid.max(self.ctx.clearance) >= r {
+                    return None;
+                }
+                let e = (q - apex) / r;
+                Some(if mid < self.ctx.clearance {
+                    Moving::fixed(apex + e * self.ctx.clearance)
+                } else {
+                    Moving::ray(apex, e)
+                })
+            }
+        }
+    }
+
+    /// `true` when the tether's sweep for the move `from -> w` with `a_j` proximal is a
+    /// contractible loop in free space.
+    ///
+    /// Below `a_n` the robot starts on the visibility line `L_{j+1}` it has just crossed (or on
+    /// the tether towards `a_j`), so the tether `a_j -> from` runs through the released anchor
+    /// `a_{j+1}`: a true tie, which rounding `from` in its last bits would put on either side of
+    /// `a_{j+1}`'s obstacle. The loop therefore goes through `a_{j+1}` itself
+    /// (`a_j -> a_{j+1} -> from`, the tether as it lies, a vertex the exact tracer handles)
+    /// whenever `from` is beyond it from `a_j`, so the verdict does not depend on those bits.
+    pub(super) fn sweep_clear(&self, j: usize, from: &Point2<f64>, w: &Point2<f64>) -> bool {
+        let apex = self.points[j];
+        if *w == apex || *from == apex || from == w {
+            // The sweep degenerates to a part of the tether or of the visible ray, both free.
+            return true;
+        }
+        let mut corners = vec![apex];
+        if let Some(released) = self.points.get(j + 1)
+            && (from - apex).norm_squared() > (released - apex).norm_squared()
+        {
+            corners.push(*released);
+        }
+        corners.extend([*from, *w, apex]);
+        Path::new(corners)
+            .ok()
+            .and_then(|loop_| is_contractible(self.ctx.btm, &loop_).ok())
+            .unwrap_or(false)
+    }
+
+    /// The start of the move on `route` at `t` if `w(t)` is reached on that route (module docs).
+    fn reaches(&self, j: usize, q: &Point2<f64>, route: Route, t: f64) -> Option<Point2<f64>> {
+        let apex = self.points[j];
+        let w = apex + self.direction(j) * t;
+        let from = self.route_start(j, q, route, t)?;
+        (in_wedge(self.ctx.terrain, &apex, &from, &w) && self.sweep_clear(j, &from, &w))
+            .then_some(from)
+    }
+
+    /// The unit direction of `L_j`, from `a_{j-1}` through `a_j`.
+    fn direction(&self, j: usize) -> Vector2<f64> {
+        (self.points[j] - self.points[j - 1]).normalize()
+    }
+
+    /// The sweep of `route` at `t`, with the route's start continued where the route does not
+    /// exist (the via point then stops at the robot): continuous in `t`, for the bisection.
+    fn sweep_at(&self, j: usize, q: &Point2<f64>, route: Route, t: f64) -> bool {
+        let apex = self.points[j];
+        let from = match route {
+            Route::Direct => *q,
+            Route::Via => self.route_start(j, q, route, t).unwrap_or(*q),
+        };
+        self.sweep_clear(j, &from, &(apex + self.direction(j) * t))
+    }
+
+    /// Alg. 5 lines 9-19 for anchor `j` with the robot at `q`, exactly (module docs).
+    pub(super) fn cross(&self, j: usize, q: Point2<f64>, psi: f64, reach: f64) -> Crossing {
+        let apex = self.points[j];
+        let dir = self.direction(j);
+        // V ∩ R_{j-1}: the parts of the visible ray whose band admits psi (both wedges see the ray
+        // at psi from the fall line).
+        let intervals: Vec<(f64, f64)> = self
+            .ctx
+            .terrain
+            .pieces(apex, apex + dir * reach)
+            .into_iter()
+            .filter(|(_, _, limit)| limit.admits(psi))
+            .map(|(a, b, _)| ((a - apex).norm(), (b - apex).norm()))
+            .filter(|(t0, t1)| t1 > t0)
+            .collect();
+        let (Some(first), Some(last)) = (intervals.first(), intervals.last()) else {
+            return Crossing {
+                edge: None,
+                usable: 0.0,
+                reachable: Vec::new(),
+                choice: None,
+            };
+        };
+        let edge = Some([apex + dir * first.0, apex + dir * last.1]);
+        let usable = intervals.iter().map(|(a, b)| b - a).sum();
+        let c = self.ctx.clearance;
+        let extent = self.extent();
+        let tie = TIE_WIDTH_FRACTION * extent;
+        let step = c.max(MIN_WAYPOINT_STEP_FRACTION * extent);
+        // The clearance margins: kept `clearance` (at most a quarter of the piece) from `a_j`, from
+        // the first obstacle on the ray and from band edges where psi stops being admitted.
+        let pieces: Vec<(f64, f64)> = intervals
+            .iter()
+            .map(|&(t0, t1)| {
+                let margin = c.min((t1 - t0) / 4.0);
+                (t0 + margin, t1 - margin)
+            })
+            .collect();
+        let (lo_all, hi_all) = (pieces[0].0, pieces[pieces.len() - 1].1);
+        let cuts = self.critical_values(j, &q, lo_all, hi_all);
+        let mut reachable: Vec<(f64, f64)> = Vec::new();
+        // Preferred: clear and roomy; then clear; then any reachable point.
+        let (mut choice, mut clear, mut fallback) = (None, None, None);
+        for &(lo, hi) in &pieces {
+            let mut ends: Vec<f64> = std::iter::once(lo)
+                .chain(cuts.iter().copied().filter(|&t| lo < t && t < hi))
+                .chain(std::iter::once(hi))
+                .collect();
+            ends.dedup();
+            for cell in ends.windows(2) {
+                let (u, v) = (cell[0], cell[1]);
+                if v - u <= tie {
+                    continue;
+                }
+                let t = u + step.min((v - u) / 2.0);
+                if t <= 0.0 {
+                    continue;
+                }
+                let w = apex + dir * t;
+                // The roomy point of the cell: [`ROOMY_CLEARANCES`] clearances beyond `a_j` when
+                // that lies inside the cell (or the representative, if farther already).
+                let roomy = t.max(ROOMY_CLEARANCES * c);
+                let mut any = false;
+                for route in [Route::Direct, Route::Via] {
+                    let Some(from) = self.reaches(j, &q, route, t) else {
+                        continue;
+                    };
+                    any = true;
+                    let via = (route == Route::Via).then_some(from);
+                    if self.clear_of_anchors(j, &from, &w) {
+                        clear.get_or_insert((w, via));
+                    }
+                    fallback.get_or_insert((w, via));
+                    if choice.is_none() && roomy < v - tie {
+                        let wr = apex + dir * roomy;
+                        if let Some(from) = self.reaches(j, &q, route, roomy)
+                            && self.clear_of_anchors(j, &from, &wr)
+                        {
+                            choice = Some((wr, (route == Route::Via).then_some(from)));
+                        }
+                    }
+                }
+                if any {
+                    match reachable.last_mut() {
+                        Some(last) if last.1 == u => last.1 = v,
+                        _ => reachable.push((u, v)),
+                    }
+                }
+            }
+        }
+        Crossing {
+            edge,
+            usable,
+            reachable: reachable
+                .into_iter()
+                .map(|(u, v)| [apex + dir * u, apex + dir * v])
+                .collect(),
+            choice: choice.or(clear).or(fallback),
+        }
+    }
+
+    /// Every critical value of `t` in `(lo, hi)` (module docs), sorted.
+    fn critical_values(&self, j: usize, q: &Point2<f64>, lo: f64, hi: f64) -> Vec<f64> {
+        let apex = self.points[j];
+        let dir = self.direction(j);
+        let c = self.ctx.clearance;
+        let r = (q - apex).norm();
+        // Route structure.
+        let mut structure = vec![lo, hi, c, r];
+        if let Some(released) = self.points.get(j + 1) {
+            structure.push((released - apex).norm());
+        }
+        structure.retain(|&t| lo <= t && t <= hi);
+        structure.sort_by(f64::total_cmp);
+        structure.dedup();
+        let mut cuts = structure.clone();
+        let w = Moving::ray(apex, dir);
+        let planes = self.ctx.terrain.planes();
+        let limits = self.ctx.terrain.limits();
+        for span in structure.windows(2) {
+            let (u, v) = (span[0], span[1]);
+            let mid = (u + v) / 2.0;
+            for route in [Route::Direct, Route::Via] {
+                let Some(p) = self.route_start_moving(j, q, route, mid) else {
+                    continue;
+                };
+                // Wedge: ends of the move crossing band edges, and the move crossing a band edge on
+                // an edge of the wedge of either band beside it.
+                for k in 1..planes.len() {
+                    let yb = planes[k].y_top;
+                    cuts.extend(roots([p.y.0 - yb, p.y.1, 0.0]));
+                    cuts.extend(roots([w.y.0 - yb, w.y.1, 0.0]));
+                    for limit in [limits[k - 1], limits[k]] {
+                        let TetherLimit::Cone { max_angle } = limit else {
+                            continue;
+                        };
+                        let tan = max_angle.tan();
+                        if !tan.is_finite() {
+                            continue;
+                        }
+                        for s in [tan * (apex.y - yb), -tan * (apex.y - yb)] {
+                            // (Px - ax - s)(Wy - Py) + (yb - Py)(Wx - Px) = 0.
+                            let a = p.x.minus(Lin(apex.x + s, 0.0)).times(w.y.minus(p.y));
+                            let b = Lin(yb, 0.0).minus(p.y).times(w.x.minus(p.x));
+                            cuts.extend(roots([a[0] + b[0], a[1] + b[1], a[2] + b[2]]));
+                        }
+                    }
+                }
+                // Sweep: clear on a prefix of this span.
+                if let Some(end) = self.sweep_end(j, q, route, u, v) {
+                    cuts.push(end);
+                }
+            }
+        }
+        self.clearance_values(j, q, lo, hi, &mut cuts);
+        cuts.retain(|t| t.is_finite() && lo < *t && *t < hi);
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        cuts
+    }
+
+    /// The last `t` in `[u, v]` at which the sweep of `route` is clear, when it is clear at `u`
+    /// and not at `v` (the sweep is clear on a prefix of one route structure; module docs).
+    fn sweep_end(&self, j: usize, q: &Point2<f64>, route: Route, u: f64, v: f64) -> Option<f64> {
+        if self.sweep_at(j, q, route, v) || !self.sweep_at(j, q, route, u) {
+            return None;
+        }
+        let (mut clear, mut blocked) = (u, v);
+        for _ in 0..MAX_BISECTION_STEPS {
+            let mid = clear + (blocked - clear) / 2.0;
+            if mid <= clear || mid >= blocked {
+                break;
+            }
+            if self.sweep_at(j, q, route, mid) {
+                clear = mid;
+            } else {
+                blocked = mid;
+            }
+        }
+        Some(clear)
+    }
+
+    /// The waypoint preference's critical values (module docs): where `w(t)` enters or leaves
+    /// the clearance disk of an anchor near `L_j`, and where the direct move from `q` passes
+    /// exactly `clearance` from an anchor not yet released.
+    fn clearance_values(&self, j: usize, q: &Point2<f64>, lo: f64, hi: f64, cuts: &mut Vec<f64>) {
+        let c = self.ctx.clearance;
+        if c <= 0.0 {
+            return;
+        }
+        let apex = self.points[j];
+        let dir = self.direction(j);
+        let (w_lo, w_hi) = (apex + dir * lo, apex + dir * hi);
+        let x_lo = q.x.min(w_lo.x).min(w_hi.x) - c;
+        let x_hi = q.x.max(w_lo.x).max(w_hi.x) + c;
+        let first = self.by_x.partition_point(|&(x, _)| x < x_lo);
+        for &(_, i) in self.by_x[first..].iter().take_while(|&&(x, _)| x <= x_hi) {
+            let a = self.points[i];
+            let rel = a - apex;
+            // |w(t) - a| = c.
+            cuts.extend(roots([
+                rel.norm_squared() - c * c,
+                -2.0 * rel.dot(&dir),
+                1.0,
+            ]));
+            if i <= j {
+                // Distance from a to the line through q and w(t) equal to c:
+                // cross(w - q, a - q)^2 = c^2 |w - q|^2, with w - q = d0 + t dir.
+                let (d0, aq) = (apex - q, a - q);
+                let m = Lin(d0.x * aq.y - d0.y * aq.x, dir.x * aq.y - dir.y * aq.x);
+                let sq = m.times(m);
+                let n = [d0.norm_squared(), 2.0 * d0.dot(&dir), dir.norm_squared()];
+                cuts.extend(roots([
+                    sq[0] - c * c * n[0],
+                    sq[1] - c * c * n[1],
+                    sq[2] - c * c * n[2],
+                ]));
+            }
+        }
+    }
+}
