@@ -75,6 +75,16 @@ pub enum BoomContactError {
     /// orthonormal.
     #[error("invalid boom sweep: {0}")]
     Parameter(&'static str),
+    /// The inline boom would pass through the ground (where the swept boom first touches it).
+    #[error("the inline boom would pass through the ground at ({x:.3}, {y:.3}, {z:.3})")]
+    InlineThroughGround {
+        /// World x of the swept boom's first contact.
+        x: f64,
+        /// y.
+        y: f64,
+        /// z.
+        z: f64,
+    },
     /// The robot model or the tether refused the placement.
     #[error(transparent)]
     Robot(#[from] RobotError),
@@ -235,19 +245,7 @@ pub fn place_boom_in_contact(
     friction: f64,
     anchor: (&Point3<f64>, Option<f64>),
 ) -> Result<(PlacedRobot, BoomContact), BoomContactError> {
-    let (a, _) = anchor;
-    if !a.iter().all(|c| c.is_finite()) {
-        return Err(RobotError::Parameter("anchor must be finite").into());
-    }
-    let r = pose.rotation;
-    let local = r.inverse() * (a - pose.origin);
-    let horizontal = Vector3::new(local.x, local.y, 0.0);
-    if horizontal.norm() < MIN_TETHER_LENGTH {
-        return Err(RobotError::Anchor("anchor straight above the axle").into());
-    }
-    let azimuth = Unit::new_normalize(r * horizontal);
-    let up = Unit::new_normalize(r * Vector3::z());
-    let pivot = pose.origin + up.into_inner() * params.wheel_radius;
+    let (pivot, azimuth, up) = boom_frame(pose, params, anchor.0)?;
     let contact = sweep_boom(mesh, &pivot, &azimuth, &up, params.boom_length)?;
     let axel = Axel::new(AxelParams {
         boom: BoomMode::Resting(contact.elevation),
@@ -256,7 +254,7 @@ pub fn place_boom_in_contact(
     let mut placed = place_on_ground(
         GroundContacts {
             origin: pose.origin,
-            rotation: r,
+            rotation: pose.rotation,
             contacts: &pose.contacts,
             replaces: 2,
         },
@@ -275,6 +273,82 @@ pub fn place_boom_in_contact(
         rotation: Rotation3::from_basis_unchecked(&[x, z.cross(&x), z]),
     });
     Ok((placed, contact))
+}
+
+/// The boom's pivot (the axle centre) of a settled pose and its sweep directions toward
+/// `anchor`: the horizontal (robot frame) direction toward it and the robot's up, world.
+fn boom_frame(
+    pose: &SettledPose,
+    params: &AxelParams,
+    anchor: &Point3<f64>,
+) -> Result<(Point3<f64>, Unit<Vector3<f64>>, Unit<Vector3<f64>>), BoomContactError> {
+    if !anchor.iter().all(|c| c.is_finite()) {
+        return Err(RobotError::Parameter("anchor must be finite").into());
+    }
+    let r = pose.rotation;
+    let local = r.inverse() * (anchor - pose.origin);
+    let horizontal = Vector3::new(local.x, local.y, 0.0);
+    if horizontal.norm() < MIN_TETHER_LENGTH {
+        return Err(RobotError::Anchor("anchor straight above the axle").into());
+    }
+    let azimuth = Unit::new_normalize(r * horizontal);
+    let up = Unit::new_normalize(r * Vector3::z());
+    Ok((
+        pose.origin + up.into_inner() * params.wheel_radius,
+        azimuth,
+        up,
+    ))
+}
+
+/// The inline boom may sit this far (radians) below the swept boom's first contact (rounding).
+pub const INLINE_CLEARANCE: f64 = 1e-9;
+
+/// A settled Axel pose as the stability QP sees it with the boom **inline** with the tether
+/// (Paton §IV-A) on a mesh: the boom along the line from the pivot to `anchor`, refused when the
+/// anchor lies within the boom's reach or when the boom would pass through the mesh (the swept
+/// boom's first contact, [`sweep_boom`], lies above the inline elevation; the planar model's
+/// test against the pose's plane refuses booms that clear the real ground where it falls away
+/// behind a lip). The wheels' contacts as in [`SettledPose::place`]; the tether from the tip.
+pub fn place_boom_inline(
+    pose: &SettledPose,
+    params: &AxelParams,
+    mesh: &TriMesh,
+    friction: f64,
+    anchor: (&Point3<f64>, Option<f64>),
+) -> Result<PlacedRobot, BoomContactError> {
+    let (pivot, azimuth, up) = boom_frame(pose, params, anchor.0)?;
+    let d = anchor.0 - pivot;
+    if d.norm() <= params.boom_length {
+        return Err(RobotError::Anchor("anchor within the boom's reach").into());
+    }
+    let inline = d.dot(&up).atan2(d.dot(&azimuth));
+    match sweep_boom(mesh, &pivot, &azimuth, &up, params.boom_length) {
+        Ok(c) if c.elevation > inline + INLINE_CLEARANCE => {
+            return Err(BoomContactError::InlineThroughGround {
+                x: c.point.x,
+                y: c.point.y,
+                z: c.point.z,
+            });
+        }
+        Ok(_) | Err(BoomContactError::NoGround(_)) => {}
+        Err(e) => return Err(e),
+    }
+    let axel = Axel::new(AxelParams {
+        boom: BoomMode::Resting(inline),
+        ..*params
+    })?;
+    Ok(place_on_ground(
+        GroundContacts {
+            origin: pose.origin,
+            rotation: pose.rotation,
+            contacts: &pose.contacts,
+            replaces: 2,
+        },
+        &axel,
+        mesh,
+        friction,
+        Some(anchor),
+    )?)
 }
 
 /// The parameter interval `[t0, t1]` of the segment `p0 + t (p1 - p0)`, `t` in `[0, 1]`, inside

@@ -8,7 +8,9 @@
 
 use nalgebra::{Point3, Unit, Vector3};
 use rappel_mechanics::axel::{Axel, AxelParams, BoomMode};
-use rappel_mechanics::boom_contact::{BoomContactError, place_boom_in_contact, sweep_boom};
+use rappel_mechanics::boom_contact::{
+    BoomContactError, place_boom_in_contact, place_boom_inline, sweep_boom,
+};
 use rappel_mechanics::settle::{SettleParams, settle_axel};
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::paton_scene::PatonScene;
@@ -191,4 +193,59 @@ fn settled_pose_past_the_ledge_lip_rests_its_boom_on_the_lip() {
     let dc = (placed.contacts[2].position - planar.contacts[2].position).norm();
     let dt = (placed.tether.unwrap().exit - planar.tether.unwrap().exit).norm();
     assert!(dc < 1e-5 && dt < 1e-5, "{dc} {dt}");
+}
+
+#[test]
+fn inline_boom_clears_the_real_ground_not_the_pose_plane() {
+    let a = 55f64.to_radians();
+    let m = profile(&[(-20.0, 0.0), (0.0, 0.0), (5.0, -5.0 * a.tan())]);
+    let axel = AxelParams::default();
+    let inline = Axel::new(AxelParams {
+        boom: BoomMode::Inline,
+        ..axel
+    })
+    .unwrap();
+    // On the slope, beyond the boom's reach of the lip: an anchor up the slope's line of
+    // sight agrees with the planar inline model.
+    let pose = settle_axel(&m, &axel, 1.5, 0.0, 10.0, 0.0, &SettleParams::default()).unwrap();
+    let far = Point3::new(-6.0, 0.0, 5.0);
+    let mesh = place_boom_inline_ok(&pose, &axel, &m, &far);
+    let planar = pose.place(&inline, &m, 0.6, Some((&far, None))).unwrap();
+    let t = (mesh.tether.unwrap(), planar.tether.unwrap());
+    assert!((t.0.exit - t.1.exit).norm() < 1e-9 && mesh.contacts.len() == 2);
+    // Just past the lip (pose plane pitched down): an anchor behind the top, 0.5 m above it,
+    // is below the pose's plane (the planar model says the boom digs) but the line from the
+    // pivot clears the top, which falls away behind the lip.
+    let near = settle_axel(&m, &axel, 0.1, 0.0, 10.0, 0.0, &SettleParams::default()).unwrap();
+    let low = Point3::new(-6.0, 0.0, 0.5);
+    assert!(near.place(&inline, &m, 0.6, Some((&low, None))).is_err());
+    let placed = place_boom_inline_ok(&near, &axel, &m, &low);
+    let pivot = near.origin + near.rotation * Vector3::z() * axel.wheel_radius;
+    let exit = placed.tether.unwrap().exit;
+    // The tip on the pivot-anchor line, one boom length out, above the ground.
+    assert!(((exit - pivot).normalize() - (low - pivot).normalize()).norm() < 1e-9);
+    assert!(
+        ((exit - pivot).norm() - axel.boom_length).abs() < 1e-9 && m.signed_distance(&exit) > 0.0
+    );
+    // An anchor behind and below the top's level: the boom would pass through the top.
+    let under = Point3::new(-6.0, 0.0, -1.0);
+    assert!(matches!(
+        place_boom_inline(&near, &axel, &m, 0.6, (&under, None)),
+        Err(BoomContactError::InlineThroughGround { .. })
+    ));
+    // An anchor within the boom's reach.
+    let close = Point3::new(-0.3, 0.0, 0.2);
+    assert!(matches!(
+        place_boom_inline(&near, &axel, &m, 0.6, (&close, None)),
+        Err(BoomContactError::Robot(_))
+    ));
+}
+
+fn place_boom_inline_ok(
+    pose: &rappel_mechanics::settle::SettledPose,
+    axel: &AxelParams,
+    m: &TriMesh,
+    anchor: &Point3<f64>,
+) -> rappel_mechanics::robot::PlacedRobot {
+    place_boom_inline(pose, axel, m, 0.6, (anchor, None)).unwrap()
 }

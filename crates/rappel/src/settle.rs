@@ -10,8 +10,8 @@ use std::path::Path;
 
 use nalgebra::Point3;
 
-use rappel_mechanics::axel::{Axel, AxelParams, BoomMode};
-use rappel_mechanics::boom_contact::place_boom_in_contact;
+use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::boom_contact::{place_boom_in_contact, place_boom_inline};
 use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_planners::anchor_prediction::{AnchorHistory, detach_height};
@@ -108,7 +108,8 @@ pub struct SettleReport {
 
 /// The stability QP's verdict for `pose` with the tether from the anchor history `history`, in
 /// both boom configurations of Axel `params`, with [`SCENE_FRICTION`]:
-/// * **inline**: the boom along the line from the pivot to the last anchor;
+/// * **inline**: the boom along the line from the pivot to the last anchor, refused where it
+///   would pass through the mesh ([`place_boom_inline`]);
 /// * **in contact**: the boom swept toward the last anchor until it touches the mesh
 ///   ([`place_boom_in_contact`]: on its tip or its shaft, e.g. resting on a ledge's lip). The
 ///   tether leaves from the boom's tip, which is not the pivot the history was predicted for:
@@ -148,12 +149,8 @@ pub fn boom_verdicts(
         .into_iter()
         .map(|(name, inline)| {
             let placed = if inline {
-                Axel::new(AxelParams {
-                    boom: BoomMode::Inline,
-                    ..*params
-                })
-                .and_then(|axel| pose.place(&axel, ground, SCENE_FRICTION, Some((&last, None))))
-                .map_err(|e| e.to_string())
+                place_boom_inline(pose, params, ground, SCENE_FRICTION, (&last, None))
+                    .map_err(|e| e.to_string())
             } else {
                 in_contact()
             };
