@@ -108,7 +108,7 @@ pub fn pose_stability(
     pose: &SettledPose,
     history: &AnchorHistory,
 ) -> PoseStability {
-    let verdicts = boom_verdicts(ground, pose, &AxelParams::default(), &history.last().point);
+    let verdicts = boom_verdicts(ground, pose, &AxelParams::default(), history);
     let margin = verdicts
         .iter()
         .filter(|v| v.stable == Some(true))
