@@ -17,7 +17,9 @@
 //! 6. **Histories.** The motion extends the parent's history; a child whose history is already
 //!    set (in the tree, or copied at sampling) accepts only a parent whose extension equals it:
 //!    no rewiring across incompatible histories. A fraction `history_copy_fraction` of new
-//!    samples copy one of the distinct histories of their k nearest tree states. After each
+//!    samples copy one of the distinct (not [`MotionValidator::compatible`]) histories of their
+//!    k nearest tree states; a copied history accepts a compatible extension when the sample is
+//!    first connected. After each
 //!    improved solution a fresh goal state with undetermined history is added.
 //!
 //! Vertices are never pruned (ids stay stable); informed sampling keeps new density where it
@@ -345,11 +347,19 @@ where
         if g_new + h >= self.best_cost || g_new >= gx {
             return;
         }
-        if let Some(existing) = &self.graph.nodes[x as usize].history {
-            if *existing != hist {
-                return;
-            }
-        } else {
+        let node = &self.graph.nodes[x as usize];
+        let accept = match &node.history {
+            // In the tree: only the exact history, so no descendant's validity changes.
+            Some(existing) if node.in_tree() => *existing == hist,
+            // A copied history reserves the sample for its class; it takes the history the
+            // motion brings when that is compatible.
+            Some(existing) => self.validator.compatible(existing, &hist),
+            None => true,
+        };
+        if !accept {
+            return;
+        }
+        if !node.in_tree() {
             self.graph.nodes[x as usize].history = Some(hist);
         }
         self.graph.attach(x, v, g_new);
@@ -463,7 +473,7 @@ where
         for i in self.graph.near(key, self.k()) {
             if let Some(h) = &self.graph.nodes[i as usize].history
                 && self.graph.nodes[i as usize].in_tree()
-                && !distinct.contains(h)
+                && !distinct.iter().any(|d| self.validator.compatible(d, h))
                 && self.validator.history_valid(state, h)
             {
                 distinct.push(h.clone());
