@@ -484,13 +484,14 @@ impl MotionValidator<RoverSpace, 4> for RoverProblem {
 
 /// The planner's settings for the rover: the sampler's recommendation for non-Markovian
 /// problems (`docs/sampler.md`): initial inflation 1.5, history copy fraction 0.5, batches of
-/// 100.
+/// 100, history copies on expansion.
 pub fn rover_settings(seed: u64) -> AbitSettings {
     AbitSettings::default()
         .with_initial_inflation(1.5)
         .and_then(|s| s.with_history_copy_fraction(0.5))
         .and_then(|s| s.with_batch_size(100))
         .expect("constant settings are in range")
+        .with_history_copies_on_expansion(true)
         .with_seed(seed)
 }
 

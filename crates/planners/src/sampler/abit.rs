@@ -111,6 +111,10 @@ impl Ord for Key {
 
 type Motion<H> = Option<(f64, H)>;
 
+/// Most states at one location (a sample and its copies for other history classes, made by
+/// `history_copies_on_expansion`): the bound on copies per location.
+pub const MAX_STATES_PER_LOCATION: usize = 8;
+
 /// The ABIT* planner over space `S` and validator `V` (k-d embedding dimension `K`).
 pub struct Abit<'a, S, V, const K: usize>
 where
@@ -315,15 +319,65 @@ where
             }
             let c = self.c_hat(v, x);
             let h = self.h(x);
-            if gv + c + h >= self.best_cost || gv + c >= node.g {
+            if gv + c + h >= self.best_cost {
                 continue;
             }
+            let x = if gv + c >= node.g {
+                match self.copy_for(v, x) {
+                    Some(copy) => copy,
+                    None => continue,
+                }
+            } else {
+                x
+            };
             if matches!(self.motions.get(&(v, x)), Some(None)) {
                 continue;
             }
             self.queue
                 .push(Reverse((Key(gv + c + self.inflation * h), v, x)));
         }
+    }
+
+    /// With `history_copies_on_expansion`: tree state `x` is claimed more cheaply than `v` could
+    /// reach it, by a parent whose history is not [`MotionValidator::compatible`] with `v`'s.
+    /// Rewiring across the classes is forbidden, so `v`'s class would never enter `x`'s
+    /// location; instead a copy of `x`'s location with undetermined history is made (or the
+    /// pending one reused) for `v` to connect (Paton §V-A's copied states, made when a second
+    /// class meets the location rather than at sampling). At most
+    /// [`MAX_STATES_PER_LOCATION`] states share a location.
+    fn copy_for(&mut self, v: u32, x: u32) -> Option<u32> {
+        if !self.settings.history_copies_on_expansion {
+            return None;
+        }
+        let nx = &self.graph.nodes[x as usize];
+        let hv = self.graph.nodes[v as usize].history.as_ref()?;
+        let hp = nx
+            .parent
+            .and_then(|p| self.graph.nodes[p as usize].history.as_ref())?;
+        if nx.is_goal || self.validator.compatible(hv, hp) {
+            return None;
+        }
+        let siblings = self.graph.at_location(nx.location);
+        for &s in siblings {
+            let ns = &self.graph.nodes[s as usize];
+            if ns.history.is_none() && !ns.in_tree() {
+                return Some(s);
+            }
+            if let Some(p) = ns.parent
+                && let Some(hp) = &self.graph.nodes[p as usize].history
+                && self.validator.compatible(hv, hp)
+            {
+                // The class already has a state here: the ordinary rules decide.
+                return (self.graph.nodes[v as usize].g + self.c_hat(v, s) < ns.g).then_some(s);
+            }
+        }
+        if siblings.len() >= MAX_STATES_PER_LOCATION {
+            return None;
+        }
+        let state = nx.state.clone();
+        let copy = self.graph.add_at(x, state, false).ok()?;
+        self.expanded_at.push(f64::INFINITY);
+        Some(copy)
     }
 
     fn process(&mut self, v: u32, x: u32) {
@@ -354,6 +408,17 @@ where
             // A copied history reserves the sample for its class; it takes the history the
             // motion brings when that is compatible.
             Some(existing) => self.validator.compatible(existing, &hist),
+            // A copy made for another class must bring a class its location lacks.
+            None if !node.is_goal => {
+                let loc = node.location;
+                !self.graph.at_location(loc).iter().any(|&s| {
+                    s != x
+                        && self.graph.nodes[s as usize]
+                            .history
+                            .as_ref()
+                            .is_some_and(|h| self.validator.compatible(h, &hist))
+                })
+            }
             None => true,
         };
         if !accept {
