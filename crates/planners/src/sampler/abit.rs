@@ -93,6 +93,20 @@ pub struct PlannerStatus<S, H> {
     pub motions_checked: u64,
     /// Every improvement so far, in order (costs strictly decrease).
     pub events: Vec<SolutionEvent>,
+    /// Which budget or condition ended the last [`Abit::solve`] (`None` from [`Abit::status`]
+    /// outside `solve`).
+    pub stopped_by: Option<Stop>,
+}
+
+/// Why [`Abit::solve`] returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// The iteration budget ran out.
+    Iterations,
+    /// The wall-time budget ran out (checked between edge evaluations and between samples).
+    Time,
+    /// A solution at most the cost threshold was found.
+    CostThreshold,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -141,6 +155,8 @@ where
     batches: u64,
     events: Vec<SolutionEvent>,
     created: Instant,
+    /// The wall-time limit of the running [`Abit::solve`], checked between samples of a batch.
+    deadline: Option<Instant>,
 }
 
 impl<'a, S, V, const K: usize> Abit<'a, S, V, K>
@@ -189,6 +205,7 @@ where
             batches: 0,
             events: Vec::new(),
             created: Instant::now(),
+            deadline: None,
         };
         me.new_batch()?;
         me.restart_search();
@@ -202,11 +219,20 @@ where
     ) -> Result<PlannerStatus<S::State, V::History>, AbitError> {
         termination.validate()?;
         let began = Instant::now();
+        self.deadline = termination.max_time.and_then(|t| began.checked_add(t));
         let first = self.iterations;
-        while !termination.reached(self.iterations - first, began.elapsed(), self.best_cost) {
+        let stop = loop {
+            if let Some(stop) =
+                termination.reason(self.iterations - first, began.elapsed(), self.best_cost)
+            {
+                break stop;
+            }
             self.iterate()?;
-        }
-        Ok(self.status())
+        };
+        self.deadline = None;
+        let mut status = self.status();
+        status.stopped_by = Some(stop);
+        Ok(status)
     }
 
     /// The graph, for white-box tests.
@@ -238,6 +264,7 @@ where
             states: self.graph.nodes.len(),
             motions_checked: self.motions.len() as u64,
             events: self.events.clone(),
+            stopped_by: None,
         }
     }
 
@@ -309,7 +336,18 @@ where
             self.queue.push(Reverse((Key(key), v, x)));
         }
         let key = self.space.key(&self.graph.nodes[v as usize].state);
-        for x in self.graph.near(&key, self.k() + 1) {
+        let mut near = self.graph.near(&key, self.k() + 1);
+        if v == self.start {
+            // The start-goal edge is always a candidate (the straight-line attempt): BIT*'s
+            // r-disc graph includes it in the first batches, whose radius spans the space,
+            // while the k nearest of a sparse batch may not reach the goal.
+            for &g in &self.goals {
+                if !near.contains(&g) {
+                    near.push(g);
+                }
+            }
+        }
+        for x in near {
             if x == v || x == self.start {
                 continue;
             }
@@ -484,6 +522,10 @@ where
         self.inflation = self.settings.initial_inflation;
         let start_state = self.graph.nodes[self.start as usize].state.clone();
         for _ in 0..self.settings.batch_size {
+            // A time budget interrupts a batch (the rest of it is not sampled).
+            if self.deadline.is_some_and(|d| Instant::now() >= d) {
+                break;
+            }
             let copy = self.rng.random::<f64>() < self.settings.history_copy_fraction;
             let Some(s) = self.sample(&start_state) else {
                 continue;
