@@ -60,13 +60,18 @@ fn main() {
         log: RefCell::new(Vec::new()),
     };
     let t = std::time::Instant::now();
-    let mut abit = Abit::new(
-        &p.space,
-        &v,
-        p.start,
-        p.goal,
-        rappel::navigate::rover_settings(seed),
-    )
+    let mut abit = Abit::new(&p.space, &v, p.start, p.goal, {
+        let env = |k: &str, d: f64| std::env::var(k).ok().map_or(d, |v| v.parse().unwrap());
+        rappel::navigate::rover_settings(seed)
+            .with_initial_inflation(env("INFL", 1.5))
+            .unwrap()
+            .with_history_copy_fraction(env("COPY", 0.5))
+            .unwrap()
+            .with_batch_size(env("BATCH", 100.0) as usize)
+            .unwrap()
+            .with_rgg_k_factor(env("KF", 1.0))
+            .unwrap()
+    })
     .unwrap();
     let st = abit.solve(Termination::iterations(iters)).unwrap();
     println!(

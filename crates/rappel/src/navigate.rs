@@ -41,7 +41,7 @@ use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::settle::SettledPose;
 use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict};
 use rappel_planners::sampler::{
-    Abit, AbitSettings, Informed, MotionValidator, StateSpace, Termination,
+    Abit, AbitSettings, Informed, MotionValidator, StateSpace, Stop, Termination,
 };
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::parry_mesh::ParryMesh;
@@ -482,13 +482,13 @@ impl MotionValidator<RoverSpace, 4> for RoverProblem {
     }
 }
 
-/// The planner's settings for the rover: the sampler's recommendation for non-Markovian
-/// problems (`docs/sampler.md`): initial inflation 1.5, history copy fraction 0.5, batches of
-/// 100, history copies on expansion.
+/// The planner's settings for the rover (`docs/sampler.md`): ABIT*'s greedy first search
+/// (initial inflation 1e6, the default), history copy fraction 0.5, batches of 100, history
+/// copies on expansion (so the greedy search's first-connected history cannot claim a region
+/// for good).
 pub fn rover_settings(seed: u64) -> AbitSettings {
     AbitSettings::default()
-        .with_initial_inflation(1.5)
-        .and_then(|s| s.with_history_copy_fraction(0.5))
+        .with_history_copy_fraction(0.5)
         .and_then(|s| s.with_batch_size(100))
         .expect("constant settings are in range")
         .with_history_copies_on_expansion(true)
@@ -531,6 +531,8 @@ pub struct NavigateReport {
     pub first_solution_s: Option<f64>,
     /// Total wall time, seconds.
     pub elapsed_s: f64,
+    /// What ended the search: `iterations` or `time` (a budget ran out) or `cost_threshold`.
+    pub stopped_by: String,
     /// Every settled pose along the re-validated path: origin and margin.
     pub poses: Vec<NavigatePose>,
 }
@@ -584,6 +586,12 @@ pub fn navigate(
         first_solution_iteration: first.map(|e| e.iteration),
         first_solution_s: first.map(|e| e.elapsed.as_secs_f64()),
         elapsed_s: began.elapsed().as_secs_f64(),
+        stopped_by: match status.stopped_by {
+            Some(Stop::Iterations) | None => "iterations",
+            Some(Stop::Time) => "time",
+            Some(Stop::CostThreshold) => "cost_threshold",
+        }
+        .into(),
         poses: Vec::new(),
     };
     let Some(sol) = status.solution else {
