@@ -1,5 +1,5 @@
-//! `rappel settle-map` on Paton's ledge: the JSON map's slope cells beyond the boom's reach from
-//! the lip are stable under the test-1 root (anchored on the lip) and unstable under the test-2
+//! `rappel settle-map` on Paton's ledge: the JSON map's slope cells past the lip (the boom swept
+//! against the mesh rests on the lip within its reach) are stable under the test-1 root (anchored on the lip) and unstable under the test-2
 //! root; bad input exits 2.
 
 mod common;
@@ -14,7 +14,7 @@ fn slope_cells(v: &serde_json::Value) -> Vec<&serde_json::Value> {
         .iter()
         .filter(|c| {
             let x = c["ground"][0].as_f64().unwrap_or(f64::NAN);
-            x > 0.7 && x < 2.5 && c["ground"][1].as_f64().is_some_and(|y| y.abs() <= 2.0)
+            x > 0.0 && x < 2.5 && c["ground"][1].as_f64().is_some_and(|y| y.abs() <= 2.0)
         })
         .collect()
 }
@@ -33,7 +33,7 @@ fn ledge_map_is_green_under_test_1_and_red_under_test_2() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     assert_eq!(v["report"], "settle_map");
     let cells = slope_cells(&v);
-    assert!(cells.len() >= 27, "{}", cells.len());
+    assert!(cells.len() >= 36, "{}", cells.len());
     for c in &cells {
         assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(true), "{c}");
         let last = c["pose"]["anchors"]

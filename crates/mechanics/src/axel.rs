@@ -46,6 +46,12 @@ pub enum BoomMode {
     /// At a fixed elevation (radians above the ground plane) toward the anchor (backward without a
     /// tether).
     Fixed(f64),
+    /// Resting on real ground at the elevation (radians above the ground plane, toward the anchor;
+    /// backward without a tether) that a contact search found
+    /// ([`crate::boom_contact::sweep_boom`]): it may lie below the pose's plane where the ground
+    /// falls away (past a ledge's lip). The model adds no contact for it: the search supplies the
+    /// boom's ground contact, which may be on the boom's shaft rather than its tip.
+    Resting(f64),
 }
 
 /// Axel's parameters. The defaults are representative of the Axel rover as described in the
@@ -106,11 +112,11 @@ impl Axel {
                 "boom_length must exceed wheel_radius",
             ));
         }
-        if let BoomMode::Fixed(e) = params.boom
+        if let BoomMode::Fixed(e) | BoomMode::Resting(e) = params.boom
             && !(e.is_finite() && e.abs() <= std::f64::consts::FRAC_PI_2)
         {
             return Err(RobotError::Parameter(
-                "fixed boom elevation must be within ±90 degrees",
+                "fixed or resting boom elevation must be within ±90 degrees",
             ));
         }
         Ok(Axel { params })
@@ -159,6 +165,7 @@ impl RobotModel for Axel {
             (BoomMode::Inline, None) => Boom::Up,
             (BoomMode::Auto | BoomMode::InContact, _) => Boom::OnGround,
             (BoomMode::Fixed(e), _) => Boom::Elevation(e),
+            (BoomMode::Resting(e), _) => Boom::Resting(e),
         };
         let (dir, tip_contact) = match mode {
             Boom::Inline(a) => {
@@ -183,6 +190,7 @@ impl RobotModel for Axel {
                 }
                 (elevation_dir(e), false)
             }
+            Boom::Resting(e) => (elevation_dir(e), false),
         };
         let tip = pivot + dir * p.boom_length;
         let mut contacts = vec![
@@ -216,6 +224,7 @@ enum Boom<'a> {
     Up,
     OnGround,
     Elevation(f64),
+    Resting(f64),
 }
 
 /// Axel's tether tension estimate (thesis eq. 3.32, re-derived in the module docs): mass `mass`

@@ -37,6 +37,7 @@ pub use nalgebra;
 
 pub mod anchor_traversability;
 pub mod axel;
+pub mod boom_contact;
 pub mod capstan;
 pub mod conic;
 pub mod curvature;

@@ -395,7 +395,7 @@ fn line_segment_parameter(
 /// Paton's `F_d` frame test: the signed height of `tip` above the `x y` plane of the frame of
 /// the top anchor `a` (after `prev`): positive means detached. `None` when the frame is
 /// degenerate (the gradient along the incoming tether, or a zero gradient): never detaches.
-fn detach_height(prev: &Anchor, a: &Anchor, tip: &Point3<f64>) -> Option<f64> {
+pub fn detach_height(prev: &Anchor, a: &Anchor, tip: &Point3<f64>) -> Option<f64> {
     let x = (a.point - prev.point).try_normalize(1e-12)?;
     let z = (a.gradient - x * a.gradient.dot(&x)).try_normalize(1e-9)?;
     Some((tip - a.point).dot(&z))

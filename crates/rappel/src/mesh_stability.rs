@@ -122,7 +122,7 @@ pub fn pose_stability<D: SignedDistance + ?Sized>(
     pose: &SettledPose,
     history: &AnchorHistory,
 ) -> PoseStability {
-    let verdicts = boom_verdicts(ground, pose, &AxelParams::default(), &history.last().point);
+    let verdicts = boom_verdicts(ground, pose, &AxelParams::default(), history);
     let margin = verdicts
         .iter()
         .filter(|v| v.stable == Some(true))

@@ -10,9 +10,11 @@ use std::path::Path;
 
 use nalgebra::Point3;
 
-use rappel_mechanics::axel::{Axel, AxelParams, BoomMode};
+use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::boom_contact::{place_boom_in_contact, place_boom_inline};
 use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
 use rappel_mechanics::stability_qp::StabilityQp;
+use rappel_planners::anchor_prediction::{AnchorHistory, detach_height};
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::paton_scene::PatonScene;
 use serde::{Deserialize, Serialize};
@@ -104,44 +106,75 @@ pub struct SettleReport {
     pub stability: Vec<BoomVerdict>,
 }
 
-/// The stability QP's verdict for `pose` with the tether toward the last anchor `anchor`, in
-/// both boom configurations (inline, in contact) of Axel `params`, with [`SCENE_FRICTION`].
-pub fn boom_verdicts<D: rappel_terrain::surface::SignedDistance + ?Sized>(
-    ground: &D,
+/// The stability QP's verdict for `pose` with the tether from the anchor history `history`, in
+/// both boom configurations of Axel `params`, with [`SCENE_FRICTION`]:
+/// * **inline**: the boom along the line from the pivot to the last anchor, refused where it
+///   would pass through the mesh ([`place_boom_inline`]);
+/// * **in contact**: the boom swept toward the last anchor until it touches the mesh
+///   ([`place_boom_in_contact`]: on its tip or its shaft, e.g. resting on a ledge's lip). The
+///   tether leaves from the boom's tip, which is not the pivot the history was predicted for:
+///   while the tip lies above the last anchor's `F_d` plane (Paton's detach test,
+///   [`detach_height`]) that anchor is popped and the boom swept again toward the one before
+///   (at most once per anchor). Attaching anchors between the pivot and the tip is not
+///   searched (the boom is at most `L_c` long).
+pub fn boom_verdicts(
+    ground: &TriMesh,
     pose: &SettledPose,
     params: &AxelParams,
-    anchor: &Point3<f64>,
+    history: &AnchorHistory,
 ) -> Vec<BoomVerdict> {
-    [
-        ("inline", BoomMode::Inline),
-        ("in-contact", BoomMode::InContact),
-    ]
-    .into_iter()
-    .map(|(name, boom)| {
-        let verdict = Axel::new(AxelParams { boom, ..*params })
-            .and_then(|axel| pose.place(&axel, ground, SCENE_FRICTION, Some((anchor, None))))
-            .map_err(|e| e.to_string())
-            .and_then(|placed| {
+    let anchors = history.anchors();
+    let last = history.last().point;
+    let in_contact = || {
+        let mut n = anchors.len() - 1;
+        loop {
+            let placed = place_boom_in_contact(
+                pose,
+                params,
+                ground,
+                SCENE_FRICTION,
+                (&anchors[n].point, None),
+            )
+            .map_err(|e| e.to_string())?;
+            let popped = n > 0
+                && detach_height(&anchors[n - 1], &anchors[n], &placed.1.tip)
+                    .is_some_and(|h| h > 0.0);
+            if !popped {
+                return Ok(placed.0);
+            }
+            n -= 1;
+        }
+    };
+    [("inline", true), ("in-contact", false)]
+        .into_iter()
+        .map(|(name, inline)| {
+            let placed = if inline {
+                place_boom_inline(pose, params, ground, SCENE_FRICTION, (&last, None))
+                    .map_err(|e| e.to_string())
+            } else {
+                in_contact()
+            };
+            let verdict = placed.and_then(|placed| {
                 StabilityQp::default()
                     .check(&placed)
                     .map_err(|e| e.to_string())
             });
-        match verdict {
-            Ok(r) => BoomVerdict {
-                boom: name.to_string(),
-                stable: Some(r.stable),
-                error: None,
-                margin: r.margin,
-            },
-            Err(e) => BoomVerdict {
-                boom: name.to_string(),
-                stable: None,
-                error: Some(e),
-                margin: 0.0,
-            },
-        }
-    })
-    .collect()
+            match verdict {
+                Ok(r) => BoomVerdict {
+                    boom: name.to_string(),
+                    stable: Some(r.stable),
+                    error: None,
+                    margin: r.margin,
+                },
+                Err(e) => BoomVerdict {
+                    boom: name.to_string(),
+                    stable: None,
+                    error: Some(e),
+                    margin: 0.0,
+                },
+            }
+        })
+        .collect()
 }
 
 impl crate::report::Report for SettleReport {
@@ -168,8 +201,16 @@ pub fn settle_report(
         yaw_deg.to_radians(),
         &SettleParams::default(),
     )?;
-    let stability = match anchor {
-        Some(a) => boom_verdicts(ground, &pose, &params, &Point3::new(a[0], a[1], a[2])),
+    let stability = match anchor.map(|a| AnchorHistory::new(Point3::new(a[0], a[1], a[2]))) {
+        Some(Ok(history)) => boom_verdicts(ground, &pose, &params, &history),
+        Some(Err(e)) => ["inline", "in-contact"]
+            .map(|boom| BoomVerdict {
+                boom: boom.to_string(),
+                stable: None,
+                error: Some(e.to_string()),
+                margin: 0.0,
+            })
+            .to_vec(),
         None => Vec::new(),
     };
     let p = |q: &Point3<f64>| [q.x, q.y, q.z];

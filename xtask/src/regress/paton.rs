@@ -121,7 +121,69 @@ pub fn suite() -> Result<Vec<Case>, String> {
         format!("0/{n2} stable (red)"),
         s2 == 0,
     ));
-    // The map: 0.5 m cells, slope cells beyond the boom's reach from the lip (1 m).
+    // The boom swept against the mesh just past the lip (Paton §IV-A, in contact): a straight
+    // descent from the test-1 start on the centre line, every 5 cm from the lip to 0.7 m past
+    // it. Where the footprint lies wholly on the slope (pitch -55°) and the lip is within the
+    // boom's reach, the boom's shaft rests on the lip at the closed-form elevation
+    // -atan(r_w / s) below the slope (s the distance along the slope from the lip).
+    let axel = rappel::mechanics::axel::AxelParams::default();
+    let slope = scene.slope_deg.to_radians();
+    let (mut on_slope, mut on_lip_ok, mut stable_past, mut past) = (0, 0, 0, 0);
+    let mut unstable_at = Vec::new();
+    for k in 0..=14 {
+        let x = 0.05 * k as f64;
+        let p = drive(&ground, &scene, x, 0.0, &anchors[0])?;
+        past += 1;
+        if p.stable {
+            stable_past += 1;
+        } else {
+            unstable_at.push(format!("{x:.2}"));
+        }
+        let pose = rappel::mesh_stability::settle(&ground, x, 0.0, 0.0)?;
+        let s = pose.origin.x / slope.cos();
+        if (pose.pitch() + slope).abs() < 1e-6 && s.hypot(axel.wheel_radius) < axel.boom_length {
+            on_slope += 1;
+            let last = p.anchors.last().copied().unwrap_or_default();
+            let a = Point3::new(last[0], last[1], last[2]);
+            let (_, c) = rappel::mechanics::boom_contact::place_boom_in_contact(
+                &pose,
+                &axel,
+                &ground,
+                rappel::settle::SCENE_FRICTION,
+                (&a, None),
+            )
+            .map_err(|e| e.to_string())?;
+            let want = -(axel.wheel_radius / s).atan();
+            if c.point.x.abs() < 1e-6
+                && (c.point.z - scene.height).abs() < 1e-6
+                && (c.elevation - want).abs() < 1e-6
+            {
+                on_lip_ok += 1;
+            }
+        }
+    }
+    cases.push(Case::new(
+        SUITE,
+        "boom in contact past the lip: shaft on the lip at -atan(r_w / s)",
+        format!("{on_lip_ok}/{on_slope} poses on the slope within the boom's reach"),
+        format!("{on_slope}/{on_slope} (closed form, 1e-6), at least 3"),
+        on_slope >= 3 && on_lip_ok == on_slope,
+    ));
+    cases.push(Case::new(
+        SUITE,
+        "test-1 straight descent over the lip (x 0 to 0.7 m, 5 cm): stable poses",
+        format!(
+            "{stable_past}/{past} stable{}",
+            if unstable_at.is_empty() {
+                String::new()
+            } else {
+                format!(", unstable at x = {}", unstable_at.join(", "))
+            }
+        ),
+        format!("{past}/{past} (Paton's test-1 paths drive over the lip: Table I 100/100)"),
+        stable_past == past,
+    ));
+    // The map: 0.5 m cells, the slope cells past the lip.
     let s = scene.start();
     let spec = MapSpec {
         x: (-2.0, 2.5),
@@ -137,7 +199,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
         let cells: Vec<_> = m
             .cells
             .iter()
-            .filter(|c| c.ground[0] > 0.7 && c.ground[0] < foot - 0.3)
+            .filter(|c| c.ground[0] > 0.0 && c.ground[0] < foot - 0.3)
             .collect();
         let stable = cells
             .iter()
