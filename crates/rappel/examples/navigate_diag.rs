@@ -1,13 +1,23 @@
-//! Diagnostics of `rappel::navigate` on Paton's test 3 (temporary).
+//! Diagnostics of `rappel::navigate` on Paton's Table I tests: runs ABIT* with a validator that
+//! logs every motion check (endpoints, anchors before and after, the failure reason, time) and
+//! prints the tally of outcomes (`docs/sampler.md`, "Diagnosing test 3").
+//!
+//! `cargo run --release -p rappel --example navigate_diag -- TEST SEED ITERATIONS`; environment:
+//! `INFL`, `COPY`, `BATCH`, `KF` override the settings, `EXACT` compares histories exactly,
+//! `DUMP` prints every motion.
 use rappel::navigate::{RoverProblem, RoverSpace, RoverState};
 use rappel::planners::anchor_prediction::AnchorHistory;
 use rappel::planners::sampler::{Abit, MotionValidator, Termination};
 use rappel::terrain::paton_scene::PatonScene;
 use std::cell::RefCell;
 
+/// One logged motion: from, to, anchors before, anchors after or the reason, seconds.
+type Entry = (RoverState, RoverState, usize, Result<usize, String>, f64);
+
+/// The rover problem with every motion check logged.
 struct Logged<'a> {
     p: &'a RoverProblem,
-    log: RefCell<Vec<(RoverState, RoverState, usize, Result<usize, String>, f64)>>,
+    log: RefCell<Vec<Entry>>,
 }
 
 impl MotionValidator<RoverSpace, 4> for Logged<'_> {

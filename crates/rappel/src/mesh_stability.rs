@@ -115,10 +115,10 @@ pub fn settle_from<D: SignedDistance + ?Sized>(
     .map_err(|e| e.to_string())
 }
 
-/// The stability of `pose` with anchor history `history` (the tether from its last anchor) on
-/// any [`SignedDistance`] ground.
-pub fn pose_stability<D: SignedDistance + ?Sized>(
-    ground: &D,
+/// The stability of `pose` with anchor history `history` (the tether from its last anchor); the
+/// boom is swept against the mesh's triangles.
+pub fn pose_stability(
+    ground: &TriMesh,
     pose: &SettledPose,
     history: &AnchorHistory,
 ) -> PoseStability {

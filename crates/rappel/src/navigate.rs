@@ -279,7 +279,7 @@ pub struct RoverProblem {
     /// model (tested), so it is kept only as a comparison. Off by default (the faithful model).
     pub held_within_boom_reach: bool,
     /// The same mesh behind parry's BVH: the planner's motion checks (settling, anchor
-    /// prediction, the in-contact boom sweep) query it instead of `ground`'s brute-force exact
+    /// prediction; the boom sweeps of the stability verdict need the triangles) query it instead of `ground`'s brute-force exact
     /// distances (same triangles, same pseudo-normal sign; only floating-point rounding
     /// differs), and [`RoverProblem::revalidate`] re-checks every reported path on `ground`.
     fast: ParryMesh,
@@ -389,7 +389,8 @@ impl RoverProblem {
                 .history;
                 cost += W_LEN * (pose.origin - p.origin).norm() + W_ROLL * pose.roll().abs() * step;
             }
-            let st = pose_stability(ground, &pose, &h);
+            // The boom sweeps need the triangles: always the exact mesh.
+            let st = pose_stability(&self.ground, &pose, &h);
             let held = self.held_within_boom_reach
                 && (h.last().point - tether_end(&pose, &axel)).norm() < axel.boom_length;
             if !st.stable && !held {
@@ -467,7 +468,7 @@ impl MotionValidator<RoverSpace, 4> for RoverProblem {
 
     fn history_valid(&self, s: &RoverState, h: &AnchorHistory) -> bool {
         self.settle_fast(s)
-            .is_ok_and(|p| pose_stability(&self.fast, &p, h).stable)
+            .is_ok_and(|p| pose_stability(&self.ground, &p, h).stable)
     }
 
     fn motion(
