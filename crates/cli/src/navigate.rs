@@ -85,7 +85,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         args.picture
             .write(&navigate_svg(&problem, &report), "rappel navigate")?;
     }
-    let budget_out = report.iterations >= args.iterations || report.elapsed_s >= time.as_secs_f64();
+    let budget_out = report.stopped_by != "cost_threshold";
     if args.json {
         print_report(&report)?;
     } else {
@@ -120,19 +120,20 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             crate::outln!(
                 "no path within the budget{}",
                 if budget_out {
-                    " (the budget ran out)"
+                    format!(" (the {} budget ran out)", report.stopped_by)
                 } else {
-                    ""
+                    String::new()
                 }
             );
         }
         crate::outln!(
-            "search: {} iterations, {} batches, {} states, {} motions checked, {:.2} s",
+            "search: {} iterations, {} batches, {} states, {} motions checked, {:.2} s, stopped by {}",
             report.iterations,
             report.batches,
             report.states,
             report.motions_checked,
-            report.elapsed_s
+            report.elapsed_s,
+            report.stopped_by
         );
     }
     Ok(if report.found {

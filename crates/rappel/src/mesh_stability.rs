@@ -27,6 +27,7 @@ use rappel_planners::anchor_prediction::{
     AnchorError, AnchorHistory, PredictParams, predict, predict_path,
 };
 use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::surface::SignedDistance;
 
 use crate::settle::{BoomVerdict, boom_verdicts};
 use crate::svg::{Layer, Marker, Picture};
@@ -90,19 +91,32 @@ pub fn tether_end(pose: &SettledPose, axel: &AxelParams) -> Point3<f64> {
 /// [`rappel_mechanics::settle::SettleError`]'s message.
 pub fn settle(ground: &TriMesh, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, String> {
     let (_, hi) = ground.bounds();
+    settle_from(ground, hi.z + 1.0, x, y, yaw_deg)
+}
+
+/// [`settle`] on any [`SignedDistance`] ground (e.g. the same mesh behind parry's BVH), found
+/// from height `z_top`.
+pub fn settle_from<D: SignedDistance + ?Sized>(
+    ground: &D,
+    z_top: f64,
+    x: f64,
+    y: f64,
+    yaw_deg: f64,
+) -> Result<SettledPose, String> {
     settle_axel(
         ground,
         &AxelParams::default(),
         x,
         y,
-        hi.z + 1.0,
+        z_top,
         yaw_deg.to_radians(),
         &SettleParams::default(),
     )
     .map_err(|e| e.to_string())
 }
 
-/// The stability of `pose` with anchor history `history` (the tether from its last anchor).
+/// The stability of `pose` with anchor history `history` (the tether from its last anchor); the
+/// boom is swept against the mesh's triangles.
 pub fn pose_stability(
     ground: &TriMesh,
     pose: &SettledPose,

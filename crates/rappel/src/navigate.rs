@@ -5,12 +5,12 @@
 //! the stability of every pose with the tether from its last anchor (both boom configurations).
 //!
 //! The planner stays generic; this module is the scene-specific glue. It reuses
-//! [`crate::mesh_stability`] for settling ([`settle`]), the tether end ([`tether_end`]) and the
+//! [`crate::mesh_stability`] for settling ([`settle_from`]), the tether end ([`tether_end`]) and the
 //! stability verdict ([`pose_stability`]).
 //!
 //! # States, motions, cost
 //! A [`RoverState`] is a ground point `(x, y)` and a heading `yaw` (radians from `+x`,
-//! counter-clockwise); the 3D pose is the settled one ([`settle`]), so states live on the
+//! counter-clockwise); the 3D pose is the settled one ([`settle_from`]), so states live on the
 //! surface manifold. Samples are uniform in the problem's bounds and heading (a ground point
 //! of the scene and a yaw about the vertical; the settler tilts the pose onto the normal).
 //!
@@ -41,12 +41,14 @@ use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::settle::SettledPose;
 use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict};
 use rappel_planners::sampler::{
-    Abit, AbitSettings, Informed, MotionValidator, StateSpace, Termination,
+    Abit, AbitSettings, Informed, MotionValidator, StateSpace, Stop, Termination,
 };
 use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::parry_mesh::ParryMesh;
 use rappel_terrain::paton_scene::PatonScene;
+use rappel_terrain::surface::SignedDistance;
 
-use crate::mesh_stability::{PREDICT_RESOLUTION, pose_stability, settle, tether_end};
+use crate::mesh_stability::{PREDICT_RESOLUTION, pose_stability, settle_from, tether_end};
 
 /// Weight of the drive length in the cost, per metre.
 pub const W_LEN: f64 = 1.0;
@@ -68,6 +70,43 @@ pub const MAX_CLIMB: f64 = 2.75;
 pub const TURN_KEY_WEIGHT: f64 = 1.0;
 /// Most poses in one motion (a bound on the work of a motion check; longer motions are invalid).
 pub const MAX_MOTION_POSES: usize = 512;
+
+/// Distance within which two anchors count as the same contact when anchor histories are
+/// compared ([`histories_compatible`]), metres: half Axel's 1 m boom. Anchor prediction places a
+/// contact to within its sampling resolution (5 cm) and a wrap adds one anchor per few
+/// centimetres of arc, so histories of neighbouring states differ in their points but not in
+/// which features the tether touches.
+pub const HISTORY_MATCH_DISTANCE: f64 = 0.5;
+
+/// The contacts of an anchor history: consecutive anchors closer than
+/// [`HISTORY_MATCH_DISTANCE`] chained into one contact (a wrap around a pole, a bend over a
+/// lip), each represented by its last anchor (where the tether leaves it).
+fn contacts(h: &AnchorHistory) -> Vec<Point3<f64>> {
+    let mut out: Vec<Point3<f64>> = Vec::new();
+    let mut prev: Option<Point3<f64>> = None;
+    for a in h.anchors() {
+        match (prev, out.last_mut()) {
+            (Some(p), Some(last)) if (a.point - p).norm() < HISTORY_MATCH_DISTANCE => {
+                *last = a.point
+            }
+            _ => out.push(a.point),
+        }
+        prev = Some(a.point);
+    }
+    out
+}
+
+/// Paton §V-A's compatibility of two anchor histories: the tether touches the same contacts in
+/// the same order ([`contacts`]), each leaving its contact within [`HISTORY_MATCH_DISTANCE`] of
+/// the other's.
+pub fn histories_compatible(a: &AnchorHistory, b: &AnchorHistory) -> bool {
+    let (ca, cb) = (contacts(a), contacts(b));
+    ca.len() == cb.len()
+        && ca
+            .iter()
+            .zip(&cb)
+            .all(|(p, q)| (p - q).norm() < HISTORY_MATCH_DISTANCE)
+}
 
 /// A rover state: ground point and heading.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -239,6 +278,13 @@ pub struct RoverProblem {
     /// resting on the lip; with the mesh contact search those poses are stable in the faithful
     /// model (tested), so it is kept only as a comparison. Off by default (the faithful model).
     pub held_within_boom_reach: bool,
+    /// The same mesh behind parry's BVH: the planner's motion checks (settling, anchor
+    /// prediction; the boom sweeps of the stability verdict need the triangles) query it instead of `ground`'s brute-force exact
+    /// distances (same triangles, same pseudo-normal sign; only floating-point rounding
+    /// differs), and [`RoverProblem::revalidate`] re-checks every reported path on `ground`.
+    fast: ParryMesh,
+    /// Height from which states are settled: 1 m above the mesh's top.
+    z_top: f64,
 }
 
 impl RoverProblem {
@@ -257,7 +303,11 @@ impl RoverProblem {
         let s = scene.start();
         let foot = scene.slope_foot_x();
         let half = (0.5 * scene.length - 0.5).clamp(0.5, 3.0);
+        let fast = ParryMesh::new(&ground).map_err(|e| e.to_string())?;
+        let z_top = ground.bounds().1.z + 1.0;
         Ok(RoverProblem {
+            fast,
+            z_top,
             ground,
             root,
             space: RoverSpace {
@@ -278,17 +328,32 @@ impl RoverProblem {
         })
     }
 
-    /// The settled pose of a state.
+    /// The settled pose of a state on the exact mesh.
     pub fn settle(&self, s: &RoverState) -> Result<SettledPose, String> {
-        settle(&self.ground, s.x, s.y, s.yaw.to_degrees())
+        settle_from(&self.ground, self.z_top, s.x, s.y, s.yaw.to_degrees())
+    }
+
+    /// The settled pose of a state on the planner's BVH ground.
+    fn settle_fast(&self, s: &RoverState) -> Result<SettledPose, String> {
+        settle_from(&self.fast, self.z_top, s.x, s.y, s.yaw.to_degrees())
     }
 
     /// Walks `poses` (each with the drive length since the previous one) from `history` at the
     /// first pose: settles each, checks the height change against [`MAX_CLIMB`], predicts the
     /// anchor history from pivot to pivot and checks every pose's stability with it. The first
-    /// pose is checked too. The error names the first failing pose.
+    /// pose is checked too. The error names the first failing pose. On the exact mesh.
     pub fn walk(
         &self,
+        history: &AnchorHistory,
+        poses: &[(RoverState, f64)],
+    ) -> Result<Walk, String> {
+        self.walk_on(&self.ground, history, poses)
+    }
+
+    /// [`RoverProblem::walk`] on `ground` (the exact mesh, or the planner's BVH form of it).
+    fn walk_on<D: SignedDistance + ?Sized>(
+        &self,
+        ground: &D,
         history: &AnchorHistory,
         poses: &[(RoverState, f64)],
     ) -> Result<Walk, String> {
@@ -300,7 +365,7 @@ impl RoverProblem {
         let mut out = Vec::with_capacity(poses.len());
         for (k, (s, step)) in poses.iter().enumerate() {
             let at = |why: String| format!("pose {k} at ({:.3}, {:.3}): {why}", s.x, s.y);
-            let pose = self.settle(s).map_err(at)?;
+            let pose = settle_from(ground, self.z_top, s.x, s.y, s.yaw.to_degrees()).map_err(at)?;
             if let Some(p) = &prev {
                 // The wheels' travel since the previous pose: the drive step, or in a turn the
                 // arc of a wheel about the axle centre.
@@ -314,7 +379,7 @@ impl RoverProblem {
                     return Err(at(format!("height changes {dz:.3} m over {travel:.3} m")));
                 }
                 h = predict(
-                    &self.ground,
+                    ground,
                     &params,
                     &h,
                     &tether_end(p, &axel),
@@ -324,6 +389,7 @@ impl RoverProblem {
                 .history;
                 cost += W_LEN * (pose.origin - p.origin).norm() + W_ROLL * pose.roll().abs() * step;
             }
+            // The boom sweeps need the triangles: always the exact mesh.
             let st = pose_stability(&self.ground, &pose, &h);
             let held = self.held_within_boom_reach
                 && (h.last().point - tether_end(&pose, &axel)).norm() < axel.boom_length;
@@ -366,6 +432,22 @@ impl RoverProblem {
     }
 }
 
+impl RoverProblem {
+    /// The planner's check of the motion from `from` (reached with `history`) to `to`, on the
+    /// BVH ground, with the reason when it fails (for diagnostics; the planner keeps only the
+    /// verdict).
+    pub fn check_motion(
+        &self,
+        from: &RoverState,
+        history: &AnchorHistory,
+        to: &RoverState,
+    ) -> Result<Walk, String> {
+        let poses = motion_poses(from, to)
+            .ok_or_else(|| format!("the motion needs more than {MAX_MOTION_POSES} poses"))?;
+        self.walk_on(&self.fast, history, &poses)
+    }
+}
+
 impl MotionValidator<RoverSpace, 4> for RoverProblem {
     type History = AnchorHistory;
 
@@ -377,11 +459,15 @@ impl MotionValidator<RoverSpace, 4> for RoverProblem {
     }
 
     fn state_valid(&self, s: &RoverState) -> bool {
-        self.settle(s).is_ok()
+        self.settle_fast(s).is_ok()
+    }
+
+    fn compatible(&self, a: &AnchorHistory, b: &AnchorHistory) -> bool {
+        histories_compatible(a, b)
     }
 
     fn history_valid(&self, s: &RoverState, h: &AnchorHistory) -> bool {
-        self.settle(s)
+        self.settle_fast(s)
             .is_ok_and(|p| pose_stability(&self.ground, &p, h).stable)
     }
 
@@ -391,20 +477,22 @@ impl MotionValidator<RoverSpace, 4> for RoverProblem {
         history: &AnchorHistory,
         to: &RoverState,
     ) -> Option<(f64, AnchorHistory)> {
-        let poses = motion_poses(from, to)?;
-        self.walk(history, &poses).ok().map(|w| (w.cost, w.history))
+        self.check_motion(from, history, to)
+            .ok()
+            .map(|w| (w.cost, w.history))
     }
 }
 
-/// The planner's settings for the rover: the sampler's recommendation for non-Markovian
-/// problems (`docs/sampler.md`): initial inflation 1.5, history copy fraction 0.5, batches of
-/// 100.
+/// The planner's settings for the rover (`docs/sampler.md`): ABIT*'s greedy first search
+/// (initial inflation 1e6, the default), history copy fraction 0.5, batches of 100, history
+/// copies on expansion (so the greedy search's first-connected history cannot claim a region
+/// for good).
 pub fn rover_settings(seed: u64) -> AbitSettings {
     AbitSettings::default()
-        .with_initial_inflation(1.5)
-        .and_then(|s| s.with_history_copy_fraction(0.5))
+        .with_history_copy_fraction(0.5)
         .and_then(|s| s.with_batch_size(100))
         .expect("constant settings are in range")
+        .with_history_copies_on_expansion(true)
         .with_seed(seed)
 }
 
@@ -444,6 +532,8 @@ pub struct NavigateReport {
     pub first_solution_s: Option<f64>,
     /// Total wall time, seconds.
     pub elapsed_s: f64,
+    /// What ended the search: `iterations` or `time` (a budget ran out) or `cost_threshold`.
+    pub stopped_by: String,
     /// Every settled pose along the re-validated path: origin and margin.
     pub poses: Vec<NavigatePose>,
 }
@@ -497,6 +587,12 @@ pub fn navigate(
         first_solution_iteration: first.map(|e| e.iteration),
         first_solution_s: first.map(|e| e.elapsed.as_secs_f64()),
         elapsed_s: began.elapsed().as_secs_f64(),
+        stopped_by: match status.stopped_by {
+            Some(Stop::Iterations) | None => "iterations",
+            Some(Stop::Time) => "time",
+            Some(Stop::CostThreshold) => "cost_threshold",
+        }
+        .into(),
         poses: Vec::new(),
     };
     let Some(sol) = status.solution else {

@@ -82,15 +82,6 @@ pub const KNOWN_DIFFERENCES: &[KnownDifference] = &[
                  anchors; Fig. 5b shows all of S2 red",
         derivation: "docs/mechanics.md, Kumar Fig. 5 from tracked windings",
     },
-    KnownDifference {
-        suite: "paton",
-        case: "Table I test 3: found stable / unstable, first solution",
-        reason: "our ABIT* does not find the pole wrap within Paton's 750 iterations (0 of the CI \
-                 seed; 0 of 2 seeds at 3000 iterations); a hand-made wrapped descent passes our \
-                 model (navigate test a_hand_made_path_around_the_pole_descends_in_test_3), so \
-                 the search differs, not the model; no unsafe path is reported",
-        derivation: "docs/sampler.md, the rover problem",
-    },
 ];
 
 /// The verdict of one row once the known differences are applied.

@@ -251,10 +251,10 @@ pub fn suite() -> Result<Vec<Case>, String> {
     Ok(cases)
 }
 
-/// Seeds of Table I's test `test`: Paton's 100 behind `--full`; in CI 3 for test 1 (about 3 s a
-/// seed to the first solution), 2 for test 2 (all 750 iterations, about 10 s a seed) and 1 for
-/// test 3 (the pole mesh makes exact distances 5 times dearer: about 40 s a seed), which keeps
-/// the rows near a minute on 2 cores.
+/// Seeds of Table I's test `test`: Paton's 100 behind `--full`; in CI 3 for test 1 (under a
+/// second a seed to the first solution), 2 for test 2 (all 750 iterations, about 5 s a seed)
+/// and 1 for test 3 (its first solution after 571 iterations, about 5 s), which keeps the
+/// rows well under a minute on 2 cores.
 fn table_seeds(test: u32) -> Vec<u64> {
     let ci = match test {
         1 => 3,

@@ -17,7 +17,9 @@
 //! 6. **Histories.** The motion extends the parent's history; a child whose history is already
 //!    set (in the tree, or copied at sampling) accepts only a parent whose extension equals it:
 //!    no rewiring across incompatible histories. A fraction `history_copy_fraction` of new
-//!    samples copy one of the distinct histories of their k nearest tree states. After each
+//!    samples copy one of the distinct (not [`MotionValidator::compatible`]) histories of their
+//!    k nearest tree states; a copied history accepts a compatible extension when the sample is
+//!    first connected. After each
 //!    improved solution a fresh goal state with undetermined history is added.
 //!
 //! Vertices are never pruned (ids stay stable); informed sampling keeps new density where it
@@ -91,6 +93,20 @@ pub struct PlannerStatus<S, H> {
     pub motions_checked: u64,
     /// Every improvement so far, in order (costs strictly decrease).
     pub events: Vec<SolutionEvent>,
+    /// Which budget or condition ended the last [`Abit::solve`] (`None` from [`Abit::status`]
+    /// outside `solve`).
+    pub stopped_by: Option<Stop>,
+}
+
+/// Why [`Abit::solve`] returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// The iteration budget ran out.
+    Iterations,
+    /// The wall-time budget ran out (checked between edge evaluations and between samples).
+    Time,
+    /// A solution at most the cost threshold was found.
+    CostThreshold,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -108,6 +124,10 @@ impl Ord for Key {
 }
 
 type Motion<H> = Option<(f64, H)>;
+
+/// Most states at one location (a sample and its copies for other history classes, made by
+/// `history_copies_on_expansion`): the bound on copies per location.
+pub const MAX_STATES_PER_LOCATION: usize = 8;
 
 /// The ABIT* planner over space `S` and validator `V` (k-d embedding dimension `K`).
 pub struct Abit<'a, S, V, const K: usize>
@@ -135,6 +155,8 @@ where
     batches: u64,
     events: Vec<SolutionEvent>,
     created: Instant,
+    /// The wall-time limit of the running [`Abit::solve`], checked between samples of a batch.
+    deadline: Option<Instant>,
 }
 
 impl<'a, S, V, const K: usize> Abit<'a, S, V, K>
@@ -183,6 +205,7 @@ where
             batches: 0,
             events: Vec::new(),
             created: Instant::now(),
+            deadline: None,
         };
         me.new_batch()?;
         me.restart_search();
@@ -196,11 +219,20 @@ where
     ) -> Result<PlannerStatus<S::State, V::History>, AbitError> {
         termination.validate()?;
         let began = Instant::now();
+        self.deadline = termination.max_time.and_then(|t| began.checked_add(t));
         let first = self.iterations;
-        while !termination.reached(self.iterations - first, began.elapsed(), self.best_cost) {
+        let stop = loop {
+            if let Some(stop) =
+                termination.reason(self.iterations - first, began.elapsed(), self.best_cost)
+            {
+                break stop;
+            }
             self.iterate()?;
-        }
-        Ok(self.status())
+        };
+        self.deadline = None;
+        let mut status = self.status();
+        status.stopped_by = Some(stop);
+        Ok(status)
     }
 
     /// The graph, for white-box tests.
@@ -232,6 +264,7 @@ where
             states: self.graph.nodes.len(),
             motions_checked: self.motions.len() as u64,
             events: self.events.clone(),
+            stopped_by: None,
         }
     }
 
@@ -303,7 +336,18 @@ where
             self.queue.push(Reverse((Key(key), v, x)));
         }
         let key = self.space.key(&self.graph.nodes[v as usize].state);
-        for x in self.graph.near(&key, self.k() + 1) {
+        let mut near = self.graph.near(&key, self.k() + 1);
+        if v == self.start {
+            // The start-goal edge is always a candidate (the straight-line attempt): BIT*'s
+            // r-disc graph includes it in the first batches, whose radius spans the space,
+            // while the k nearest of a sparse batch may not reach the goal.
+            for &g in &self.goals {
+                if !near.contains(&g) {
+                    near.push(g);
+                }
+            }
+        }
+        for x in near {
             if x == v || x == self.start {
                 continue;
             }
@@ -313,15 +357,65 @@ where
             }
             let c = self.c_hat(v, x);
             let h = self.h(x);
-            if gv + c + h >= self.best_cost || gv + c >= node.g {
+            if gv + c + h >= self.best_cost {
                 continue;
             }
+            let x = if gv + c >= node.g {
+                match self.copy_for(v, x) {
+                    Some(copy) => copy,
+                    None => continue,
+                }
+            } else {
+                x
+            };
             if matches!(self.motions.get(&(v, x)), Some(None)) {
                 continue;
             }
             self.queue
                 .push(Reverse((Key(gv + c + self.inflation * h), v, x)));
         }
+    }
+
+    /// With `history_copies_on_expansion`: tree state `x` is claimed more cheaply than `v` could
+    /// reach it, by a parent whose history is not [`MotionValidator::compatible`] with `v`'s.
+    /// Rewiring across the classes is forbidden, so `v`'s class would never enter `x`'s
+    /// location; instead a copy of `x`'s location with undetermined history is made (or the
+    /// pending one reused) for `v` to connect (Paton §V-A's copied states, made when a second
+    /// class meets the location rather than at sampling). At most
+    /// [`MAX_STATES_PER_LOCATION`] states share a location.
+    fn copy_for(&mut self, v: u32, x: u32) -> Option<u32> {
+        if !self.settings.history_copies_on_expansion {
+            return None;
+        }
+        let nx = &self.graph.nodes[x as usize];
+        let hv = self.graph.nodes[v as usize].history.as_ref()?;
+        let hp = nx
+            .parent
+            .and_then(|p| self.graph.nodes[p as usize].history.as_ref())?;
+        if nx.is_goal || self.validator.compatible(hv, hp) {
+            return None;
+        }
+        let siblings = self.graph.at_location(nx.location);
+        for &s in siblings {
+            let ns = &self.graph.nodes[s as usize];
+            if ns.history.is_none() && !ns.in_tree() {
+                return Some(s);
+            }
+            if let Some(p) = ns.parent
+                && let Some(hp) = &self.graph.nodes[p as usize].history
+                && self.validator.compatible(hv, hp)
+            {
+                // The class already has a state here: the ordinary rules decide.
+                return (self.graph.nodes[v as usize].g + self.c_hat(v, s) < ns.g).then_some(s);
+            }
+        }
+        if siblings.len() >= MAX_STATES_PER_LOCATION {
+            return None;
+        }
+        let state = nx.state.clone();
+        let copy = self.graph.add_at(x, state, false).ok()?;
+        self.expanded_at.push(f64::INFINITY);
+        Some(copy)
     }
 
     fn process(&mut self, v: u32, x: u32) {
@@ -345,11 +439,30 @@ where
         if g_new + h >= self.best_cost || g_new >= gx {
             return;
         }
-        if let Some(existing) = &self.graph.nodes[x as usize].history {
-            if *existing != hist {
-                return;
+        let node = &self.graph.nodes[x as usize];
+        let accept = match &node.history {
+            // In the tree: only the exact history, so no descendant's validity changes.
+            Some(existing) if node.in_tree() => *existing == hist,
+            // A copied history reserves the sample for its class; it takes the history the
+            // motion brings when that is compatible.
+            Some(existing) => self.validator.compatible(existing, &hist),
+            // A copy made for another class must bring a class its location lacks.
+            None if !node.is_goal => {
+                let loc = node.location;
+                !self.graph.at_location(loc).iter().any(|&s| {
+                    s != x
+                        && self.graph.nodes[s as usize]
+                            .history
+                            .as_ref()
+                            .is_some_and(|h| self.validator.compatible(h, &hist))
+                })
             }
-        } else {
+            None => true,
+        };
+        if !accept {
+            return;
+        }
+        if !node.in_tree() {
             self.graph.nodes[x as usize].history = Some(hist);
         }
         self.graph.attach(x, v, g_new);
@@ -409,6 +522,10 @@ where
         self.inflation = self.settings.initial_inflation;
         let start_state = self.graph.nodes[self.start as usize].state.clone();
         for _ in 0..self.settings.batch_size {
+            // A time budget interrupts a batch (the rest of it is not sampled).
+            if self.deadline.is_some_and(|d| Instant::now() >= d) {
+                break;
+            }
             let copy = self.rng.random::<f64>() < self.settings.history_copy_fraction;
             let Some(s) = self.sample(&start_state) else {
                 continue;
@@ -463,7 +580,7 @@ where
         for i in self.graph.near(key, self.k()) {
             if let Some(h) = &self.graph.nodes[i as usize].history
                 && self.graph.nodes[i as usize].in_tree()
-                && !distinct.contains(h)
+                && !distinct.iter().any(|d| self.validator.compatible(d, h))
                 && self.validator.history_valid(state, h)
             {
                 distinct.push(h.clone());

@@ -109,6 +109,11 @@ impl<S, H, const K: usize> Graph<S, H, K> {
         self.nodes[id as usize].is_goal = true;
     }
 
+    /// The states at location `loc` (a sample and its history copies, or the goal copies).
+    pub fn at_location(&self, loc: u32) -> &[u32] {
+        &self.locations[loc as usize]
+    }
+
     /// Number of distinct locations (the `n` of the RGG's k).
     pub fn location_count(&self) -> usize {
         self.locations.len()

@@ -29,6 +29,7 @@ pub enum SettingsError {
 /// | `truncation_scaling` | 5.0 | a search stops once `(1 + truncation_scaling / n) f_min >= c_best` |
 /// | `history_copy_fraction` | 0.0 | fraction of new samples that copy a neighbour's history (Paton §V-A) |
 /// | `max_sample_attempts` | 10000 | rejection-sampling attempts per batch per requested sample, the bound of the sampling loop |
+/// | `history_copies_on_expansion` | false | expanding a state next to one that a different history class claimed cheaper creates a copy of that location with undetermined history for this class (see `docs/sampler.md`) |
 /// | `seed` | 0 | the ChaCha8 seed: same seed, same settings, same iterations give the same path |
 #[derive(Debug, Clone, PartialEq)]
 pub struct AbitSettings {
@@ -39,6 +40,7 @@ pub struct AbitSettings {
     pub(crate) truncation_scaling: f64,
     pub(crate) history_copy_fraction: f64,
     pub(crate) max_sample_attempts: usize,
+    pub(crate) history_copies_on_expansion: bool,
     pub(crate) seed: u64,
 }
 
@@ -52,6 +54,7 @@ impl Default for AbitSettings {
             truncation_scaling: 5.0,
             history_copy_fraction: 0.0,
             max_sample_attempts: 10_000,
+            history_copies_on_expansion: false,
             seed: 0,
         }
     }
@@ -139,6 +142,12 @@ impl AbitSettings {
         }
         self.max_sample_attempts = n;
         Ok(self)
+    }
+
+    /// Whether expansions copy locations for other history classes (see the settings table).
+    pub fn with_history_copies_on_expansion(mut self, on: bool) -> Self {
+        self.history_copies_on_expansion = on;
+        self
     }
 
     /// The random seed (any value).

@@ -4,6 +4,7 @@
 
 use std::time::Duration;
 
+use super::abit::Stop;
 use super::settings::SettingsError;
 
 /// A termination condition. At least one of iterations or time must be set so that the planning
@@ -72,10 +73,21 @@ impl Termination {
         Ok(())
     }
 
-    /// Whether to stop now.
-    pub(crate) fn reached(&self, iterations: u64, elapsed: Duration, best_cost: f64) -> bool {
-        self.max_iterations.is_some_and(|n| iterations >= n)
-            || self.max_time.is_some_and(|t| elapsed >= t)
-            || self.cost_threshold.is_some_and(|c| best_cost <= c)
+    /// Why to stop now, if so (a reached cost threshold first, then time, then iterations).
+    pub(crate) fn reason(
+        &self,
+        iterations: u64,
+        elapsed: Duration,
+        best_cost: f64,
+    ) -> Option<Stop> {
+        if self.cost_threshold.is_some_and(|c| best_cost <= c) {
+            Some(Stop::CostThreshold)
+        } else if self.max_time.is_some_and(|t| elapsed >= t) {
+            Some(Stop::Time)
+        } else if self.max_iterations.is_some_and(|n| iterations >= n) {
+            Some(Stop::Iterations)
+        } else {
+            None
+        }
     }
 }

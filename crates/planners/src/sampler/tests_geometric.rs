@@ -249,6 +249,7 @@ fn termination_by_cost_threshold_and_bad_inputs() {
         1,
         "stops at the first solution below the threshold"
     );
+    assert_eq!(st.stopped_by, Some(super::abit::Stop::CostThreshold));
     assert!(
         p.solve(Termination::default().or_cost_at_most(3.0))
             .is_err(),
@@ -277,4 +278,43 @@ fn world_files_round_trip_and_name_bad_fields() {
         .unwrap()
         .replace("\"name\"", "\"nmae\"");
     assert!(serde_json::from_str::<WorldFile>(&json).is_err());
+}
+
+/// The box world with every motion blocked (so each search ends at once and the next batch
+/// follows) and state checks that take 1 ms once `slow` is set: a batch of 1000 samples then
+/// takes at least 1 s.
+struct SlowWorld(ObstacleWorld<2>, std::cell::Cell<bool>);
+
+impl super::validator::MotionValidator<RealVectorSpace<2>, 2> for SlowWorld {
+    type History = ();
+    fn initial_history(&self, _: &[f64; 2]) {}
+    fn state_valid(&self, s: &[f64; 2]) -> bool {
+        if self.1.get() {
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        self.0.state_valid(s)
+    }
+    fn motion(&self, _: &[f64; 2], _: &(), _: &[f64; 2]) -> Option<(f64, ())> {
+        None
+    }
+}
+
+#[test]
+fn a_time_budget_interrupts_a_batch_and_says_so() {
+    use super::abit::Stop;
+    let w = SlowWorld(boxes_2d(), std::cell::Cell::new(false));
+    let settings = AbitSettings::default().with_batch_size(1000).unwrap();
+    let mut p = Abit::new(&w.0.space, &w, w.0.start, w.0.goal, settings).unwrap();
+    let st = p.solve(Termination::iterations(10)).unwrap();
+    assert_eq!(st.stopped_by, Some(Stop::Iterations));
+    w.1.set(true);
+    let began = std::time::Instant::now();
+    let slow = p
+        .solve(Termination::time(std::time::Duration::from_millis(50)).or_iterations(u64::MAX))
+        .unwrap();
+    let took = began.elapsed();
+    assert_eq!(slow.stopped_by, Some(Stop::Time));
+    assert!(slow.batches > st.batches, "a new batch was started");
+    // Without the time check between samples the new batch alone would take over 1 s.
+    assert!(took < std::time::Duration::from_millis(600), "{took:?}");
 }

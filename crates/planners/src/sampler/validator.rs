@@ -27,6 +27,18 @@ pub trait MotionValidator<S: StateSpace<K>, const K: usize> {
         true
     }
 
+    /// Whether two histories are the same for planning purposes (Paton §V-A's "compatible"
+    /// anchor histories): a sample whose history was copied from a neighbour accepts, when it is
+    /// first connected, a parent whose motion brings a compatible history (and then stores the
+    /// history the motion actually brings), and copying draws from the neighbours' distinct
+    /// compatibility classes. Rewiring a state already in the tree still requires the exact
+    /// history, so no descendant's validity ever changes. The default is equality, which suits
+    /// discrete histories; a history of real-valued contact points needs a tolerance, else a
+    /// copied history is almost never reproduced by any motion.
+    fn compatible(&self, a: &Self::History, b: &Self::History) -> bool {
+        a == b
+    }
+
     /// The motion from `from` (reached with `history`) to `to`: `None` if it is invalid,
     /// otherwise its true cost and the history at `to`. Called lazily, only for edges the search
     /// actually processes, and at most once per ordered pair of graph states.
