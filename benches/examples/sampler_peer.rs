@@ -13,8 +13,7 @@ use std::time::Duration;
 
 use rappel_planners::sampler::peer_worlds::{boxes_2d, boxes_3d};
 use rappel_planners::sampler::{
-    Abit, AbitSettings, MotionValidator, Obstacle, ObstacleWorld, RealVectorSpace, Termination,
-    WorldFile,
+    Abit, AbitSettings, MotionValidator, ObstacleWorld, RealVectorSpace, Termination, WorldFile,
 };
 
 /// The times (seconds) at which the best cost is reported, shared with the Python peer.
