@@ -424,13 +424,19 @@ impl Map {
             .map(|r| r.vertices.first().copied().unwrap_or(bounds.min))
             .collect();
         let mut segs: Vec<(u32, u32)> = Vec::with_capacity(self.vertex_count());
+        let mut ends: Vec<(Point2<f64>, Point2<f64>)> = Vec::with_capacity(self.vertex_count());
         let mut boxes: Vec<Aabb> = Vec::with_capacity(self.vertex_count());
+        let lens: Vec<u32> = rings.iter().map(|r| r.len() as u32).collect();
         for r in frame.order_by_cell(&firsts) {
             let ring = rings[r as usize];
             let n = ring.len();
             for e in 0..n {
-                let (a, b) = (ring.vertices[e], ring.vertices[(e + 1) % n]);
+                let (a, b) = (
+                    ring.vertices[e],
+                    ring.vertices[if e + 1 == n { 0 } else { e + 1 }],
+                );
                 segs.push((r, e as u32));
+                ends.push((a, b));
                 boxes.push(Aabb::of_points([&a, &b]));
             }
         }
@@ -451,7 +457,10 @@ impl Map {
                     {
                         continue;
                     }
-                    if let Some(contact) = pair_contact(&rings, segs[i as usize], segs[j as usize])
+                    let (i, j) = (i as usize, j as usize);
+                    let ring_len = lens[segs[i].0 as usize];
+                    if let Some(contact) =
+                        segment_pair_contact(ring_len, (segs[i], ends[i]), (segs[j], ends[j]))
                     {
                         found.push(contact);
                     }
@@ -566,9 +575,8 @@ fn validate_ring_alone(ring: RingId, poly: &Polygon) -> Result<(), MapError> {
     Ok(())
 }
 
-/// The contact of two edges `(ring, edge)` (rings numbered boundary first) where they must not
-/// meet, as an error keyed by the ordered pair, or `None` when they are disjoint or merely share
-/// the vertex of two consecutive edges of a ring.
+/// The contact of two edges `(ring, edge)` of `rings`, looked up there (the tests' brute force).
+#[cfg(test)]
 fn pair_contact(rings: &[&Polygon], x: (u32, u32), y: (u32, u32)) -> Option<EdgeContact> {
     let seg_points = |s: (u32, u32)| {
         let ring = rings[s.0 as usize];
@@ -578,6 +586,19 @@ fn pair_contact(rings: &[&Polygon], x: (u32, u32), y: (u32, u32)) -> Option<Edge
             ring.vertices[(s.1 as usize + 1) % n],
         )
     };
+    let ring_len = rings[x.0 as usize].len() as u32;
+    segment_pair_contact(ring_len, (x, seg_points(x)), (y, seg_points(y)))
+}
+
+/// The contact of two edges `(ring, edge)` (rings numbered boundary first) where they must not
+/// meet, as an error keyed by the ordered pair, or `None` when they are disjoint or merely share
+/// the vertex of two consecutive edges of a ring. Each edge comes with its endpoints `(from, to)`;
+/// `ring_len` is the vertex count of the first one's ring (used when both lie on one ring).
+fn segment_pair_contact(
+    ring_len: u32,
+    x: ((u32, u32), (Point2<f64>, Point2<f64>)),
+    y: ((u32, u32), (Point2<f64>, Point2<f64>)),
+) -> Option<EdgeContact> {
     let ring_id = |r: u32| {
         if r == 0 {
             RingId::Boundary
@@ -585,15 +606,13 @@ fn pair_contact(rings: &[&Polygon], x: (u32, u32), y: (u32, u32)) -> Option<Edge
             RingId::Obstacle(r as usize - 1)
         }
     };
-    let (si, sj) = if x < y { (x, y) } else { (y, x) };
+    let ((si, (a, b)), (sj, (c, d))) = if x.0 < y.0 { (x, y) } else { (y, x) };
     let key = (si.0, si.1, sj.0, sj.1);
-    let (a, b) = seg_points(si);
-    let (c, d) = seg_points(sj);
     // Consecutive edges of a ring share their common vertex, so they always meet; they meet where
     // they must not exactly when they overlap beyond it. Deciding that first spares the general
     // contact test for most pairs of a ring (every consecutive pair shares a grid cell).
     let adjacent = si.0 == sj.0 && {
-        let n = rings[si.0 as usize].len() as u32;
+        let n = ring_len;
         (si.1 + 1) % n == sj.1 || (sj.1 + 1) % n == si.1
     };
     if adjacent && !adjacent_edges_overlap(&a, &b, &c, &d) {
