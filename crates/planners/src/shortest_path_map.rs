@@ -27,7 +27,7 @@
 //! wedge. A funnel is also dropped when its mouth `ab` is *covered*: every point `x` of the mouth
 //! is reached by the path to the mouth's endpoint `a` (or `b`) best known so far followed by the
 //! mouth itself, more cheaply than the lower bound `g(apex) + |apex - x|` of any path through the
-//! funnel ([`mouth_is_covered`], one point decides). Every path through the funnel to a point
+//! funnel (one point decides). Every path through the funnel to a point
 //! beyond crosses the mouth at some `x`, where something strictly shorter already arrives, so the
 //! funnel reaches nothing first. A shortest path's funnel is never covered (at its crossing the
 //! bound is at most the geodesic distance, which no known path beats), and the test keeps a
@@ -348,7 +348,7 @@ fn lower_bound(btm: &Btm, tree: &FunnelTree, f: &FunnelState) -> f64 {
     apex.length + segment_distance(&apex.point, &a, &b)
 }
 
-/// Relative margin of the mouth-cover test ([`mouth_is_covered`]): a funnel is dropped only when
+/// Relative margin of the mouth-cover test (module docs, "Mouth cover"): a funnel is dropped only when
 /// its bound exceeds the cover by more than this fraction, far above the rounding of lengths
 /// (about 1e-15 relative), so rounding never drops the funnel of a shortest path.
 pub const COVER_MARGIN: f64 = 1e-9;

@@ -18,8 +18,9 @@ use rappel_planners::visibility_graph;
 /// Relative tolerance of length comparisons (the 1e-9).
 const TOLERANCE: f64 = 1e-9;
 
-/// Seeded free points of `map` (and now and then one of its vertices).
-fn free_points(map: &Map, seed: u64, n: usize) -> Vec<Point2<f64>> {
+/// Seeded free points of `map` (and now and then one of its vertices; with `on_edges`, also
+/// midpoints of obstacle edges).
+fn free_points(map: &Map, seed: u64, n: usize, on_edges: bool) -> Vec<Point2<f64>> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed);
     let mut out = Vec::new();
     let mut tries = 0;
@@ -30,9 +31,18 @@ fn free_points(map: &Map, seed: u64, n: usize) -> Vec<Point2<f64>> {
             out.push(p);
         }
     }
-    // Map vertices: the path ends on a vertex, its anchor is the one before.
-    for o in map.obstacles.iter().take(2) {
+    // Map vertices: the path ends on a vertex, its anchor is the one before. Points on obstacle
+    // edges (their midpoints, when rounding leaves them in the closed free space): the query's
+    // triangle is chosen by the canonical-endpoint rule. (The visibility-graph oracle is not
+    // asked about those: on seed 9 it routes to such a midpoint past the edge's far end and
+    // back, 2.56 m longer than the straight run along the edge that the map and the SPT search
+    // agree on.)
+    for o in map.obstacles.iter().take(3) {
         out.push(o.vertices[1]);
+        let m = nalgebra::center(&o.vertices[0], &o.vertices[1]);
+        if on_edges && map.validate_point("point", &m).is_ok() {
+            out.push(m);
+        }
     }
     out
 }
@@ -50,7 +60,7 @@ fn lengths_and_last_anchors_match_the_visibility_graph_oracle_on_random_maps() {
         };
         let btm = Btm::build(&m.map).unwrap();
         let spm = ShortestPathMap::build(&btm, m.start).unwrap();
-        for q in free_points(&m.map, seed, 25) {
+        for q in free_points(&m.map, seed, 25, false) {
             let oracle = visibility_graph::shortest_path(&m.map, m.start, q).expect("reachable");
             let got = spm.query(q).unwrap().expect("connected");
             assert!(
@@ -93,14 +103,21 @@ fn lengths_and_last_anchors_match_the_visibility_graph_oracle_on_random_maps() {
 #[test]
 fn the_map_agrees_with_one_spt_search_per_point() {
     let mut compared = 0;
-    for seed in 100..130u64 {
-        let Some(m) = random_map(seed, 12) else {
+    for seed in (0..15u64).chain(100..130) {
+        // The oracle test's maps for the first seeds (seed 9 holds the edge midpoint the oracle
+        // gets wrong), 12 obstacles for the others.
+        let obstacles = if seed < 100 {
+            5 + (seed % 9) as usize
+        } else {
+            12
+        };
+        let Some(m) = random_map(seed, obstacles) else {
             continue;
         };
         let btm = Btm::build(&m.map).unwrap();
         let spm = ShortestPathMap::build(&btm, m.start).unwrap();
         let planner = SptPlanner::new(&btm);
-        for q in free_points(&m.map, seed, 40) {
+        for q in free_points(&m.map, seed, 40, true) {
             let got = spm.query(q).unwrap().expect("connected");
             let taut = planner
                 .shortest_taut_path(m.start, q)

@@ -32,6 +32,7 @@ use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
 use rappel_planners::shortest_path_map::ShortestPathMap;
+use rappel_planners::spt::SearchError;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -336,8 +337,14 @@ pub fn stability_over_scenario(
     free_positions.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     free_positions.dedup();
     // One shortest path map from the start answers every pose's tether.
-    let spm = ShortestPathMap::build(&btm, scenario.start)
-        .map_err(|e| StabilityError::Setting(format!("the tether map from the start: {e}")))?;
+    let spm = ShortestPathMap::build(&btm, scenario.start).map_err(|e| {
+        StabilityError::Setting(match e {
+            SearchError::BudgetExhausted { expansions } => format!(
+                "the shortest path map from the start needs more than {expansions} funnel expansions: the map is too large for a stability run"
+            ),
+            e => format!("the shortest path map from the start: {e}"),
+        })
+    })?;
     let anchors = TetherTable::new(&spm, &free_positions, exit_height, options.tension_limit);
     let verdicts = stability_map(robot.as_ref(), criterion.as_ref(), &planes, &anchors, &grid)?;
     // A pose on the edge between two planes lies on the grid of both: keep the first (upper).
