@@ -328,7 +328,19 @@ impl Climb<'_, '_> {
             })
             .collect();
         let (lo_all, hi_all) = (pieces[0].0, pieces[pieces.len() - 1].1);
-        let cuts = self.critical_values(j, &q, lo_all, hi_all);
+        let (cuts, limits) = self.critical_values(j, &q, lo_all, hi_all, step, tie);
+        // `w(t)` on `route` per the cells: the route exists, the move is in the wedge, and `t`
+        // is within the clear prefix of the sweep (exact loop tests in `sweep_limit`).
+        let reaches_cell = |route: Route, t: f64| -> Option<Point2<f64>> {
+            let clear = limits
+                .iter()
+                .any(|&(r, u, v, until)| r == route && u <= t && t <= v && t < until);
+            if !clear {
+                return None;
+            }
+            let from = self.route_start(j, &q, route, t)?;
+            in_wedge(self.ctx.terrain, &apex, &from, &(apex + dir * t)).then_some(from)
+        };
         let mut reachable: Vec<(f64, f64)> = Vec::new();
         // Preferred: clear and roomy; then clear; then any reachable point.
         let (mut choice, mut clear, mut fallback) = (None, None, None);
@@ -353,15 +365,22 @@ impl Climb<'_, '_> {
                 let roomy = t.max(ROOMY_CLEARANCES * c);
                 let mut any = false;
                 for route in [Route::Direct, Route::Via] {
-                    let Some(from) = self.reaches(j, &q, route, t) else {
+                    let Some(from) = reaches_cell(route, t) else {
                         continue;
                     };
                     any = true;
                     let via = (route == Route::Via).then_some(from);
-                    if self.clear_of_anchors(j, &from, &w) {
-                        clear.get_or_insert((w, via));
+                    // Candidates for the waypoint are checked again with the exact predicates
+                    // (at most a few per anchor).
+                    if fallback.is_none() && self.reaches(j, &q, route, t).is_some() {
+                        fallback = Some((w, via));
                     }
-                    fallback.get_or_insert((w, via));
+                    if clear.is_none()
+                        && self.clear_of_anchors(j, &from, &w)
+                        && self.reaches(j, &q, route, t).is_some()
+                    {
+                        clear = Some((w, via));
+                    }
                     if choice.is_none() && roomy < v - tie {
                         let wr = apex + dir * roomy;
                         if let Some(from) = self.reaches(j, &q, route, roomy)
@@ -390,8 +409,19 @@ impl Climb<'_, '_> {
         }
     }
 
-    /// Every critical value of `t` in `(lo, hi)` (module docs), sorted.
-    fn critical_values(&self, j: usize, q: &Point2<f64>, lo: f64, hi: f64) -> Vec<f64> {
+    /// Every critical value of `t` in `(lo, hi)` (module docs), sorted, with the sweep limits:
+    /// `(route, u, v, clear_until)` per span of one route structure.
+    #[allow(clippy::type_complexity)]
+    fn critical_values(
+        &self,
+        j: usize,
+        q: &Point2<f64>,
+        lo: f64,
+        hi: f64,
+        step: f64,
+        tie: f64,
+    ) -> (Vec<f64>, Vec<(Route, f64, f64, f64)>) {
+        let mut sweeps = Vec::new();
         let apex = self.points[j];
         let dir = self.direction(j);
         let c = self.ctx.clearance;
@@ -438,28 +468,57 @@ impl Climb<'_, '_> {
                     }
                 }
                 // Sweep: clear on a prefix of this span.
-                if let Some(end) = self.sweep_end(j, q, route, u, v) {
-                    cuts.push(end);
-                }
+                let limit = self.sweep_limit(j, q, route, u, v, step, tie);
+                cuts.push(limit);
+                sweeps.push((route, u, v, limit));
             }
         }
         self.clearance_values(j, q, lo, hi, &mut cuts);
         cuts.retain(|t| t.is_finite() && lo < *t && *t < hi);
         cuts.sort_by(f64::total_cmp);
         cuts.dedup();
-        cuts
+        (cuts, sweeps)
     }
 
-    /// The last `t` in `[u, v]` at which the sweep of `route` is clear, when it is clear at `u`
-    /// and not at `v` (the sweep is clear on a prefix of one route structure; module docs).
-    fn sweep_end(&self, j: usize, q: &Point2<f64>, route: Route, u: f64, v: f64) -> Option<f64> {
-        if self.sweep_at(j, q, route, v) || !self.sweep_at(j, q, route, u) {
-            return None;
+    /// How far the sweep of `route` stays clear on the span `[u, v]` of one route structure,
+    /// where it is clear on a prefix (module docs): `v` when clear at `v`, `u` when blocked just
+    /// after `u`, else the last clear `t` found by galloping out from `u` (steps doubling from
+    /// `step`, so the loops traced stay as small as the clear part) and bisecting with the exact
+    /// loop test until the bracket is narrower than `tie` (a cell that thin is a tie and unused).
+    #[allow(clippy::too_many_arguments)]
+    fn sweep_limit(
+        &self,
+        j: usize,
+        q: &Point2<f64>,
+        route: Route,
+        u: f64,
+        v: f64,
+        step: f64,
+        tie: f64,
+    ) -> f64 {
+        if self.sweep_at(j, q, route, v) {
+            return v;
         }
         let (mut clear, mut blocked) = (u, v);
+        let mut probe = u + step.min((v - u) / 2.0);
+        for _ in 0..MAX_BISECTION_STEPS {
+            if probe >= blocked {
+                break;
+            }
+            if self.sweep_at(j, q, route, probe) {
+                clear = probe;
+                probe = u + 2.0 * (probe - u);
+            } else {
+                blocked = probe;
+                break;
+            }
+        }
+        if clear == u && !self.sweep_at(j, q, route, u) {
+            return u;
+        }
         for _ in 0..MAX_BISECTION_STEPS {
             let mid = clear + (blocked - clear) / 2.0;
-            if mid <= clear || mid >= blocked {
+            if blocked - clear <= tie || mid <= clear || mid >= blocked {
                 break;
             }
             if self.sweep_at(j, q, route, mid) {
@@ -468,7 +527,7 @@ impl Climb<'_, '_> {
                 blocked = mid;
             }
         }
-        Some(clear)
+        clear
     }
 
     /// The waypoint preference's critical values (module docs): where `w(t)` enters or leaves
