@@ -21,9 +21,11 @@
 //! - the wedge: where an end of the move crosses a band edge, and where the move crosses a band
 //!   edge exactly on an edge of that band's wedge (the move's ends are linear in `t`, so this is a
 //!   quadratic in `t`, solved in closed form);
-//! - the sweep: for one route structure the swept triangles are nested (they grow with `t`, the
-//!   tether side fixed or scaled about `a_j`), so the sweep is clear on a prefix of `t`; its end is
-//!   found by bisection with the exact loop test down to adjacent floats;
+//! - the sweep: along each route the swept triangles are nested (they grow with `t`, the tether
+//!   side fixed, or fixed below the clearance and scaled about `a_j` above it), so the sweep is
+//!   clear on a prefix of `t`; its end is found with the exact loop test (the far end first, then
+//!   galloping out from `a_j` and bisecting to [`TIE_WIDTH_FRACTION`]); the via route's triangle
+//!   lies inside the direct route's, so it is clear at least as far;
 //! - for the waypoint preference only (never the verdict): the ends of the clearance disks of the
 //!   anchors near `L_j`, and where the direct move passes exactly `clearance` from an anchor not
 //!   yet released (a quadratic).
@@ -467,11 +469,24 @@ impl Climb<'_, '_> {
                         }
                     }
                 }
-                // Sweep: clear on a prefix of this span.
-                let limit = self.sweep_limit(j, q, route, u, v, step, tie);
-                cuts.push(limit);
-                sweeps.push((route, u, v, limit));
             }
+        }
+        // Sweeps: each route's swept triangles are nested over its whole range (the direct
+        // route's start is fixed; the via point is fixed below the clearance and scales with
+        // `t` above it), so each is clear on one prefix; and the via triangle lies inside the
+        // direct one, so the via route is clear at least as far as the direct route.
+        let direct = self.sweep_limit(j, q, Route::Direct, lo, hi, step, tie);
+        sweeps.push((Route::Direct, lo, hi, direct));
+        cuts.push(direct);
+        let via_end = hi.min(r);
+        if lo < via_end {
+            let via = if direct >= via_end {
+                via_end
+            } else {
+                self.sweep_limit(j, q, Route::Via, direct.max(lo), via_end, step, tie)
+            };
+            sweeps.push((Route::Via, lo, via_end, via));
+            cuts.push(via);
         }
         self.clearance_values(j, q, lo, hi, &mut cuts);
         cuts.retain(|t| t.is_finite() && lo < *t && *t < hi);
