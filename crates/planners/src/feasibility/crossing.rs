@@ -44,7 +44,8 @@
 //! anchors not yet released ([`Climb::clear_of_anchors`]). The waypoint is the first clear point at
 //! least [`ROOMY_CLEARANCES`] clearances beyond `a_j` (the representative, or that distance itself
 //! when it falls inside a reachable cell: the predicates are constant there, and it is checked
-//! again exactly); else the first clear representative; else the first reachable one.
+//! again exactly); else the first clear representative; else the first reachable one. Only the
+//! first [`MAX_PREFERENCE_CELLS`] reachable cells are looked at for the preference.
 
 use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, in_wedge};
 use nalgebra::{Point2, Vector2};
@@ -66,6 +67,12 @@ const MAX_BISECTION_STEPS: usize = 2_100;
 /// waypoint bending round the released `a_j` at a clearance (the path pair's mitre point), which a
 /// waypoint just one clearance beyond leaves no room for.
 pub const ROOMY_CLEARANCES: f64 = 2.0;
+
+/// The waypoint preference (clear, then roomy) looks at the first this many reachable cells from
+/// `a_j` outward; beyond them the first reachable point is the fallback. Bounds the per-anchor
+/// cost where anchors crowd the visibility line (a long obstacle's corners every few centimetres
+/// split it into thousands of cells, none clear).
+pub const MAX_PREFERENCE_CELLS: usize = 16;
 
 /// Bound on the ulp steps that put a via point on the free side of the tether's line
 /// ([`Climb::snap_via`]); rounding the via point errs by one or two ulps.
@@ -346,6 +353,7 @@ impl Climb<'_, '_> {
         let mut reachable: Vec<(f64, f64)> = Vec::new();
         // Preferred: clear and roomy; then clear; then any reachable point.
         let (mut choice, mut clear, mut fallback) = (None, None, None);
+        let mut preference_cells = 0;
         for &(lo, hi) in &pieces {
             let mut ends: Vec<f64> = std::iter::once(lo)
                 .chain(cuts.iter().copied().filter(|&t| lo < t && t < hi))
@@ -372,10 +380,13 @@ impl Climb<'_, '_> {
                     };
                     any = true;
                     let via = (route == Route::Via).then_some(from);
-                    // Candidates for the waypoint are checked again with the exact predicates
-                    // (at most a few per anchor).
+                    // Candidates for the waypoint are checked again with the exact predicates;
+                    // the preference looks at the first MAX_PREFERENCE_CELLS reachable cells.
                     if fallback.is_none() && self.reaches(j, &q, route, t).is_some() {
                         fallback = Some((w, via));
+                    }
+                    if preference_cells >= MAX_PREFERENCE_CELLS {
+                        continue;
                     }
                     if clear.is_none()
                         && self.clear_of_anchors(j, &from, &w)
@@ -385,13 +396,15 @@ impl Climb<'_, '_> {
                     }
                     if choice.is_none() && roomy < v - tie {
                         let wr = apex + dir * roomy;
-                        if let Some(from) = self.reaches(j, &q, route, roomy)
+                        if let Some(from) = self.route_start(j, &q, route, roomy)
                             && self.clear_of_anchors(j, &from, &wr)
+                            && self.reaches(j, &q, route, roomy).is_some()
                         {
                             choice = Some((wr, (route == Route::Via).then_some(from)));
                         }
                     }
                 }
+                preference_cells += usize::from(any);
                 if any {
                     match reachable.last_mut() {
                         Some(last) if last.1 == u => last.1 = v,
