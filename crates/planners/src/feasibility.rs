@@ -58,7 +58,7 @@ use rappel_mechanics::anchor_traversability::TetherLimit;
 use serde::{Deserialize, Serialize};
 
 mod crossing;
-pub use crossing::{ROOMY_CLEARANCES, TIE_WIDTH_FRACTION};
+pub use crossing::{MAX_PREFERENCE_CELLS, ROOMY_CLEARANCES, TIE_WIDTH_FRACTION};
 
 /// Relative slack on clearance comparisons (distances are computed in floating point).
 pub const CLEARANCE_TOLERANCE: f64 = 1e-9;

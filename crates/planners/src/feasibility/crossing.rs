@@ -21,9 +21,11 @@
 //! - the wedge: where an end of the move crosses a band edge, and where the move crosses a band
 //!   edge exactly on an edge of that band's wedge (the move's ends are linear in `t`, so this is a
 //!   quadratic in `t`, solved in closed form);
-//! - the sweep: for one route structure the swept triangles are nested (they grow with `t`, the
-//!   tether side fixed or scaled about `a_j`), so the sweep is clear on a prefix of `t`; its end is
-//!   found by bisection with the exact loop test down to adjacent floats;
+//! - the sweep: along each route the swept triangles are nested (they grow with `t`, the tether
+//!   side fixed, or fixed below the clearance and scaled about `a_j` above it), so the sweep is
+//!   clear on a prefix of `t`; its end is found with the exact loop test (the far end first, then
+//!   galloping out from `a_j` and bisecting to [`TIE_WIDTH_FRACTION`]); the via route's triangle
+//!   lies inside the direct route's, so it is clear at least as far;
 //! - for the waypoint preference only (never the verdict): the ends of the clearance disks of the
 //!   anchors near `L_j`, and where the direct move passes exactly `clearance` from an anchor not
 //!   yet released (a quadratic).
@@ -42,7 +44,8 @@
 //! anchors not yet released ([`Climb::clear_of_anchors`]). The waypoint is the first clear point at
 //! least [`ROOMY_CLEARANCES`] clearances beyond `a_j` (the representative, or that distance itself
 //! when it falls inside a reachable cell: the predicates are constant there, and it is checked
-//! again exactly); else the first clear representative; else the first reachable one.
+//! again exactly); else the first clear representative; else the first reachable one. Only the
+//! first [`MAX_PREFERENCE_CELLS`] reachable cells are looked at for the preference.
 
 use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, in_wedge};
 use nalgebra::{Point2, Vector2};
@@ -64,6 +67,12 @@ const MAX_BISECTION_STEPS: usize = 2_100;
 /// waypoint bending round the released `a_j` at a clearance (the path pair's mitre point), which a
 /// waypoint just one clearance beyond leaves no room for.
 pub const ROOMY_CLEARANCES: f64 = 2.0;
+
+/// The waypoint preference (clear, then roomy) looks at the first this many reachable cells from
+/// `a_j` outward; beyond them the first reachable point is the fallback. Bounds the per-anchor
+/// cost where anchors crowd the visibility line (a long obstacle's corners every few centimetres
+/// split it into thousands of cells, none clear).
+pub const MAX_PREFERENCE_CELLS: usize = 16;
 
 /// Bound on the ulp steps that put a via point on the free side of the tether's line
 /// ([`Climb::snap_via`]); rounding the via point errs by one or two ulps.
@@ -328,10 +337,23 @@ impl Climb<'_, '_> {
             })
             .collect();
         let (lo_all, hi_all) = (pieces[0].0, pieces[pieces.len() - 1].1);
-        let cuts = self.critical_values(j, &q, lo_all, hi_all);
+        let (cuts, limits) = self.critical_values(j, &q, lo_all, hi_all, step, tie);
+        // `w(t)` on `route` per the cells: the route exists, the move is in the wedge, and `t`
+        // is within the clear prefix of the sweep (exact loop tests in `sweep_limit`).
+        let reaches_cell = |route: Route, t: f64| -> Option<Point2<f64>> {
+            let clear = limits
+                .iter()
+                .any(|&(r, u, v, until)| r == route && u <= t && t <= v && t < until);
+            if !clear {
+                return None;
+            }
+            let from = self.route_start(j, &q, route, t)?;
+            in_wedge(self.ctx.terrain, &apex, &from, &(apex + dir * t)).then_some(from)
+        };
         let mut reachable: Vec<(f64, f64)> = Vec::new();
         // Preferred: clear and roomy; then clear; then any reachable point.
         let (mut choice, mut clear, mut fallback) = (None, None, None);
+        let mut preference_cells = 0;
         for &(lo, hi) in &pieces {
             let mut ends: Vec<f64> = std::iter::once(lo)
                 .chain(cuts.iter().copied().filter(|&t| lo < t && t < hi))
@@ -353,24 +375,36 @@ impl Climb<'_, '_> {
                 let roomy = t.max(ROOMY_CLEARANCES * c);
                 let mut any = false;
                 for route in [Route::Direct, Route::Via] {
-                    let Some(from) = self.reaches(j, &q, route, t) else {
+                    let Some(from) = reaches_cell(route, t) else {
                         continue;
                     };
                     any = true;
                     let via = (route == Route::Via).then_some(from);
-                    if self.clear_of_anchors(j, &from, &w) {
-                        clear.get_or_insert((w, via));
+                    // Candidates for the waypoint are checked again with the exact predicates;
+                    // the preference looks at the first MAX_PREFERENCE_CELLS reachable cells.
+                    if fallback.is_none() && self.reaches(j, &q, route, t).is_some() {
+                        fallback = Some((w, via));
                     }
-                    fallback.get_or_insert((w, via));
+                    if preference_cells >= MAX_PREFERENCE_CELLS {
+                        continue;
+                    }
+                    if clear.is_none()
+                        && self.clear_of_anchors(j, &from, &w)
+                        && self.reaches(j, &q, route, t).is_some()
+                    {
+                        clear = Some((w, via));
+                    }
                     if choice.is_none() && roomy < v - tie {
                         let wr = apex + dir * roomy;
-                        if let Some(from) = self.reaches(j, &q, route, roomy)
+                        if let Some(from) = self.route_start(j, &q, route, roomy)
                             && self.clear_of_anchors(j, &from, &wr)
+                            && self.reaches(j, &q, route, roomy).is_some()
                         {
                             choice = Some((wr, (route == Route::Via).then_some(from)));
                         }
                     }
                 }
+                preference_cells += usize::from(any);
                 if any {
                     match reachable.last_mut() {
                         Some(last) if last.1 == u => last.1 = v,
@@ -390,8 +424,19 @@ impl Climb<'_, '_> {
         }
     }
 
-    /// Every critical value of `t` in `(lo, hi)` (module docs), sorted.
-    fn critical_values(&self, j: usize, q: &Point2<f64>, lo: f64, hi: f64) -> Vec<f64> {
+    /// Every critical value of `t` in `(lo, hi)` (module docs), sorted, with the sweep limits:
+    /// `(route, u, v, clear_until)` per span of one route structure.
+    #[allow(clippy::type_complexity)]
+    fn critical_values(
+        &self,
+        j: usize,
+        q: &Point2<f64>,
+        lo: f64,
+        hi: f64,
+        step: f64,
+        tie: f64,
+    ) -> (Vec<f64>, Vec<(Route, f64, f64, f64)>) {
+        let mut sweeps = Vec::new();
         let apex = self.points[j];
         let dir = self.direction(j);
         let c = self.ctx.clearance;
@@ -437,29 +482,71 @@ impl Climb<'_, '_> {
                         }
                     }
                 }
-                // Sweep: clear on a prefix of this span.
-                if let Some(end) = self.sweep_end(j, q, route, u, v) {
-                    cuts.push(end);
-                }
             }
+        }
+        // Sweeps: each route's swept triangles are nested over its whole range (the direct
+        // route's start is fixed; the via point is fixed below the clearance and scales with
+        // `t` above it), so each is clear on one prefix; and the via triangle lies inside the
+        // direct one, so the via route is clear at least as far as the direct route.
+        let direct = self.sweep_limit(j, q, Route::Direct, lo, hi, step, tie);
+        sweeps.push((Route::Direct, lo, hi, direct));
+        cuts.push(direct);
+        let via_end = hi.min(r);
+        if lo < via_end {
+            let via = if direct >= via_end {
+                via_end
+            } else {
+                self.sweep_limit(j, q, Route::Via, direct.max(lo), via_end, step, tie)
+            };
+            sweeps.push((Route::Via, lo, via_end, via));
+            cuts.push(via);
         }
         self.clearance_values(j, q, lo, hi, &mut cuts);
         cuts.retain(|t| t.is_finite() && lo < *t && *t < hi);
         cuts.sort_by(f64::total_cmp);
         cuts.dedup();
-        cuts
+        (cuts, sweeps)
     }
 
-    /// The last `t` in `[u, v]` at which the sweep of `route` is clear, when it is clear at `u`
-    /// and not at `v` (the sweep is clear on a prefix of one route structure; module docs).
-    fn sweep_end(&self, j: usize, q: &Point2<f64>, route: Route, u: f64, v: f64) -> Option<f64> {
-        if self.sweep_at(j, q, route, v) || !self.sweep_at(j, q, route, u) {
-            return None;
+    /// How far the sweep of `route` stays clear on the span `[u, v]` of one route structure,
+    /// where it is clear on a prefix (module docs): `v` when clear at `v`, `u` when blocked just
+    /// after `u`, else the last clear `t` found by galloping out from `u` (steps doubling from
+    /// `step`, so the loops traced stay as small as the clear part) and bisecting with the exact
+    /// loop test until the bracket is narrower than `tie` (a cell that thin is a tie and unused).
+    #[allow(clippy::too_many_arguments)]
+    fn sweep_limit(
+        &self,
+        j: usize,
+        q: &Point2<f64>,
+        route: Route,
+        u: f64,
+        v: f64,
+        step: f64,
+        tie: f64,
+    ) -> f64 {
+        if self.sweep_at(j, q, route, v) {
+            return v;
         }
         let (mut clear, mut blocked) = (u, v);
+        let mut probe = u + step.min((v - u) / 2.0);
+        for _ in 0..MAX_BISECTION_STEPS {
+            if probe >= blocked {
+                break;
+            }
+            if self.sweep_at(j, q, route, probe) {
+                clear = probe;
+                probe = u + 2.0 * (probe - u);
+            } else {
+                blocked = probe;
+                break;
+            }
+        }
+        if clear == u && !self.sweep_at(j, q, route, u) {
+            return u;
+        }
         for _ in 0..MAX_BISECTION_STEPS {
             let mid = clear + (blocked - clear) / 2.0;
-            if mid <= clear || mid >= blocked {
+            if blocked - clear <= tie || mid <= clear || mid >= blocked {
                 break;
             }
             if self.sweep_at(j, q, route, mid) {
@@ -468,7 +555,7 @@ impl Climb<'_, '_> {
                 blocked = mid;
             }
         }
-        Some(clear)
+        clear
     }
 
     /// The waypoint preference's critical values (module docs): where `w(t)` enters or leaves
