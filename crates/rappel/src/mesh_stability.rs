@@ -27,6 +27,8 @@ use rappel_planners::anchor_prediction::{
     AnchorError, AnchorHistory, PredictParams, predict, predict_path,
 };
 use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::parry_mesh::ParryMesh;
+use rappel_terrain::surface::SignedDistance;
 
 use crate::settle::{BoomVerdict, boom_verdicts};
 use crate::svg::{Layer, Marker, Picture};
@@ -89,9 +91,21 @@ pub fn tether_end(pose: &SettledPose, axel: &AxelParams) -> Point3<f64> {
 /// mesh's top), with the default [`AxelParams`] and [`SettleParams`]; the error is the
 /// [`rappel_mechanics::settle::SettleError`]'s message.
 pub fn settle(ground: &TriMesh, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, String> {
-    let (_, hi) = ground.bounds();
+    settle_through(ground, ground, x, y, yaw_deg)
+}
+
+/// [`settle`] with the distances answered by `distances` (the same ground as `mesh`, e.g. behind
+/// parry's BVH: [`ParryMesh`]).
+fn settle_through<D: SignedDistance + ?Sized>(
+    mesh: &TriMesh,
+    distances: &D,
+    x: f64,
+    y: f64,
+    yaw_deg: f64,
+) -> Result<SettledPose, String> {
+    let (_, hi) = mesh.bounds();
     settle_axel(
-        ground,
+        distances,
         &AxelParams::default(),
         x,
         y,
@@ -255,6 +269,10 @@ pub fn stability_map(
         )));
     }
     let (nx, ny) = (fx as usize, fy as usize);
+    // Settling and prediction ask many distances: through parry's BVH (agrees with the
+    // brute-force mesh distance to 1e-9, `terrain::parry_mesh`); the boom sweep and the
+    // stability placement use the mesh itself.
+    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
     let at = |i: usize, j: usize| {
         (
             spec.x.0 + i as f64 * spec.step,
@@ -275,7 +293,7 @@ pub fn stability_map(
         .into_par_iter()
         .map(|c| {
             let (x, y) = at(c % nx, c / nx);
-            settle(ground, x, y, spec.yaw_deg)
+            settle_through(ground, &bvh, x, y, spec.yaw_deg)
         })
         .collect();
     let mut histories: Vec<Option<Result<AnchorHistory, String>>> = vec![None; nx * ny];
@@ -331,7 +349,7 @@ pub fn stability_map(
                     let pc = pi + pj * nx;
                     if let (Some(Ok(h)), Ok(pp)) = (&histories[pc], &poses[pc]) {
                         match predict(
-                            ground,
+                            &bvh,
                             &params,
                             h,
                             &tether_end(pp, &axel),
