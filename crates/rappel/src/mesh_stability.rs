@@ -27,6 +27,7 @@ use rappel_planners::anchor_prediction::{
     AnchorError, AnchorHistory, PredictParams, predict, predict_path,
 };
 use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::parry_mesh::ParryMesh;
 use rappel_terrain::surface::SignedDistance;
 
 use crate::settle::{BoomVerdict, boom_verdicts};
@@ -269,6 +270,10 @@ pub fn stability_map(
         )));
     }
     let (nx, ny) = (fx as usize, fy as usize);
+    // Settling and prediction ask many distances: through parry's BVH (agrees with the
+    // brute-force mesh distance to 1e-9, `terrain::parry_mesh`); the boom sweep and the
+    // stability placement use the mesh itself.
+    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
     let at = |i: usize, j: usize| {
         (
             spec.x.0 + i as f64 * spec.step,
@@ -289,7 +294,7 @@ pub fn stability_map(
         .into_par_iter()
         .map(|c| {
             let (x, y) = at(c % nx, c / nx);
-            settle(ground, x, y, spec.yaw_deg)
+            settle_from(&bvh, ground.bounds().1.z + 1.0, x, y, spec.yaw_deg)
         })
         .collect();
     let mut histories: Vec<Option<Result<AnchorHistory, String>>> = vec![None; nx * ny];
@@ -345,7 +350,7 @@ pub fn stability_map(
                     let pc = pi + pj * nx;
                     if let (Some(Ok(h)), Ok(pp)) = (&histories[pc], &poses[pc]) {
                         match predict(
-                            ground,
+                            &bvh,
                             &params,
                             h,
                             &tether_end(pp, &axel),
