@@ -9,6 +9,11 @@
 //! parry3d BVH adapter (target < 100 us), and the
 //! stability of one settled pose with its predicted anchor (place + QP, boom inline; and both
 //! boom configurations as `rappel settle-map` does; target < 100 us).
+//!
+//! The boom swept against the mesh (`rappel_mechanics::boom_contact`, exact section sweep over
+//! the ledge's triangles) for a pose just past the lip (its shaft rests on the lip), with the
+//! in-contact and the mesh-checked inline placements + QP; and the four-wheel settler
+//! (`rappel_mechanics::four_wheel_settle`) mid-slope through the 10 cm field and the exact mesh.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::{Point3, Vector3};
@@ -119,6 +124,79 @@ fn mesh(c: &mut Criterion) {
     });
     g.bench_function("stability_settled_pose_both_booms_lip_anchor", |b| {
         b.iter(|| pose_stability(&m, black_box(&pose), &hist))
+    });
+    // The boom against the mesh, just past the lip (x = 0.4 m: the shaft rests on the lip).
+    let near = settle_axel(&m, &axel, 0.4, 0.0, 5.9, 0.0, &p).expect("settles");
+    let up = nalgebra::Unit::new_normalize(near.rotation * Vector3::z());
+    let back = nalgebra::Unit::new_normalize(near.rotation * -Vector3::x());
+    let near_pivot = tether_end(&near, &axel);
+    g.bench_function("boom_sweep_ledge_near_lip", |b| {
+        b.iter(|| {
+            rappel_mechanics::boom_contact::sweep_boom(
+                &m,
+                black_box(&near_pivot),
+                &back,
+                &up,
+                axel.boom_length,
+            )
+            .expect("touches")
+        })
+    });
+    g.bench_function("stability_in_contact_mesh_near_lip", |b| {
+        b.iter(|| {
+            let (placed, _) = rappel_mechanics::boom_contact::place_boom_in_contact(
+                black_box(&near),
+                &axel,
+                &m,
+                0.6,
+                (&lip, None),
+            )
+            .expect("places");
+            qp.check(&placed).expect("solves")
+        })
+    });
+    g.bench_function("stability_settled_pose_inline_mesh_lip_anchor", |b| {
+        b.iter(|| {
+            let placed = rappel_mechanics::boom_contact::place_boom_inline(
+                black_box(&pose),
+                &axel,
+                &m,
+                0.6,
+                (&lip, None),
+            )
+            .expect("places");
+            qp.check(&placed).expect("solves")
+        })
+    });
+    // The four-wheel settler mid-slope.
+    let rover = rappel_mechanics::four_wheel::FourWheelParams::default();
+    g.bench_function("settle_four_wheel_slope_sdf_10cm", |b| {
+        b.iter(|| {
+            rappel_mechanics::four_wheel_settle::settle_four_wheel(
+                &field,
+                &rover,
+                black_box(x),
+                0.0,
+                5.9,
+                0.0,
+                &p,
+            )
+            .expect("settles")
+        })
+    });
+    g.bench_function("settle_four_wheel_slope_exact_mesh", |b| {
+        b.iter(|| {
+            rappel_mechanics::four_wheel_settle::settle_four_wheel(
+                &m,
+                &rover,
+                black_box(x),
+                0.0,
+                5.9,
+                0.0,
+                &p,
+            )
+            .expect("settles")
+        })
     });
     let mut sp = SdfParams::new(0.2);
     sp.margin = 2.0;

@@ -275,13 +275,16 @@ pub fn place_boom_in_contact(
     Ok((placed, contact))
 }
 
+/// A unit world direction.
+type UnitVector = Unit<Vector3<f64>>;
+
 /// The boom's pivot (the axle centre) of a settled pose and its sweep directions toward
 /// `anchor`: the horizontal (robot frame) direction toward it and the robot's up, world.
 fn boom_frame(
     pose: &SettledPose,
     params: &AxelParams,
     anchor: &Point3<f64>,
-) -> Result<(Point3<f64>, Unit<Vector3<f64>>, Unit<Vector3<f64>>), BoomContactError> {
+) -> Result<(Point3<f64>, UnitVector, UnitVector), BoomContactError> {
     if !anchor.iter().all(|c| c.is_finite()) {
         return Err(RobotError::Parameter("anchor must be finite").into());
     }
