@@ -97,8 +97,8 @@ fn contacts(h: &AnchorHistory) -> Vec<Point3<f64>> {
 }
 
 /// Paton §V-A's compatibility of two anchor histories: the tether touches the same contacts in
-/// the same order ([`contacts`]), each leaving its contact within [`HISTORY_MATCH_DISTANCE`] of
-/// the other's.
+/// the same order (anchors chained within [`HISTORY_MATCH_DISTANCE`] count as one contact),
+/// each leaving its contact within [`HISTORY_MATCH_DISTANCE`] of the other's.
 pub fn histories_compatible(a: &AnchorHistory, b: &AnchorHistory) -> bool {
     let (ca, cb) = (contacts(a), contacts(b));
     ca.len() == cb.len()
