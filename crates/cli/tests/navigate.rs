@@ -11,7 +11,8 @@ fn test_1_finds_a_lip_anchored_path_and_test_2_runs_out_of_budget() {
     let dir = temp_dir("navigate");
     let svg = dir.join("n.svg");
     let ledge = fixture("paton/ledge.ron");
-    // Seed 2 finds its first solution at iteration 39 (measured); 60 leaves room.
+    // The start-goal edge is tried first: seed 2 finds the straight descent at once (measured:
+    // iteration 1); 60 leaves room.
     let o = rappel(&[
         "navigate",
         &ledge,
@@ -47,7 +48,17 @@ fn test_1_finds_a_lip_anchored_path_and_test_2_runs_out_of_budget() {
         "20",
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(String::from_utf8_lossy(&o.stdout).contains("budget ran out"));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("the iterations budget ran out"));
+    // A time budget interrupts the search (750 iterations take seconds here) and says so.
+    let began = std::time::Instant::now();
+    let o = rappel(&[
+        "navigate", &ledge, "--seed", "0", "--test", "2", "--time", "0.3", "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(v["stopped_by"], "time");
+    assert!(v["iterations"].as_u64().unwrap_or(0) < 750);
+    assert!(began.elapsed() < std::time::Duration::from_secs(20));
 }
 
 #[test]

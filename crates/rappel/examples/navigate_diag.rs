@@ -73,7 +73,7 @@ fn main() {
     let mut abit = Abit::new(&p.space, &v, p.start, p.goal, {
         let env = |k: &str, d: f64| std::env::var(k).ok().map_or(d, |v| v.parse().unwrap());
         rappel::navigate::rover_settings(seed)
-            .with_initial_inflation(env("INFL", 1.5))
+            .with_initial_inflation(env("INFL", 1e6))
             .unwrap()
             .with_history_copy_fraction(env("COPY", 0.5))
             .unwrap()
