@@ -86,10 +86,11 @@ pub const KNOWN_DIFFERENCES: &[KnownDifference] = &[
         suite: "paton",
         case: "Table I test 3: found stable / unstable, first solution",
         reason: "our ABIT* finds the pole wrap on 5 of the 10 CI seeds within Paton's 750 \
-                 iterations (paper 84 of 100): on the other seeds no sample falls in the narrow \
-                 strip behind the pole early enough for a wrapped history to arise, and copying \
-                 cannot create a history no state has; the model supports the wrap (a hand-made \
-                 wrapped descent passes it) and no unsafe path is reported",
+                 iterations, 56 of 100 with --full (paper 84 of 100): on the other seeds no \
+                 sample falls in the narrow strip behind the pole early enough for a wrapped \
+                 history to arise, and copying cannot create a history no state has; the model \
+                 supports the wrap (a hand-made wrapped descent passes it) and no unsafe path \
+                 is reported",
         derivation: "docs/sampler.md, diagnosing test 3",
     },
 ];
