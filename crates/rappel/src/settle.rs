@@ -62,14 +62,14 @@ pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
             let dem = rappel_terrain::dem::read_dem(path).map_err(|e| err(e.to_string()))?;
             TriMesh::from_height_grid(&dem).map_err(|e| err(e.to_string()))
         }
-        Some("obj" | "stl") => {
+        Some("obj" | "ply" | "stl") => {
             rappel_terrain::mesh_file::read_mesh(path).map_err(|e| SettleFileError::Read {
                 path: path.display().to_string(),
                 why: e.to_string(),
             })
         }
         _ => Err(err(
-            "unknown ground format: use a Paton scene (.ron), an elevation model (.asc, .tif) or a mesh (.obj, .stl)"
+            "unknown ground format: use a Paton scene (.ron), an elevation model (.asc, .tif) or a mesh (.obj, .ply, .stl)"
                 .into(),
         )),
     }

@@ -1,9 +1,11 @@
-//! Triangle meshes from files (issue 14): Wavefront OBJ through `tobj` and STL (ASCII or binary)
-//! through `stl_io`, into the validated [`TriMesh`]. Polygons are triangulated by the reader;
+//! Triangle meshes from files (issue 14): Wavefront OBJ through `tobj`, STL (ASCII or binary)
+//! through `stl_io` and PLY (ASCII or binary, either byte order) through `ply-rs-bw`, into the
+//! validated [`TriMesh`]. Polygons are triangulated by the reader (PLY faces: fanned from their
+//! first vertex, exact for the convex faces mesh exporters write);
 //! exactly equal positions are welded into one vertex (STL stores triangle soup; OBJ objects
 //! repeat shared vertices), so edges shared by neighbouring faces are shared in the mesh and
-//! [`TriMesh::new`]'s manifold checks apply. Materials, normals and texture coordinates are
-//! ignored. Every failure names the file; mesh defects keep the mesh's vertex or triangle index.
+//! [`TriMesh::new`]'s manifold checks apply. Materials, normals, colours and texture coordinates
+//! (and a PLY file's elements other than `vertex` and `face`) are ignored. Every failure names the file; mesh defects keep the mesh's vertex or triangle index.
 
 use std::collections::HashMap;
 use std::io::BufReader;
@@ -33,7 +35,7 @@ pub enum MeshFileError {
     Parse {
         /// The file.
         path: String,
-        /// `OBJ` or `STL`.
+        /// `OBJ`, `PLY` or `STL`.
         format: &'static str,
         /// The reader's message.
         why: String,
@@ -46,8 +48,8 @@ pub enum MeshFileError {
         /// The defect.
         source: MeshError,
     },
-    /// An extension other than `.obj` or `.stl`.
-    #[error("{path}: unknown mesh format (use .obj or .stl)")]
+    /// An extension other than `.obj`, `.ply` or `.stl`.
+    #[error("{path}: unknown mesh format (use .obj, .ply or .stl)")]
     Format {
         /// The file.
         path: String,
@@ -141,7 +143,93 @@ pub fn read_stl(path: &Path) -> Result<TriMesh, MeshFileError> {
     )
 }
 
-/// A mesh file by its extension (`.obj` or `.stl`, any case).
+/// A PLY file (ASCII, binary little or big endian): the `vertex` element's numeric `x`, `y`, `z`
+/// and the `face` element's `vertex_indices` (or `vertex_index`) lists, each face fanned into
+/// triangles from its first vertex. A missing element or property, a face of fewer than three
+/// vertices or a negative index is a [`MeshFileError::Parse`] naming the face or vertex; an index
+/// past the vertices is refused by the mesh with its triangle.
+pub fn read_ply(path: &Path) -> Result<TriMesh, MeshFileError> {
+    use ply_rs_bw::parser::Parser;
+    use ply_rs_bw::ply::{DefaultElement, Property};
+    let parse = |why: String| MeshFileError::Parse {
+        path: path.display().to_string(),
+        format: "PLY",
+        why,
+    };
+    let mut f = open(path)?;
+    let ply = Parser::<DefaultElement>::new()
+        .read_ply(&mut f)
+        .map_err(|e| parse(e.to_string()))?;
+    let scalar = |p: &Property| -> Option<f64> {
+        Some(match *p {
+            Property::Char(v) => v.into(),
+            Property::UChar(v) => v.into(),
+            Property::Short(v) => v.into(),
+            Property::UShort(v) => v.into(),
+            Property::Int(v) => v.into(),
+            Property::UInt(v) => v.into(),
+            Property::Float(v) => v.into(),
+            Property::Double(v) => v,
+            _ => return None,
+        })
+    };
+    fn indices<T: Copy + TryInto<usize>>(list: &[T]) -> Option<Vec<usize>> {
+        list.iter().map(|&i| i.try_into().ok()).collect()
+    }
+    let index_list = |p: &Property| -> Option<Vec<usize>> {
+        match p {
+            Property::ListChar(l) => indices(l),
+            Property::ListUChar(l) => indices(l),
+            Property::ListShort(l) => indices(l),
+            Property::ListUShort(l) => indices(l),
+            Property::ListInt(l) => indices(l),
+            Property::ListUInt(l) => indices(l),
+            _ => None,
+        }
+    };
+    let vertices = ply
+        .payload
+        .get("vertex")
+        .ok_or_else(|| parse("no `vertex` element".into()))?;
+    let mut positions = Vec::with_capacity(vertices.len());
+    for (i, v) in vertices.iter().enumerate() {
+        let mut c = [0.0; 3];
+        for (k, name) in ["x", "y", "z"].into_iter().enumerate() {
+            c[k] = v
+                .get(name)
+                .and_then(scalar)
+                .ok_or_else(|| parse(format!("vertex {i}: no numeric `{name}` property")))?;
+        }
+        positions.push(c);
+    }
+    let faces = ply
+        .payload
+        .get("face")
+        .ok_or_else(|| parse("no `face` element".into()))?;
+    // Each face of n vertices gives n - 2 triangles: bounded by the file's size.
+    let mut triangles = Vec::with_capacity(faces.len());
+    for (i, face) in faces.iter().enumerate() {
+        let list = face
+            .get("vertex_indices")
+            .or_else(|| face.get("vertex_index"))
+            .ok_or_else(|| parse(format!("face {i}: no `vertex_indices` list")))?;
+        let idx = index_list(list).ok_or_else(|| {
+            parse(format!(
+                "face {i}: `vertex_indices` is not a list of non-negative integers"
+            ))
+        })?;
+        if idx.len() < 3 {
+            return Err(parse(format!(
+                "face {i}: {} vertices, a face needs at least 3",
+                idx.len()
+            )));
+        }
+        triangles.extend((1..idx.len() - 1).map(|k| [idx[0], idx[k], idx[k + 1]]));
+    }
+    weld(path, positions.into_iter(), triangles)
+}
+
+/// A mesh file by its extension (`.obj`, `.ply` or `.stl`, any case).
 pub fn read_mesh(path: &Path) -> Result<TriMesh, MeshFileError> {
     match path
         .extension()
@@ -150,6 +238,7 @@ pub fn read_mesh(path: &Path) -> Result<TriMesh, MeshFileError> {
         .as_deref()
     {
         Some("obj") => read_obj(path),
+        Some("ply") => read_ply(path),
         Some("stl") => read_stl(path),
         _ => Err(MeshFileError::Format {
             path: path.display().to_string(),

@@ -1,9 +1,9 @@
-//! Mesh files (OBJ through tobj, STL through stl_io) into the validated mesh: welded topology and
+//! Mesh files (OBJ through tobj, STL through stl_io, PLY through ply-rs-bw) into the validated mesh: welded topology and
 //! distances against closed forms, and each kind of bad file a typed error naming the file.
 
 use nalgebra::Point3;
 use rappel_terrain::mesh::MeshError;
-use rappel_terrain::mesh_file::{MeshFileError, read_mesh, read_obj, read_stl};
+use rappel_terrain::mesh_file::{MeshFileError, read_mesh, read_obj, read_ply, read_stl};
 use std::path::PathBuf;
 
 fn temp(name: &str, contents: &[u8]) -> PathBuf {
@@ -136,11 +136,129 @@ fn bad_mesh_files_are_typed_errors_naming_the_file() {
         Err(MeshFileError::Parse { format: "STL", .. })
     ));
     assert!(matches!(
-        read_mesh(&temp("x.ply", b"ply\n")),
+        read_mesh(&temp("x.off", b"OFF\n")),
         Err(MeshFileError::Format { .. })
     ));
     assert!(matches!(
         read_mesh(std::path::Path::new("/nonexistent/ground.obj")),
         Err(MeshFileError::Read { .. })
     ));
+}
+
+/// The OBJ test's ground as an ASCII PLY: the square as one quad (fanned by the reader) and the
+/// ramp triangle, whose two shared corners are listed again (welded).
+const PLY_ASCII: &str = "ply\nformat ascii 1.0\ncomment ground\nelement vertex 7\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 1 9\n2 0 1 9\n2 2 1 9\n0 2 1 9\n2 0 1 9\n3 1 2 9\n2 2 1 9\n4 0 1 2 3\n3 4 5 6\n";
+
+#[test]
+fn ascii_ply_is_fanned_and_welded() {
+    for name in ["g.ply", "G.PLY"] {
+        let m = read_mesh(&temp(name, PLY_ASCII.as_bytes())).unwrap();
+        assert_eq!((m.vertices().len(), m.triangles().len()), (5, 3), "{name}");
+        // Above the square's interior: the distance to z = 1; above the ramp's far corner.
+        let d = m.signed_distance(&Point3::new(0.5, 1.0, 1.7));
+        assert!((d - 0.7).abs() < 1e-12, "{d}");
+        let d = m.signed_distance(&Point3::new(3.0, 1.0, 2.5));
+        assert!((d - 0.5).abs() < 1e-12, "{d}");
+    }
+}
+
+/// The STL test's tetrahedron as a binary PLY in the given byte order, `float` coordinates and
+/// `uchar`-counted `int` index lists, written byte by byte here (not by the reader's crate).
+fn binary_tetrahedron(big_endian: bool) -> Vec<u8> {
+    let v = [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let faces = [[0i32, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let order = if big_endian { "big" } else { "little" };
+    let mut b = format!(
+        "ply\nformat binary_{order}_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+    )
+    .into_bytes();
+    for p in v {
+        for c in p {
+            b.extend(if big_endian {
+                c.to_be_bytes()
+            } else {
+                c.to_le_bytes()
+            });
+        }
+    }
+    for f in faces {
+        b.push(3);
+        for i in f {
+            b.extend(if big_endian {
+                i.to_be_bytes()
+            } else {
+                i.to_le_bytes()
+            });
+        }
+    }
+    b
+}
+
+#[test]
+fn binary_ply_in_both_byte_orders_reads_the_tetrahedron() {
+    for big in [false, true] {
+        let p = temp(&format!("t{big}.ply"), &binary_tetrahedron(big));
+        let m = read_ply(&p).unwrap();
+        assert_eq!((m.vertices().len(), m.triangles().len()), (4, 4), "{p:?}");
+        let d = m.signed_distance(&Point3::new(0.2, 0.2, 0.1));
+        assert!((d + 0.1).abs() < 1e-6, "{p:?}: {d}");
+        let d = m.signed_distance(&Point3::new(0.2, 0.2, -0.5));
+        assert!((d - 0.5).abs() < 1e-6, "{p:?}: {d}");
+    }
+}
+
+#[test]
+fn bad_ply_files_are_typed_errors_naming_the_file_and_the_place() {
+    let header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    let faces =
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+    let parse_error =
+        |name: &str, text: String, needle: &str| match read_ply(&temp(name, text.as_bytes())) {
+            Err(e @ MeshFileError::Parse { .. }) => {
+                let msg = e.to_string();
+                assert!(msg.contains(name) && msg.contains(needle), "{msg}");
+            }
+            other => panic!("{name}: {other:?}"),
+        };
+    // No face element at all.
+    parse_error(
+        "noface.ply",
+        format!("{header}end_header\n0 0 0\n1 0 0\n0 1 0\n"),
+        "no `face` element",
+    );
+    // A face of two vertices; a negative index.
+    parse_error(
+        "two.ply",
+        format!("{header}{faces}2 0 1\n"),
+        "face 0: 2 vertices",
+    );
+    parse_error("neg.ply", format!("{header}{faces}3 0 1 -1\n"), "face 0");
+    // A vertex without z.
+    parse_error(
+        "noz.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n3 0 1 2\n".into(),
+        "vertex 0: no numeric `z`",
+    );
+    // Not a PLY file; a binary file cut short.
+    parse_error("junk.ply", "solid nothing\n".into(), "PLY");
+    let mut cut = binary_tetrahedron(false);
+    cut.truncate(cut.len() - 7);
+    parse_error("empty.ply", String::new(), "PLY");
+    match read_ply(&temp("cut2.ply", &cut)) {
+        Err(MeshFileError::Parse { path, .. }) => assert!(path.ends_with("cut2.ply")),
+        other => panic!("{other:?}"),
+    }
+    // An index past the vertices: refused by the mesh, positioned by triangle.
+    match read_ply(&temp(
+        "oob.ply",
+        format!("{header}{faces}3 0 1 7\n").as_bytes(),
+    )) {
+        Err(MeshFileError::Mesh { path, .. }) => assert!(path.ends_with("oob.ply")),
+        other => panic!("{other:?}"),
+    }
 }
