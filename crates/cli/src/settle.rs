@@ -1,16 +1,18 @@
-//! `rappel settle GROUND --at X,Y --yaw DEG [--anchor X,Y,Z] [--json]`: settles Axel on 3D ground
-//! (Paton §IV-A; a Paton scene `.ron` or an elevation model `.asc` / `.tif`) and prints the pose;
-//! with `--anchor`, the stability QP's verdict for both boom configurations (exit 1 when neither
-//! is stable).
+//! `rappel settle GROUND --at X,Y --yaw DEG [--anchor X,Y,Z] [--json] [--svg OUT]`: settles Axel
+//! on 3D ground (Paton §IV-A; a Paton scene `.ron`, an elevation model `.asc` / `.tif` or a mesh
+//! `.obj` / `.ply` / `.stl`) and prints the pose; with `--anchor`, the stability QP's verdict for
+//! both boom configurations (exit 1 when neither is stable); with `--svg`, an axonometric picture
+//! of the settled pose.
 
-use crate::output::{Answer, CliError, print_report};
-use rappel::settle::{load_ground, settle_report};
+use crate::output::{Answer, CliError, print_report, refuse_clashing_outputs, write_file};
+use rappel::settle::{load_ground, settle_report, settled_pose_picture};
 use std::path::PathBuf;
 
 /// Arguments of `rappel settle`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The ground: a Paton scene (.ron, fixtures/paton/) or an elevation model (.asc, .tif).
+    /// The ground: a Paton scene (.ron, fixtures/paton/), an elevation model (.asc, .tif) or a
+    /// mesh (.obj, .ply, .stl).
     file: PathBuf,
     /// Ground point under the axle centre, `X,Y` metres.
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
@@ -24,11 +26,18 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
+    /// Write an axonometric SVG of the settled pose (the ground around it, wheels, body, and with
+    /// `--anchor` the boom and the tether).
+    #[arg(long, value_name = "OUT")]
+    svg: Option<PathBuf>,
 }
 
 /// Runs `rappel settle`: `Yes` when settled (and stable in some boom configuration when an
 /// anchor is given), `No` otherwise; bad input is an error.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
+    if let Some(out) = &args.svg {
+        refuse_clashing_outputs(&[("--svg", out.as_path())], &[&args.file])?;
+    }
     let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
     let at = numbers("--at", &args.at, 2)?;
     let anchor = match &args.anchor {
@@ -38,7 +47,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         }
         None => None,
     };
-    let (_, report) = match settle_report(&ground, at[0], at[1], args.yaw, anchor) {
+    let (pose, report) = match settle_report(&ground, at[0], at[1], args.yaw, anchor) {
         Ok(r) => r,
         Err(e) if matches!(e, rappel::mechanics::settle::SettleError::Parameter(_)) => {
             return Err(CliError(e.to_string()));
@@ -48,6 +57,17 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             return Ok(Answer::No);
         }
     };
+    if let Some(out) = &args.svg {
+        let title = format!(
+            "rappel settle {} at {:.2},{:.2} yaw {:.1}°",
+            args.file.display(),
+            at[0],
+            at[1],
+            args.yaw
+        );
+        let svg = settled_pose_picture(&ground, &pose, &Default::default(), anchor, &title);
+        write_file(out, &svg)?;
+    }
     if args.json {
         print_report(&report)?;
     } else {

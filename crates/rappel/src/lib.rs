@@ -32,6 +32,7 @@
 //! assert!(report.chosen.is_some(), "{}", report.verdict);
 //! ```
 
+pub mod axonometric;
 pub mod btm_summary;
 pub mod dem;
 pub mod dem_ptfo;

@@ -11,6 +11,7 @@
 //! height's gradient and Hessian from the DEM by central differences at the nearest cell
 //! ([`rappel_mechanics::curvature::height_derivatives`]); the surface normal is `(-∇h, 1)`.
 
+use crate::axonometric::Axonometric;
 use crate::dem::DemScenario;
 use crate::svg::{Layer, Marker, Picture};
 use nalgebra::{DMatrix, Point2, Point3, Vector2, Vector3};
@@ -174,7 +175,6 @@ pub const HILL_VIEW_ARROWS: usize = 60;
 /// the window of the grid holding the samples plus a margin of a tenth of its size, shaded by
 /// slope and drawn back to front. Returns `None` without samples.
 pub fn hill_view(d: &DemScenario, samples: &[StickingSample], title: &str) -> Option<String> {
-    use std::fmt::Write;
     let g = d.grid.geometry();
     let first = samples.first()?;
     let (mut lo, mut hi) = (first.world, first.world);
@@ -198,10 +198,6 @@ pub fn hill_view(d: &DemScenario, samples: &[StickingSample], title: &str) -> Op
             Point3::new(p.x, p.y, z)
         })
     };
-    // View from the south-west, 30° above the horizon.
-    let (c30, s30) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
-    let project = |q: &Point3<f64>| Point2::new((q.x - q.y) * c30, (q.x + q.y) * s30 * 0.5 + q.z);
-    let depth = |q: &Point3<f64>| q.x + q.y;
     let mut quads: Vec<(f64, [Point3<f64>; 4], f64)> = Vec::new();
     for w in rows.windows(2) {
         for v in cols.windows(2) {
@@ -217,94 +213,41 @@ pub fn hill_view(d: &DemScenario, samples: &[StickingSample], title: &str) -> Op
             let n = (c - a).cross(&(b - e));
             let cos_slope = (n.z.abs() / n.norm()).clamp(0.0, 1.0);
             let centre = Point3::from((a.coords + b.coords + c.coords + e.coords) / 4.0);
-            quads.push((depth(&centre), [a, b, c, e], cos_slope));
+            quads.push((Axonometric::depth(&centre), [a, b, c, e], cos_slope));
         }
     }
     // Back (north-east, large x + y) to front.
     quads.sort_by(|a, b| b.0.total_cmp(&a.0));
     let arrow = (hi - lo).norm().max(g.cell_size()) / 20.0;
     let every = samples.len().div_ceil(HILL_VIEW_ARROWS).max(1);
-    let mut extent: Vec<Point2<f64>> = quads
-        .iter()
-        .flat_map(|q| q.1.iter().map(project))
-        .chain(samples.iter().map(|s| project(&s.world)))
-        .collect();
-    for s in samples.iter().step_by(every) {
-        extent.push(project(&(s.world + s.surface_normal * arrow)));
-        if let Some(n) = s.curve_normal {
-            extent.push(project(&(s.world + n * arrow)));
-        }
-    }
-    let (mut x0, mut x1, mut y0, mut y1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for p in &extent {
-        (x0, x1, y0, y1) = (x0.min(p.x), x1.max(p.x), y0.min(p.y), y1.max(p.y));
-    }
-    let size = 900.0;
-    let scale = size / (x1 - x0).max(y1 - y0).max(1e-9);
-    let (w, h) = ((x1 - x0) * scale + 40.0, (y1 - y0) * scale + 70.0);
-    let tx = |q: &Point3<f64>| {
-        let p = project(q);
-        format!(
-            "{:.2},{:.2}",
-            (p.x - x0) * scale + 20.0,
-            (y1 - p.y) * scale + 50.0
-        )
-    };
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w:.0}\" height=\"{h:.0}\" viewBox=\"0 0 {w:.0} {h:.0}\">"
-    );
-    let _ = writeln!(
-        out,
-        "<rect width=\"{w:.0}\" height=\"{h:.0}\" fill=\"white\"/>"
-    );
-    let _ = writeln!(
-        out,
-        "<text x=\"20\" y=\"28\" font-family=\"sans-serif\" font-size=\"15\">{}</text>",
-        title.replace('&', "&amp;").replace('<', "&lt;")
-    );
-    let _ = writeln!(out, "<g id=\"terrain\">");
+    let mut view = Axonometric::default();
+    view.group("terrain");
     for (_, q, cos_slope) in &quads {
         let shade = (110.0 + 130.0 * cos_slope) as u8;
-        let pts: Vec<String> = q.iter().map(tx).collect();
-        let _ = writeln!(
-            out,
-            "<polygon points=\"{}\" fill=\"rgb({shade},{shade},{shade})\" stroke=\"rgb({shade},{shade},{shade})\" stroke-width=\"0.5\"/>",
-            pts.join(" ")
+        view.polygon(
+            q,
+            &format!(
+                "fill=\"rgb({shade},{shade},{shade})\" stroke=\"rgb({shade},{shade},{shade})\" stroke-width=\"0.5\""
+            ),
         );
     }
-    let _ = writeln!(out, "</g>\n<g id=\"tether\">");
-    let pts: Vec<String> = samples.iter().map(|s| tx(&s.world)).collect();
-    let _ = writeln!(
-        out,
-        "<polyline points=\"{}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"2.5\"/>",
-        pts.join(" ")
-    );
-    let _ = writeln!(out, "</g>\n<g id=\"normals\">");
+    view.group("tether");
+    let tether: Vec<Point3<f64>> = samples.iter().map(|s| s.world).collect();
+    view.polyline(&tether, "stroke=\"#d62728\" stroke-width=\"2.5\"");
+    view.group("normals");
     for s in samples.iter().step_by(every) {
-        let _ = writeln!(
-            out,
-            "<polyline class=\"surface-normal\" points=\"{} {}\" stroke=\"#2ca02c\" stroke-width=\"1.5\" fill=\"none\"/>",
-            tx(&s.world),
-            tx(&(s.world + s.surface_normal * arrow))
+        view.polyline(
+            &[s.world, s.world + s.surface_normal * arrow],
+            "class=\"surface-normal\" stroke=\"#2ca02c\" stroke-width=\"1.5\"",
         );
         if let Some(n) = s.curve_normal {
-            let _ = writeln!(
-                out,
-                "<polyline class=\"curve-normal\" points=\"{} {}\" stroke=\"#d62728\" stroke-width=\"1.5\" fill=\"none\"/>",
-                tx(&s.world),
-                tx(&(s.world + n * arrow))
+            view.polyline(
+                &[s.world, s.world + n * arrow],
+                "class=\"curve-normal\" stroke=\"#d62728\" stroke-width=\"1.5\"",
             );
         }
     }
-    let _ = writeln!(out, "</g>\n</svg>");
-    Some(out)
+    Some(view.render(title))
 }
 
 /// Thesis Fig. 3.15: `|φ|` along the tether's plan length, with the friction bound
