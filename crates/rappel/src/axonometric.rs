@@ -74,6 +74,18 @@ impl Axonometric {
         self.push(points, true, attributes);
     }
 
+    /// A surface polygon shaded grey by its slope: `cos_slope` is the cosine of its tilt from
+    /// level (1: level, drawn lightest; 0: vertical, darkest), filled and outlined in that grey.
+    pub fn shaded_polygon(&mut self, points: &[Point3<f64>], cos_slope: f64) {
+        let shade = (110.0 + 130.0 * cos_slope.clamp(0.0, 1.0)) as u8;
+        self.polygon(
+            points,
+            &format!(
+                "fill=\"rgb({shade},{shade},{shade})\" stroke=\"rgb({shade},{shade},{shade})\" stroke-width=\"0.5\""
+            ),
+        );
+    }
+
     /// An open polyline (not filled) with the SVG `attributes` (e.g. `stroke="…"`).
     pub fn polyline(&mut self, points: &[Point3<f64>], attributes: &str) {
         self.push(points, false, attributes);

@@ -338,13 +338,7 @@ pub fn settled_pose_picture(
     let mut view = Axonometric::default();
     view.group("ground");
     for (_, f, cos_slope) in &faces {
-        let shade = (110.0 + 130.0 * cos_slope) as u8;
-        view.polygon(
-            f,
-            &format!(
-                "fill=\"rgb({shade},{shade},{shade})\" stroke=\"rgb({shade},{shade},{shade})\" stroke-width=\"0.5\""
-            ),
-        );
+        view.shaded_polygon(f, *cos_slope);
     }
     let frame = |v: Vector3<f64>| pose.rotation * v;
     let half = 0.5 * params.track;

@@ -223,13 +223,7 @@ pub fn hill_view(d: &DemScenario, samples: &[StickingSample], title: &str) -> Op
     let mut view = Axonometric::default();
     view.group("terrain");
     for (_, q, cos_slope) in &quads {
-        let shade = (110.0 + 130.0 * cos_slope) as u8;
-        view.polygon(
-            q,
-            &format!(
-                "fill=\"rgb({shade},{shade},{shade})\" stroke=\"rgb({shade},{shade},{shade})\" stroke-width=\"0.5\""
-            ),
-        );
+        view.shaded_polygon(q, *cos_slope);
     }
     view.group("tether");
     let tether: Vec<Point3<f64>> = samples.iter().map(|s| s.world).collect();
