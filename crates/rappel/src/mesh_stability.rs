@@ -204,6 +204,29 @@ pub struct MapSpec {
     pub start: [f64; 2],
 }
 
+impl MapSpec {
+    /// Paton Fig. 8's view of the ledge scene `scene` at 0.5 m: x from -2 to 2.5 m (over the lip
+    /// and down the slope), y within ±2 m, every pose heading `+x` (down the slope), from the
+    /// scene's start.
+    ///
+    /// ```
+    /// use rappel::mesh_stability::MapSpec;
+    /// use rappel::terrain::paton_scene::PatonScene;
+    /// let spec = MapSpec::fig8(&PatonScene::paper(false));
+    /// assert_eq!(spec.step, 0.5);
+    /// ```
+    pub fn fig8(scene: &rappel_terrain::paton_scene::PatonScene) -> MapSpec {
+        let s = scene.start();
+        MapSpec {
+            x: (-2.0, 2.5),
+            y: (-2.0, 2.0),
+            step: 0.5,
+            yaw_deg: 0.0,
+            start: [s.x, s.y],
+        }
+    }
+}
+
 /// One map cell.
 #[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct MapCell {

@@ -50,14 +50,7 @@ fn ledge_map_shades_like_fig_8() {
     let scene = PatonScene::paper(false);
     let ground = scene.mesh().unwrap();
     let roots = scene.anchor_points();
-    let s = scene.start();
-    let spec = MapSpec {
-        x: (-2.0, 2.5),
-        y: (-2.0, 2.0),
-        step: 0.5,
-        yaw_deg: 0.0,
-        start: [s.x, s.y],
-    };
+    let spec = MapSpec::fig8(&scene);
     let foot = scene.slope_foot_x();
     // The slope past the lip (within the boom's reach of the lip the boom, swept against the
     // mesh, rests on the lip or clears the top behind it: docs/mesh.md).

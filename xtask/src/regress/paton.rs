@@ -184,14 +184,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
         stable_past == past,
     ));
     // The map: 0.5 m cells, the slope cells past the lip.
-    let s = scene.start();
-    let spec = MapSpec {
-        x: (-2.0, 2.5),
-        y: (-2.0, 2.0),
-        step: 0.5,
-        yaw_deg: 0.0,
-        start: [s.x, s.y],
-    };
+    let spec = MapSpec::fig8(&scene);
     let foot = scene.slope_foot_x();
     let map = |root: &Point3<f64>| -> Result<(usize, usize), String> {
         let h = AnchorHistory::new(*root).map_err(|e| e.to_string())?;
