@@ -231,23 +231,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         "fall line          azimuth {:.1} deg",
         d.ingested.frame.fall_line_azimuth_deg()
     );
-    for (i, (p, class)) in d
-        .scenario
-        .terrain
-        .planes
-        .iter()
-        .zip(&d.ingested.plane_classes)
-        .enumerate()
-    {
+    for (i, (p, class)) in d.classified_planes().enumerate() {
         crate::outln!(
             "plane {i}            {:.2} deg, y {:.1} .. {:.1} m, {}",
             p.slope_deg,
             p.y_bottom,
             p.y_top,
-            match class {
-                rappel::terrain::plane_class::PlaneClass::TetherFree => "tether-free",
-                rappel::terrain::plane_class::PlaneClass::TetherDemand => "tether-demand",
-            }
+            class.label()
         );
     }
     crate::outln!(

@@ -127,6 +127,24 @@ pub struct TetherSpec {
     pub max_tension: Option<f64>,
 }
 
+impl TetherLine {
+    /// The tether leaving `exit` along `toward_anchor` (any length above
+    /// [`MIN_TETHER_LENGTH`]; normalised here), with the tension limit `max_tension`.
+    pub(crate) fn toward(
+        exit: Point3<f64>,
+        toward_anchor: Vector3<f64>,
+        max_tension: Option<f64>,
+    ) -> Result<TetherLine, RobotError> {
+        let direction = Unit::try_new(toward_anchor, MIN_TETHER_LENGTH)
+            .ok_or(RobotError::Anchor("anchor coincides with the tether exit"))?;
+        Ok(TetherLine {
+            exit,
+            direction,
+            max_tension,
+        })
+    }
+}
+
 /// A point mass in the robot frame.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PointMass {
@@ -145,6 +163,22 @@ pub struct RobotConfiguration {
     pub contacts: Vec<Point3<f64>>,
     /// Where the tether leaves the robot (Paton's `r_t`).
     pub tether_exit: Point3<f64>,
+}
+
+impl RobotConfiguration {
+    /// The bodies moved into the world by `to_world` (a map of robot-frame points).
+    pub(crate) fn world_masses(
+        &self,
+        to_world: impl Fn(&Point3<f64>) -> Point3<f64>,
+    ) -> Vec<PointMass> {
+        self.masses
+            .iter()
+            .map(|m| PointMass {
+                mass: m.mass,
+                position: to_world(&m.position),
+            })
+            .collect()
+    }
 }
 
 /// A robot model: masses, contacts and tether exit for a given anchor (the seam a new robot type
@@ -269,27 +303,15 @@ pub fn place(
     let config = model.configuration(anchor_robot.as_ref())?;
     let contact_rotation = *to_world.rotation.to_rotation_matrix().matrix();
     let tether_line = match (tether, anchor_robot) {
-        (Some(t), Some(a)) => {
-            let d = to_world.transform_vector(&(a - config.tether_exit));
-            let direction = Unit::try_new(d, MIN_TETHER_LENGTH)
-                .ok_or(RobotError::Anchor("anchor coincides with the tether exit"))?;
-            Some(TetherLine {
-                exit: to_world * config.tether_exit,
-                direction,
-                max_tension: t.max_tension,
-            })
-        }
+        (Some(t), Some(a)) => Some(TetherLine::toward(
+            to_world * config.tether_exit,
+            to_world.transform_vector(&(a - config.tether_exit)),
+            t.max_tension,
+        )?),
         _ => None,
     };
     Ok(PlacedRobot {
-        masses: config
-            .masses
-            .iter()
-            .map(|m| PointMass {
-                mass: m.mass,
-                position: to_world * m.position,
-            })
-            .collect(),
+        masses: config.world_masses(|p| to_world * p),
         contacts: config
             .contacts
             .iter()

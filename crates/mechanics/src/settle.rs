@@ -17,9 +17,7 @@ use nalgebra::{Point3, Rotation3, Unit, Vector3};
 use rappel_terrain::surface::SignedDistance;
 
 use crate::axel::AxelParams;
-use crate::robot::{
-    ContactFrame, MIN_TETHER_LENGTH, PlacedRobot, PointMass, RobotError, RobotModel, TetherLine,
-};
+use crate::robot::{ContactFrame, PlacedRobot, RobotError, RobotModel, TetherLine};
 
 /// Contact points per wheel circle (Paton: 12).
 pub const WHEEL_POINTS: usize = 12;
@@ -239,25 +237,12 @@ pub fn place_on_ground<D: SignedDistance + ?Sized>(
     let tether = match (anchor, anchor_robot) {
         (Some((a, max_tension)), Some(_)) => {
             let exit = to_world(&config.tether_exit);
-            let direction = Unit::try_new(a - exit, MIN_TETHER_LENGTH)
-                .ok_or(RobotError::Anchor("anchor coincides with the tether exit"))?;
-            Some(TetherLine {
-                exit,
-                direction,
-                max_tension,
-            })
+            Some(TetherLine::toward(exit, a - exit, max_tension)?)
         }
         _ => None,
     };
     Ok(PlacedRobot {
-        masses: config
-            .masses
-            .iter()
-            .map(|m| PointMass {
-                mass: m.mass,
-                position: to_world(&m.position),
-            })
-            .collect(),
+        masses: config.world_masses(to_world),
         contacts,
         tether,
         friction,

@@ -8,6 +8,7 @@ use crate::scenario::{RobotParams, Scenario, Terrain};
 use crate::svg::{Layer, Marker, Picture};
 use rappel_terrain::dem::{DemError, DemLimits, HeightGrid, dem_crs, read_dem_with};
 use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
+use rappel_terrain::plane_class::PlaneClass;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -106,6 +107,17 @@ impl DemScenario {
         self.ingested.summary()
     }
 
+    /// Each terrain plane with its class, in order down the slope.
+    pub fn classified_planes(
+        &self,
+    ) -> impl Iterator<Item = (&rappel_terrain::plane_series::TerrainPlane, PlaneClass)> + '_ {
+        self.scenario
+            .terrain
+            .planes
+            .iter()
+            .zip(self.ingested.plane_classes.iter().copied())
+    }
+
     /// The report of `rappel dem`: the DEM `dem` turned into the scenario file `scenario`, with
     /// the PTFO labelling `ptfos` when it was asked for.
     pub fn report(
@@ -122,13 +134,10 @@ impl DemScenario {
                 self.ingested.frame.fall_line_azimuth_deg(),
                 crate::report::ANGLE_DECIMALS,
             ),
-            planes: s
-                .terrain
-                .planes
-                .iter()
-                .zip(&self.ingested.plane_classes)
+            planes: self
+                .classified_planes()
                 .enumerate()
-                .map(|(index, (p, &class))| DemPlaneReport {
+                .map(|(index, (p, class))| DemPlaneReport {
                     index,
                     slope_deg: p.slope_deg,
                     y_top_m: p.y_top,
@@ -304,18 +313,8 @@ pub fn dem_picture(d: &DemScenario, title: &str) -> String {
         }
     }
     // Each plane labelled at its band's middle, by the map's left edge.
-    for (i, (p, class)) in d
-        .scenario
-        .terrain
-        .planes
-        .iter()
-        .zip(&d.ingested.plane_classes)
-        .enumerate()
-    {
-        let kind = match class {
-            rappel_terrain::plane_class::PlaneClass::TetherFree => "tether-free",
-            rappel_terrain::plane_class::PlaneClass::TetherDemand => "tether-demand",
-        };
+    for (i, (p, class)) in d.classified_planes().enumerate() {
+        let kind = class.label();
         pic.label(
             Layer::PlaneEdge,
             nalgebra::Point2::new(b.min.x, 0.5 * (p.y_top + p.y_bottom)),

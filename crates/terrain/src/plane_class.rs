@@ -20,6 +20,21 @@ pub enum PlaneClass {
     TetherDemand,
 }
 
+impl PlaneClass {
+    /// The class's name in reports and pictures: `"tether-free"` or `"tether-demand"`.
+    ///
+    /// ```
+    /// use rappel_terrain::plane_class::PlaneClass;
+    /// assert_eq!(PlaneClass::TetherDemand.label(), "tether-demand");
+    /// ```
+    pub fn label(self) -> &'static str {
+        match self {
+            PlaneClass::TetherFree => "tether-free",
+            PlaneClass::TetherDemand => "tether-demand",
+        }
+    }
+}
+
 /// Classifies a plane of slope `slope_deg` for wheel-terrain friction `friction` (`mu`).
 ///
 /// ```
