@@ -37,7 +37,7 @@ use crate::funnel::{Side, TautPath};
 use crate::geom::{in_closed_triangle, strictly_left, strictly_right};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
-use rappel_geometry::dcel::{HalfEdgeId, TriangleId, VertexId};
+use rappel_geometry::dcel::{Dcel, HalfEdgeId, TriangleId, VertexId};
 use serde::{Deserialize, Serialize};
 
 /// A node of a [`FunnelTree`].
@@ -51,7 +51,8 @@ impl NodeId {
     }
 }
 
-/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal).
+/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal), as
+/// [`FunnelTree::node`] hands it out.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FunnelNode {
     /// Position.
@@ -61,7 +62,6 @@ pub struct FunnelNode {
     /// Length of the shortest path from the root, `g(v)`.
     pub length: f64,
     parent: u32,
-    jump: u32,
     depth: u32,
 }
 
@@ -77,16 +77,46 @@ impl FunnelNode {
     }
 }
 
-/// The arena of shortest-path-tree nodes shared by all funnels of one search.
-#[derive(Debug, Clone)]
-pub struct FunnelTree {
-    nodes: Vec<FunnelNode>,
+/// Marks [`Packed::at`] as an index into [`FunnelTree::off_map`] rather than a map vertex id.
+const OFF_MAP: u32 = 1 << 31;
+
+/// A node as stored: 24 bytes (module docs, "Memory").
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Packed {
+    /// `g(v)`.
+    length: f64,
+    /// The map vertex whose point the node sits on, or `OFF_MAP | i` for the `i`-th entry of
+    /// the off-map points.
+    at: u32,
+    parent: u32,
+    jump: u32,
+    depth: u32,
 }
 
-impl FunnelTree {
-    /// A tree holding only the root `start`.
-    pub fn new(start: Point2<f64>) -> FunnelTree {
-        let mut tree = FunnelTree { nodes: Vec::new() };
+/// The arena of shortest-path-tree nodes shared by all funnels of one search on one BTM.
+///
+/// # Memory
+/// A node that lifts a map vertex stores the vertex id, not its coordinates (read from the BTM
+/// when needed): 24 bytes per node (length, vertex, parent, jump pointer, depth) instead of 48.
+/// A search on a large map makes one node per expansion, so the tree is most of its memory (16.5
+/// million nodes for the first SHP on the 100,000-obstacle strip). The few other nodes (the root,
+/// goal points, a point given with a vertex it does not sit on) keep their point in a side list.
+#[derive(Debug, Clone)]
+pub struct FunnelTree<'b> {
+    nodes: Vec<Packed>,
+    /// Points (and vertices, if any) of the nodes not sitting on a map vertex.
+    off_map: Vec<(Point2<f64>, Option<VertexId>)>,
+    dcel: &'b Dcel,
+}
+
+impl<'b> FunnelTree<'b> {
+    /// A tree on `btm` holding only the root `start`.
+    pub fn new(btm: &'b Btm, start: Point2<f64>) -> FunnelTree<'b> {
+        let mut tree = FunnelTree {
+            nodes: Vec::new(),
+            off_map: Vec::new(),
+            dcel: btm.dcel(),
+        };
         tree.reset(start);
         tree
     }
@@ -95,10 +125,11 @@ impl FunnelTree {
     /// tree across queries allocates only when a query grows it beyond every earlier one.
     pub fn reset(&mut self, start: Point2<f64>) {
         self.nodes.clear();
-        self.nodes.push(FunnelNode {
-            point: start,
-            vertex: None,
+        self.off_map.clear();
+        self.off_map.push((start, None));
+        self.nodes.push(Packed {
             length: 0.0,
+            at: OFF_MAP,
             parent: 0,
             jump: 0,
             depth: 0,
@@ -107,7 +138,14 @@ impl FunnelTree {
 
     /// Bytes of node storage held (capacity, not length).
     pub fn capacity_bytes(&self) -> usize {
-        self.nodes.capacity() * std::mem::size_of::<FunnelNode>()
+        self.nodes.capacity() * std::mem::size_of::<Packed>()
+            + self.off_map.capacity() * std::mem::size_of::<(Point2<f64>, Option<VertexId>)>()
+    }
+
+    /// Bytes of node storage in use (length, not capacity).
+    pub fn live_bytes(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<Packed>()
+            + self.off_map.len() * std::mem::size_of::<(Point2<f64>, Option<VertexId>)>()
     }
 
     /// The root (the start point).
@@ -115,12 +153,61 @@ impl FunnelTree {
         NodeId(0)
     }
 
+    #[inline]
+    fn point_of(&self, n: &Packed) -> Point2<f64> {
+        if n.at & OFF_MAP == 0 {
+            self.dcel.point(VertexId(n.at))
+        } else {
+            self.off_map[(n.at & !OFF_MAP) as usize].0
+        }
+    }
+
+    #[inline]
+    fn vertex_of(&self, n: &Packed) -> Option<VertexId> {
+        if n.at & OFF_MAP == 0 {
+            Some(VertexId(n.at))
+        } else {
+            self.off_map[(n.at & !OFF_MAP) as usize].1
+        }
+    }
+
     /// A node.
     ///
     /// # Panics
     /// When `id` did not come from this tree.
-    pub fn node(&self, id: NodeId) -> &FunnelNode {
-        &self.nodes[id.index()]
+    pub fn node(&self, id: NodeId) -> FunnelNode {
+        let n = &self.nodes[id.index()];
+        FunnelNode {
+            point: self.point_of(n),
+            vertex: self.vertex_of(n),
+            length: n.length,
+            parent: n.parent,
+            depth: n.depth,
+        }
+    }
+
+    /// The length `g` of a node's path from the root.
+    ///
+    /// # Panics
+    /// When `id` did not come from this tree.
+    pub fn length(&self, id: NodeId) -> f64 {
+        self.nodes[id.index()].length
+    }
+
+    /// The map vertex a node lifts (`None` for the root and goal points).
+    ///
+    /// # Panics
+    /// When `id` did not come from this tree.
+    pub fn vertex(&self, id: NodeId) -> Option<VertexId> {
+        self.vertex_of(&self.nodes[id.index()])
+    }
+
+    /// A node's position.
+    ///
+    /// # Panics
+    /// When `id` did not come from this tree.
+    pub fn point(&self, id: NodeId) -> Point2<f64> {
+        self.point_of(&self.nodes[id.index()])
     }
 
     /// Number of nodes.
@@ -135,6 +222,9 @@ impl FunnelTree {
 
     /// Adds a node at `point` with predecessor `parent`; when `point` coincides with the parent's
     /// position no node is added and `parent` is returned.
+    ///
+    /// # Panics
+    /// When the tree holds `2^31` off-map points (goal points), far beyond any search budget.
     pub fn extend(
         &mut self,
         parent: NodeId,
@@ -142,7 +232,8 @@ impl FunnelTree {
         vertex: Option<VertexId>,
     ) -> NodeId {
         let p = self.nodes[parent.index()];
-        if p.point == point {
+        let from = self.point_of(&p);
+        if from == point {
             return parent;
         }
         // Myers' skew-binary jump pointers: level-ancestor and monotone searches in O(log n).
@@ -153,10 +244,20 @@ impl FunnelTree {
         } else {
             parent.0
         };
-        self.nodes.push(FunnelNode {
-            point,
-            vertex,
-            length: p.length + (point - p.point).norm(),
+        let at = match vertex {
+            Some(v) if v.0 & OFF_MAP == 0 && self.dcel.point(v) == point => v.0,
+            _ => {
+                let i = u32::try_from(self.off_map.len())
+                    .ok()
+                    .filter(|i| i & OFF_MAP == 0)
+                    .expect("fewer than 2^31 off-map tree nodes");
+                self.off_map.push((point, vertex));
+                OFF_MAP | i
+            }
+        };
+        self.nodes.push(Packed {
+            length: p.length + (point - from).norm(),
+            at,
             parent: parent.0,
             jump,
             depth: p.depth + 1,
@@ -167,13 +268,14 @@ impl FunnelTree {
     /// The nodes from the root to `id`.
     pub fn path(&self, id: NodeId) -> Vec<NodeId> {
         let mut out = Vec::with_capacity(self.nodes[id.index()].depth as usize + 1);
-        let mut x = id;
+        let mut x = id.0;
         loop {
-            out.push(x);
-            match self.nodes[x.index()].parent() {
-                Some(p) => x = p,
-                None => break,
+            out.push(NodeId(x));
+            let n = &self.nodes[x as usize];
+            if n.depth == 0 {
+                break;
             }
+            x = n.parent;
         }
         out.reverse();
         out
@@ -185,7 +287,7 @@ impl FunnelTree {
             btm,
             self.path(id).into_iter().map(|n| {
                 let node = &self.nodes[n.index()];
-                (node.point, node.vertex)
+                (self.point_of(node), self.vertex_of(node))
             }),
         )
     }
@@ -196,10 +298,11 @@ impl FunnelTree {
         let apex_depth = self.nodes[apex.index()].depth;
         let turns = |x: u32| {
             let n = &self.nodes[x as usize];
-            let parent = &self.nodes[n.parent as usize].point;
+            let parent = self.point_of(&self.nodes[n.parent as usize]);
+            let here = self.point_of(n);
             match side {
-                Side::Left => strictly_left(parent, &n.point, p),
-                Side::Right => strictly_right(parent, &n.point, p),
+                Side::Left => strictly_left(&parent, &here, p),
+                Side::Right => strictly_right(&parent, &here, p),
             }
         };
         let mut x = tip.0;
@@ -286,7 +389,7 @@ impl FunnelState {
     /// let btm = Btm::build(&map).unwrap();
     /// let start = p(5., 9.);
     /// let Location::Triangle(t) = btm.locate(&start) else { unreachable!() };
-    /// let mut tree = FunnelTree::new(start);
+    /// let mut tree = FunnelTree::new(&btm, start);
     /// let funnels = FunnelState::initial(&mut tree, &btm, t).unwrap();
     /// assert!(!funnels.is_empty());
     /// // Split the first funnel at the vertex beyond its mouth: two children at most.
@@ -294,7 +397,7 @@ impl FunnelState {
     /// assert_eq!(tree.node(split.predecessor).point, start); // the start sees v directly
     /// ```
     pub fn initial(
-        tree: &mut FunnelTree,
+        tree: &mut FunnelTree<'_>,
         btm: &Btm,
         triangle: TriangleId,
     ) -> Result<Vec<FunnelState>, FunnelStateError> {
@@ -311,7 +414,7 @@ impl FunnelState {
 
     /// The funnel from the tree's root through the edge `mouth` of the triangle holding the root.
     pub fn through(
-        tree: &mut FunnelTree,
+        tree: &mut FunnelTree<'_>,
         btm: &Btm,
         mouth: HalfEdgeId,
     ) -> Result<FunnelState, FunnelStateError> {
@@ -359,11 +462,11 @@ impl FunnelState {
 
     /// The predecessor of a point `p` beyond the mouth: the funnel node of the sector holding `p`
     /// (thesis Fig. 2.14). For the goal this is the `t_g` of thesis eq. 2.5.
-    pub fn predecessor(&self, tree: &FunnelTree, p: &Point2<f64>) -> NodeId {
+    pub fn predecessor(&self, tree: &FunnelTree<'_>, p: &Point2<f64>) -> NodeId {
         self.locate(tree, p).0
     }
 
-    fn locate(&self, tree: &FunnelTree, p: &Point2<f64>) -> (NodeId, Found) {
+    fn locate(&self, tree: &FunnelTree<'_>, p: &Point2<f64>) -> (NodeId, Found) {
         if let Some(x) = tree.first_turn(self.left, self.apex, p, Side::Left) {
             (x, Found::Left)
         } else if let Some(x) = tree.first_turn(self.right, self.apex, p, Side::Right) {
@@ -375,14 +478,14 @@ impl FunnelState {
 
     /// Adds the goal point `p` (beyond the mouth, in the closed triangle there) to the tree; the
     /// node's path is the shortest path to `p` through this funnel.
-    pub fn reach(&self, tree: &mut FunnelTree, p: Point2<f64>) -> NodeId {
+    pub fn reach(&self, tree: &mut FunnelTree<'_>, p: Point2<f64>) -> NodeId {
         let t = self.predecessor(tree, &p);
         tree.extend(t, p, None)
     }
 
     /// Splits the funnel at the vertex `v` opposite the mouth (Alg. 2): adds `v`'s node and
     /// returns the two child funnels.
-    pub fn split(&self, tree: &mut FunnelTree, btm: &Btm) -> Result<Split, FunnelStateError> {
+    pub fn split(&self, tree: &mut FunnelTree<'_>, btm: &Btm) -> Result<Split, FunnelStateError> {
         let d = btm.dcel();
         let g = d
             .twin(self.mouth)
@@ -417,7 +520,7 @@ impl FunnelState {
     /// that triangle's two other edges): the child of [`FunnelState::split`] on that side.
     pub fn advance(
         &self,
-        tree: &mut FunnelTree,
+        tree: &mut FunnelTree<'_>,
         btm: &Btm,
         next: HalfEdgeId,
     ) -> Result<FunnelState, FunnelStateError> {

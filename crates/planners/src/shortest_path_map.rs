@@ -54,13 +54,13 @@
 //! `O(f log n)` for the `f` funnels recorded in its triangle (each sector search is logarithmic in
 //! the chain length, funnel module docs).
 
+use crate::min_heap::{MinEntry, Rank};
 use crate::spt::{SearchError, canonical_triangle};
 use nalgebra::Point2;
 use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::dcel::{TriangleId, VertexId};
 use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::funnel_state::{FunnelState, FunnelTree, NodeId};
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// Default budget of funnel expansions of one map (about 130 bytes each, module docs "Bounds").
@@ -126,30 +126,10 @@ pub struct ShortestPathMap<'b> {
     stats: MapStats,
 }
 
-/// A queued funnel (smallest key first).
-#[derive(Debug, Clone, Copy)]
-struct Entry {
-    key: f64,
-    funnel: FunnelState,
-}
-
-impl PartialEq for Entry {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-
-impl Eq for Entry {}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.key.total_cmp(&self.key)
+/// A queued funnel: equal keys in any order.
+impl Rank for FunnelState {
+    fn rank(&self) -> usize {
+        0
     }
 }
 
@@ -196,15 +176,15 @@ impl<'b> ShortestPathMap<'b> {
         }
         for f in initial {
             let key = lower_bound(btm, &tree, &f);
-            queue.push(Entry { key, funnel: f });
+            queue.push(MinEntry { key, item: f });
         }
-        let dominated = |tree: &FunnelTree, best: &[f64], f: &FunnelState| {
+        let dominated = |tree: &FunnelTree<'_>, best: &[f64], f: &FunnelState| {
             let apex = tree.node(f.apex());
             apex.vertex.is_some_and(|v| best[v.index()] < apex.length)
                 || mouth_is_covered(btm, tree, best, f)
         };
         let mut records: Vec<(u32, FunnelState)> = Vec::new();
-        while let Some(Entry { key, funnel }) = queue.pop() {
+        while let Some(MinEntry { key, item: funnel }) = queue.pop() {
             if dominated(&tree, &best, &funnel) {
                 stats.pruned_dominated += 1;
                 continue;
@@ -229,9 +209,9 @@ impl<'b> ShortestPathMap<'b> {
                     continue;
                 }
                 let child_key = lower_bound(btm, &tree, &child).max(key);
-                queue.push(Entry {
+                queue.push(MinEntry {
                     key: child_key,
-                    funnel: child,
+                    item: child,
                 });
             }
             stats.queue_peak = stats.queue_peak.max(queue.len());
@@ -340,7 +320,7 @@ impl<'b> ShortestPathMap<'b> {
 
 /// A lower bound of the length of every path through the funnel's mouth: `g(apex)` plus the
 /// distance from the apex to the mouth segment.
-fn lower_bound(btm: &Btm, tree: &FunnelTree, f: &FunnelState) -> f64 {
+fn lower_bound(btm: &Btm, tree: &FunnelTree<'_>, f: &FunnelState) -> f64 {
     let d = btm.dcel();
     let m = f.mouth();
     let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
@@ -359,7 +339,7 @@ pub const COVER_MARGIN: f64 = 1e-9;
 /// all `x`, by more than [`COVER_MARGIN`]. The left side minus either term of the minimum is
 /// monotone along the mouth (the slope of `|apex - x|` is at most the mouth's), so both minima
 /// sit where the two terms cross (clamped to the mouth): one point decides.
-fn mouth_is_covered(btm: &Btm, tree: &FunnelTree, best: &[f64], f: &FunnelState) -> bool {
+fn mouth_is_covered(btm: &Btm, tree: &FunnelTree<'_>, best: &[f64], f: &FunnelState) -> bool {
     let d = btm.dcel();
     let m = f.mouth();
     let (va, vb) = (d.origin(m), d.destination(m));
@@ -382,7 +362,7 @@ fn mouth_is_covered(btm: &Btm, tree: &FunnelTree, best: &[f64], f: &FunnelState)
 /// A lower bound of the length of every path through `f` to a point of triangle `t` (beyond
 /// its mouth): `g(apex)` plus the distance from the apex to the triangle (every such path runs
 /// from the apex to the point).
-fn triangle_bound(btm: &Btm, tree: &FunnelTree, t: TriangleId, f: &FunnelState) -> f64 {
+fn triangle_bound(btm: &Btm, tree: &FunnelTree<'_>, t: TriangleId, f: &FunnelState) -> f64 {
     let apex = tree.node(f.apex());
     let [a, b, c] = btm.dcel().triangle_points(t);
     let q = &apex.point;
