@@ -109,16 +109,50 @@ pub struct FunnelTree<'b> {
     dcel: &'b Dcel,
 }
 
+/// The storage of a [`FunnelTree`] without the BTM it reads points from: what a pool of search
+/// spaces keeps between queries ([`FunnelTree::into_buffers`], [`FunnelTree::with_buffers`]).
+#[derive(Debug, Clone, Default)]
+pub struct FunnelTreeBuffers {
+    nodes: Vec<Packed>,
+    off_map: Vec<(Point2<f64>, Option<VertexId>)>,
+}
+
+impl FunnelTreeBuffers {
+    /// Bytes held (capacities).
+    pub fn capacity_bytes(&self) -> usize {
+        self.nodes.capacity() * std::mem::size_of::<Packed>()
+            + self.off_map.capacity() * std::mem::size_of::<(Point2<f64>, Option<VertexId>)>()
+    }
+}
+
 impl<'b> FunnelTree<'b> {
     /// A tree on `btm` holding only the root `start`.
     pub fn new(btm: &'b Btm, start: Point2<f64>) -> FunnelTree<'b> {
+        FunnelTree::with_buffers(btm, FunnelTreeBuffers::default(), start)
+    }
+
+    /// A tree on `btm` holding only the root `start`, in the storage of an earlier tree (no
+    /// allocation while the query stays within it).
+    pub fn with_buffers(
+        btm: &'b Btm,
+        buffers: FunnelTreeBuffers,
+        start: Point2<f64>,
+    ) -> FunnelTree<'b> {
         let mut tree = FunnelTree {
-            nodes: Vec::new(),
-            off_map: Vec::new(),
+            nodes: buffers.nodes,
+            off_map: buffers.off_map,
             dcel: btm.dcel(),
         };
         tree.reset(start);
         tree
+    }
+
+    /// The tree's storage, for a later [`FunnelTree::with_buffers`].
+    pub fn into_buffers(self) -> FunnelTreeBuffers {
+        FunnelTreeBuffers {
+            nodes: self.nodes,
+            off_map: self.off_map,
+        }
     }
 
     /// Empties the tree down to a new root `start`, keeping its storage: a search that reuses one

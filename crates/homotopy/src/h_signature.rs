@@ -379,4 +379,3 @@ fn cut_crossings(
         }
     }
 }
-

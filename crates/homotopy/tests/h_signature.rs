@@ -223,7 +223,12 @@ fn batch_and_incremental_signatures_agree_on_a_winding_zigzag() {
         )
     }));
     let pts: Vec<Point2<f64>> = (0..60)
-        .map(|k| p(40.0 * next(), 50.0 * next() + if k % 2 == 0 { 0.0 } else { 0.5 }))
+        .map(|k| {
+            p(
+                40.0 * next(),
+                50.0 * next() + if k % 2 == 0 { 0.0 } else { 0.5 },
+            )
+        })
         .collect();
     let batch = HSignature::of_path(&poles, &Path::new(pts.clone()).unwrap());
     let mut grown = HSignature::new(pts[0]);

@@ -116,7 +116,7 @@ pub struct ShortestPathMap<'b> {
     btm: &'b Btm,
     start: Point2<f64>,
     start_triangle: TriangleId,
-    tree: FunnelTree,
+    tree: FunnelTree<'b>,
     /// `funnels[offsets[t]..offsets[t + 1]]` entered triangle `t`.
     offsets: Vec<u32>,
     funnels: Vec<FunnelState>,
@@ -157,7 +157,7 @@ impl<'b> ShortestPathMap<'b> {
                 source,
             })?;
         let d = btm.dcel();
-        let mut tree = FunnelTree::new(start);
+        let mut tree = FunnelTree::new(btm, start);
         // The shortest known lift of every map vertex, for root pruning.
         let mut best = vec![f64::INFINITY; d.vertex_capacity()];
         if let Location::Vertex(v) = btm.locate(&start) {
@@ -179,8 +179,9 @@ impl<'b> ShortestPathMap<'b> {
             queue.push(MinEntry { key, item: f });
         }
         let dominated = |tree: &FunnelTree<'_>, best: &[f64], f: &FunnelState| {
-            let apex = tree.node(f.apex());
-            apex.vertex.is_some_and(|v| best[v.index()] < apex.length)
+            let apex = f.apex();
+            tree.vertex(apex)
+                .is_some_and(|v| best[v.index()] < tree.length(apex))
                 || mouth_is_covered(btm, tree, best, f)
         };
         let mut records: Vec<(u32, FunnelState)> = Vec::new();
@@ -200,7 +201,7 @@ impl<'b> ShortestPathMap<'b> {
             })?;
             records.push((next.0, funnel));
             let split = funnel.split(&mut tree, btm)?;
-            let g = tree.node(split.node).length;
+            let g = tree.length(split.node);
             let b = &mut best[split.vertex.index()];
             *b = b.min(g);
             for child in [split.left, split.right].into_iter().flatten() {
