@@ -37,7 +37,7 @@ use crate::funnel::{Side, TautPath};
 use crate::geom::{in_closed_triangle, strictly_left, strictly_right};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
-use rappel_geometry::dcel::{Dcel, HalfEdgeId, TriangleId, VertexId};
+use rappel_geometry::dcel::{HalfEdgeId, TriangleId, VertexId};
 use serde::{Deserialize, Serialize};
 
 /// A node of a [`FunnelTree`].
@@ -106,7 +106,8 @@ pub struct FunnelTree<'b> {
     nodes: Vec<Packed>,
     /// Points (and vertices, if any) of the nodes not sitting on a map vertex.
     off_map: Vec<(Point2<f64>, Option<VertexId>)>,
-    dcel: &'b Dcel,
+    /// The BTM's vertex coordinates.
+    points: &'b [Point2<f64>],
 }
 
 /// The storage of a [`FunnelTree`] without the BTM it reads points from: what a pool of search
@@ -141,7 +142,7 @@ impl<'b> FunnelTree<'b> {
         let mut tree = FunnelTree {
             nodes: buffers.nodes,
             off_map: buffers.off_map,
-            dcel: btm.dcel(),
+            points: btm.dcel().points(),
         };
         tree.reset(start);
         tree
@@ -190,7 +191,7 @@ impl<'b> FunnelTree<'b> {
     #[inline]
     fn point_of(&self, n: &Packed) -> Point2<f64> {
         if n.at & OFF_MAP == 0 {
-            self.dcel.point(VertexId(n.at))
+            self.points[n.at as usize]
         } else {
             self.off_map[(n.at & !OFF_MAP) as usize].0
         }
@@ -279,7 +280,7 @@ impl<'b> FunnelTree<'b> {
             parent.0
         };
         let at = match vertex {
-            Some(v) if v.0 & OFF_MAP == 0 && self.dcel.point(v) == point => v.0,
+            Some(v) if v.0 & OFF_MAP == 0 && self.points.get(v.index()) == Some(&point) => v.0,
             _ => {
                 let i = u32::try_from(self.off_map.len())
                     .ok()

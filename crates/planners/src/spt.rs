@@ -1194,14 +1194,23 @@ impl<'a> SptSearch<'a> {
             self.stats.skipped_not_simple += 1;
             return Ok(None);
         }
-        let mut portals = Vec::new();
-        let mut t = trail;
-        while t != NONE {
-            let (mouth, parent) = self.scratch.trail[t as usize];
-            portals.push(mouth);
-            t = parent;
+        // The trail is walked twice (count, then fill from the back): one allocation of the
+        // sleeve's exact size instead of a vector grown by doubling.
+        let trails = &self.scratch.trail;
+        let ancestors = |mut t: u32| {
+            std::iter::from_fn(move || {
+                (t != NONE).then(|| {
+                    let (mouth, parent) = trails[t as usize];
+                    t = parent;
+                    mouth
+                })
+            })
+        };
+        let n = ancestors(trail).count();
+        let mut portals = vec![HalfEdgeId(0); n];
+        for (slot, mouth) in portals.iter_mut().rev().zip(ancestors(trail)) {
+            *slot = mouth;
         }
-        portals.reverse();
         let sleeve = Sleeve::from_portals(btm, self.start_triangle, portals)?;
         let crossings = sleeve.crossing_sequence();
         let h_signature = HSignature::of_taut_path(&self.planner.poles, &taut);
