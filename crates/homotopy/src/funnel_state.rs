@@ -77,35 +77,40 @@ impl FunnelNode {
     }
 }
 
-/// Marks [`Packed::at`] as an index into [`FunnelTree::off_map`] rather than a map vertex id.
-const OFF_MAP: u32 = 1 << 31;
-
-/// A node as stored: 24 bytes (module docs, "Memory").
+/// A node as stored: 24 bytes (module docs of [`FunnelTree`], "Memory").
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Packed {
     /// `g(v)`.
     length: f64,
-    /// The map vertex whose point the node sits on, or `OFF_MAP | i` for the `i`-th entry of
-    /// the off-map points.
+    /// The node's place (point and vertex) in the tree's table of places.
     at: u32,
     parent: u32,
     jump: u32,
     depth: u32,
 }
 
+/// A place of the tree: a point and the map vertex it sits on, if any.
+type Place = (Point2<f64>, Option<VertexId>);
+
 /// The arena of shortest-path-tree nodes shared by all funnels of one search on one BTM.
 ///
 /// # Memory
-/// A node that lifts a map vertex stores the vertex id, not its coordinates (read from the BTM
-/// when needed): 24 bytes per node (length, vertex, parent, jump pointer, depth) instead of 48.
-/// A search on a large map makes one node per expansion, so the tree is most of its memory (16.5
-/// million nodes for the first SHP on the 100,000-obstacle strip). The few other nodes (the root,
-/// goal points, a point given with a vertex it does not sit on) keep their point in a side list.
+/// Many nodes lift the same map vertex, so a node does not store its coordinates: it stores the
+/// index of its **place** in a table of the tree's own, filled in the order the search first
+/// reaches each vertex (plus one entry per root or goal point): 24 bytes per node (length, place,
+/// parent, jump pointer, depth) instead of 48. A search on a large map makes one node per
+/// expansion, so the tree is most of its memory (16.5 million nodes for the first SHP on the
+/// 100,000-obstacle strip). The table, not the BTM's vertex array, is what the sector scans read:
+/// the vertices a search works on were reached at about the same time and sit together in it,
+/// where in the BTM's array (numbered in map order) they are scattered. A per-vertex slot array,
+/// invalidated by a generation stamp, finds a vertex's place.
 #[derive(Debug, Clone)]
 pub struct FunnelTree<'b> {
     nodes: Vec<Packed>,
-    /// Points (and vertices, if any) of the nodes not sitting on a map vertex.
-    off_map: Vec<(Point2<f64>, Option<VertexId>)>,
+    places: Vec<Place>,
+    /// Per map vertex: `(generation, place)`; the place is valid when the stamp is current.
+    slots: Vec<(u32, u32)>,
+    generation: u32,
     /// The BTM's vertex coordinates.
     points: &'b [Point2<f64>],
 }
@@ -115,14 +120,17 @@ pub struct FunnelTree<'b> {
 #[derive(Debug, Clone, Default)]
 pub struct FunnelTreeBuffers {
     nodes: Vec<Packed>,
-    off_map: Vec<(Point2<f64>, Option<VertexId>)>,
+    places: Vec<Place>,
+    slots: Vec<(u32, u32)>,
+    generation: u32,
 }
 
 impl FunnelTreeBuffers {
     /// Bytes held (capacities).
     pub fn capacity_bytes(&self) -> usize {
         self.nodes.capacity() * std::mem::size_of::<Packed>()
-            + self.off_map.capacity() * std::mem::size_of::<(Point2<f64>, Option<VertexId>)>()
+            + self.places.capacity() * std::mem::size_of::<Place>()
+            + self.slots.capacity() * std::mem::size_of::<(u32, u32)>()
     }
 }
 
@@ -133,7 +141,8 @@ impl<'b> FunnelTree<'b> {
     }
 
     /// A tree on `btm` holding only the root `start`, in the storage of an earlier tree (no
-    /// allocation while the query stays within it).
+    /// allocation while the query stays within it; the per-vertex slots are allocated on the
+    /// first vertex reached, once per storage and map size).
     pub fn with_buffers(
         btm: &'b Btm,
         buffers: FunnelTreeBuffers,
@@ -141,7 +150,9 @@ impl<'b> FunnelTree<'b> {
     ) -> FunnelTree<'b> {
         let mut tree = FunnelTree {
             nodes: buffers.nodes,
-            off_map: buffers.off_map,
+            places: buffers.places,
+            slots: buffers.slots,
+            generation: buffers.generation,
             points: btm.dcel().points(),
         };
         tree.reset(start);
@@ -152,7 +163,9 @@ impl<'b> FunnelTree<'b> {
     pub fn into_buffers(self) -> FunnelTreeBuffers {
         FunnelTreeBuffers {
             nodes: self.nodes,
-            off_map: self.off_map,
+            places: self.places,
+            slots: self.slots,
+            generation: self.generation,
         }
     }
 
@@ -160,11 +173,17 @@ impl<'b> FunnelTree<'b> {
     /// tree across queries allocates only when a query grows it beyond every earlier one.
     pub fn reset(&mut self, start: Point2<f64>) {
         self.nodes.clear();
-        self.off_map.clear();
-        self.off_map.push((start, None));
+        self.places.clear();
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            // After 2^32 resets: clear the stamps once so that no stale slot looks current.
+            self.slots.fill((0, 0));
+            self.generation = 1;
+        }
+        self.places.push((start, None));
         self.nodes.push(Packed {
             length: 0.0,
-            at: OFF_MAP,
+            at: 0,
             parent: 0,
             jump: 0,
             depth: 0,
@@ -174,13 +193,15 @@ impl<'b> FunnelTree<'b> {
     /// Bytes of node storage held (capacity, not length).
     pub fn capacity_bytes(&self) -> usize {
         self.nodes.capacity() * std::mem::size_of::<Packed>()
-            + self.off_map.capacity() * std::mem::size_of::<(Point2<f64>, Option<VertexId>)>()
+            + self.places.capacity() * std::mem::size_of::<Place>()
+            + self.slots.capacity() * std::mem::size_of::<(u32, u32)>()
     }
 
-    /// Bytes of node storage in use (length, not capacity).
+    /// Bytes of node storage in use (length, not capacity; the per-vertex slots counted whole).
     pub fn live_bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Packed>()
-            + self.off_map.len() * std::mem::size_of::<(Point2<f64>, Option<VertexId>)>()
+            + self.places.len() * std::mem::size_of::<Place>()
+            + self.slots.len() * std::mem::size_of::<(u32, u32)>()
     }
 
     /// The root (the start point).
@@ -190,20 +211,32 @@ impl<'b> FunnelTree<'b> {
 
     #[inline]
     fn point_of(&self, n: &Packed) -> Point2<f64> {
-        if n.at & OFF_MAP == 0 {
-            self.points[n.at as usize]
-        } else {
-            self.off_map[(n.at & !OFF_MAP) as usize].0
-        }
+        self.places[n.at as usize].0
     }
 
     #[inline]
     fn vertex_of(&self, n: &Packed) -> Option<VertexId> {
-        if n.at & OFF_MAP == 0 {
-            Some(VertexId(n.at))
-        } else {
-            self.off_map[(n.at & !OFF_MAP) as usize].1
+        self.places[n.at as usize].1
+    }
+
+    /// The place of `point` (with `vertex`, if any): the vertex's own when the point is the
+    /// vertex's, else a new entry.
+    fn place(&mut self, point: Point2<f64>, vertex: Option<VertexId>) -> u32 {
+        let next = u32::try_from(self.places.len()).expect("fewer than 2^32 places");
+        let Some(v) = vertex.filter(|v| self.points.get(v.index()) == Some(&point)) else {
+            self.places.push((point, vertex));
+            return next;
+        };
+        if self.slots.len() < self.points.len() {
+            self.slots.resize(self.points.len(), (0, 0));
         }
+        let slot = &mut self.slots[v.index()];
+        if slot.0 == self.generation {
+            return slot.1;
+        }
+        *slot = (self.generation, next);
+        self.places.push((point, vertex));
+        next
     }
 
     /// A node.
@@ -259,7 +292,7 @@ impl<'b> FunnelTree<'b> {
     /// position no node is added and `parent` is returned.
     ///
     /// # Panics
-    /// When the tree holds `2^31` off-map points (goal points), far beyond any search budget.
+    /// When the tree holds `2^32` places, far beyond any search budget.
     pub fn extend(
         &mut self,
         parent: NodeId,
@@ -279,17 +312,7 @@ impl<'b> FunnelTree<'b> {
         } else {
             parent.0
         };
-        let at = match vertex {
-            Some(v) if v.0 & OFF_MAP == 0 && self.points.get(v.index()) == Some(&point) => v.0,
-            _ => {
-                let i = u32::try_from(self.off_map.len())
-                    .ok()
-                    .filter(|i| i & OFF_MAP == 0)
-                    .expect("fewer than 2^31 off-map tree nodes");
-                self.off_map.push((point, vertex));
-                OFF_MAP | i
-            }
-        };
+        let at = self.place(point, vertex);
         self.nodes.push(Packed {
             length: p.length + (point - from).norm(),
             at,
