@@ -49,7 +49,7 @@ fn goal_in(btm: &Btm, sleeve: &Sleeve) -> Point2<f64> {
 
 /// The funnel-state primitive advanced portal by portal, then reaching the goal.
 fn advance_along(btm: &Btm, sleeve: &Sleeve, s: Point2<f64>, g: Point2<f64>) -> TautPath {
-    let mut tree = FunnelTree::new(btm, s);
+    let mut tree = FunnelTree::new(s);
     let portals = sleeve.portals();
     let mut f = FunnelState::through(&mut tree, btm, portals[0]).expect("open portal");
     for &h in &portals[1..] {

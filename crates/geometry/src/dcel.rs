@@ -202,13 +202,6 @@ impl Dcel {
         self.points[v.index()]
     }
 
-    /// Coordinates of every vertex slot, indexed by [`VertexId::index`] (removed vertices keep
-    /// their last coordinates): for hot loops that read many vertices' points.
-    #[inline]
-    pub fn points(&self) -> &[Point2<f64>] {
-        &self.points
-    }
-
     /// The vertex a half-edge leaves from.
     #[inline]
     pub fn origin(&self, h: HalfEdgeId) -> VertexId {

@@ -51,8 +51,7 @@ impl NodeId {
     }
 }
 
-/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal), as
-/// [`FunnelTree::node`] hands it out.
+/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FunnelNode {
     /// Position.
@@ -62,6 +61,7 @@ pub struct FunnelNode {
     /// Length of the shortest path from the root, `g(v)`.
     pub length: f64,
     parent: u32,
+    jump: u32,
     depth: u32,
 }
 
@@ -77,113 +77,28 @@ impl FunnelNode {
     }
 }
 
-/// A node as stored: 24 bytes (module docs of [`FunnelTree`], "Memory").
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Packed {
-    /// `g(v)`.
-    length: f64,
-    /// The node's place (point and vertex) in the tree's table of places.
-    at: u32,
-    parent: u32,
-    jump: u32,
-    depth: u32,
-}
-
-/// A place of the tree: a point and the map vertex it sits on, if any.
-type Place = (Point2<f64>, Option<VertexId>);
-
-/// The arena of shortest-path-tree nodes shared by all funnels of one search on one BTM.
-///
-/// # Memory
-/// Many nodes lift the same map vertex, so a node does not store its coordinates: it stores the
-/// index of its **place** in a table of the tree's own, filled in the order the search first
-/// reaches each vertex (plus one entry per root or goal point): 24 bytes per node (length, place,
-/// parent, jump pointer, depth) instead of 48. A search on a large map makes one node per
-/// expansion, so the tree is most of its memory (16.5 million nodes for the first SHP on the
-/// 100,000-obstacle strip). The table, not the BTM's vertex array, is what the sector scans read:
-/// the vertices a search works on were reached at about the same time and sit together in it,
-/// where in the BTM's array (numbered in map order) they are scattered. A per-vertex slot array,
-/// invalidated by a generation stamp, finds a vertex's place.
+/// The arena of shortest-path-tree nodes shared by all funnels of one search.
 #[derive(Debug, Clone)]
-pub struct FunnelTree<'b> {
-    nodes: Vec<Packed>,
-    places: Vec<Place>,
-    /// Per map vertex: `(generation, place)`; the place is valid when the stamp is current.
-    slots: Vec<(u32, u32)>,
-    generation: u32,
-    /// The BTM's vertex coordinates.
-    points: &'b [Point2<f64>],
+pub struct FunnelTree {
+    nodes: Vec<FunnelNode>,
 }
 
-/// The storage of a [`FunnelTree`] without the BTM it reads points from: what a pool of search
-/// spaces keeps between queries ([`FunnelTree::into_buffers`], [`FunnelTree::with_buffers`]).
-#[derive(Debug, Clone, Default)]
-pub struct FunnelTreeBuffers {
-    nodes: Vec<Packed>,
-    places: Vec<Place>,
-    slots: Vec<(u32, u32)>,
-    generation: u32,
-}
-
-impl FunnelTreeBuffers {
-    /// Bytes held (capacities).
-    pub fn capacity_bytes(&self) -> usize {
-        self.nodes.capacity() * std::mem::size_of::<Packed>()
-            + self.places.capacity() * std::mem::size_of::<Place>()
-            + self.slots.capacity() * std::mem::size_of::<(u32, u32)>()
-    }
-}
-
-impl<'b> FunnelTree<'b> {
-    /// A tree on `btm` holding only the root `start`.
-    pub fn new(btm: &'b Btm, start: Point2<f64>) -> FunnelTree<'b> {
-        FunnelTree::with_buffers(btm, FunnelTreeBuffers::default(), start)
-    }
-
-    /// A tree on `btm` holding only the root `start`, in the storage of an earlier tree (no
-    /// allocation while the query stays within it; the per-vertex slots are allocated on the
-    /// first vertex reached, once per storage and map size).
-    pub fn with_buffers(
-        btm: &'b Btm,
-        buffers: FunnelTreeBuffers,
-        start: Point2<f64>,
-    ) -> FunnelTree<'b> {
-        let mut tree = FunnelTree {
-            nodes: buffers.nodes,
-            places: buffers.places,
-            slots: buffers.slots,
-            generation: buffers.generation,
-            points: btm.dcel().points(),
-        };
+impl FunnelTree {
+    /// A tree holding only the root `start`.
+    pub fn new(start: Point2<f64>) -> FunnelTree {
+        let mut tree = FunnelTree { nodes: Vec::new() };
         tree.reset(start);
         tree
-    }
-
-    /// The tree's storage, for a later [`FunnelTree::with_buffers`].
-    pub fn into_buffers(self) -> FunnelTreeBuffers {
-        FunnelTreeBuffers {
-            nodes: self.nodes,
-            places: self.places,
-            slots: self.slots,
-            generation: self.generation,
-        }
     }
 
     /// Empties the tree down to a new root `start`, keeping its storage: a search that reuses one
     /// tree across queries allocates only when a query grows it beyond every earlier one.
     pub fn reset(&mut self, start: Point2<f64>) {
         self.nodes.clear();
-        self.places.clear();
-        self.generation = self.generation.wrapping_add(1);
-        if self.generation == 0 {
-            // After 2^32 resets: clear the stamps once so that no stale slot looks current.
-            self.slots.fill((0, 0));
-            self.generation = 1;
-        }
-        self.places.push((start, None));
-        self.nodes.push(Packed {
+        self.nodes.push(FunnelNode {
+            point: start,
+            vertex: None,
             length: 0.0,
-            at: 0,
             parent: 0,
             jump: 0,
             depth: 0,
@@ -192,16 +107,7 @@ impl<'b> FunnelTree<'b> {
 
     /// Bytes of node storage held (capacity, not length).
     pub fn capacity_bytes(&self) -> usize {
-        self.nodes.capacity() * std::mem::size_of::<Packed>()
-            + self.places.capacity() * std::mem::size_of::<Place>()
-            + self.slots.capacity() * std::mem::size_of::<(u32, u32)>()
-    }
-
-    /// Bytes of node storage in use (length, not capacity; the per-vertex slots counted whole).
-    pub fn live_bytes(&self) -> usize {
-        self.nodes.len() * std::mem::size_of::<Packed>()
-            + self.places.len() * std::mem::size_of::<Place>()
-            + self.slots.len() * std::mem::size_of::<(u32, u32)>()
+        self.nodes.capacity() * std::mem::size_of::<FunnelNode>()
     }
 
     /// The root (the start point).
@@ -209,73 +115,12 @@ impl<'b> FunnelTree<'b> {
         NodeId(0)
     }
 
-    #[inline]
-    fn point_of(&self, n: &Packed) -> Point2<f64> {
-        self.places[n.at as usize].0
-    }
-
-    #[inline]
-    fn vertex_of(&self, n: &Packed) -> Option<VertexId> {
-        self.places[n.at as usize].1
-    }
-
-    /// The place of `point` (with `vertex`, if any): the vertex's own when the point is the
-    /// vertex's, else a new entry.
-    fn place(&mut self, point: Point2<f64>, vertex: Option<VertexId>) -> u32 {
-        let next = u32::try_from(self.places.len()).expect("fewer than 2^32 places");
-        let Some(v) = vertex.filter(|v| self.points.get(v.index()) == Some(&point)) else {
-            self.places.push((point, vertex));
-            return next;
-        };
-        if self.slots.len() < self.points.len() {
-            self.slots.resize(self.points.len(), (0, 0));
-        }
-        let slot = &mut self.slots[v.index()];
-        if slot.0 == self.generation {
-            return slot.1;
-        }
-        *slot = (self.generation, next);
-        self.places.push((point, vertex));
-        next
-    }
-
     /// A node.
     ///
     /// # Panics
     /// When `id` did not come from this tree.
-    pub fn node(&self, id: NodeId) -> FunnelNode {
-        let n = &self.nodes[id.index()];
-        FunnelNode {
-            point: self.point_of(n),
-            vertex: self.vertex_of(n),
-            length: n.length,
-            parent: n.parent,
-            depth: n.depth,
-        }
-    }
-
-    /// The length `g` of a node's path from the root.
-    ///
-    /// # Panics
-    /// When `id` did not come from this tree.
-    pub fn length(&self, id: NodeId) -> f64 {
-        self.nodes[id.index()].length
-    }
-
-    /// The map vertex a node lifts (`None` for the root and goal points).
-    ///
-    /// # Panics
-    /// When `id` did not come from this tree.
-    pub fn vertex(&self, id: NodeId) -> Option<VertexId> {
-        self.vertex_of(&self.nodes[id.index()])
-    }
-
-    /// A node's position.
-    ///
-    /// # Panics
-    /// When `id` did not come from this tree.
-    pub fn point(&self, id: NodeId) -> Point2<f64> {
-        self.point_of(&self.nodes[id.index()])
+    pub fn node(&self, id: NodeId) -> &FunnelNode {
+        &self.nodes[id.index()]
     }
 
     /// Number of nodes.
@@ -290,9 +135,6 @@ impl<'b> FunnelTree<'b> {
 
     /// Adds a node at `point` with predecessor `parent`; when `point` coincides with the parent's
     /// position no node is added and `parent` is returned.
-    ///
-    /// # Panics
-    /// When the tree holds `2^32` places, far beyond any search budget.
     pub fn extend(
         &mut self,
         parent: NodeId,
@@ -300,8 +142,7 @@ impl<'b> FunnelTree<'b> {
         vertex: Option<VertexId>,
     ) -> NodeId {
         let p = self.nodes[parent.index()];
-        let from = self.point_of(&p);
-        if from == point {
+        if p.point == point {
             return parent;
         }
         // Myers' skew-binary jump pointers: level-ancestor and monotone searches in O(log n).
@@ -312,10 +153,10 @@ impl<'b> FunnelTree<'b> {
         } else {
             parent.0
         };
-        let at = self.place(point, vertex);
-        self.nodes.push(Packed {
-            length: p.length + (point - from).norm(),
-            at,
+        self.nodes.push(FunnelNode {
+            point,
+            vertex,
+            length: p.length + (point - p.point).norm(),
             parent: parent.0,
             jump,
             depth: p.depth + 1,
@@ -326,14 +167,13 @@ impl<'b> FunnelTree<'b> {
     /// The nodes from the root to `id`.
     pub fn path(&self, id: NodeId) -> Vec<NodeId> {
         let mut out = Vec::with_capacity(self.nodes[id.index()].depth as usize + 1);
-        let mut x = id.0;
+        let mut x = id;
         loop {
-            out.push(NodeId(x));
-            let n = &self.nodes[x as usize];
-            if n.depth == 0 {
-                break;
+            out.push(x);
+            match self.nodes[x.index()].parent() {
+                Some(p) => x = p,
+                None => break,
             }
-            x = n.parent;
         }
         out.reverse();
         out
@@ -345,7 +185,7 @@ impl<'b> FunnelTree<'b> {
             btm,
             self.path(id).into_iter().map(|n| {
                 let node = &self.nodes[n.index()];
-                (self.point_of(node), self.vertex_of(node))
+                (node.point, node.vertex)
             }),
         )
     }
@@ -356,11 +196,10 @@ impl<'b> FunnelTree<'b> {
         let apex_depth = self.nodes[apex.index()].depth;
         let turns = |x: u32| {
             let n = &self.nodes[x as usize];
-            let parent = self.point_of(&self.nodes[n.parent as usize]);
-            let here = self.point_of(n);
+            let parent = &self.nodes[n.parent as usize].point;
             match side {
-                Side::Left => strictly_left(&parent, &here, p),
-                Side::Right => strictly_right(&parent, &here, p),
+                Side::Left => strictly_left(parent, &n.point, p),
+                Side::Right => strictly_right(parent, &n.point, p),
             }
         };
         let mut x = tip.0;
@@ -447,7 +286,7 @@ impl FunnelState {
     /// let btm = Btm::build(&map).unwrap();
     /// let start = p(5., 9.);
     /// let Location::Triangle(t) = btm.locate(&start) else { unreachable!() };
-    /// let mut tree = FunnelTree::new(&btm, start);
+    /// let mut tree = FunnelTree::new(start);
     /// let funnels = FunnelState::initial(&mut tree, &btm, t).unwrap();
     /// assert!(!funnels.is_empty());
     /// // Split the first funnel at the vertex beyond its mouth: two children at most.
@@ -455,7 +294,7 @@ impl FunnelState {
     /// assert_eq!(tree.node(split.predecessor).point, start); // the start sees v directly
     /// ```
     pub fn initial(
-        tree: &mut FunnelTree<'_>,
+        tree: &mut FunnelTree,
         btm: &Btm,
         triangle: TriangleId,
     ) -> Result<Vec<FunnelState>, FunnelStateError> {
@@ -472,7 +311,7 @@ impl FunnelState {
 
     /// The funnel from the tree's root through the edge `mouth` of the triangle holding the root.
     pub fn through(
-        tree: &mut FunnelTree<'_>,
+        tree: &mut FunnelTree,
         btm: &Btm,
         mouth: HalfEdgeId,
     ) -> Result<FunnelState, FunnelStateError> {
@@ -520,11 +359,11 @@ impl FunnelState {
 
     /// The predecessor of a point `p` beyond the mouth: the funnel node of the sector holding `p`
     /// (thesis Fig. 2.14). For the goal this is the `t_g` of thesis eq. 2.5.
-    pub fn predecessor(&self, tree: &FunnelTree<'_>, p: &Point2<f64>) -> NodeId {
+    pub fn predecessor(&self, tree: &FunnelTree, p: &Point2<f64>) -> NodeId {
         self.locate(tree, p).0
     }
 
-    fn locate(&self, tree: &FunnelTree<'_>, p: &Point2<f64>) -> (NodeId, Found) {
+    fn locate(&self, tree: &FunnelTree, p: &Point2<f64>) -> (NodeId, Found) {
         if let Some(x) = tree.first_turn(self.left, self.apex, p, Side::Left) {
             (x, Found::Left)
         } else if let Some(x) = tree.first_turn(self.right, self.apex, p, Side::Right) {
@@ -536,14 +375,14 @@ impl FunnelState {
 
     /// Adds the goal point `p` (beyond the mouth, in the closed triangle there) to the tree; the
     /// node's path is the shortest path to `p` through this funnel.
-    pub fn reach(&self, tree: &mut FunnelTree<'_>, p: Point2<f64>) -> NodeId {
+    pub fn reach(&self, tree: &mut FunnelTree, p: Point2<f64>) -> NodeId {
         let t = self.predecessor(tree, &p);
         tree.extend(t, p, None)
     }
 
     /// Splits the funnel at the vertex `v` opposite the mouth (Alg. 2): adds `v`'s node and
     /// returns the two child funnels.
-    pub fn split(&self, tree: &mut FunnelTree<'_>, btm: &Btm) -> Result<Split, FunnelStateError> {
+    pub fn split(&self, tree: &mut FunnelTree, btm: &Btm) -> Result<Split, FunnelStateError> {
         let d = btm.dcel();
         let g = d
             .twin(self.mouth)
@@ -578,7 +417,7 @@ impl FunnelState {
     /// that triangle's two other edges): the child of [`FunnelState::split`] on that side.
     pub fn advance(
         &self,
-        tree: &mut FunnelTree<'_>,
+        tree: &mut FunnelTree,
         btm: &Btm,
         next: HalfEdgeId,
     ) -> Result<FunnelState, FunnelStateError> {

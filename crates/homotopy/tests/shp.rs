@@ -136,7 +136,7 @@ fn sleeve_queries_check_their_endpoints() {
 
 /// The SHP by advancing a funnel state portal by portal (Alg. 2's primitive).
 fn funnel_state_path(btm: &Btm, sleeve: &Sleeve, s: Point2<f64>, g: Point2<f64>) -> TautPath {
-    let mut tree = FunnelTree::new(btm, s);
+    let mut tree = FunnelTree::new(s);
     let portals = sleeve.portals();
     let node = match portals.first() {
         None => {
@@ -250,7 +250,7 @@ proptest! {
         let rappel_geometry::btm::Location::Triangle(t) = btm.locate(&g.start) else {
             return Err(TestCaseError::reject("start on the skeleton"));
         };
-        let mut tree = FunnelTree::new(&btm, g.start);
+        let mut tree = FunnelTree::new(g.start);
         let mut f = FunnelState::initial(&mut tree, &btm, t).unwrap()[0];
         for go_left in choices {
             let d = btm.dcel();
@@ -277,7 +277,7 @@ proptest! {
 
 /// The predecessor by scanning each chain from its tip, one node at a time.
 fn linear_predecessor(
-    tree: &FunnelTree<'_>,
+    tree: &FunnelTree,
     f: &FunnelState,
     v: &Point2<f64>,
 ) -> rappel_homotopy::funnel_state::NodeId {

@@ -116,7 +116,7 @@ pub struct ShortestPathMap<'b> {
     btm: &'b Btm,
     start: Point2<f64>,
     start_triangle: TriangleId,
-    tree: FunnelTree<'b>,
+    tree: FunnelTree,
     /// `funnels[offsets[t]..offsets[t + 1]]` entered triangle `t`.
     offsets: Vec<u32>,
     funnels: Vec<FunnelState>,
@@ -157,7 +157,7 @@ impl<'b> ShortestPathMap<'b> {
                 source,
             })?;
         let d = btm.dcel();
-        let mut tree = FunnelTree::new(btm, start);
+        let mut tree = FunnelTree::new(start);
         // The shortest known lift of every map vertex, for root pruning.
         let mut best = vec![f64::INFINITY; d.vertex_capacity()];
         if let Location::Vertex(v) = btm.locate(&start) {
@@ -178,10 +178,9 @@ impl<'b> ShortestPathMap<'b> {
             let key = lower_bound(btm, &tree, &f);
             queue.push(MinEntry { key, item: f });
         }
-        let dominated = |tree: &FunnelTree<'_>, best: &[f64], f: &FunnelState| {
-            let apex = f.apex();
-            tree.vertex(apex)
-                .is_some_and(|v| best[v.index()] < tree.length(apex))
+        let dominated = |tree: &FunnelTree, best: &[f64], f: &FunnelState| {
+            let apex = tree.node(f.apex());
+            apex.vertex.is_some_and(|v| best[v.index()] < apex.length)
                 || mouth_is_covered(btm, tree, best, f)
         };
         let mut records: Vec<(u32, FunnelState)> = Vec::new();
@@ -201,7 +200,7 @@ impl<'b> ShortestPathMap<'b> {
             })?;
             records.push((next.0, funnel));
             let split = funnel.split(&mut tree, btm)?;
-            let g = tree.length(split.node);
+            let g = tree.node(split.node).length;
             let b = &mut best[split.vertex.index()];
             *b = b.min(g);
             for child in [split.left, split.right].into_iter().flatten() {
@@ -321,7 +320,7 @@ impl<'b> ShortestPathMap<'b> {
 
 /// A lower bound of the length of every path through the funnel's mouth: `g(apex)` plus the
 /// distance from the apex to the mouth segment.
-fn lower_bound(btm: &Btm, tree: &FunnelTree<'_>, f: &FunnelState) -> f64 {
+fn lower_bound(btm: &Btm, tree: &FunnelTree, f: &FunnelState) -> f64 {
     let d = btm.dcel();
     let m = f.mouth();
     let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
@@ -340,7 +339,7 @@ pub const COVER_MARGIN: f64 = 1e-9;
 /// all `x`, by more than [`COVER_MARGIN`]. The left side minus either term of the minimum is
 /// monotone along the mouth (the slope of `|apex - x|` is at most the mouth's), so both minima
 /// sit where the two terms cross (clamped to the mouth): one point decides.
-fn mouth_is_covered(btm: &Btm, tree: &FunnelTree<'_>, best: &[f64], f: &FunnelState) -> bool {
+fn mouth_is_covered(btm: &Btm, tree: &FunnelTree, best: &[f64], f: &FunnelState) -> bool {
     let d = btm.dcel();
     let m = f.mouth();
     let (va, vb) = (d.origin(m), d.destination(m));
@@ -363,7 +362,7 @@ fn mouth_is_covered(btm: &Btm, tree: &FunnelTree<'_>, best: &[f64], f: &FunnelSt
 /// A lower bound of the length of every path through `f` to a point of triangle `t` (beyond
 /// its mouth): `g(apex)` plus the distance from the apex to the triangle (every such path runs
 /// from the apex to the point).
-fn triangle_bound(btm: &Btm, tree: &FunnelTree<'_>, t: TriangleId, f: &FunnelState) -> f64 {
+fn triangle_bound(btm: &Btm, tree: &FunnelTree, t: TriangleId, f: &FunnelState) -> f64 {
     let apex = tree.node(f.apex());
     let [a, b, c] = btm.dcel().triangle_points(t);
     let q = &apex.point;

@@ -105,7 +105,7 @@ use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::crossing::Tracer;
 use rappel_homotopy::funnel::TautPath;
 use rappel_homotopy::funnel_state::{
-    FunnelState, FunnelStateError, FunnelTree, FunnelTreeBuffers, NodeId,
+    FunnelNode, FunnelState, FunnelStateError, FunnelTree, NodeId,
 };
 use rappel_homotopy::h_signature::{HSignature, Poles};
 use rappel_homotopy::path::PathError;
@@ -545,7 +545,7 @@ impl<'b> SptPlanner<'b> {
         let options = SearchOptions::default().with_max_classes(Some(1))?;
         let mut search = SptSearch::new(self, start, goal, options, None)?;
         match search.next_goal()? {
-            Some((node, _)) => Ok(Some(search.tree.taut_path(self.btm, node))),
+            Some((node, _)) => Ok(Some(search.scratch.tree.taut_path(self.btm, node))),
             None if search.termination == Some(Termination::Expansions) => {
                 Err(SearchError::BudgetExhausted {
                     expansions: search.stats.expansions,
@@ -778,7 +778,7 @@ impl Lifts {
 /// ones from empty.
 #[derive(Debug, Clone)]
 struct Scratch {
-    tree: FunnelTreeBuffers,
+    tree: FunnelTree,
     queue: BinaryHeap<Entry>,
     trail: Vec<(HalfEdgeId, u32)>,
     lifts: Lifts,
@@ -788,7 +788,7 @@ struct Scratch {
 impl Scratch {
     fn new() -> Scratch {
         Scratch {
-            tree: FunnelTreeBuffers::default(),
+            tree: FunnelTree::new(Point2::origin()),
             queue: BinaryHeap::new(),
             trail: Vec::new(),
             lifts: Lifts::default(),
@@ -796,8 +796,9 @@ impl Scratch {
         }
     }
 
-    /// Clears everything but the tree (rebuilt from its buffers by the search) for a query.
-    fn reset(&mut self) {
+    /// Clears everything for a query from `start`.
+    fn reset(&mut self, start: Point2<f64>) {
+        self.tree.reset(start);
         self.queue.clear();
         self.trail.clear();
         self.simple_prefix.clear();
@@ -812,10 +813,11 @@ impl Scratch {
             + self.simple_prefix.capacity()
     }
 
-    /// Bytes the current query uses beside its tree (lengths, not capacities: the same for the
-    /// same query whatever earlier queries left in the pool).
+    /// Bytes the current query uses (lengths, not capacities: the same for the same query
+    /// whatever earlier queries left in the pool).
     fn live_bytes(&self, pruning: bool) -> usize {
-        self.queue.len() * std::mem::size_of::<Entry>()
+        self.tree.len() * std::mem::size_of::<FunnelNode>()
+            + self.queue.len() * std::mem::size_of::<Entry>()
             + self.trail.len() * std::mem::size_of::<(HalfEdgeId, u32)>()
             + if pruning { self.lifts.live_bytes() } else { 0 }
             + self.simple_prefix.len()
@@ -839,9 +841,7 @@ pub struct SptSearch<'a> {
     /// Geodesic distance from each map vertex to the goal, when known (module docs).
     to_goal: Option<Vec<f64>>,
     options: SearchOptions,
-    /// The shortest path tree, in the buffers of the pool's scratch space.
-    tree: FunnelTree<'a>,
-    /// The tree's buffers (taken), queue, trail (mouth of every queued funnel and the index of its parent
+    /// The tree, queue, trail (mouth of every queued funnel and the index of its parent
     /// funnel's mouth), lifts and simple-prefix verdicts (0 unknown, 1 simple, 2 not simple),
     /// taken from the planner's pool and given back when the search is dropped.
     scratch: Scratch,
@@ -876,8 +876,7 @@ impl<'a> SptSearch<'a> {
         let start_triangle = endpoint("start", start)?;
         let goal_triangle = endpoint("goal", goal)?;
         let mut scratch = planner.take_scratch();
-        scratch.reset();
-        let tree = FunnelTree::with_buffers(btm, std::mem::take(&mut scratch.tree), start);
+        scratch.reset(start);
         let pruning = match options.max_classes {
             Some(k) if !options.simple_only => {
                 scratch.lifts.reset(k, btm.dcel().vertex_capacity());
@@ -892,7 +891,6 @@ impl<'a> SptSearch<'a> {
             goal_triangle,
             to_goal,
             options,
-            tree,
             scratch,
             pruning,
             pending_goals: Vec::new(),
@@ -907,9 +905,9 @@ impl<'a> SptSearch<'a> {
         }
         if goal_triangle == start_triangle {
             // The trivial class: the straight segment inside the (convex) start triangle.
-            let root = search.tree.root();
-            let node = search.tree.extend(root, search.goal, None);
-            let key = search.tree.length(node);
+            let root = search.scratch.tree.root();
+            let node = search.scratch.tree.extend(root, search.goal, None);
+            let key = search.scratch.tree.node(node).length;
             search.push_goal(key, node, NONE);
         }
         let d = btm.dcel();
@@ -927,7 +925,7 @@ impl<'a> SptSearch<'a> {
             if d.twin(h).is_none() {
                 continue;
             }
-            let f = FunnelState::through(&mut search.tree, btm, h)?;
+            let f = FunnelState::through(&mut search.scratch.tree, btm, h)?;
             let key = search.lower_bound(&f);
             search.offer(key, f, NONE);
         }
@@ -942,7 +940,7 @@ impl<'a> SptSearch<'a> {
     /// The search's counters so far.
     pub fn stats(&self) -> SearchStats {
         let mut s = self.stats;
-        s.tree_nodes = self.tree.len();
+        s.tree_nodes = self.scratch.tree.len();
         s
     }
 
@@ -1035,13 +1033,13 @@ impl<'a> SptSearch<'a> {
                 SearchError::Internal("a queued funnel has a closed mouth".into())
             })?;
             if next == self.goal_triangle {
-                let node = f.reach(&mut self.tree, self.goal);
-                let goal_key = self.tree.length(node).max(key);
+                let node = f.reach(&mut self.scratch.tree, self.goal);
+                let goal_key = self.scratch.tree.node(node).length.max(key);
                 self.push_goal(goal_key, node, trail);
             }
-            let split = f.split(&mut self.tree, btm)?;
+            let split = f.split(&mut self.scratch.tree, btm)?;
             if self.pruning {
-                let g = self.tree.length(split.node);
+                let g = self.scratch.tree.node(split.node).length;
                 self.scratch.lifts.record(split.vertex, g);
             }
             let mut kept = [None, None];
@@ -1155,10 +1153,9 @@ impl<'a> SptSearch<'a> {
         if !self.pruning {
             return false;
         }
-        let apex = f.apex();
-        self.tree
-            .vertex(apex)
-            .is_some_and(|v| self.scratch.lifts.dominates(v, self.tree.length(apex)))
+        let apex = self.scratch.tree.node(f.apex());
+        apex.vertex
+            .is_some_and(|v| self.scratch.lifts.dominates(v, apex.length))
     }
 
     /// The A* key of a funnel (module docs): eq. 2.5 at the goal, or at its mirror image across
@@ -1167,13 +1164,11 @@ impl<'a> SptSearch<'a> {
         let d = self.planner.btm.dcel();
         let m = f.mouth();
         let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
+        let apex = self.scratch.tree.node(f.apex());
         // Every SHP through the funnel passes through its apex: g(apex) + h(apex) bounds it.
-        let through_apex = match &self.to_goal {
-            Some(h) => self
-                .tree
-                .vertex(f.apex())
-                .map_or(0.0, |v| self.tree.length(f.apex()) + h[v.index()]),
-            None => 0.0,
+        let through_apex = match (&self.to_goal, apex.vertex) {
+            (Some(h), Some(v)) => apex.length + h[v.index()],
+            _ => 0.0,
         };
         // The funnel's last triangle lies left of its mouth; beyond is the right side.
         let target = if orient2d(&a, &b, &self.goal) <= 0.0 {
@@ -1181,14 +1176,17 @@ impl<'a> SptSearch<'a> {
         } else {
             mirror(&self.goal, &a, &b)
         };
-        let t = self.tree.node(f.predecessor(&self.tree, &target));
+        let t: &FunnelNode = self
+            .scratch
+            .tree
+            .node(f.predecessor(&self.scratch.tree, &target));
         (t.length + (target - t.point).norm()).max(through_apex)
     }
 
     /// Builds the class reached at goal node `node` through the funnel mouths of `trail`.
     fn emit(&mut self, node: NodeId, trail: u32) -> Result<Option<RankedShp>, SearchError> {
         let btm = self.planner.btm;
-        let taut = self.tree.taut_path(btm, node);
+        let taut = self.scratch.tree.taut_path(btm, node);
         let simple = is_simple_class(&taut);
         if self.options.simple_only && !simple {
             self.stats.skipped_not_simple += 1;
@@ -1232,18 +1230,20 @@ impl<'a> SptSearch<'a> {
     /// `true` when the anchors on the tree path to `apex` (strict turns strictly between the root
     /// and `apex`) form a simple sequence. Cached per node.
     fn prefix_is_simple(&mut self, apex: NodeId) -> bool {
-        if self.scratch.simple_prefix.len() < self.tree.len() {
-            self.scratch.simple_prefix.resize(self.tree.len(), 0);
+        if self.scratch.simple_prefix.len() < self.scratch.tree.len() {
+            self.scratch
+                .simple_prefix
+                .resize(self.scratch.tree.len(), 0);
         }
         match self.scratch.simple_prefix[apex.index()] {
             1 => return true,
             2 => return false,
             _ => {}
         }
-        let path = self.tree.path(apex);
+        let path = self.scratch.tree.path(apex);
         let btm = self.planner.btm;
         let anchors = path.windows(3).filter_map(|w| {
-            let [a, b, c] = [w[0], w[1], w[2]].map(|n| self.tree.node(n));
+            let [a, b, c] = [w[0], w[1], w[2]].map(|n| self.scratch.tree.node(n));
             let v = b.vertex?;
             (orient2d(&a.point, &b.point, &c.point) != 0.0).then(|| (v, btm.obstacle_of_vertex(v)))
         });
@@ -1254,19 +1254,14 @@ impl<'a> SptSearch<'a> {
 
     /// Bytes held by the search's structures (see [`SearchStats::peak_bytes`]).
     fn bytes(&self) -> usize {
-        self.tree.live_bytes() + self.scratch.live_bytes(self.pruning)
+        self.scratch.live_bytes(self.pruning)
     }
 }
 
 impl Drop for SptSearch<'_> {
     /// Gives the scratch space back to the planner's pool for the next query.
     fn drop(&mut self) {
-        let tree = std::mem::replace(
-            &mut self.tree,
-            FunnelTree::new(self.planner.btm, Point2::origin()),
-        );
-        let mut scratch = std::mem::replace(&mut self.scratch, Scratch::new());
-        scratch.tree = tree.into_buffers();
+        let scratch = std::mem::replace(&mut self.scratch, Scratch::new());
         self.planner.return_scratch(scratch);
     }
 }
