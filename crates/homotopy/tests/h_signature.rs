@@ -203,6 +203,53 @@ fn windings_are_exact_among_ten_thousand_poles() {
 }
 
 #[test]
+fn batch_and_incremental_signatures_agree_on_a_winding_zigzag() {
+    // 2,000 poles on a jittered grid and a zigzag that sweeps back and forth across their cuts,
+    // crossing many twice in opposite directions (the sums cancel) and some once: the signature
+    // of the whole polyline (crossings summed by one sort) equals the one grown segment by segment,
+    // and every pole's angle equals the independently subtended one.
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let poles = Poles::from_points((0..2_000u32).map(|i| {
+        let (gx, gy) = ((i % 40) as f64, (i / 40) as f64);
+        (
+            ObstacleId(i),
+            p(gx + 0.1 + 0.8 * next(), gy + 0.1 + 0.8 * next()),
+        )
+    }));
+    let pts: Vec<Point2<f64>> = (0..60)
+        .map(|k| {
+            p(
+                40.0 * next(),
+                50.0 * next() + if k % 2 == 0 { 0.0 } else { 0.5 },
+            )
+        })
+        .collect();
+    let batch = HSignature::of_path(&poles, &Path::new(pts.clone()).unwrap());
+    let mut grown = HSignature::new(pts[0]);
+    for q in &pts[1..] {
+        grown.push(&poles, *q);
+    }
+    assert_eq!(batch, grown);
+    assert!(batch.windings().len() > 100, "{}", batch.windings().len());
+    assert!(batch.windings().windows(2).all(|w| w[0].0 < w[1].0));
+    assert!(batch.windings().iter().all(|&(_, n)| n != 0));
+    for (o, zeta) in poles.iter() {
+        let expected = subtended(&pts, zeta);
+        let got = batch.angle(&poles, o).unwrap();
+        assert!(
+            (got - expected).abs() < ANGLE_TOLERANCE,
+            "{o}: {got} vs {expected}"
+        );
+    }
+}
+
+#[test]
 fn poles_lie_inside_their_obstacles() {
     let (g, btm) = common::small_strip(8, 3);
     let poles = Poles::new(&btm);

@@ -21,6 +21,7 @@
 pub mod anchor_prediction;
 pub mod feasibility;
 pub mod frictional;
+mod min_heap;
 pub mod online;
 pub mod path_pair;
 pub mod report_units;

@@ -54,13 +54,13 @@
 //! `O(f log n)` for the `f` funnels recorded in its triangle (each sector search is logarithmic in
 //! the chain length, funnel module docs).
 
+use crate::min_heap::{MinEntry, Rank};
 use crate::spt::{SearchError, canonical_triangle};
 use nalgebra::Point2;
 use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::dcel::{TriangleId, VertexId};
 use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::funnel_state::{FunnelState, FunnelTree, NodeId};
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// Default budget of funnel expansions of one map (about 130 bytes each, module docs "Bounds").
@@ -126,30 +126,10 @@ pub struct ShortestPathMap<'b> {
     stats: MapStats,
 }
 
-/// A queued funnel (smallest key first).
-#[derive(Debug, Clone, Copy)]
-struct Entry {
-    key: f64,
-    funnel: FunnelState,
-}
-
-impl PartialEq for Entry {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-
-impl Eq for Entry {}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.key.total_cmp(&self.key)
+/// A queued funnel: equal keys in any order.
+impl Rank for FunnelState {
+    fn rank(&self) -> usize {
+        0
     }
 }
 
@@ -196,7 +176,7 @@ impl<'b> ShortestPathMap<'b> {
         }
         for f in initial {
             let key = lower_bound(btm, &tree, &f);
-            queue.push(Entry { key, funnel: f });
+            queue.push(MinEntry { key, item: f });
         }
         let dominated = |tree: &FunnelTree, best: &[f64], f: &FunnelState| {
             let apex = tree.node(f.apex());
@@ -204,7 +184,7 @@ impl<'b> ShortestPathMap<'b> {
                 || mouth_is_covered(btm, tree, best, f)
         };
         let mut records: Vec<(u32, FunnelState)> = Vec::new();
-        while let Some(Entry { key, funnel }) = queue.pop() {
+        while let Some(MinEntry { key, item: funnel }) = queue.pop() {
             if dominated(&tree, &best, &funnel) {
                 stats.pruned_dominated += 1;
                 continue;
@@ -229,9 +209,9 @@ impl<'b> ShortestPathMap<'b> {
                     continue;
                 }
                 let child_key = lower_bound(btm, &tree, &child).max(key);
-                queue.push(Entry {
+                queue.push(MinEntry {
                     key: child_key,
-                    funnel: child,
+                    item: child,
                 });
             }
             stats.queue_peak = stats.queue_peak.max(queue.len());

@@ -96,6 +96,7 @@
 //! chain's anchors are anchors of every SHP below), so only finitely many funnels are ever
 //! expanded and the search always ends.
 
+use crate::min_heap::{MinEntry, Rank};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::compact::Compact;
@@ -111,8 +112,7 @@ use rappel_homotopy::path::PathError;
 use rappel_homotopy::shp::ShortestHomotopicPath;
 use rappel_homotopy::sleeve::{Sleeve, SleeveError};
 use serde::{Deserialize, Serialize};
-use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashSet};
+use std::collections::BinaryHeap;
 use std::sync::Mutex;
 
 /// Default number of classes a search returns.
@@ -616,34 +616,28 @@ pub fn is_simple_class(taut: &TautPath) -> bool {
     anchors_are_simple(taut.anchors.iter().map(|a| (a.vertex, a.obstacle)))
 }
 
-/// The simplicity test on a sequence of anchors `(vertex, obstacle)`.
+/// The simplicity test on a sequence of anchors `(vertex, obstacle)`: no vertex twice, and no
+/// obstacle in two separate runs of consecutive anchors (an obstacle left behind never comes
+/// back). Two sorted lists, no hashing: the lists are as short as the tether's anchors.
 fn anchors_are_simple(anchors: impl Iterator<Item = (VertexId, Option<ObstacleId>)>) -> bool {
-    let mut vertices = HashSet::new();
-    let mut left_behind = HashSet::new();
+    let mut vertices = Vec::new();
+    // The obstacle of each run of consecutive anchors on one obstacle.
+    let mut runs = Vec::new();
     let mut current: Option<ObstacleId> = None;
     for (v, o) in anchors {
-        if !vertices.insert(v) {
-            return false;
-        }
+        vertices.push(v);
         if o != current {
-            if let Some(c) = current {
-                left_behind.insert(c);
-            }
-            if o.is_some_and(|o| left_behind.contains(&o)) {
-                return false;
-            }
+            runs.extend(o);
             current = o;
         }
     }
-    true
+    vertices.sort_unstable();
+    runs.sort_unstable();
+    vertices.windows(2).all(|w| w[0] != w[1]) && runs.windows(2).all(|w| w[0] != w[1])
 }
 
 /// A queued search state.
-#[derive(Debug, Clone, Copy)]
-struct Entry {
-    key: f64,
-    kind: Kind,
-}
+type Entry = MinEntry<Kind>;
 
 #[derive(Debug, Clone, Copy)]
 enum Kind {
@@ -653,28 +647,10 @@ enum Kind {
     Funnel { funnel: FunnelState, trail: u32 },
 }
 
-impl PartialEq for Entry {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-
-impl Eq for Entry {}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Entry {
-    /// Smallest key first (`BinaryHeap` is a max-heap); on equal keys a goal before a funnel.
-    fn cmp(&self, other: &Self) -> Ordering {
-        let rank = |e: &Entry| matches!(e.kind, Kind::Goal { .. }) as u8;
-        other
-            .key
-            .total_cmp(&self.key)
-            .then_with(|| rank(self).cmp(&rank(other)))
+impl Rank for Kind {
+    /// On equal keys a goal before a funnel.
+    fn rank(&self) -> usize {
+        matches!(self, Kind::Funnel { .. }) as usize
     }
 }
 
@@ -1002,7 +978,7 @@ impl<'a> SptSearch<'a> {
                 self.termination = Some(Termination::LengthFactor);
                 return Ok(None);
             }
-            match entry.kind {
+            match entry.item {
                 Kind::Goal { node, trail } => {
                     if self.still_wanted().is_some() && !self.pending_goals.is_empty() {
                         // The smallest queued goal is the one popped.
@@ -1164,7 +1140,7 @@ impl<'a> SptSearch<'a> {
     }
 
     fn push(&mut self, key: f64, kind: Kind) {
-        self.scratch.queue.push(Entry { key, kind });
+        self.scratch.queue.push(Entry { key, item: kind });
     }
 
     /// `f * L_1` once the first class is known.
@@ -1216,17 +1192,26 @@ impl<'a> SptSearch<'a> {
             self.stats.skipped_not_simple += 1;
             return Ok(None);
         }
-        let mut portals = Vec::new();
-        let mut t = trail;
-        while t != NONE {
-            let (mouth, parent) = self.scratch.trail[t as usize];
-            portals.push(mouth);
-            t = parent;
+        // The trail is walked twice (count, then fill from the back): one allocation of the
+        // sleeve's exact size instead of a vector grown by doubling.
+        let trails = &self.scratch.trail;
+        let ancestors = |mut t: u32| {
+            std::iter::from_fn(move || {
+                (t != NONE).then(|| {
+                    let (mouth, parent) = trails[t as usize];
+                    t = parent;
+                    mouth
+                })
+            })
+        };
+        let n = ancestors(trail).count();
+        let mut portals = vec![HalfEdgeId(0); n];
+        for (slot, mouth) in portals.iter_mut().rev().zip(ancestors(trail)) {
+            *slot = mouth;
         }
-        portals.reverse();
         let sleeve = Sleeve::from_portals(btm, self.start_triangle, portals)?;
         let crossings = sleeve.crossing_sequence();
-        let h_signature = HSignature::of_path(&self.planner.poles, &taut.to_path());
+        let h_signature = HSignature::of_taut_path(&self.planner.poles, &taut);
         self.emitted += 1;
         self.shortest.get_or_insert(taut.length);
         Ok(Some(RankedShp {

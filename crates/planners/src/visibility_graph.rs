@@ -10,11 +10,11 @@
 //! it either runs along a map edge or has its midpoint in free space (exact point-in-polygon).
 //! `O(n^3)` time: for maps of a few hundred vertices.
 
+use crate::min_heap::MinEntry;
 use nalgebra::Point2;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::PointInPolygon;
 use rappel_geometry::predicates::{SegmentContact, point_on_segment, segment_contact};
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// A shortest path found by the oracle.
@@ -53,8 +53,8 @@ pub fn shortest_path(map: &Map, start: Point2<f64>, goal: Point2<f64>) -> Option
     let mut done = vec![false; n];
     let mut heap = BinaryHeap::new();
     dist[0] = 0.0;
-    heap.push(Item(0.0, 0));
-    while let Some(Item(d, u)) = heap.pop() {
+    heap.push(MinEntry { key: 0.0, item: 0 });
+    while let Some(MinEntry { key: d, item: u }) = heap.pop() {
         if done[u] {
             continue;
         }
@@ -70,7 +70,7 @@ pub fn shortest_path(map: &Map, start: Point2<f64>, goal: Point2<f64>) -> Option
             if nd < dist[v] && segment_is_free(map, &nodes[u], &nodes[v]) {
                 dist[v] = nd;
                 parent[v] = u;
-                heap.push(Item(nd, v));
+                heap.push(MinEntry { key: nd, item: v });
             }
         }
     }
@@ -127,22 +127,4 @@ pub fn segment_is_free(map: &Map, a: &Point2<f64>, b: &Point2<f64>) -> bool {
             .any(|(c, d)| point_on_segment(c, d, &p) && point_on_segment(c, d, &q))
             || is_free(map, &Point2::from((p.coords + q.coords) / 2.0))
     })
-}
-
-/// A Dijkstra queue item, smallest distance first.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Item(f64, usize);
-
-impl Eq for Item {}
-
-impl PartialOrd for Item {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Item {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
-    }
 }
