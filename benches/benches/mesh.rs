@@ -7,8 +7,9 @@
 //! Anchor prediction (Paton Alg. 1) of one motion step across the ledge's lip under the test-1
 //! root anchor, through the same 10 cm field, on the exact mesh by brute force and through the
 //! parry3d BVH adapter (target < 100 us), and the
-//! stability of one settled pose with its predicted anchor (place + QP, boom inline; and both
-//! boom configurations as `rappel settle-map` does; target < 100 us).
+//! stability of one settled pose with its predicted anchor (place + QP, boom inline, by the dense
+//! active-set solver and by clarabel; and both boom configurations as `rappel settle-map` does;
+//! target < 100 us).
 //!
 //! The boom swept against the mesh (`rappel_mechanics::boom_contact`, exact section sweep over
 //! the ledge's triangles) for a pose just past the lip (its shaft rests on the lip), with the
@@ -120,6 +121,15 @@ fn mesh(c: &mut Criterion) {
                 .place(&inline, &m, 0.6, Some((black_box(&lip), None)))
                 .expect("places");
             qp.check(&placed).expect("solves")
+        })
+    });
+    // The same placement solved by clarabel (the interior-point peer of the dense solver).
+    g.bench_function("stability_settled_pose_inline_lip_anchor_clarabel", |b| {
+        b.iter(|| {
+            let placed = pose
+                .place(&inline, &m, 0.6, Some((black_box(&lip), None)))
+                .expect("places");
+            qp.check_clarabel(&placed).expect("solves")
         })
     });
     g.bench_function("stability_settled_pose_both_booms_lip_anchor", |b| {
