@@ -9,7 +9,8 @@
 //! (eqs. 7-8), and the tether tension is free (or bounded by the tether's limit).
 //!
 //! Paton's objective (eq. 9) is
-//! `f = Σ_i (λ_ix² + λ_iy²)/μ² - 2 λ_iz² + (M_ix² + M_iy² + M_iz²)/μ_m² - 3 λ_iz²`. Its Hessian is
+//! `f = Σ_i (λ_ix² + λ_iy²)/μ² - 2 λ_iz² + (M_ix² + M_iy² + M_iz²)/μ_m² - 3 λ_iz²`, with `μ` the
+//! contact's own coefficient (the wheels' `μ`; Axel's boom on the ground its `boom_friction`). Its Hessian is
 //! indefinite (the `-2λ_iz²`, `-3λ_iz²` terms), so it is not a convex QP: clarabel (like any
 //! interior-point QP solver) needs `P ⪰ 0`, and Paton used a general nonlinear solver (NLOPT).
 //! Minimising the negative terms would only push normal load onto fewer contacts, which is not the
@@ -101,8 +102,8 @@ impl StabilityQp {
         let w = weight(robot, self.settings.gravity())?;
         let layout = Self::layout(robot);
         let mut b = ConicBuilder::new(layout.len());
-        let wf = 1.0 / robot.friction.max(MIN_FRICTION).powi(2);
         for i in 0..layout.contacts {
+            let wf = 1.0 / robot.contact_friction(i).max(MIN_FRICTION).powi(2);
             b.add_square(layout.force(i, 0), wf);
             b.add_square(layout.force(i, 1), wf);
             if layout.with_moments {
@@ -112,7 +113,7 @@ impl StabilityQp {
             }
         }
         add_equilibrium(&mut b, robot, &layout, self.settings.gravity(), w);
-        add_friction_pyramids(&mut b, &layout, robot.friction);
+        add_friction_pyramids(&mut b, &layout, |i| robot.contact_friction(i));
         add_moment_bounds(&mut b, &layout, robot.moment_coefficient);
         add_tether_bounds(&mut b, robot, &layout, w);
         Ok((b, w, layout))
@@ -184,11 +185,12 @@ impl StabilityQp {
         x: &[f64],
         reduced_accuracy: bool,
     ) -> QpReport {
-        let (mu, mu_m) = (robot.friction, robot.moment_coefficient);
+        let mu_m = robot.moment_coefficient;
         let mut margin = 0.0;
         let mut utilization: f64 = 0.0;
         let mut wrenches = Vec::with_capacity(layout.contacts);
         for i in 0..layout.contacts {
+            let mu = robot.contact_friction(i);
             let f = Vector3::from_fn(|k, _| x[layout.force(i, k)]);
             let m = if layout.with_moments {
                 Vector3::from_fn(|k, _| x[layout.moment(i, k)])
