@@ -117,8 +117,8 @@ pub struct SettleReport {
 ///   [`detach_height`]) that anchor is popped and the boom swept again toward the one before
 ///   (at most once per anchor). Attaching anchors between the pivot and the tip is not
 ///   searched (the boom is at most `L_c` long).
-pub fn boom_verdicts(
-    ground: &TriMesh,
+pub fn boom_verdicts<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
+    ground: &G,
     pose: &SettledPose,
     params: &AxelParams,
     history: &AnchorHistory,
