@@ -22,12 +22,12 @@ use serde::{Deserialize, Serialize};
 
 use rappel_geometry::polygon::Aabb;
 use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::boom_contact::{BoomGround, IndexedGround};
 use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
 use rappel_planners::anchor_prediction::{
     AnchorError, AnchorHistory, PredictParams, predict, predict_path,
 };
 use rappel_terrain::mesh::TriMesh;
-use rappel_mechanics::boom_contact::{BoomGround, IndexedGround};
 use rappel_terrain::parry_mesh::ParryMesh;
 use rappel_terrain::surface::SignedDistance;
 
