@@ -7,12 +7,14 @@
 //! Anchor prediction (Paton Alg. 1) of one motion step across the ledge's lip under the test-1
 //! root anchor, through the same 10 cm field, on the exact mesh by brute force and through the
 //! parry3d BVH adapter (target < 100 us), and the
-//! stability of one settled pose with its predicted anchor (place + QP, boom inline; and both
-//! boom configurations as `rappel settle-map` does; target < 100 us).
+//! stability of one settled pose with its predicted anchor (place + QP, boom inline, by the dense
+//! active-set solver and by clarabel; and both boom configurations as `rappel settle-map` does;
+//! target < 100 us).
 //!
 //! The boom swept against the mesh (`rappel_mechanics::boom_contact`, exact section sweep over
 //! the ledge's triangles) for a pose just past the lip (its shaft rests on the lip), with the
-//! in-contact and the mesh-checked inline placements + QP; and the four-wheel settler
+//! in-contact and the mesh-checked inline placements + QP; the sweep on a 318 402-triangle DEM
+//! mesh over every triangle and over parry's BVH candidates; and the four-wheel settler
 //! (`rappel_mechanics::four_wheel_settle`) mid-slope through the 10 cm field and the exact mesh.
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -122,6 +124,15 @@ fn mesh(c: &mut Criterion) {
             qp.check(&placed).expect("solves")
         })
     });
+    // The same placement solved by clarabel (the interior-point peer of the dense solver).
+    g.bench_function("stability_settled_pose_inline_lip_anchor_clarabel", |b| {
+        b.iter(|| {
+            let placed = pose
+                .place(&inline, &m, 0.6, Some((black_box(&lip), None)))
+                .expect("places");
+            qp.check_clarabel(&placed).expect("solves")
+        })
+    });
     g.bench_function("stability_settled_pose_both_booms_lip_anchor", |b| {
         b.iter(|| pose_stability(&m, black_box(&pose), &hist))
     });
@@ -166,6 +177,55 @@ fn mesh(c: &mut Criterion) {
             )
             .expect("places");
             qp.check(&placed).expect("solves")
+        })
+    });
+    // The boom sweep on a large DEM mesh (400 x 400 cell centres 0.25 m apart, 318 402
+    // triangles, a 20° ramp with bumps): every triangle (the brute force) against the BVH's
+    // candidates (`boom_contact::IndexedGround`), the same contact.
+    let geometry =
+        rappel_terrain::dem::GridGeometry::new(400, 400, 0.25, 0.25, 0.0, 0.0).expect("valid grid");
+    let dem = rappel_terrain::dem::HeightGrid::from_fn(geometry, |_, _, q| {
+        Some(20f64.to_radians().tan() * q.x + 0.5 * (0.7 * q.x).sin() * (0.9 * q.y).cos())
+    })
+    .expect("finite heights");
+    let big = rappel_terrain::mesh::TriMesh::from_height_grid(&dem).expect("meshes");
+    let big_bvh = rappel_terrain::parry_mesh::ParryMesh::new(&big).expect("parry builds");
+    let indexed = rappel_mechanics::boom_contact::IndexedGround {
+        mesh: &big,
+        bvh: &big_bvh,
+    };
+    let (lo, hi) = big.bounds();
+    let (cx, cy) = (0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y));
+    let big_pose = settle_axel(&big, &axel, cx, cy, hi.z + 1.0, 0.0, &p).expect("settles");
+    let big_up = nalgebra::Unit::new_normalize(big_pose.rotation * Vector3::z());
+    let big_back = nalgebra::Unit::new_normalize(big_pose.rotation * -Vector3::x());
+    let big_pivot = tether_end(&big_pose, &axel);
+    assert_eq!(
+        rappel_mechanics::boom_contact::sweep_boom(&big, &big_pivot, &big_back, &big_up, 1.0),
+        rappel_mechanics::boom_contact::sweep_boom(&indexed, &big_pivot, &big_back, &big_up, 1.0),
+    );
+    g.bench_function("boom_sweep_dem_318k_triangles_brute_force", |b| {
+        b.iter(|| {
+            rappel_mechanics::boom_contact::sweep_boom(
+                &big,
+                black_box(&big_pivot),
+                &big_back,
+                &big_up,
+                axel.boom_length,
+            )
+            .expect("touches")
+        })
+    });
+    g.bench_function("boom_sweep_dem_318k_triangles_bvh", |b| {
+        b.iter(|| {
+            rappel_mechanics::boom_contact::sweep_boom(
+                &indexed,
+                black_box(&big_pivot),
+                &big_back,
+                &big_up,
+                axel.boom_length,
+            )
+            .expect("touches")
         })
     });
     // The four-wheel settler mid-slope.

@@ -26,11 +26,14 @@
 //! * on a vertex, or an edge along the boom: the boom's perpendicular in the sweep plane on the
 //!   air side.
 //!
-//! Cost: `O(triangles)` per sweep (a box test rejects triangles beyond the boom's reach); the
-//! Paton scenes have a few hundred triangles.
+//! Cost: with an [`IndexedGround`] the triangles whose bounding boxes meet the swept disc's box
+//! (parry's BVH), `O(log triangles + nearby)`; with a bare [`TriMesh`] every triangle (a box test
+//! rejects those beyond the boom's reach), the brute force the tests compare against.
 
 use nalgebra::{Point3, Rotation3, Unit, Vector3};
 use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::parry_mesh::ParryMesh;
+use rappel_terrain::surface::SignedDistance;
 
 use crate::axel::{Axel, AxelParams, BoomMode};
 use crate::robot::{ContactFrame, MIN_TETHER_LENGTH, PlacedRobot, RobotError};
@@ -90,6 +93,55 @@ pub enum BoomContactError {
     Robot(#[from] RobotError),
 }
 
+/// Ground a boom can be swept against: a triangle mesh, its distances (for the wheels' contact
+/// frames) and the triangles that may meet a box. [`TriMesh`] lists every triangle (the
+/// brute-force sweep, kept as the test oracle); [`IndexedGround`] asks parry's BVH.
+pub trait BoomGround: SignedDistance {
+    /// The mesh.
+    fn mesh(&self) -> &TriMesh;
+    /// Appends to `out`, in ascending order, a superset of the triangles meeting `[lo, hi]`.
+    fn candidates(&self, lo: &Point3<f64>, hi: &Point3<f64>, out: &mut Vec<usize>);
+}
+
+impl BoomGround for TriMesh {
+    fn mesh(&self) -> &TriMesh {
+        self
+    }
+    fn candidates(&self, _lo: &Point3<f64>, _hi: &Point3<f64>, out: &mut Vec<usize>) {
+        out.extend(0..self.triangles().len());
+    }
+}
+
+/// A mesh with parry's BVH over it ([`ParryMesh`] built from the same mesh): the sweep tests
+/// only the triangles whose bounding boxes meet the swept half disc's box, and the wheels'
+/// contact frames take their distances from the BVH (equal to the exact mesh's to 1e-9,
+/// `terrain::parry_mesh`).
+#[derive(Debug, Clone, Copy)]
+pub struct IndexedGround<'a> {
+    /// The mesh.
+    pub mesh: &'a TriMesh,
+    /// Its BVH (built from `mesh`: the indices must match).
+    pub bvh: &'a ParryMesh,
+}
+
+impl SignedDistance for IndexedGround<'_> {
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
+        self.bvh.signed_distance(q)
+    }
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
+        self.bvh.distance_gradient(q)
+    }
+}
+
+impl BoomGround for IndexedGround<'_> {
+    fn mesh(&self) -> &TriMesh {
+        self.mesh
+    }
+    fn candidates(&self, lo: &Point3<f64>, hi: &Point3<f64>, out: &mut Vec<usize>) {
+        self.bvh.triangles_in_box(lo, hi, out);
+    }
+}
+
 /// Which ground feature a candidate contact lies on.
 #[derive(Debug, Clone, Copy)]
 enum Feature {
@@ -102,9 +154,11 @@ enum Feature {
 }
 
 /// Sweeps a boom of length `length` about `pivot` down from straight `up` toward `azimuth`
-/// (orthonormal world directions) until it first touches `mesh` (module doc).
-pub fn sweep_boom(
-    mesh: &TriMesh,
+/// (orthonormal world directions) until it first touches `ground` (module doc). Only the
+/// triangles `ground` lists for the swept disc's bounding box are tested, in ascending index
+/// order, so an [`IndexedGround`] finds the same contact as the brute-force [`TriMesh`].
+pub fn sweep_boom<G: BoomGround + ?Sized>(
+    ground: &G,
     pivot: &Point3<f64>,
     azimuth: &Unit<Vector3<f64>>,
     up: &Unit<Vector3<f64>>,
@@ -141,8 +195,14 @@ pub fn sweep_boom(
         }
         Ok(())
     };
-    for (t, tri) in mesh.triangles().iter().enumerate() {
-        let c = tri.map(|i| mesh.vertices()[i]);
+    let mesh = ground.mesh();
+    // The bounding box of the disc of radius `length` about the pivot in the sweep plane: along
+    // world axis k it reaches `length * hypot(az_k, up_k)`.
+    let reach = Vector3::from_fn(|k, _| length * az[k].hypot(upv[k]));
+    let mut candidates = Vec::new();
+    ground.candidates(&(pivot - reach), &(pivot + reach), &mut candidates);
+    for t in candidates {
+        let c = mesh.triangles()[t].map(|i| mesh.vertices()[i]);
         // Box test: the triangle's box beyond the reach of the pivot cannot be touched.
         let lo = c[0].inf(&c[1]).inf(&c[2]);
         let hi = c[0].sup(&c[1]).sup(&c[2]);
@@ -238,10 +298,10 @@ pub fn sweep_boom(
 /// contact normal and `x` along the boom, the boom's mass at its midpoint and the tether from its
 /// tip toward the anchor. Replaces the planar in-contact approximation
 /// ([`BoomMode::InContact`], the tip on the pose's plane) where the ground is a mesh.
-pub fn place_boom_in_contact(
+pub fn place_boom_in_contact<G: BoomGround + ?Sized>(
     pose: &SettledPose,
     params: &AxelParams,
-    mesh: &TriMesh,
+    mesh: &G,
     friction: f64,
     anchor: (&Point3<f64>, Option<f64>),
 ) -> Result<(PlacedRobot, BoomContact), BoomContactError> {
@@ -271,6 +331,7 @@ pub fn place_boom_in_contact(
     placed.contacts.push(ContactFrame {
         position: contact.point,
         rotation: Rotation3::from_basis_unchecked(&[x, z.cross(&x), z]),
+        friction: Some(params.boom_friction),
     });
     Ok((placed, contact))
 }
@@ -312,10 +373,10 @@ pub const INLINE_CLEARANCE: f64 = 1e-9;
 /// boom's first contact, [`sweep_boom`], lies above the inline elevation; the planar model's
 /// test against the pose's plane refuses booms that clear the real ground where it falls away
 /// behind a lip). The wheels' contacts as in [`SettledPose::place`]; the tether from the tip.
-pub fn place_boom_inline(
+pub fn place_boom_inline<G: BoomGround + ?Sized>(
     pose: &SettledPose,
     params: &AxelParams,
-    mesh: &TriMesh,
+    mesh: &G,
     friction: f64,
     anchor: (&Point3<f64>, Option<f64>),
 ) -> Result<PlacedRobot, BoomContactError> {

@@ -99,6 +99,23 @@ impl ConicBuilder {
         self.le.push((row, rhs));
     }
 
+    /// The same program for the dense active-set solver ([`crate::dense_qp`]); the linear
+    /// objective must be zero (the stability QP has none).
+    pub(crate) fn dense(&self) -> crate::dense_qp::DenseQp {
+        debug_assert!(self.q.iter().all(|v| *v == 0.0));
+        let mut d = crate::dense_qp::DenseQp::new(self.n);
+        for (i, v) in self.p_diag.iter().enumerate() {
+            d.add_square(i, 0.5 * v);
+        }
+        for (row, rhs) in &self.eq {
+            d.equal(row, *rhs);
+        }
+        for (row, rhs) in &self.le {
+            d.at_most(row, *rhs);
+        }
+        d
+    }
+
     pub(crate) fn build(self, settings: SolverSettings) -> ConicProblem {
         let n = self.n;
         let (mut ri, mut ci, mut vi, mut b) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());

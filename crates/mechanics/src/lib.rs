@@ -21,6 +21,7 @@
 //! | [`four_wheel`] | a generic four-wheel rover | Kumar §II |
 //! | [`traversability`] | the stability-criterion seam, errors, settings | GUIDE §2 |
 //! | [`conic`] | the clarabel adapter and status mapping | GUIDE §3 |
+//! | [`dense_qp`] | dense Goldfarb-Idnani QP (diagonal Hessian) | Goldfarb-Idnani 1983 |
 //! | [`stability_qp`] | wheel/tether stability QP | Paton eqs. 1-9 |
 //! | [`tension_limit`] | holding limit, winding angles, capstan amplification | Kumar eqs. 1-2 |
 //! | [`tension_lp`] | tension-limited stability LP | Kumar eqs. 3a-3e |
@@ -42,6 +43,7 @@ pub mod capstan;
 pub mod conic;
 pub mod curvature;
 pub mod darboux;
+pub mod dense_qp;
 pub mod four_wheel;
 pub mod four_wheel_settle;
 pub mod friction;

@@ -195,6 +195,14 @@ pub trait RobotModel: Sync {
     fn configuration(&self, anchor: Option<&Point3<f64>>)
     -> Result<RobotConfiguration, RobotError>;
 
+    /// The Coulomb coefficient of the configuration's contact `index` where it differs from the
+    /// wheel-ground one the placement is given (`None`: that one). Axel's boom tip resting on
+    /// the ground ([`crate::axel::AxelParams::boom_friction`]).
+    fn contact_friction(&self, index: usize) -> Option<f64> {
+        let _ = index;
+        None
+    }
+
     /// Total mass (kg).
     fn total_mass(&self) -> f64 {
         self.configuration(None)
@@ -234,6 +242,10 @@ pub struct ContactFrame {
     pub position: Point3<f64>,
     /// Rotation from the contact frame to the world frame (Paton's `R_ci`).
     pub rotation: Rotation3<f64>,
+    /// This contact's Coulomb coefficient where it differs from the robot's wheel-ground
+    /// [`PlacedRobot::friction`] (`None`: that one); Axel's boom resting on the ground carries
+    /// [`crate::axel::AxelParams::boom_friction`].
+    pub friction: Option<f64>,
 }
 
 /// The tether force line in the world frame.
@@ -262,6 +274,14 @@ pub struct PlacedRobot {
     pub moment_coefficient: f64,
     /// The robot origin in the world frame (the moment reference point).
     pub reference: Point3<f64>,
+}
+
+impl PlacedRobot {
+    /// The Coulomb coefficient of contact `i`: its own ([`ContactFrame::friction`]) or the
+    /// robot's.
+    pub fn contact_friction(&self, i: usize) -> f64 {
+        self.contacts[i].friction.unwrap_or(self.friction)
+    }
 }
 
 /// Shortest allowed tether between exit and anchor (m): closer, its direction is ill-defined.
@@ -315,9 +335,11 @@ pub fn place(
         contacts: config
             .contacts
             .iter()
-            .map(|c| ContactFrame {
+            .enumerate()
+            .map(|(i, c)| ContactFrame {
                 position: to_world * c,
                 rotation: Rotation3::from_matrix_unchecked(contact_rotation),
+                friction: model.contact_friction(i),
             })
             .collect(),
         tether: tether_line,

@@ -226,12 +226,14 @@ pub fn place_on_ground<D: SignedDistance + ?Sized>(
         contacts.push(ContactFrame {
             position: *c,
             rotation: frame(c)?,
+            friction: None,
         });
     }
-    for c in config.contacts.iter().skip(replaces) {
+    for (i, c) in config.contacts.iter().enumerate().skip(replaces) {
         contacts.push(ContactFrame {
             position: to_world(c),
             rotation,
+            friction: model.contact_friction(i),
         });
     }
     let tether = match (anchor, anchor_robot) {

@@ -14,7 +14,8 @@
 //!   `Σ_i (r_i - o) × R_i λ_i + R_i M_i + (r_t - o) × d λ_t = -Σ_k (r_k - o) × m_k g / W`.
 //!   Paton's printed eq. 8 omits the contact moments `R_i M_i`; without them eqs. 4-6 would
 //!   constrain variables that act on nothing, so they are included;
-//! * friction pyramid (Paton eqs. 1-3, Kumar eqs. 3c-3d): `λ_iz >= 0`, `|λ_ix|, |λ_iy| <= μ λ_iz`;
+//! * friction pyramid (Paton eqs. 1-3, Kumar eqs. 3c-3d): `λ_iz >= 0`, `|λ_ix|, |λ_iy| <= μ_i λ_iz`
+//!   (`μ_i` the contact's own coefficient: the wheels' `μ`, Axel's boom its own);
 //! * moment bounds (Paton eqs. 4-6): `|M_ix|, |M_iy|, |M_iz| <= μ_m λ_iz`;
 //! * tether (Kumar eq. 3e): `0 <= λ_t <= T_max / W`.
 
@@ -65,7 +66,12 @@ pub(crate) fn weight(robot: &PlacedRobot, gravity: f64) -> Result<f64, Stability
     if robot.contacts.is_empty() {
         return Err(StabilityError::Input("the robot has no ground contact"));
     }
-    if !(robot.friction.is_finite() && robot.friction >= 0.0) {
+    if !(robot.friction.is_finite() && robot.friction >= 0.0)
+        || robot
+            .contacts
+            .iter()
+            .any(|c| c.friction.is_some_and(|f| !(f.is_finite() && f >= 0.0)))
+    {
         return Err(StabilityError::Input("friction must be finite and >= 0"));
     }
     if !(robot.moment_coefficient.is_finite() && robot.moment_coefficient >= 0.0) {
@@ -151,9 +157,15 @@ pub(crate) fn add_equilibrium(
     }
 }
 
-/// Adds the friction pyramids `λ_z >= 0`, `|λ_x|, |λ_y| <= μ λ_z` of every contact.
-pub(crate) fn add_friction_pyramids(b: &mut ConicBuilder, layout: &Layout, mu: f64) {
+/// Adds the friction pyramids `λ_z >= 0`, `|λ_x|, |λ_y| <= μ_i λ_z` of every contact, `μ_i =
+/// mu(i)` (from the contact's own coefficient, [`PlacedRobot::contact_friction`]).
+pub(crate) fn add_friction_pyramids(
+    b: &mut ConicBuilder,
+    layout: &Layout,
+    mu: impl Fn(usize) -> f64,
+) {
     for i in 0..layout.contacts {
+        let mu = mu(i);
         let z = layout.force(i, 2);
         b.at_most(vec![(z, -1.0)], 0.0);
         for k in 0..2 {

@@ -98,7 +98,9 @@ impl TensionLimitedLp {
             b.add_linear(col, 1.0);
         }
         add_equilibrium(&mut b, robot, &layout, self.settings.gravity(), w);
-        add_friction_pyramids(&mut b, &layout, self.pyramid.coefficient(robot.friction));
+        add_friction_pyramids(&mut b, &layout, |i| {
+            self.pyramid.coefficient(robot.contact_friction(i))
+        });
         add_tether_bounds(&mut b, robot, &layout, w);
         Ok(b.build(self.settings.solver()))
     }

@@ -249,3 +249,141 @@ fn place_boom_inline_ok(
 ) -> rappel_mechanics::robot::PlacedRobot {
     place_boom_inline(pose, axel, m, 0.6, (anchor, None)).unwrap()
 }
+
+/// A rough DEM mesh: `n x n` cell centres `h` apart from the origin, heights a sum of seeded
+/// bumps on a 20° ramp (a real-DEM-sized mesh, `2 (n - 1)²` triangles).
+fn rough_dem(n: usize, h: f64, seed: u64) -> TriMesh {
+    use rand::{RngExt, SeedableRng};
+    use rappel_terrain::dem::{GridGeometry, HeightGrid};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let bumps: Vec<(f64, f64, f64, f64)> = (0..40)
+        .map(|_| {
+            let size = n as f64 * h;
+            (
+                rng.random_range(0.0..size),
+                rng.random_range(-size..0.0),
+                rng.random_range(-1.5..1.5),
+                rng.random_range(0.5..4.0),
+            )
+        })
+        .collect();
+    let g = GridGeometry::new(n, n, h, h, 0.0, 0.0).unwrap();
+    let dem = HeightGrid::from_fn(g, |_, _, p| {
+        let ramp = 20f64.to_radians().tan() * p.x;
+        Some(
+            ramp + bumps
+                .iter()
+                .map(|&(x, y, a, r)| a * (-((p.x - x).powi(2) + (p.y - y).powi(2)) / (r * r)).exp())
+                .sum::<f64>(),
+        )
+    })
+    .unwrap();
+    TriMesh::from_height_grid(&dem).unwrap()
+}
+
+/// The BVH's candidate triangles give exactly the brute-force sweep's contact (or the same
+/// error) on seeded poses over a rough DEM and over Paton's ledge.
+#[test]
+fn bvh_sweep_finds_the_brute_force_contacts() {
+    use rand::{RngExt, SeedableRng};
+    use rappel_mechanics::boom_contact::IndexedGround;
+    use rappel_terrain::parry_mesh::ParryMesh;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(140);
+    let ledge = PatonScene::paper(false).mesh().unwrap();
+    let dem = rough_dem(60, 0.25, 14);
+    let (mut contacts, mut tips) = (0, 0);
+    for mesh in [&ledge, &dem] {
+        let bvh = ParryMesh::new(mesh).unwrap();
+        let indexed = IndexedGround { mesh, bvh: &bvh };
+        let (lo, hi) = mesh.bounds();
+        for k in 0..400 {
+            let (x, y) = (rng.random_range(lo.x..hi.x), rng.random_range(lo.y..hi.y));
+            // The pivot above the ground by 0.2-0.6 m (some sweeps reach nothing).
+            let down = mesh.signed_distance(&Point3::new(x, y, hi.z + 1.0));
+            let pivot = Point3::new(x, y, hi.z + 1.0 - down + rng.random_range(0.2..0.6));
+            let up = Unit::new_normalize(Vector3::new(
+                rng.random_range(-0.5..0.5),
+                rng.random_range(-0.5..0.5),
+                1.0,
+            ));
+            let t = rng.random_range(0.0..std::f64::consts::TAU);
+            let h = Vector3::new(t.cos(), t.sin(), 0.0);
+            let azimuth = Unit::new_normalize(h - up.into_inner() * h.dot(&up));
+            let brute = sweep_boom(mesh, &pivot, &azimuth, &up, 1.0);
+            let fast = sweep_boom(&indexed, &pivot, &azimuth, &up, 1.0);
+            assert_eq!(brute, fast, "pose {k} at ({x}, {y})");
+            if let Ok(c) = brute {
+                contacts += 1;
+                tips += usize::from(c.at_tip);
+            }
+        }
+    }
+    // Tip and shaft contacts both occur, and most sweeps touch.
+    assert!(
+        contacts > 400 && tips > 0 && tips < contacts,
+        "{contacts} {tips}"
+    );
+}
+
+/// The boom's ground contact carries `AxelParams::boom_friction`, the wheels the ground's: the
+/// boom's force stays in its own pyramid and the verdicts are monotone in the coefficient (the
+/// feasible set only grows with it).
+#[test]
+fn the_boom_contact_has_its_own_friction() {
+    use rappel_mechanics::stability_qp::StabilityQp;
+    let scene = PatonScene::paper(false);
+    let mesh = scene.mesh().unwrap();
+    // Mid-slope, the tether from the lip (its predicted anchor, `docs/mesh.md`).
+    let anchor = Point3::new(0.0, 0.0, scene.height);
+    let pose = settle_axel(
+        &mesh,
+        &AxelParams::default(),
+        1.0,
+        0.0,
+        10.0,
+        0.0,
+        &SettleParams::default(),
+    )
+    .unwrap();
+    let mut verdicts = Vec::new();
+    for boom_friction in [0.0, 0.3, 0.6, 0.9] {
+        let axel = AxelParams {
+            boom_friction,
+            ..AxelParams::default()
+        };
+        let (placed, _) = place_boom_in_contact(&pose, &axel, &mesh, 0.6, (&anchor, None)).unwrap();
+        assert_eq!(placed.contacts[2].friction, Some(boom_friction));
+        assert_eq!(placed.contact_friction(0), 0.6);
+        assert_eq!(placed.contact_friction(2), boom_friction);
+        let r = StabilityQp::default().check(&placed).unwrap();
+        let w = 55.0 * rappel_mechanics::robot::STANDARD_GRAVITY;
+        if r.stable {
+            let b = r.wrenches[2].force;
+            assert!(
+                b.x.abs().max(b.y.abs()) <= boom_friction * b.z + 1e-7 * w,
+                "{boom_friction}: {b:?}"
+            );
+        }
+        verdicts.push(r.stable);
+    }
+    assert!(verdicts.windows(2).all(|v| v[1] >= v[0]), "{verdicts:?}");
+    // The planar in-contact tip (the model's third contact) carries it too.
+    let axel = Axel::new(AxelParams {
+        boom: BoomMode::InContact,
+        boom_friction: 0.25,
+        ..AxelParams::default()
+    })
+    .unwrap();
+    let planar = pose
+        .place(&axel, &mesh, 0.6, Some((&anchor, None)))
+        .unwrap();
+    assert_eq!(planar.contact_friction(2), 0.25);
+    assert_eq!(planar.contact_friction(1), 0.6);
+    assert!(
+        Axel::new(AxelParams {
+            boom_friction: -1.0,
+            ..AxelParams::default()
+        })
+        .is_err()
+    );
+}

@@ -141,8 +141,9 @@ fn solver_trouble_is_a_typed_error() {
     let robot = placed(&Axel::default(), 30.0, 0.8, Some(&UP));
     let settings = StabilitySettings::default()
         .with_solver(SolverSettings::default().with_max_iter(1).unwrap());
+    // clarabel's iteration limit (the dense solver's own bound is tested in `dense_qp`).
     assert!(matches!(
-        StabilityQp::new(settings).check(&robot),
+        StabilityQp::new(settings).check_clarabel(&robot),
         Err(StabilityError::Trouble(_))
     ));
     let mut bad = robot.clone();

@@ -22,6 +22,7 @@ use serde::{Deserialize, Serialize};
 
 use rappel_geometry::polygon::Aabb;
 use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::boom_contact::{BoomGround, IndexedGround};
 use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
 use rappel_planners::anchor_prediction::{
     AnchorError, AnchorHistory, PredictParams, predict, predict_path,
@@ -118,8 +119,8 @@ pub fn settle_from<D: SignedDistance + ?Sized>(
 
 /// The stability of `pose` with anchor history `history` (the tether from its last anchor); the
 /// boom is swept against the mesh's triangles.
-pub fn pose_stability(
-    ground: &TriMesh,
+pub fn pose_stability<G: BoomGround + ?Sized>(
+    ground: &G,
     pose: &SettledPose,
     history: &AnchorHistory,
 ) -> PoseStability {
@@ -293,9 +294,9 @@ pub fn stability_map(
         )));
     }
     let (nx, ny) = (fx as usize, fy as usize);
-    // Settling and prediction ask many distances: through parry's BVH (agrees with the
-    // brute-force mesh distance to 1e-9, `terrain::parry_mesh`); the boom sweep and the
-    // stability placement use the mesh itself.
+    // Settling, prediction, the boom sweep's candidate triangles and the stability placement's
+    // contact frames through parry's BVH (agrees with the brute-force mesh distance to 1e-9,
+    // `terrain::parry_mesh`; the sweep finds the brute force's contacts, `boom_contact`).
     let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
     let at = |i: usize, j: usize| {
         (
@@ -398,7 +399,14 @@ pub fn stability_map(
             match (&poses[c], &histories[c]) {
                 (Ok(p), Some(Ok(h))) => MapCell {
                     ground: [x, y],
-                    pose: Some(pose_stability(ground, p, h)),
+                    pose: Some(pose_stability(
+                        &IndexedGround {
+                            mesh: ground,
+                            bvh: &bvh,
+                        },
+                        p,
+                        h,
+                    )),
                     failure: None,
                 },
                 (Err(e), _) => MapCell {

@@ -117,8 +117,8 @@ pub struct SettleReport {
 ///   [`detach_height`]) that anchor is popped and the boom swept again toward the one before
 ///   (at most once per anchor). Attaching anchors between the pivot and the tip is not
 ///   searched (the boom is at most `L_c` long).
-pub fn boom_verdicts(
-    ground: &TriMesh,
+pub fn boom_verdicts<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
+    ground: &G,
     pose: &SettledPose,
     params: &AxelParams,
     history: &AnchorHistory,
@@ -285,9 +285,11 @@ const RIM_POINTS: usize = 32;
 /// An axonometric SVG of Axel `params` settled at `pose` on `ground` ([`crate::axonometric`]):
 /// the ground within [`PICTURE_PATCH_TRACKS`] tracks of the axle ([`ground_patch`]), shaded by
 /// slope and drawn back to front; the axle (body) between the two wheels, each wheel a rim of the wheel radius in its
-/// plane with its settled contact marked; and, with the tether's last `anchor`, the boom from the
-/// axle centre pointing at it (the inline configuration, its length) and the tether from the
-/// boom's tip to the anchor.
+/// plane with its settled contact marked; and, with the tether's last `anchor`, the boom in the
+/// configuration that holds, labelled in its `data-boom` attribute: **inline** toward the anchor
+/// (`boom inline toward the anchor`) when the inline boom clears the ground, else swept down to
+/// its ground contact (`boom in contact with the ground`), and the tether from the boom's tip to
+/// the anchor.
 ///
 /// ```
 /// use rappel::settle::{settle_report, settled_pose_picture};
@@ -365,16 +367,38 @@ pub fn settled_pose_picture(
         );
     }
     if let Some(anchor) = anchor.map(Point3::from) {
-        let to = anchor - pivot;
-        let tip = if to.norm() > params.boom_length {
-            pivot + to.normalize() * params.boom_length
-        } else {
-            anchor
+        // The configuration that holds: inline toward the anchor when the inline boom clears the
+        // ground, else swept down to its contact (Paton §IV-A; `boom_contact`).
+        let inline = rappel_mechanics::boom_contact::place_boom_inline(
+            pose,
+            params,
+            ground,
+            SCENE_FRICTION,
+            (&anchor, None),
+        );
+        let contact = rappel_mechanics::boom_contact::place_boom_in_contact(
+            pose,
+            params,
+            ground,
+            SCENE_FRICTION,
+            (&anchor, None),
+        );
+        let (tip, label) = match (inline, contact) {
+            (Ok(placed), _) => (
+                placed.tether.map_or(pivot, |t| t.exit),
+                "boom inline toward the anchor",
+            ),
+            (Err(_), Ok((_, c))) => (c.tip, "boom in contact with the ground"),
+            (Err(_), Err(_)) => (pivot, "no boom configuration holds"),
         };
         view.group("boom");
-        view.polyline(&[pivot, tip], "stroke=\"#333\" stroke-width=\"3\"");
+        view.polyline(
+            &[pivot, tip],
+            &format!("stroke=\"#333\" stroke-width=\"3\" data-boom=\"{label}\""),
+        );
         view.group("tether");
         view.polyline(&[tip, anchor], "stroke=\"#d62728\" stroke-width=\"2\"");
+        return view.render(&format!("{title}: {label}"));
     }
     view.render(title)
 }

@@ -9,6 +9,7 @@
 //! convention in both, see `docs/mesh.md`.
 
 use nalgebra::{Point3, Vector3};
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::{PointQuery, Ray, RayCast};
 use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
@@ -79,6 +80,16 @@ impl ParryMesh {
     pub fn cast_ray(&self, origin: &Point3<f64>, dir: &Vector3<f64>, max_t: f64) -> Option<f64> {
         let ray = Ray::new(to_parry(origin), Vector::new(dir.x, dir.y, dir.z));
         self.mesh.cast_local_ray(&ray, max_t, false)
+    }
+
+    /// Appends to `out` the indices (into the [`TriMesh`] this was built from) of the triangles
+    /// whose bounding boxes meet the box `[lo, hi]` (closed), in ascending order: the BVH's
+    /// candidates for a query confined to that box.
+    pub fn triangles_in_box(&self, lo: &Point3<f64>, hi: &Point3<f64>, out: &mut Vec<usize>) {
+        let start = out.len();
+        let aabb = Aabb::new(to_parry(lo), to_parry(hi));
+        out.extend(self.mesh.bvh().intersect_aabb(&aabb).map(|i| i as usize));
+        out[start..].sort_unstable();
     }
 
     fn closest(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
