@@ -47,7 +47,7 @@
 //! again exactly); else the first clear representative; else the first reachable one. Only the
 //! first [`MAX_PREFERENCE_CELLS`] reachable cells are looked at for the preference.
 
-use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, in_wedge};
+use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, admits_direction, in_wedge};
 use nalgebra::{Point2, Vector2};
 use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::homotopy::is_contractible;
@@ -299,7 +299,7 @@ impl Climb<'_, '_> {
     }
 
     /// Alg. 5 lines 9-19 for anchor `j` with the robot at `q`, exactly (module docs).
-    pub(super) fn cross(&self, j: usize, q: Point2<f64>, psi: f64, reach: f64) -> Crossing {
+    pub(super) fn cross(&self, j: usize, q: Point2<f64>, reach: f64) -> Crossing {
         let apex = self.points[j];
         let dir = self.direction(j);
         // V ∩ R_{j-1}: the parts of the visible ray whose band admits psi (both wedges see the ray
@@ -309,7 +309,7 @@ impl Climb<'_, '_> {
             .terrain
             .pieces(apex, apex + dir * reach)
             .into_iter()
-            .filter(|(_, _, limit)| limit.admits(psi))
+            .filter(|(_, _, limit)| admits_direction(limit, &self.points[j - 1], &apex))
             .map(|(a, b, _)| ((a - apex).norm(), (b - apex).norm()))
             .filter(|(t0, t1)| t1 > t0)
             .collect();
