@@ -74,6 +74,10 @@ pub const ROOMY_CLEARANCES: f64 = 2.0;
 /// split it into thousands of cells, none clear).
 pub const MAX_PREFERENCE_CELLS: usize = 16;
 
+/// Points sampled on each side of a sweep's limit by the debug check of the prefix claim
+/// ([`Climb::check_sweep_prefix`]).
+const SWEEP_PREFIX_SAMPLES: usize = 4;
+
 /// Bound on the ulp steps that put a via point on the free side of the tether's line
 /// ([`Climb::snap_via`]); rounding the via point errs by one or two ulps.
 const MAX_SNAP_STEPS: usize = 16;
@@ -555,7 +559,41 @@ impl Climb<'_, '_> {
                 blocked = mid;
             }
         }
+        if cfg!(debug_assertions) {
+            self.check_sweep_prefix(j, q, route, u, clear, blocked, v);
+        }
         clear
+    }
+
+    /// Debug builds check the claim [`Climb::sweep_limit`] rests on, that the sweep is clear on a
+    /// prefix of `[u, v]` (module docs: the swept triangles are nested): [`SWEEP_PREFIX_SAMPLES`]
+    /// evenly spaced points of `[u, clear]` must be clear and as many of `[blocked, v]` blocked,
+    /// exactly; a counterexample panics with the anchor, route and parameters. Every planner test
+    /// and regression row run in debug exercises it.
+    #[allow(clippy::too_many_arguments)]
+    fn check_sweep_prefix(
+        &self,
+        j: usize,
+        q: &Point2<f64>,
+        route: Route,
+        u: f64,
+        clear: f64,
+        blocked: f64,
+        v: f64,
+    ) {
+        for i in 0..=SWEEP_PREFIX_SAMPLES {
+            let f = i as f64 / SWEEP_PREFIX_SAMPLES as f64;
+            let t = u + (clear - u) * f;
+            assert!(
+                self.sweep_at(j, q, route, t),
+                "sweep not clear on a prefix: anchor {j}, {route:?} route from {q:?}: blocked at t = {t} below the clear t = {clear}"
+            );
+            let t = blocked + (v - blocked) * f;
+            assert!(
+                t <= blocked || !self.sweep_at(j, q, route, t),
+                "sweep not clear on a prefix: anchor {j}, {route:?} route from {q:?}: clear at t = {t} beyond the blocked t = {blocked}"
+            );
+        }
     }
 
     /// The waypoint preference's critical values (module docs): where `w(t)` enters or leaves
