@@ -386,16 +386,18 @@ impl Climb<'_, '_> {
                     let via = (route == Route::Via).then_some(from);
                     // Candidates for the waypoint are checked again with the exact predicates;
                     // the preference looks at the first MAX_PREFERENCE_CELLS reachable cells.
-                    if fallback.is_none() && self.reaches(j, &q, route, t).is_some() {
+                    // The exact re-check of the representative, done at most once per route.
+                    let mut exact = None;
+                    let mut reached = |climb: &Self| {
+                        *exact.get_or_insert_with(|| climb.reaches(j, &q, route, t).is_some())
+                    };
+                    if fallback.is_none() && reached(self) {
                         fallback = Some((w, via));
                     }
                     if preference_cells >= MAX_PREFERENCE_CELLS {
                         continue;
                     }
-                    if clear.is_none()
-                        && self.clear_of_anchors(j, &from, &w)
-                        && self.reaches(j, &q, route, t).is_some()
-                    {
+                    if clear.is_none() && self.clear_of_anchors(j, &from, &w) && reached(self) {
                         clear = Some((w, via));
                     }
                     if choice.is_none() && roomy < v - tie {
@@ -568,8 +570,8 @@ impl Climb<'_, '_> {
     /// Debug builds check the claim [`Climb::sweep_limit`] rests on, that the sweep is clear on a
     /// prefix of `[u, v]` (module docs: the swept triangles are nested): [`SWEEP_PREFIX_SAMPLES`]
     /// evenly spaced points of `[u, clear]` must be clear and as many of `[blocked, v]` blocked,
-    /// exactly; a counterexample panics with the anchor, route and parameters. Every planner test
-    /// and regression row run in debug exercises it.
+    /// exactly; a counterexample panics with the anchor, route and parameters. Every test built
+    /// in debug exercises it (the release regression suites do not).
     #[allow(clippy::too_many_arguments)]
     fn check_sweep_prefix(
         &self,
