@@ -8,12 +8,15 @@
 //! an interactive page.
 //! A scenario without a feasible class is an answer, not an error: exit code 1, the reason printed.
 //! With PTFOs (a `friction` section) the frictional planner runs too, and its verdict decides.
+//! Without a picture the classes are streamed (`rappel::plan::plan_streamed`): each class's block
+//! is printed as soon as the class is decided and its geometry dropped, then the summary (model,
+//! planes, class count, verdict); `--json` prints the one envelope at the end.
 
 use crate::output::{
     Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_file,
 };
 use rappel::export::{ExportFormat, export_plan};
-use rappel::plan::{PlanOptions, PlanReport, plan_detailed};
+use rappel::plan::{ClassReport, PlanOptions, PlanReport, plan_detailed, plan_streamed};
 use rappel::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
@@ -98,34 +101,49 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         max_expansions: args.max_expansions,
         reachable_areas: args.reachable_areas,
     };
-    let plan = plan_detailed(&s, &options)
-        .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
-    if args.picture.wanted() {
+    // Without a picture the classes are streamed: each class's block is printed as soon as it
+    // is decided and its geometry dropped (text mode: the classes first, then the summary).
+    let streamed = !args.picture.wanted();
+    let report = if streamed {
+        let json = args.json;
+        plan_streamed(&s, &options, &mut |c| {
+            if !json {
+                print_class(c);
+            }
+        })
+        .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?
+    } else {
+        let plan = plan_detailed(&s, &options)
+            .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
         let title = match &plan.outcome.pair {
             Some(p) => format!("{}: class {} (ascent/descent pair)", s.name, p.rank),
             None => format!("{}: no feasible class", s.name),
         };
         args.picture
             .write(&plan.picture_in(&s, window.as_ref()), &title)?;
-    }
+        plan.report
+    };
     if let Some((out, format)) = export {
-        write_file(
-            out,
-            &export_plan(&plan.report, s.georeference.as_ref(), format),
-        )?;
+        write_file(out, &export_plan(&report, s.georeference.as_ref(), format))?;
     }
     // With PTFOs (a `friction` section) the frictional planner's choice is the answer
     // (docs/friction.md); otherwise the Chapter-2 planner's.
-    let feasible = match &plan.report.friction {
+    let feasible = match &report.friction {
         Some(f) => f.chosen.is_some(),
-        None => plan.report.chosen.is_some(),
+        None => report.chosen.is_some(),
     };
     let answer = if feasible { Answer::Yes } else { Answer::No };
     if args.json {
-        crate::output::print_report(&plan.report)?;
+        crate::output::print_report(&report)?;
     } else {
-        print_text(&args.file.display().to_string(), &plan.report);
-        if let Some(f) = &plan.report.friction {
+        let file = args.file.display().to_string();
+        if streamed {
+            print_head(&file, &report);
+            print_verdict(&report);
+        } else {
+            print_text(&file, &report);
+        }
+        if let Some(f) = &report.friction {
             crate::friction_out::print_friction(f);
         }
         for (_, out) in args.picture.outputs() {
@@ -139,7 +157,17 @@ fn degrees(v: Option<f64>) -> String {
     v.map_or_else(|| "free".to_string(), |d| format!("{d:.2}°"))
 }
 
+/// The whole text report: summary head, every class, verdict.
 fn print_text(file: &str, r: &PlanReport) {
+    print_head(file, r);
+    for c in &r.classes {
+        print_class(c);
+    }
+    print_verdict(r);
+}
+
+/// The scenario, model, planes, warnings and class count.
+fn print_head(file: &str, r: &PlanReport) {
     crate::outln!("scenario     {file}");
     crate::outln!("model        {}", r.traversability);
     if r.planes.is_empty() {
@@ -169,42 +197,48 @@ fn print_text(file: &str, r: &PlanReport) {
         r.termination.describe(),
         r.stats.expansions
     );
-    for c in &r.classes {
+}
+
+/// One class's block.
+fn print_class(c: &ClassReport) {
+    crate::outln!(
+        "class {:<3}    length {:.3} m, {} anchors{}: {}",
+        c.rank,
+        c.length,
+        c.anchors.len(),
+        if c.simple { "" } else { ", not simple" },
+        c.verdict
+    );
+    for a in &c.anchors {
+        let on = a
+            .obstacle
+            .map_or_else(|| "boundary".to_string(), |o| format!("obstacle {o}"));
         crate::outln!(
-            "class {:<3}    length {:.3} m, {} anchors{}: {}",
-            c.rank,
-            c.length,
-            c.anchors.len(),
-            if c.simple { "" } else { ", not simple" },
-            c.verdict
+            "  a{:<3} ({:.3}, {:.3}) {on}, psi {:.2}°, theta_max {} (previous {}), {}",
+            a.index,
+            a.point.x,
+            a.point.y,
+            a.psi_deg,
+            degrees(a.theta_max_deg),
+            degrees(a.previous_theta_max_deg),
+            a.passability
         );
-        for a in &c.anchors {
-            let on = a
-                .obstacle
-                .map_or_else(|| "boundary".to_string(), |o| format!("obstacle {o}"));
-            crate::outln!(
-                "  a{:<3} ({:.3}, {:.3}) {on}, psi {:.2}°, theta_max {} (previous {}), {}",
-                a.index,
-                a.point.x,
-                a.point.y,
-                a.psi_deg,
-                degrees(a.theta_max_deg),
-                degrees(a.previous_theta_max_deg),
-                a.passability
-            );
-        }
-        if !c.waypoints.is_empty() {
-            let list: Vec<String> = c
-                .waypoints
-                .iter()
-                .map(|w| format!("({:.3}, {:.3})", w.x, w.y))
-                .collect();
-            crate::outln!("  waypoints  {}", list.join(" "));
-        }
-        if let Some(f) = &c.pair_failure {
-            crate::outln!("  no pair    {f}");
-        }
     }
+    if !c.waypoints.is_empty() {
+        let list: Vec<String> = c
+            .waypoints
+            .iter()
+            .map(|w| format!("({:.3}, {:.3})", w.x, w.y))
+            .collect();
+        crate::outln!("  waypoints  {}", list.join(" "));
+    }
+    if let Some(f) = &c.pair_failure {
+        crate::outln!("  no pair    {f}");
+    }
+}
+
+/// The verdict and the chosen pair.
+fn print_verdict(r: &PlanReport) {
     crate::outln!("verdict      {}", r.verdict);
     if let Some(p) = &r.chosen {
         let fmt = |pts: &[rappel::nalgebra::Point2<f64>]| {

@@ -6,6 +6,7 @@ pub mod btm;
 pub mod compact;
 pub mod dcel;
 pub mod domain;
+mod expansion;
 pub mod generate;
 pub mod map;
 pub mod normalize;

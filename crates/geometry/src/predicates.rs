@@ -4,7 +4,8 @@
 //! finite `f64` inputs: no tolerance is involved, so degenerate cases (collinear points, cocircular
 //! points, touching segments) are recognised as such rather than guessed.
 
-use nalgebra::Point2;
+use crate::expansion::Expansion;
+use nalgebra::{Point2, Vector2};
 
 /// The orientation of an ordered triple of points.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -144,6 +145,85 @@ pub fn segment_contact(
         SegmentContact::Touching
     } else {
         SegmentContact::Disjoint
+    }
+}
+
+/// Relative error bound of the floating-point filters of [`ray_side`] and [`ray_side_at_height`],
+/// in units of the sum of the magnitudes of their terms: a few roundings deep, each at most
+/// `EPSILON / 2`; this bound leaves a wide margin. Below it the exact expansion decides.
+const RAY_FILTER: f64 = 16.0 * f64::EPSILON;
+
+/// The exact sign (-1, 0 or 1) of `e × (x - a)`: positive when `x` lies left of the line through
+/// `a` along the direction `e`, zero on it. The direction is taken as given (its components are
+/// the inputs), so a wedge given by the directions of its edges decides membership exactly.
+///
+/// ```
+/// use nalgebra::{Point2, Vector2};
+/// use rappel_geometry::predicates::ray_side;
+/// let (a, e) = (Point2::new(1.0, 1.0), Vector2::new(0.5, -1.0));
+/// assert_eq!(ray_side(&a, &e, &Point2::new(1.5, 0.0)), 0.0);
+/// assert_eq!(ray_side(&a, &e, &Point2::new(1.5f64.next_down(), 0.0)), -1.0);
+/// assert_eq!(ray_side(&a, &e, &Point2::new(1.5f64.next_up(), 0.0)), 1.0);
+/// ```
+pub fn ray_side(a: &Point2<f64>, e: &Vector2<f64>, x: &Point2<f64>) -> f64 {
+    let (dx, dy) = (x.x - a.x, x.y - a.y);
+    let (l, r) = (e.x * dy, e.y * dx);
+    let v = l - r;
+    if v.abs() > RAY_FILTER * (l.abs() + r.abs()) {
+        return v.signum();
+    }
+    Expansion::diff(x.y, a.y)
+        .scale(e.x)
+        .add(&Expansion::diff(x.x, a.x).scale(e.y).neg())
+        .sign()
+}
+
+/// The exact sign of `e × (p - a)` for the point `p` of the segment `q -> w` at height `y`
+/// (`q.y != w.y`; `p = q + s (w - q)` with `s = (y - q.y) / (w.y - q.y)`), as [`ray_side`] would
+/// give for `p` computed without rounding: where a move crosses a band edge, against a wedge edge.
+///
+/// ```
+/// use nalgebra::{Point2, Vector2};
+/// use rappel_geometry::predicates::ray_side_at_height;
+/// let (a, e) = (Point2::new(0.0, 0.0), Vector2::new(0.0, -1.0));
+/// // The segment (-1, 1) -> (1, -3) crosses y = -1 at x = 0, on the ray.
+/// let (q, w) = (Point2::new(-1.0, 1.0), Point2::new(1.0, -3.0));
+/// assert_eq!(ray_side_at_height(&a, &e, &q, &w, -1.0), 0.0);
+/// assert_eq!(ray_side_at_height(&a, &e, &q, &w, -1.5), 1.0);
+/// ```
+pub fn ray_side_at_height(
+    a: &Point2<f64>,
+    e: &Vector2<f64>,
+    q: &Point2<f64>,
+    w: &Point2<f64>,
+    y: f64,
+) -> f64 {
+    // e × (p - a) = (c1 dy + (y - q.y) c2) / dy with c1 = e × (q - a), c2 = e × (w - q).
+    let dy = w.y - q.y;
+    let below = y - q.y;
+    let (c1l, c1r) = (e.x * (q.y - a.y), e.y * (q.x - a.x));
+    let (c2l, c2r) = (e.x * dy, e.y * (w.x - q.x));
+    let (t1, t2) = ((c1l - c1r) * dy, below * (c2l - c2r));
+    let v = t1 + t2;
+    let scale = (c1l.abs() + c1r.abs()) * dy.abs() + below.abs() * (c2l.abs() + c2r.abs());
+    let num = if v.abs() > RAY_FILTER * scale {
+        v.signum()
+    } else {
+        let dy = Expansion::diff(w.y, q.y);
+        let c1 = Expansion::diff(q.y, a.y)
+            .scale(e.x)
+            .add(&Expansion::diff(q.x, a.x).scale(e.y).neg());
+        let c2 = dy
+            .scale(e.x)
+            .add(&Expansion::diff(w.x, q.x).scale(e.y).neg());
+        c1.mul(&dy).add(&Expansion::diff(y, q.y).mul(&c2)).sign()
+    };
+    if dy > 0.0 {
+        num
+    } else if dy < 0.0 {
+        -num
+    } else {
+        0.0
     }
 }
 

@@ -50,6 +50,7 @@ use nalgebra::{Point2, Vector2};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::{Aabb, Polygon};
+use rappel_geometry::predicates::{ray_side, ray_side_at_height};
 use rappel_geometry::region::{Region, free_part};
 use rappel_homotopy::crossing::Tracer;
 use rappel_homotopy::funnel::{Anchor, Side, TautPath};
@@ -516,7 +517,7 @@ impl Climb<'_, '_> {
             released_from: n + 1,
         }];
         let mut blockage = None;
-        if !goal_limit.admits(goal_psi) {
+        if !admits_direction(&goal_limit, &self.points[n], &goal) {
             blockage = Some(Blockage {
                 anchor: None,
                 reason: Impassability::GoalOutsideReachableSet {
@@ -544,12 +545,13 @@ impl Climb<'_, '_> {
             }
             let a = &mut anchors[j - 1];
             let (psi, limit, previous) = (a.psi, a.limit, a.previous_limit);
-            let reason = if !limit.admits(psi) {
+            let (from, to) = (self.points[j - 1], self.points[j]);
+            let reason = if !admits_direction(&limit, &from, &to) {
                 Some(Impassability::NoVisibilityEdge {
                     psi,
                     max_angle: limit.max_angle().unwrap_or(std::f64::consts::PI),
                 })
-            } else if !previous.admits(psi) {
+            } else if !admits_direction(&previous, &from, &to) {
                 Some(Impassability::OutsidePreviousReachableSet {
                     psi,
                     max_angle: previous.max_angle().unwrap_or(std::f64::consts::PI),
@@ -571,7 +573,7 @@ impl Climb<'_, '_> {
                 .find(|set| set.anchor == j)
                 .expect("C_j is built before a_j is examined");
             let reach = set.visibility_line.map_or(0.0, |[a, b]| (b - a).norm());
-            let crossing = self.cross(j, q, psi, reach);
+            let crossing = self.cross(j, q, reach);
             let choice = if self.own_waypoint[j] {
                 Some((self.points[j], None))
             } else {
@@ -716,18 +718,118 @@ impl Climb<'_, '_> {
     }
 }
 
+/// The directions of the two edges of the friction-cone wedge of half-angle `max_angle` about the
+/// fall line: `[right, left]`, `(±sin, -cos)`. The wedge of an apex `a` is the open cone
+/// between the rays from `a` along them; these two vectors, computed once from the limit, *are*
+/// its definition for every membership verdict, which [`ray_side`] then decides exactly.
+pub fn wedge_edges(max_angle: f64) -> [Vector2<f64>; 2] {
+    let (s, c) = max_angle.sin_cos();
+    [Vector2::new(s, -c), Vector2::new(-s, -c)]
+}
+
+/// The wedge verdict from the exact sides of a point against the right and left wedge edges
+/// ([`wedge_edges`]): strictly inside the open cone (thesis §2.4.2's strict inequality).
+fn inside_cone(right_side: f64, left_side: f64) -> bool {
+    right_side < 0.0 && left_side > 0.0
+}
+
+/// `true` when the direction `from -> to` is strictly inside the wedge of `limit` (its angle from
+/// the fall line below the limit), decided exactly on the inputs ([`wedge_edges`], [`ray_side`]);
+/// a zero direction counts as the fall line (angle 0).
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_mechanics::anchor_traversability::TetherLimit;
+/// use rappel_planners::feasibility::admits_direction;
+/// let cone = TetherLimit::Cone { max_angle: 0.5 };
+/// let o = Point2::new(3.0, 7.0);
+/// assert!(admits_direction(&cone, &o, &Point2::new(3.1, 6.0)));
+/// assert!(!admits_direction(&cone, &o, &Point2::new(4.0, 6.0)));
+/// assert!(admits_direction(&TetherLimit::TetherFree, &o, &Point2::new(4.0, 9.0)));
+/// ```
+pub fn admits_direction(limit: &TetherLimit, from: &Point2<f64>, to: &Point2<f64>) -> bool {
+    match *limit {
+        TetherLimit::TetherFree => true,
+        TetherLimit::Cone { .. } if from == to => limit.admits(0.0),
+        TetherLimit::Cone { max_angle } => {
+            let [r, l] = wedge_edges(max_angle);
+            inside_cone(ray_side(from, &r, to), ray_side(from, &l, to))
+        }
+    }
+}
+
+/// One end of a piece of a move cut at band edges: an input point, or the move's point at a band
+/// edge's height (never rounded: [`ray_side_at_height`] decides it).
+#[derive(Clone, Copy)]
+enum PieceEnd {
+    At(Point2<f64>),
+    Height(f64),
+}
+
+impl PieceEnd {
+    fn y(&self) -> f64 {
+        match *self {
+            PieceEnd::At(p) => p.y,
+            PieceEnd::Height(y) => y,
+        }
+    }
+}
+
 /// `true` when every point of the segment `q -> w` lies in the friction-cone wedge of `apex`,
-/// band by band (each band's wedge is convex, so each piece's ends decide).
+/// band by band (each band's wedge is convex, so each piece's ends decide; `apex` itself counts
+/// as inside). Decided exactly: the band edges the move crosses are compared exactly with its
+/// ends' heights, and each piece end, an input point or the move's exact point at a band edge,
+/// is put on its side of each wedge edge ([`wedge_edges`]) by the exact predicates
+/// ([`ray_side`], [`ray_side_at_height`]), so no verdict depends on rounding.
 pub fn in_wedge(
     terrain: &PlaneSeries,
     apex: &Point2<f64>,
     q: &Point2<f64>,
     w: &Point2<f64>,
 ) -> bool {
-    terrain.pieces(*q, *w).into_iter().all(|(a, b, limit)| {
-        [a, b]
-            .iter()
-            .all(|x| x == apex || limit.admits(angle_from_fall_line(&(x - apex))))
+    let planes = terrain.planes();
+    if planes.is_empty() {
+        return true;
+    }
+    let (lo, hi) = (q.y.min(w.y), q.y.max(w.y));
+    let mut cuts: Vec<f64> = planes
+        .iter()
+        .skip(1)
+        .map(|p| p.y_top)
+        .filter(|&y| lo < y && y < hi)
+        .collect();
+    // Along the move: descending heights when it goes down.
+    cuts.sort_by(f64::total_cmp);
+    if w.y < q.y {
+        cuts.reverse();
+    }
+    let ends: Vec<PieceEnd> = std::iter::once(PieceEnd::At(*q))
+        .chain(cuts.into_iter().map(PieceEnd::Height))
+        .chain(std::iter::once(PieceEnd::At(*w)))
+        .collect();
+    let inside = |end: &PieceEnd, edges: &[Vector2<f64>; 2]| match *end {
+        PieceEnd::At(x) => {
+            x == *apex || inside_cone(ray_side(apex, &edges[0], &x), ray_side(apex, &edges[1], &x))
+        }
+        PieceEnd::Height(y) => {
+            let at_apex =
+                y == apex.y && ray_side_at_height(apex, &Vector2::new(0.0, 1.0), q, w, y) == 0.0;
+            at_apex
+                || inside_cone(
+                    ray_side_at_height(apex, &edges[0], q, w, y),
+                    ray_side_at_height(apex, &edges[1], q, w, y),
+                )
+        }
+    };
+    ends.windows(2).all(|piece| {
+        let mid = Point2::new(apex.x, (piece[0].y() + piece[1].y()) / 2.0);
+        match terrain.limit_at(&mid) {
+            TetherLimit::TetherFree => true,
+            TetherLimit::Cone { max_angle } => {
+                let edges = wedge_edges(max_angle);
+                piece.iter().all(|end| inside(end, &edges))
+            }
+        }
     })
 }
 

@@ -569,8 +569,34 @@ pub fn plan_path_pair(
     ctx: &FeasibilityContext<'_>,
     stop_at_first: bool,
 ) -> Result<PairPlan, SearchError> {
-    let mut search = planner.search(start, goal, options)?;
     let mut classes = Vec::new();
+    let mut plan = plan_path_pair_each(
+        planner,
+        start,
+        goal,
+        options,
+        ctx,
+        stop_at_first,
+        &mut |c| classes.push(c),
+    )?;
+    plan.classes = classes;
+    Ok(plan)
+}
+
+/// [`plan_path_pair`] handing each class to `on_class` as soon as it is decided (searched, Alg. 5
+/// run, its pair built if it is the first feasible one) instead of keeping it: the returned plan's
+/// `classes` is empty, so a caller streaming a report of K classes holds one class's geometry
+/// (sleeve, reachable sets) at a time.
+pub fn plan_path_pair_each(
+    planner: &SptPlanner<'_>,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    options: &SearchOptions,
+    ctx: &FeasibilityContext<'_>,
+    stop_at_first: bool,
+    on_class: &mut dyn FnMut(ClassOutcome),
+) -> Result<PairPlan, SearchError> {
+    let mut search = planner.search(start, goal, options)?;
     let mut pair = None;
     while let Some(class) = search.next_best()? {
         let feasibility = check_feasibility(ctx, &class.shp.taut);
@@ -581,7 +607,7 @@ pub fn plan_path_pair(
                 Err(e) => pair_failure = Some(e),
             }
         }
-        classes.push(ClassOutcome {
+        on_class(ClassOutcome {
             class,
             feasibility,
             pair_failure,
@@ -591,7 +617,7 @@ pub fn plan_path_pair(
         }
     }
     Ok(PairPlan {
-        classes,
+        classes: Vec::new(),
         pair,
         termination: search.termination().unwrap_or(Termination::ClassCount),
         stats: search.stats(),

@@ -12,10 +12,11 @@ use rappel_geometry::map::Map;
 use rappel_geometry::polygon::Polygon;
 use rappel_homotopy::crossing::CrossingSequence;
 use rappel_homotopy::path::Path;
+use rappel_mechanics::anchor_traversability::TetherLimit;
 use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_planners::feasibility::{
-    FeasibilityContext, Impassability, Passability, check_feasibility, distance_to_segment,
-    fill_reachable_areas,
+    FeasibilityContext, Impassability, Passability, admits_direction, check_feasibility,
+    distance_to_segment, fill_reachable_areas, in_wedge, wedge_edges,
 };
 use rappel_planners::path_pair::{path_pair, plan_path_pair};
 use rappel_planners::spt::{SearchOptions, SptPlanner};
@@ -922,4 +923,69 @@ fn reachable_areas_stay_within_the_tether_left() {
 
 fn area_of(s: &rappel_planners::feasibility::AnchorReachableSet) -> f64 {
     s.free_pieces.iter().map(|(reg, _)| reg.area()).sum()
+}
+
+/// Wedge membership follows the exact side of a wedge edge, to the last bit: a point exactly on an
+/// edge (the apex at the origin and the edge direction scaled by 8, so the point is exact) is
+/// outside (the strict inequality of §2.4.2); one ulp outward stays outside, one ulp inward is
+/// inside, for either edge, nudging x or y, on several slopes. The reference side is the sign of
+/// the nudge (moving a point on the right edge right or up turns it away from the fall line),
+/// independent of the predicates; the float angle test this replaced got some of them wrong.
+#[test]
+fn wedge_verdicts_follow_the_exact_side_by_one_ulp() {
+    let apex = p(0.0, 0.0);
+    for (slope, mu) in [
+        (30.0, 0.4),
+        (45.0, 0.4),
+        (50.0, 0.3),
+        (63.0, 0.7),
+        (72.5, 0.15),
+    ] {
+        let plane = TerrainPlane {
+            y_top: 100.0,
+            y_bottom: -100.0,
+            slope_deg: slope,
+            friction: mu,
+        };
+        let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
+        let limit = terrain.limits()[0];
+        let TetherLimit::Cone { max_angle } = limit else {
+            panic!("slope {slope} mu {mu}: expected a tether-demand plane");
+        };
+        let deep = p(0.0, -8.0);
+        for (edge, sign) in wedge_edges(max_angle).into_iter().zip([1.0, -1.0]) {
+            let on = p(edge.x * 8.0, edge.y * 8.0);
+            let outward_x = p(
+                if sign > 0.0 {
+                    on.x.next_up()
+                } else {
+                    on.x.next_down()
+                },
+                on.y,
+            );
+            let inward_x = p(
+                if sign > 0.0 {
+                    on.x.next_down()
+                } else {
+                    on.x.next_up()
+                },
+                on.y,
+            );
+            let cases = [
+                (on, false, "on the edge"),
+                (outward_x, false, "one ulp outward in x"),
+                (inward_x, true, "one ulp inward in x"),
+                (p(on.x, on.y.next_up()), false, "one ulp up"),
+                (p(on.x, on.y.next_down()), true, "one ulp down"),
+            ];
+            for (x, inside, what) in cases {
+                let ctx = format!("slope {slope} mu {mu}, edge {sign}, {what}: {x:?}");
+                assert_eq!(admits_direction(&limit, &apex, &x), inside, "{ctx}");
+                assert_eq!(in_wedge(&terrain, &apex, &x, &x), inside, "{ctx}");
+                // A move from deep inside the wedge to the point: its far end decides.
+                assert_eq!(in_wedge(&terrain, &apex, &deep, &x), inside, "{ctx}");
+                assert_eq!(in_wedge(&terrain, &apex, &x, &deep), inside, "{ctx}");
+            }
+        }
+    }
 }

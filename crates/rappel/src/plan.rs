@@ -23,7 +23,7 @@ use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::traversability::StabilitySettings;
 use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
 use rappel_planners::feasibility::{self, FeasibilityContext, Passability, fill_reachable_areas};
-use rappel_planners::path_pair::{PairPlan, PathPair, plan_path_pair};
+use rappel_planners::path_pair::{ClassOutcome, PairPlan, PathPair, plan_path_pair_each};
 use rappel_planners::spt::{
     DEFAULT_MAX_EXPANSIONS, SearchError, SearchOptions, SearchStats, SptPlanner, Termination,
 };
@@ -298,6 +298,45 @@ pub fn plan(scenario: &Scenario, options: &PlanOptions) -> Result<PlanReport, Pl
 
 /// Plans `scenario` and keeps the BTM and the planner's outcome for pictures.
 pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan, PlanError> {
+    plan_core(scenario, options, true, &mut |_| {})
+}
+
+/// Plans `scenario` handing each class's report to `on_class` as soon as the class is decided
+/// (searched, checked by Alg. 5, its pair built if it is the first feasible one), shortest first,
+/// and drops the class's geometry (sleeve, funnel, anchor reachable sets) right after: the memory
+/// held is one class's geometry plus the small per-class reports, whatever K. The returned report
+/// is the one [`plan`] returns (the same classes, in the same order).
+///
+/// ```
+/// use rappel::plan::{plan, plan_streamed, PlanOptions};
+/// use rappel::scenario::Scenario;
+/// let s = Scenario::from_ron_str(r#"(
+///     map: (boundary: [(0.0, 0.0), (40.0, 0.0), (40.0, 100.0), (0.0, 100.0)],
+///           obstacles: [[(18.0, 50.0), (22.0, 50.0), (22.0, 54.0), (18.0, 54.0)]]),
+///     start: (21.0, 95.0), goal: (20.0, 5.0),
+///     terrain: (planes: [(y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]))"#).unwrap();
+/// let options = PlanOptions { classes: 3, ..Default::default() };
+/// let mut seen = Vec::new();
+/// let streamed = plan_streamed(&s, &options, &mut |c| seen.push(c.rank)).unwrap();
+/// assert_eq!(seen, vec![1, 2, 3]);
+/// assert_eq!(streamed, plan(&s, &options).unwrap());
+/// ```
+pub fn plan_streamed(
+    scenario: &Scenario,
+    options: &PlanOptions,
+    on_class: &mut dyn FnMut(&ClassReport),
+) -> Result<PlanReport, PlanError> {
+    Ok(plan_core(scenario, options, false, on_class)?.report)
+}
+
+/// [`plan_detailed`] (`keep`: the classes' outcomes kept for pictures) and [`plan_streamed`]
+/// (not kept).
+fn plan_core(
+    scenario: &Scenario,
+    options: &PlanOptions,
+    keep: bool,
+    on_class: &mut dyn FnMut(&ClassReport),
+) -> Result<Plan, PlanError> {
     if options.classes > MAX_CLASSES {
         return Err(PlanError::TooManyClasses {
             asked: options.classes,
@@ -328,20 +367,28 @@ pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan,
         tether_length: scenario.robot.tether_length_m,
     };
     let planner = SptPlanner::new(&btm);
-    let mut outcome = plan_path_pair(
+    let (mut kept, mut reports) = (Vec::new(), Vec::new());
+    let mut outcome = plan_path_pair_each(
         &planner,
         scenario.start,
         scenario.goal,
         &search,
         &ctx,
         false,
+        &mut |mut c| {
+            if options.reachable_areas {
+                fill_reachable_areas(&ctx, &mut c.feasibility);
+            }
+            let r = class_report(&c, options.reachable_areas);
+            on_class(&r);
+            reports.push(r);
+            if keep {
+                kept.push(c);
+            }
+        },
     )?;
-    if options.reachable_areas {
-        for c in &mut outcome.classes {
-            fill_reachable_areas(&ctx, &mut c.feasibility);
-        }
-    }
-    let mut report = report_of(scenario, model, &terrain, &outcome, options.reachable_areas);
+    outcome.classes = kept;
+    let mut report = report_of(scenario, model, &terrain, &outcome, reports);
     let mut friction = None;
     if let Some(spec) = &scenario.friction {
         let resolved = spec.resolve(scenario).map_err(PlanError::Friction)?;
@@ -363,12 +410,64 @@ fn degrees(limit: TetherLimit) -> Option<f64> {
     limit.max_angle().map(f64::to_degrees)
 }
 
+/// The report of one class (`areas`: its reachable areas were computed).
+fn class_report(c: &ClassOutcome, areas: bool) -> ClassReport {
+    let f = &c.feasibility;
+    let taut = &c.class.shp.taut;
+    let h = &c.class.h_signature;
+    ClassReport {
+        rank: c.class.rank,
+        length: taut.length,
+        simple: c.class.simple,
+        points: taut.points.clone(),
+        anchors: f
+            .anchors
+            .iter()
+            .map(|a| AnchorReport {
+                index: a.index,
+                vertex: a.anchor.vertex.0,
+                obstacle: a.anchor.obstacle.map(|o| o.0),
+                point: a.anchor.point,
+                side: a.anchor.side,
+                plane: a.plane,
+                psi_deg: a.psi.to_degrees(),
+                theta_max_deg: degrees(a.limit),
+                previous_theta_max_deg: degrees(a.previous_limit),
+                passability: match a.passability {
+                    Passability::Passable { .. } => "passable".to_string(),
+                    Passability::Impassable(r) => format!("impassable: {}", r.describe()),
+                    Passability::NotReached => "not reached".to_string(),
+                },
+                waypoint: match a.passability {
+                    Passability::Passable { waypoint, .. } => Some(waypoint),
+                    _ => None,
+                },
+                reachable_area_m2: f
+                    .reachable_sets
+                    .iter()
+                    .find(|set| areas && set.anchor == a.index && set.free_pieces_error.is_none())
+                    .map(|set| set.free_pieces.iter().map(|(r, _)| r.area()).sum()),
+            })
+            .collect(),
+        reduced_crossings: c.class.shp.crossings.len(),
+        h_signature: HSignatureReport {
+            digest: format!("{:016x}", h.digest()),
+            windings: h.windings().iter().map(|&(o, n)| (o.0, n)).collect(),
+        },
+        goal_psi_deg: f.goal_psi.to_degrees(),
+        feasible: f.feasible(),
+        verdict: f.describe(),
+        waypoints: f.waypoints.clone(),
+        pair_failure: c.pair_failure.as_ref().map(ToString::to_string),
+    }
+}
+
 fn report_of(
     scenario: &Scenario,
     model: &dyn AnchorTraversability,
     terrain: &PlaneSeries,
     outcome: &PairPlan,
-    areas: bool,
+    classes: Vec<ClassReport>,
 ) -> PlanReport {
     let planes = terrain
         .planes()
@@ -383,62 +482,6 @@ fn report_of(
             friction: p.friction,
             tether_demand: l.is_tether_demand(),
             max_tether_angle_deg: degrees(*l),
-        })
-        .collect();
-    let classes: Vec<ClassReport> = outcome
-        .classes
-        .iter()
-        .map(|c| {
-            let f = &c.feasibility;
-            let taut = &c.class.shp.taut;
-            let h = &c.class.h_signature;
-            ClassReport {
-                rank: c.class.rank,
-                length: taut.length,
-                simple: c.class.simple,
-                points: taut.points.clone(),
-                anchors: f
-                    .anchors
-                    .iter()
-                    .map(|a| AnchorReport {
-                        index: a.index,
-                        vertex: a.anchor.vertex.0,
-                        obstacle: a.anchor.obstacle.map(|o| o.0),
-                        point: a.anchor.point,
-                        side: a.anchor.side,
-                        plane: a.plane,
-                        psi_deg: a.psi.to_degrees(),
-                        theta_max_deg: degrees(a.limit),
-                        previous_theta_max_deg: degrees(a.previous_limit),
-                        passability: match a.passability {
-                            Passability::Passable { .. } => "passable".to_string(),
-                            Passability::Impassable(r) => format!("impassable: {}", r.describe()),
-                            Passability::NotReached => "not reached".to_string(),
-                        },
-                        waypoint: match a.passability {
-                            Passability::Passable { waypoint, .. } => Some(waypoint),
-                            _ => None,
-                        },
-                        reachable_area_m2: f
-                            .reachable_sets
-                            .iter()
-                            .find(|set| {
-                                areas && set.anchor == a.index && set.free_pieces_error.is_none()
-                            })
-                            .map(|set| set.free_pieces.iter().map(|(r, _)| r.area()).sum()),
-                    })
-                    .collect(),
-                reduced_crossings: c.class.shp.crossings.len(),
-                h_signature: HSignatureReport {
-                    digest: format!("{:016x}", h.digest()),
-                    windings: h.windings().iter().map(|&(o, n)| (o.0, n)).collect(),
-                },
-                goal_psi_deg: f.goal_psi.to_degrees(),
-                feasible: f.feasible(),
-                verdict: f.describe(),
-                waypoints: f.waypoints.clone(),
-                pair_failure: c.pair_failure.as_ref().map(ToString::to_string),
-            }
         })
         .collect();
     let chosen = outcome.pair.as_ref().map(PairReport::from);

@@ -47,7 +47,7 @@
 //! again exactly); else the first clear representative; else the first reachable one. Only the
 //! first [`MAX_PREFERENCE_CELLS`] reachable cells are looked at for the preference.
 
-use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, in_wedge};
+use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, admits_direction, in_wedge};
 use nalgebra::{Point2, Vector2};
 use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::homotopy::is_contractible;
@@ -73,6 +73,10 @@ pub const ROOMY_CLEARANCES: f64 = 2.0;
 /// cost where anchors crowd the visibility line (a long obstacle's corners every few centimetres
 /// split it into thousands of cells, none clear).
 pub const MAX_PREFERENCE_CELLS: usize = 16;
+
+/// Points sampled on each side of a sweep's limit by the debug check of the prefix claim
+/// ([`Climb::check_sweep_prefix`]).
+const SWEEP_PREFIX_SAMPLES: usize = 4;
 
 /// Bound on the ulp steps that put a via point on the free side of the tether's line
 /// ([`Climb::snap_via`]); rounding the via point errs by one or two ulps.
@@ -299,7 +303,7 @@ impl Climb<'_, '_> {
     }
 
     /// Alg. 5 lines 9-19 for anchor `j` with the robot at `q`, exactly (module docs).
-    pub(super) fn cross(&self, j: usize, q: Point2<f64>, psi: f64, reach: f64) -> Crossing {
+    pub(super) fn cross(&self, j: usize, q: Point2<f64>, reach: f64) -> Crossing {
         let apex = self.points[j];
         let dir = self.direction(j);
         // V ∩ R_{j-1}: the parts of the visible ray whose band admits psi (both wedges see the ray
@@ -309,7 +313,7 @@ impl Climb<'_, '_> {
             .terrain
             .pieces(apex, apex + dir * reach)
             .into_iter()
-            .filter(|(_, _, limit)| limit.admits(psi))
+            .filter(|(_, _, limit)| admits_direction(limit, &self.points[j - 1], &apex))
             .map(|(a, b, _)| ((a - apex).norm(), (b - apex).norm()))
             .filter(|(t0, t1)| t1 > t0)
             .collect();
@@ -382,16 +386,18 @@ impl Climb<'_, '_> {
                     let via = (route == Route::Via).then_some(from);
                     // Candidates for the waypoint are checked again with the exact predicates;
                     // the preference looks at the first MAX_PREFERENCE_CELLS reachable cells.
-                    if fallback.is_none() && self.reaches(j, &q, route, t).is_some() {
+                    // The exact re-check of the representative, done at most once per route.
+                    let mut exact = None;
+                    let mut reached = |climb: &Self| {
+                        *exact.get_or_insert_with(|| climb.reaches(j, &q, route, t).is_some())
+                    };
+                    if fallback.is_none() && reached(self) {
                         fallback = Some((w, via));
                     }
                     if preference_cells >= MAX_PREFERENCE_CELLS {
                         continue;
                     }
-                    if clear.is_none()
-                        && self.clear_of_anchors(j, &from, &w)
-                        && self.reaches(j, &q, route, t).is_some()
-                    {
+                    if clear.is_none() && self.clear_of_anchors(j, &from, &w) && reached(self) {
                         clear = Some((w, via));
                     }
                     if choice.is_none() && roomy < v - tie {
@@ -555,7 +561,41 @@ impl Climb<'_, '_> {
                 blocked = mid;
             }
         }
+        if cfg!(debug_assertions) {
+            self.check_sweep_prefix(j, q, route, u, clear, blocked, v);
+        }
         clear
+    }
+
+    /// Debug builds check the claim [`Climb::sweep_limit`] rests on, that the sweep is clear on a
+    /// prefix of `[u, v]` (module docs: the swept triangles are nested): [`SWEEP_PREFIX_SAMPLES`]
+    /// evenly spaced points of `[u, clear]` must be clear and as many of `[blocked, v]` blocked,
+    /// exactly; a counterexample panics with the anchor, route and parameters. Every test built
+    /// in debug exercises it (the release regression suites do not).
+    #[allow(clippy::too_many_arguments)]
+    fn check_sweep_prefix(
+        &self,
+        j: usize,
+        q: &Point2<f64>,
+        route: Route,
+        u: f64,
+        clear: f64,
+        blocked: f64,
+        v: f64,
+    ) {
+        for i in 0..=SWEEP_PREFIX_SAMPLES {
+            let f = i as f64 / SWEEP_PREFIX_SAMPLES as f64;
+            let t = u + (clear - u) * f;
+            assert!(
+                self.sweep_at(j, q, route, t),
+                "sweep not clear on a prefix: anchor {j}, {route:?} route from {q:?}: blocked at t = {t} below the clear t = {clear}"
+            );
+            let t = blocked + (v - blocked) * f;
+            assert!(
+                t <= blocked || !self.sweep_at(j, q, route, t),
+                "sweep not clear on a prefix: anchor {j}, {route:?} route from {q:?}: clear at t = {t} beyond the blocked t = {blocked}"
+            );
+        }
     }
 
     /// The waypoint preference's critical values (module docs): where `w(t)` enters or leaves
