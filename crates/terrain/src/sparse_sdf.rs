@@ -15,7 +15,9 @@
 //!    A point within `T` of the mesh has its closest triangle among the candidates (it is within
 //!    `r_b` of the centre), so every value `<= T` is exact; a larger value only proves `|d| > T`,
 //!    and its pseudo-normal sign (from a triangle that need not be the closest) is not trusted.
-//! 3. **Sign beyond the band**: the points with `|d| > T` and the unallocated blocks (every point
+//! 3. **Sign beyond the band**: first inside each block in parallel (a point beyond `T` takes
+//!    the sign of a 6-neighbour in its block; a block with no exact point lies wholly beyond `T`
+//!    and is released), then across blocks: the points with `|d| > T` and the unallocated blocks (every point
 //!    of which is farther than `T` from the mesh) take the sign of a neighbour by a breadth-first
 //!    flood from the exact points (6-neighbours; an unallocated block is one node, adjacent to
 //!    the facing points of an allocated neighbour). Two adjacent nodes with `|d| > T >= 2 h`
@@ -250,7 +252,7 @@ impl SparseSdf {
             .collect();
         pairs.par_sort_unstable();
         let mut starts = Vec::new();
-        let mut block_cells = Vec::new();
+        let mut block_cells: Vec<usize> = Vec::new();
         for (k, &(c, _)) in pairs.iter().enumerate() {
             if k == 0 || pairs[k - 1].0 != c {
                 starts.push(k);
@@ -310,7 +312,37 @@ impl SparseSdf {
                 }
             });
 
-        // 3. Sign flood.
+        drop(pairs);
+        // 2b. The sign flood inside each block (in parallel): an exact point's sign carried to
+        // its 6-neighbours beyond T. A block without an exact point lies wholly beyond T, on one
+        // side of the surface: it is released and becomes one unallocated node of step 3.
+        let tf = t_max as f32;
+        let exact: Vec<bool> = values
+            .par_chunks_mut(BLOCK_POINTS)
+            .map(|v| local_flood(v, tf))
+            .collect();
+        if exact.iter().any(|e| !e) {
+            let kept = exact.iter().filter(|e| **e).count();
+            let mut kept_values = Vec::with_capacity(kept * BLOCK_POINTS);
+            let mut kept_cells = Vec::with_capacity(kept);
+            for (k, &keep) in exact.iter().enumerate() {
+                let c = block_cells[k];
+                if keep {
+                    index[c] = kept_cells.len() as u32;
+                    kept_cells.push(c);
+                    kept_values
+                        .extend_from_slice(&values[k * BLOCK_POINTS..(k + 1) * BLOCK_POINTS]);
+                } else {
+                    index[c] = UNKNOWN;
+                }
+            }
+            values = kept_values;
+            block_cells = kept_cells;
+        }
+        let block_cells = block_cells;
+
+        // 3. The sign flood across blocks: the points step 2b did not reach (a region of a block
+        // cut off from its exact points inside the block) and the unallocated cells.
         let neighbours = |index: &[u32], n: Node, f: &mut dyn FnMut(Node)| {
             let (cc, local) = match n {
                 Node::Point(i) => {
@@ -390,7 +422,6 @@ impl SparseSdf {
                 _ => None,
             },
         };
-        let tf = t_max as f32;
         let set = |index: &mut [u32], values: &mut [f32], n: Node, air: bool| match n {
             Node::Point(i) => values[i] = if air { tf } else { -tf },
             Node::Cell(c) => index[c] = if air { AIR } else { GROUND },
@@ -527,6 +558,35 @@ impl SparseSdf {
             self.h,
         ))
     }
+}
+
+/// Step 2b for one block's values: every NaN point 6-connected inside the block to an exact
+/// point takes that point's sign as `±tf`. `false` when the block has no exact point.
+fn local_flood(v: &mut [f32], tf: f32) -> bool {
+    let mut stack: Vec<usize> = (0..BLOCK_POINTS).filter(|&l| !v[l].is_nan()).collect();
+    if stack.is_empty() {
+        return false;
+    }
+    // Each point is pushed at most twice (once exact, once when its sign is set): bounded.
+    while let Some(l) = stack.pop() {
+        let s = if v[l] >= 0.0 { tf } else { -tf };
+        let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
+        for (axis, step) in [1, BLOCK, BLOCK * BLOCK].into_iter().enumerate() {
+            for m in [
+                (g[axis] > 0).then(|| l - step),
+                (g[axis] + 1 < BLOCK).then(|| l + step),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                if v[m].is_nan() {
+                    v[m] = s;
+                    stack.push(m);
+                }
+            }
+        }
+    }
+    true
 }
 
 impl SignedDistance for SparseSdf {

@@ -71,8 +71,8 @@ pub fn suite() -> Result<Vec<Case>, String> {
     // plane within T, so the trilinear field is exact there and the closed forms hold to 1e-3.
     let mut sp = rappel::terrain::sparse_sdf::SparseSdfParams::new(0.05);
     sp.margin = 2.0;
-    let field =
-        rappel::terrain::sparse_sdf::SparseSdf::from_mesh(&ground, &sp).map_err(|e| e.to_string())?;
+    let field = rappel::terrain::sparse_sdf::SparseSdf::from_mesh(&ground, &sp)
+        .map_err(|e| e.to_string())?;
     let z_top = ground.bounds().1.z + 1.0;
     let on_field = |x: f64| rappel::mesh_stability::settle_from(&field, z_top, x, 0.0, 0.0);
     let (ft, fm) = (on_field(-1.0)?, on_field(x)?);
