@@ -285,21 +285,35 @@ impl SparseSdf {
             ]
         };
 
-        // 2. Exact values up to T; NaN marks "farther than T, sign unknown".
+        // 2. Exact values up to T; NaN marks "farther than T, sign unknown". The plane test's
+        // slack covers the rounding of the unit normal (relative to the scene's size).
+        let plane_slack = 1e-9 * (ext.norm() + t_max);
         let mut values = vec![0f32; nb * BLOCK_POINTS];
         values
             .par_chunks_mut(BLOCK_POINTS)
             .enumerate()
             .for_each(|(k, out)| {
                 let cc = split(block_cells[k]);
-                let cand = &pairs[starts[k]..starts[k + 1]];
+                // Each candidate with a point and the unit normal of its plane: the distance to
+                // the plane is a lower bound on the distance to the triangle, so a candidate
+                // whose plane is farther than the best so far (or than T) is skipped.
+                let cand: Vec<(usize, Point3<f64>, Vector3<f64>)> = pairs[starts[k]..starts[k + 1]]
+                    .iter()
+                    .map(|&(_, t)| {
+                        let t = t as usize;
+                        (t, mesh.corners(t)[0], mesh.face_normal(t))
+                    })
+                    .collect();
                 for (l, slot) in out.iter_mut().enumerate() {
                     let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
                     let q = origin
                         + Vector3::from([0, 1, 2].map(|a| (cc[a] * BLOCK + g[a]) as f64)).scale(h);
                     let mut best = f64::INFINITY;
-                    for &(_, t) in cand {
-                        let d = mesh.closest_on_triangle(t as usize, &q).signed_distance;
+                    for &(t, a, n) in &cand {
+                        if (q - a).dot(&n).abs() > best.abs().min(t_max) + plane_slack {
+                            continue;
+                        }
+                        let d = mesh.closest_on_triangle(t, &q).signed_distance;
                         if d.abs() < best.abs() {
                             best = d;
                         }
