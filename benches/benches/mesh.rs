@@ -1,8 +1,8 @@
 //! Mesh-terrain benchmarks (issue 14, Paton §IV): settling one Axel pose on the distance field of
 //! Paton's ledge (target < 50 us), and building that distance field (target < 2 s at 5 cm). The
 //! build is timed at 20 cm only: measured once at 1.9 s (20 cm) and 26 s (10 cm, 15 M grid
-//! points, the Dijkstra propagation dominates), 5 cm would take minutes per sample; making it
-//! fast (a truncated or sweep-based propagation) is open work, see `docs/mesh.md`.
+//! points, the Dijkstra propagation dominates), 5 cm would take minutes per sample; the fast
+//! field (`terrain::sparse_sdf`, the 5 cm target) is benchmarked beside it in `benches/sdf.rs`.
 //!
 //! Anchor prediction (Paton Alg. 1) of one motion step across the ledge's lip under the test-1
 //! root anchor, through the same 10 cm field, on the exact mesh by brute force and through the

@@ -89,11 +89,12 @@ pub fn tether_end(pose: &SettledPose, axel: &AxelParams) -> Point3<f64> {
 }
 
 /// Axel settled at ground point `(x, y)` heading `yaw_deg` on `ground` (found from 1 m above the
-/// mesh's top), with the default [`AxelParams`] and [`SettleParams`]; the error is the
+/// mesh's top; distances through the mesh's parry BVH, built for this call), with the default [`AxelParams`] and [`SettleParams`]; the error is the
 /// [`rappel_mechanics::settle::SettleError`]'s message.
 pub fn settle(ground: &TriMesh, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, String> {
     let (_, hi) = ground.bounds();
-    settle_from(ground, hi.z + 1.0, x, y, yaw_deg)
+    let bvh = ParryMesh::new(ground).map_err(|e| e.to_string())?;
+    settle_from(&bvh, hi.z + 1.0, x, y, yaw_deg)
 }
 
 /// [`settle`] on any [`SignedDistance`] ground (e.g. the same mesh behind parry's BVH), found
@@ -162,11 +163,15 @@ pub fn drive_and_check(
     }
     let n = (n as usize).max(1);
     let axel = AxelParams::default();
+    // Settling and prediction through parry's BVH (as `stability_map`); the boom sweep and the
+    // stability placement use the mesh itself.
+    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
+    let z_top = ground.bounds().1.z + 1.0;
     let mut tips = Vec::with_capacity(n + 1);
     let mut last = None;
     for k in 0..=n {
         let q = s + (t - s) * (k as f64 / n as f64);
-        match settle(ground, q.x, q.y, yaw_deg) {
+        match settle_from(&bvh, z_top, q.x, q.y, yaw_deg) {
             Ok(p) => {
                 tips.push(tether_end(&p, &axel));
                 last = Some(p);
@@ -182,7 +187,7 @@ pub fn drive_and_check(
         }
     }
     let pose = last.expect("the target settled");
-    let out = predict_path(ground, &PredictParams::new(PREDICT_RESOLUTION), root, &tips)?;
+    let out = predict_path(&bvh, &PredictParams::new(PREDICT_RESOLUTION), root, &tips)?;
     Ok(pose_stability(ground, &pose, &out.history))
 }
 

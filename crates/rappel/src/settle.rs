@@ -16,6 +16,7 @@ use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_planners::anchor_prediction::{AnchorHistory, detach_height};
 use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::parry_mesh::ParryMesh;
 use rappel_terrain::paton_scene::PatonScene;
 use serde::{Deserialize, Serialize};
 
@@ -418,8 +419,15 @@ pub fn settle_report(
 ) -> Result<(SettledPose, SettleReport), rappel_mechanics::settle::SettleError> {
     let (_, hi) = ground.bounds();
     let params = AxelParams::default();
+    // Settling asks hundreds of distances: through parry's BVH (agrees with the brute-force
+    // mesh distance to 1e-9, `terrain::parry_mesh`); the boom sweep uses the mesh itself.
+    let bvh = ParryMesh::new(ground).map_err(|_| {
+        rappel_mechanics::settle::SettleError::Parameter(
+            "parry's BVH refused the mesh (more vertices than u32 indices)",
+        )
+    })?;
     let pose = settle_axel(
-        ground,
+        &bvh,
         &params,
         x,
         y,

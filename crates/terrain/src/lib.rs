@@ -31,5 +31,6 @@ pub mod plane_series;
 pub mod plane_series_terrain;
 pub mod sdf;
 pub mod slope;
+pub mod sparse_sdf;
 pub mod surface;
 pub mod synthetic;

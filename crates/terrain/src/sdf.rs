@@ -83,6 +83,30 @@ pub enum SdfError {
         /// The cap.
         cap: usize,
     },
+    /// A sparse field's dense block index over the box would exceed its cap.
+    #[error(
+        "SDF block index of {nx} x {ny} x {nz} blocks exceeds the cap of {cap} (coarsen the resolution or crop the mesh)"
+    )]
+    TooManyBlockCells {
+        /// Blocks along x.
+        nx: usize,
+        /// Along y.
+        ny: usize,
+        /// Along z.
+        nz: usize,
+        /// The cap.
+        cap: usize,
+    },
+    /// A sparse field would allocate more blocks (or candidate pairs) than its cap allows.
+    #[error(
+        "sparse SDF needs {blocks} blocks near the surface, over the cap of {cap} (coarsen the resolution, lower the truncation or crop the mesh)"
+    )]
+    TooManyBlocks {
+        /// Blocks needed (for too many candidate pairs: the pairs over the per-block allowance).
+        blocks: usize,
+        /// The cap.
+        cap: usize,
+    },
 }
 
 /// A signed distance field on a regular grid of points `origin + (i, j, k) h`.
@@ -273,23 +297,6 @@ impl Sdf {
         (self.origin, self.origin + e)
     }
 
-    /// The cell holding `q` and the fractional position in it; `None` outside the grid.
-    fn cell(&self, q: &Point3<f64>) -> Option<([usize; 3], [f64; 3])> {
-        let mut c = [0; 3];
-        let mut f = [0.0; 3];
-        for a in 0..3 {
-            let u = (q[a] - self.origin[a]) / self.h;
-            let top = (self.dims[a] - 1) as f64;
-            if !(u >= 0.0 && u <= top) {
-                return None;
-            }
-            let i = (u.floor() as usize).min(self.dims[a].saturating_sub(2));
-            c[a] = i;
-            f[a] = u - i as f64;
-        }
-        Some((c, f))
-    }
-
     fn value(&self, i: usize, j: usize, k: usize) -> f64 {
         let at = |x: usize, d: usize| x.min(d - 1);
         self.dist[(at(k, self.dims[2]) * self.dims[1] + at(j, self.dims[1])) * self.dims[0]
@@ -309,27 +316,70 @@ impl Sdf {
 
     /// Distance and gradient of the trilinear interpolant at `q`; `None` outside the grid.
     pub fn distance_and_gradient(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
-        let ([i, j, k], [x, y, z]) = self.cell(q)?;
+        let ([i, j, k], t) = grid_cell(&self.origin, self.h, self.dims, q)?;
         let v = |a: usize, b: usize, c: usize| self.value(i + a, j + b, k + c);
-        let (c000, c100, c010, c110) = (v(0, 0, 0), v(1, 0, 0), v(0, 1, 0), v(1, 1, 0));
-        let (c001, c101, c011, c111) = (v(0, 0, 1), v(1, 0, 1), v(0, 1, 1), v(1, 1, 1));
-        let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
-        let c00 = lerp(c000, c100, x);
-        let c10 = lerp(c010, c110, x);
-        let c01 = lerp(c001, c101, x);
-        let c11 = lerp(c011, c111, x);
-        let c0 = lerp(c00, c10, y);
-        let c1 = lerp(c01, c11, y);
-        let d = lerp(c0, c1, z);
-        let dx = lerp(
-            lerp(c100 - c000, c110 - c010, y),
-            lerp(c101 - c001, c111 - c011, y),
-            z,
-        );
-        let dy = lerp(c10 - c00, c11 - c01, z);
-        let dz = c1 - c0;
-        Some((d, Vector3::new(dx, dy, dz) / self.h))
+        Some(trilinear(
+            [
+                v(0, 0, 0),
+                v(1, 0, 0),
+                v(0, 1, 0),
+                v(1, 1, 0),
+                v(0, 0, 1),
+                v(1, 0, 1),
+                v(0, 1, 1),
+                v(1, 1, 1),
+            ],
+            t,
+            self.h,
+        ))
     }
+}
+
+/// The cell of the grid of `dims` points `origin + (i, j, k) h` holding `q` (its lowest corner,
+/// at most `dims - 2` on each axis) and the fractional position in it; `None` outside the grid.
+pub(crate) fn grid_cell(
+    origin: &Point3<f64>,
+    h: f64,
+    dims: [usize; 3],
+    q: &Point3<f64>,
+) -> Option<([usize; 3], [f64; 3])> {
+    let mut c = [0; 3];
+    let mut f = [0.0; 3];
+    for a in 0..3 {
+        let u = (q[a] - origin[a]) / h;
+        let top = (dims[a] - 1) as f64;
+        if !(u >= 0.0 && u <= top) {
+            return None;
+        }
+        let i = (u.floor() as usize).min(dims[a].saturating_sub(2));
+        c[a] = i;
+        f[a] = u - i as f64;
+    }
+    Some((c, f))
+}
+
+/// Trilinear interpolation of the corner values `c` (`c[a + 2 b + 4 c]` at corner `(a, b, c)`)
+/// of a cell of side `h` at fractional position `t`: the value and the gradient of the
+/// interpolant (not normalised).
+pub(crate) fn trilinear(c: [f64; 8], t: [f64; 3], h: f64) -> (f64, Vector3<f64>) {
+    let [c000, c100, c010, c110, c001, c101, c011, c111] = c;
+    let [x, y, z] = t;
+    let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+    let c00 = lerp(c000, c100, x);
+    let c10 = lerp(c010, c110, x);
+    let c01 = lerp(c001, c101, x);
+    let c11 = lerp(c011, c111, x);
+    let c0 = lerp(c00, c10, y);
+    let c1 = lerp(c01, c11, y);
+    let d = lerp(c0, c1, z);
+    let dx = lerp(
+        lerp(c100 - c000, c110 - c010, y),
+        lerp(c101 - c001, c111 - c011, y),
+        z,
+    );
+    let dy = lerp(c10 - c00, c11 - c01, z);
+    let dz = c1 - c0;
+    (d, Vector3::new(dx, dy, dz) / h)
 }
 
 impl crate::surface::SignedDistance for Sdf {

@@ -66,6 +66,33 @@ pub fn suite() -> Result<Vec<Case>, String> {
         (mid.origin[2] - want).abs() < 1e-3
             && (mid.pitch_deg + scene.slope_deg).abs() < 1e-3f64.to_degrees(),
     ));
+    // The same two poses settled through the sparse truncated distance field at 5 cm
+    // (`terrain::sparse_sdf`): on the top and mid-slope every corner the wheels read lies on one
+    // plane within T, so the trilinear field is exact there and the closed forms hold to 1e-3.
+    let mut sp = rappel::terrain::sparse_sdf::SparseSdfParams::new(0.05);
+    sp.margin = 2.0;
+    let field = rappel::terrain::sparse_sdf::SparseSdf::from_mesh(&ground, &sp)
+        .map_err(|e| e.to_string())?;
+    let z_top = ground.bounds().1.z + 1.0;
+    let on_field = |x: f64| rappel::mesh_stability::settle_from(&field, z_top, x, 0.0, 0.0);
+    let (ft, fm) = (on_field(-1.0)?, on_field(x)?);
+    cases.push(Case::new(
+        SUITE,
+        "settle through the sparse 5 cm field: top and mid-slope height, pitch",
+        format!(
+            "{:.4} m, {:.3}°; {:.4} m, {:.3}° ({} blocks)",
+            ft.origin.z,
+            ft.pitch().to_degrees(),
+            fm.origin.z,
+            fm.pitch().to_degrees(),
+            field.block_count()
+        ),
+        format!("4.0000 m, 0.000°; {want:.4} m, -55.000° (closed forms, 1e-3)"),
+        (ft.origin.z - 4.0).abs() < 1e-3
+            && ft.pitch().abs() < 1e-3
+            && (fm.origin.z - want).abs() < 1e-3
+            && (fm.pitch() + scene.slope_deg.to_radians()).abs() < 1e-3,
+    ));
     // Fig. 8 shading over the slope: 3 positions down the slope by `ys` across it.
     let anchors = scene.anchor_points();
     let down: Vec<f64> = [0.25, 0.5, 0.75]

@@ -1,0 +1,613 @@
+//! Sparse, truncated Euclidean signed distance field of a [`TriMesh`] (Paton §IV; after Voxblox,
+//! Oleynikova et al. 2017, whose ESDF also stops at a `max_distance` and answers a default
+//! beyond it): voxel blocks of [`BLOCK`]³ grid points allocated only near the surface, exact
+//! signed distances in them up to the truncation distance `T`, `±T` beyond (the sign carried by
+//! a flood fill), trilinear distance and gradient queries with the same formulas as the dense
+//! [`crate::sdf::Sdf`].
+//!
+//! # Construction
+//! 1. **Blocks**: block `b` (grid points `8 b .. 8 b + 7` on each axis) is allocated when some
+//!    triangle lies within `T + r_b` of its centre (`r_b` the block's half-diagonal); that
+//!    triangle joins the block's candidate list. Every triangle visits only the blocks whose
+//!    centres lie in its bounding box grown by `T + r_b` (rayon over triangles).
+//! 2. **Exact band**: every grid point of an allocated block takes the smallest
+//!    [`TriMesh::closest_on_triangle`] distance over its block's candidates (rayon over blocks).
+//!    A point within `T` of the mesh has its closest triangle among the candidates (it is within
+//!    `r_b` of the centre), so every value `<= T` is exact; a larger value only proves `|d| > T`,
+//!    and its pseudo-normal sign (from a triangle that need not be the closest) is not trusted.
+//! 3. **Sign beyond the band**: first inside each block in parallel (a point beyond `T` takes
+//!    the sign of a 6-neighbour in its block; a block with no exact point lies wholly beyond `T`
+//!    and is released), then across blocks: the points with `|d| > T` and the unallocated blocks (every point
+//!    of which is farther than `T` from the mesh) take the sign of a neighbour by a breadth-first
+//!    flood from the exact points (6-neighbours; an unallocated block is one node, adjacent to
+//!    the facing points of an allocated neighbour). Two adjacent nodes with `|d| > T >= 2 h`
+//!    everywhere between them lie on one side of the surface, so the flood is exact for a closed
+//!    mesh and on the air side of a terrain patch; every node is reached because the grid is
+//!    connected and holds exact points. They store `±T`.
+//!
+//! # Error bound
+//! Every stored value is `clamp(d, -T, T)` at its grid point, `d` the mesh's exact signed
+//! distance, up to `f32` rounding (`T * 2^-24`). `clamp ∘ d` is 1-Lipschitz, so the trilinear
+//! interpolant `f` satisfies, at every query point in the grid's box,
+//! `|f(q) - clamp(d(q), -T, T)| <= (sqrt 3 / 2) h + T 2^-24` ([`SparseSdf::error_bound`]); hence
+//! where `|f(q)| < T - bound` the field is within the bound of the exact distance, and where it
+//! reads `±T` the exact distance is at least `T - 2 bound` in magnitude, with that sign. Callers
+//! that need distances farther than that (sphere tracing) step by at most `T` and take more steps.
+//! Callers in this workspace need near-surface values only: anchor prediction's contact depth is
+//! one voxel, Axel's body clearance 0.25 m, settling's drop starts 0.5 m above the ground and
+//! sphere-traces; [`DEFAULT_TRUNCATION`] covers the body clearance plus the bound.
+//!
+//! As for the dense field, beyond an open mesh's boundary the signed distance itself jumps (a
+//! convention, `docs/mesh.md`) and the flood may carry either side's sign there: crop queries to
+//! the interior.
+//!
+//! # Bounds
+//! The block index is dense over the grid's box (4 bytes per block cell, at most
+//! `max_block_cells`); allocated blocks (2 KiB each) at most `max_blocks`; candidate pairs at
+//! most [`MAX_CANDIDATES_PER_BLOCK`] per allowed block. Each is a typed [`SdfError`].
+
+use std::collections::VecDeque;
+
+use nalgebra::{Point3, Vector3};
+use rayon::prelude::*;
+
+use crate::mesh::{TriMesh, closest_point_triangle};
+use crate::sdf::{INTERPOLATION_BOUND, SdfError, grid_cell, trilinear};
+use crate::surface::SignedDistance;
+
+/// Grid points per block side.
+pub const BLOCK: usize = 8;
+const BLOCK_POINTS: usize = BLOCK * BLOCK * BLOCK;
+
+/// Default truncation distance `T`, metres: Axel's body clearance (0.25 m) plus the interpolation
+/// bound at 10 cm and a margin. [`SparseSdfParams::new`] takes at least `3 h`.
+pub const DEFAULT_TRUNCATION: f64 = 0.4;
+
+/// Default cap on allocated blocks (2 KiB each: 512 MiB at the cap).
+pub const DEFAULT_MAX_BLOCKS: usize = 262_144;
+
+/// Default cap on block cells of the dense block index over the grid's box (4 bytes each:
+/// 128 MiB at the cap).
+pub const DEFAULT_MAX_BLOCK_CELLS: usize = 1 << 25;
+
+/// Cap on (block, candidate triangle) pairs per allowed block: at most
+/// `MAX_CANDIDATES_PER_BLOCK * max_blocks` pairs are kept.
+pub const MAX_CANDIDATES_PER_BLOCK: usize = 64;
+
+/// `2^-24`: the relative rounding of a stored `f32` value.
+pub const F32_ROUNDING: f64 = 5.960_464_477_539_063e-8;
+
+const AIR: u32 = u32::MAX;
+const GROUND: u32 = u32::MAX - 1;
+const UNKNOWN: u32 = u32::MAX - 2;
+
+/// How to build a [`SparseSdf`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SparseSdfParams {
+    /// Grid spacing `h`, metres (`> 0`, finite).
+    pub resolution: f64,
+    /// Truncation distance `T`, metres (`>= 2 h`: the sign flood needs `T > sqrt 3 h`).
+    pub truncation: f64,
+    /// Margin added around the mesh's bounding box, metres (`>= 0`).
+    pub margin: f64,
+    /// Cap on allocated blocks.
+    pub max_blocks: usize,
+    /// Cap on cells of the dense block index.
+    pub max_block_cells: usize,
+}
+
+impl SparseSdfParams {
+    /// Resolution `h`, truncation `max(DEFAULT_TRUNCATION, 3 h)`, margin `T`, the default caps.
+    pub fn new(resolution: f64) -> Self {
+        let truncation = DEFAULT_TRUNCATION.max(3.0 * resolution);
+        SparseSdfParams {
+            resolution,
+            truncation,
+            margin: truncation,
+            max_blocks: DEFAULT_MAX_BLOCKS,
+            max_block_cells: DEFAULT_MAX_BLOCK_CELLS,
+        }
+    }
+}
+
+/// A sparse truncated signed distance field on the grid `origin + (i, j, k) h`.
+#[derive(Debug, Clone)]
+pub struct SparseSdf {
+    origin: Point3<f64>,
+    h: f64,
+    truncation: f64,
+    dims: [usize; 3],
+    cells: [usize; 3],
+    /// Per block cell: the allocated block's index, or [`AIR`] / [`GROUND`].
+    index: Vec<u32>,
+    /// [`BLOCK_POINTS`] values per allocated block, `x` fastest.
+    values: Vec<f32>,
+}
+
+fn bad(name: &'static str, value: f64, why: &'static str) -> SdfError {
+    SdfError::BadParameter { name, value, why }
+}
+
+/// A node of the sign flood: a grid point of an allocated block (`block * 512 + local`) or an
+/// unallocated block cell.
+#[derive(Clone, Copy)]
+enum Node {
+    Point(usize),
+    Cell(usize),
+}
+
+impl SparseSdf {
+    /// The field of `mesh`. Work: every triangle against the blocks of its grown bounding box,
+    /// then `BLOCK³` points per allocated block against its candidates (both in parallel), then
+    /// a linear flood over the points beyond `T` and the unallocated cells.
+    ///
+    /// ```
+    /// use nalgebra::Point3;
+    /// use rappel_terrain::mesh::TriMesh;
+    /// use rappel_terrain::sparse_sdf::{SparseSdf, SparseSdfParams};
+    /// let v = vec![Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0)];
+    /// let m = TriMesh::new(v, vec![[0, 1, 2]]).unwrap();
+    /// let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(0.05)).unwrap();
+    /// let d = f.distance(&Point3::new(0.2, 0.2, 0.1)).unwrap();
+    /// assert!((d - 0.1).abs() <= f.error_bound());
+    /// ```
+    pub fn from_mesh(mesh: &TriMesh, p: &SparseSdfParams) -> Result<Self, SdfError> {
+        let h = p.resolution;
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(bad("resolution", h, "must be positive and finite"));
+        }
+        let t_max = p.truncation;
+        if !(t_max.is_finite() && t_max >= 2.0 * h) {
+            return Err(bad(
+                "truncation",
+                t_max,
+                "must be finite and at least 2 resolutions",
+            ));
+        }
+        if !(p.margin >= 0.0 && p.margin.is_finite()) {
+            return Err(bad("margin", p.margin, "must be non-negative and finite"));
+        }
+        if p.max_blocks == 0 || p.max_blocks >= UNKNOWN as usize {
+            return Err(bad(
+                "max_blocks",
+                p.max_blocks as f64,
+                "must be in 1 ..= 2^32 - 4",
+            ));
+        }
+        if p.max_block_cells == 0 || p.max_block_cells > u32::MAX as usize {
+            return Err(bad(
+                "max_block_cells",
+                p.max_block_cells as f64,
+                "must be in 1 ..= 2^32 - 1",
+            ));
+        }
+        let (lo, hi) = mesh.bounds();
+        let origin = lo - Vector3::repeat(p.margin);
+        let ext = (hi - lo) + Vector3::repeat(2.0 * p.margin);
+        let points = |e: f64| (e / h).ceil() + 1.0;
+        let fp = [points(ext.x), points(ext.y), points(ext.z)];
+        let fc = fp.map(|n| (n / BLOCK as f64).ceil());
+        let total = fc[0] * fc[1] * fc[2];
+        if !(total.is_finite() && total <= p.max_block_cells as f64) {
+            let c = |f: f64| {
+                if f < usize::MAX as f64 {
+                    f as usize
+                } else {
+                    usize::MAX
+                }
+            };
+            return Err(SdfError::TooManyBlockCells {
+                nx: c(fc[0]),
+                ny: c(fc[1]),
+                nz: c(fc[2]),
+                cap: p.max_block_cells,
+            });
+        }
+        let dims = fp.map(|n| n as usize);
+        let cells = fc.map(|n| n as usize);
+        let cell_id = |c: [usize; 3]| (c[2] * cells[1] + c[1]) * cells[0] + c[0];
+        let b = BLOCK as f64;
+        let half = 0.5 * (b - 1.0);
+        let r_b = half * h * 3f64.sqrt();
+        // Rounding slack on the candidate test (relative to the reach).
+        let reach = (t_max + r_b) * (1.0 + 1e-9);
+        let centre =
+            |c: [usize; 3]| origin + Vector3::from(c.map(|v| v as f64 * b + half)).scale(h);
+
+        // 1. Candidate (block cell, triangle) pairs.
+        let mut pairs: Vec<(u32, u32)> = (0..mesh.triangles().len())
+            .into_par_iter()
+            .flat_map_iter(|t| {
+                let [a, bb, c] = mesh.corners(t);
+                let tlo = a.inf(&bb).inf(&c) - Vector3::repeat(reach);
+                let thi = a.sup(&bb).sup(&c) + Vector3::repeat(reach);
+                let range = |axis: usize| {
+                    let u0 = ((tlo[axis] - origin[axis]) / h - half) / b;
+                    let u1 = ((thi[axis] - origin[axis]) / h - half) / b;
+                    let top = cells[axis] as f64 - 1.0;
+                    let lo = u0.ceil().clamp(0.0, top) as usize;
+                    let hi = u1.floor().clamp(0.0, top) as usize;
+                    // An empty range when the box ends before the first centre.
+                    if u1 < 0.0 || u0 > top {
+                        1..1
+                    } else {
+                        lo..hi + 1
+                    }
+                };
+                let (rx, ry, rz) = (range(0), range(1), range(2));
+                let mut out = Vec::new();
+                for k in rz {
+                    for j in ry.clone() {
+                        for i in rx.clone() {
+                            let q = centre([i, j, k]);
+                            let (cp, _) = closest_point_triangle(&q, &a, &bb, &c);
+                            if (q - cp).norm() <= reach {
+                                out.push((cell_id([i, j, k]) as u32, t as u32));
+                            }
+                        }
+                    }
+                }
+                out.into_iter()
+            })
+            .collect();
+        pairs.par_sort_unstable();
+        let mut starts = Vec::new();
+        let mut block_cells: Vec<usize> = Vec::new();
+        for (k, &(c, _)) in pairs.iter().enumerate() {
+            if k == 0 || pairs[k - 1].0 != c {
+                starts.push(k);
+                block_cells.push(c as usize);
+            }
+        }
+        starts.push(pairs.len());
+        let nb = block_cells.len();
+        if nb > p.max_blocks {
+            return Err(SdfError::TooManyBlocks {
+                blocks: nb,
+                cap: p.max_blocks,
+            });
+        }
+        if pairs.len() > MAX_CANDIDATES_PER_BLOCK.saturating_mul(p.max_blocks) {
+            return Err(SdfError::TooManyBlocks {
+                blocks: pairs.len().div_ceil(MAX_CANDIDATES_PER_BLOCK),
+                cap: p.max_blocks,
+            });
+        }
+        let mut index = vec![UNKNOWN; cells[0] * cells[1] * cells[2]];
+        for (k, &c) in block_cells.iter().enumerate() {
+            index[c] = k as u32;
+        }
+        let split = |c: usize| {
+            [
+                c % cells[0],
+                (c / cells[0]) % cells[1],
+                c / (cells[0] * cells[1]),
+            ]
+        };
+
+        // 2. Exact values up to T; NaN marks "farther than T, sign unknown". The plane test's
+        // slack covers the rounding of the unit normal (relative to the scene's size).
+        let plane_slack = 1e-9 * (ext.norm() + t_max);
+        let mut values = vec![0f32; nb * BLOCK_POINTS];
+        values
+            .par_chunks_mut(BLOCK_POINTS)
+            .enumerate()
+            .for_each(|(k, out)| {
+                let cc = split(block_cells[k]);
+                // Each candidate with a point and the unit normal of its plane: the distance to
+                // the plane is a lower bound on the distance to the triangle, so a candidate
+                // whose plane is farther than the best so far (or than T) is skipped.
+                let cand: Vec<(usize, Point3<f64>, Vector3<f64>)> = pairs[starts[k]..starts[k + 1]]
+                    .iter()
+                    .map(|&(_, t)| {
+                        let t = t as usize;
+                        (t, mesh.corners(t)[0], mesh.face_normal(t))
+                    })
+                    .collect();
+                for (l, slot) in out.iter_mut().enumerate() {
+                    let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
+                    let q = origin
+                        + Vector3::from([0, 1, 2].map(|a| (cc[a] * BLOCK + g[a]) as f64)).scale(h);
+                    let mut best = f64::INFINITY;
+                    for &(t, a, n) in &cand {
+                        if (q - a).dot(&n).abs() > best.abs().min(t_max) + plane_slack {
+                            continue;
+                        }
+                        let d = mesh.closest_on_triangle(t, &q).signed_distance;
+                        if d.abs() < best.abs() {
+                            best = d;
+                        }
+                    }
+                    *slot = if best.abs() <= t_max {
+                        best as f32
+                    } else {
+                        f32::NAN
+                    };
+                }
+            });
+
+        drop(pairs);
+        // 2b. The sign flood inside each block (in parallel): an exact point's sign carried to
+        // its 6-neighbours beyond T. A block without an exact point lies wholly beyond T, on one
+        // side of the surface: it is released and becomes one unallocated node of step 3.
+        let tf = t_max as f32;
+        let exact: Vec<bool> = values
+            .par_chunks_mut(BLOCK_POINTS)
+            .map(|v| local_flood(v, tf))
+            .collect();
+        if exact.iter().any(|e| !e) {
+            let kept = exact.iter().filter(|e| **e).count();
+            let mut kept_values = Vec::with_capacity(kept * BLOCK_POINTS);
+            let mut kept_cells = Vec::with_capacity(kept);
+            for (k, &keep) in exact.iter().enumerate() {
+                let c = block_cells[k];
+                if keep {
+                    index[c] = kept_cells.len() as u32;
+                    kept_cells.push(c);
+                    kept_values
+                        .extend_from_slice(&values[k * BLOCK_POINTS..(k + 1) * BLOCK_POINTS]);
+                } else {
+                    index[c] = UNKNOWN;
+                }
+            }
+            values = kept_values;
+            block_cells = kept_cells;
+        }
+        let block_cells = block_cells;
+
+        // 3. The sign flood across blocks: the points step 2b did not reach (a region of a block
+        // cut off from its exact points inside the block) and the unallocated cells.
+        let neighbours = |index: &[u32], n: Node, f: &mut dyn FnMut(Node)| {
+            let (cc, local) = match n {
+                Node::Point(i) => {
+                    let l = i % BLOCK_POINTS;
+                    (
+                        split(block_cells[i / BLOCK_POINTS]),
+                        Some([l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)]),
+                    )
+                }
+                Node::Cell(c) => (split(c), None),
+            };
+            for axis in 0..3 {
+                for up in [false, true] {
+                    if let Some(g) = local {
+                        let inside = if up { g[axis] + 1 < BLOCK } else { g[axis] > 0 };
+                        if inside {
+                            let mut g2 = g;
+                            g2[axis] = if up { g[axis] + 1 } else { g[axis] - 1 };
+                            let l2 = (g2[2] * BLOCK + g2[1]) * BLOCK + g2[0];
+                            if let Node::Point(i) = n {
+                                f(Node::Point(i - i % BLOCK_POINTS + l2));
+                            }
+                            continue;
+                        }
+                    }
+                    let mut c2 = cc;
+                    if up {
+                        if cc[axis] + 1 >= cells[axis] {
+                            continue;
+                        }
+                        c2[axis] += 1;
+                    } else {
+                        if cc[axis] == 0 {
+                            continue;
+                        }
+                        c2[axis] -= 1;
+                    }
+                    let id = cell_id(c2);
+                    let blk = index[id];
+                    if blk >= UNKNOWN {
+                        // Unallocated (unknown, air or ground).
+                        f(Node::Cell(id));
+                        continue;
+                    }
+                    let base = blk as usize * BLOCK_POINTS;
+                    let face = if up { 0 } else { BLOCK - 1 };
+                    match local {
+                        Some(g) => {
+                            let mut g2 = g;
+                            g2[axis] = face;
+                            f(Node::Point(base + (g2[2] * BLOCK + g2[1]) * BLOCK + g2[0]));
+                        }
+                        None => {
+                            for u in 0..BLOCK {
+                                for v in 0..BLOCK {
+                                    let mut g2 = [0; 3];
+                                    g2[axis] = face;
+                                    g2[(axis + 1) % 3] = u;
+                                    g2[(axis + 2) % 3] = v;
+                                    f(Node::Point(base + (g2[2] * BLOCK + g2[1]) * BLOCK + g2[0]));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        };
+        // `Some(true)` air, `Some(false)` ground, `None` unknown.
+        let sign = |index: &[u32], values: &[f32], n: Node| match n {
+            Node::Point(i) => {
+                let v = values[i];
+                (!v.is_nan()).then_some(v >= 0.0)
+            }
+            Node::Cell(c) => match index[c] {
+                AIR => Some(true),
+                GROUND => Some(false),
+                _ => None,
+            },
+        };
+        let set = |index: &mut [u32], values: &mut [f32], n: Node, air: bool| match n {
+            Node::Point(i) => values[i] = if air { tf } else { -tf },
+            Node::Cell(c) => index[c] = if air { AIR } else { GROUND },
+        };
+        // Seeds: unknown nodes with a known neighbour in the initial state (assigned after the
+        // scan, so that the fronts advance evenly from every exact point).
+        let mut seeds: Vec<(Node, bool)> = Vec::new();
+        let unknown_nodes = values
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.is_nan())
+            .map(|(i, _)| Node::Point(i))
+            .chain(
+                index
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, b)| **b == UNKNOWN)
+                    .map(|(c, _)| Node::Cell(c)),
+            );
+        for n in unknown_nodes {
+            let mut found = None;
+            neighbours(&index, n, &mut |m| {
+                if found.is_none() {
+                    found = sign(&index, &values, m);
+                }
+            });
+            if let Some(air) = found {
+                seeds.push((n, air));
+            }
+        }
+        let mut queue = VecDeque::with_capacity(seeds.len());
+        for (n, air) in seeds {
+            if sign(&index, &values, n).is_none() {
+                set(&mut index, &mut values, n, air);
+                queue.push_back((n, air));
+            }
+        }
+        // Each node enters the queue once (when its sign is set): bounded by the node count.
+        while let Some((n, air)) = queue.pop_front() {
+            let mut next = Vec::new();
+            neighbours(&index, n, &mut |m| {
+                if sign(&index, &values, m).is_none() {
+                    next.push(m);
+                }
+            });
+            for m in next {
+                if sign(&index, &values, m).is_none() {
+                    set(&mut index, &mut values, m, air);
+                    queue.push_back((m, air));
+                }
+            }
+        }
+        // Unreached nodes cannot exist (the grid is connected and holds exact points); air if so.
+        for v in values.iter_mut().filter(|v| v.is_nan()) {
+            *v = tf;
+        }
+        for b in index.iter_mut().filter(|b| **b == UNKNOWN) {
+            *b = AIR;
+        }
+        Ok(SparseSdf {
+            origin,
+            h,
+            truncation: tf as f64,
+            dims,
+            cells,
+            index,
+            values,
+        })
+    }
+
+    /// Grid spacing, metres.
+    pub fn resolution(&self) -> f64 {
+        self.h
+    }
+
+    /// Truncation distance `T` (the parameter rounded to `f32`), metres: values are clamped to
+    /// `[-T, T]`.
+    pub fn truncation(&self) -> f64 {
+        self.truncation
+    }
+
+    /// Allocated blocks.
+    pub fn block_count(&self) -> usize {
+        self.values.len() / BLOCK_POINTS
+    }
+
+    /// The proven bound on `|f(q) - clamp(d(q), -T, T)|` anywhere in the box (module doc):
+    /// `(sqrt 3 / 2) h + T 2^-24`.
+    pub fn error_bound(&self) -> f64 {
+        INTERPOLATION_BOUND * self.h + self.truncation * F32_ROUNDING
+    }
+
+    /// The grid's box `(min, max)`.
+    pub fn bounds(&self) -> (Point3<f64>, Point3<f64>) {
+        let e = Vector3::from(self.dims.map(|n| (n - 1) as f64)) * self.h;
+        (self.origin, self.origin + e)
+    }
+
+    fn value(&self, i: usize, j: usize, k: usize) -> f64 {
+        let c = (k / BLOCK * self.cells[1] + j / BLOCK) * self.cells[0] + i / BLOCK;
+        match self.index[c] {
+            AIR => self.truncation,
+            GROUND => -self.truncation,
+            b => {
+                let l = ((k % BLOCK) * BLOCK + j % BLOCK) * BLOCK + i % BLOCK;
+                self.values[b as usize * BLOCK_POINTS + l] as f64
+            }
+        }
+    }
+
+    /// Trilinear signed distance at `q`, clamped to `[-T, T]` (positive on the air side);
+    /// `None` outside the grid.
+    pub fn distance(&self, q: &Point3<f64>) -> Option<f64> {
+        self.distance_and_gradient(q).map(|(d, _)| d)
+    }
+
+    /// Distance and gradient of the trilinear interpolant at `q` (zero gradient where every
+    /// corner reads `±T`); `None` outside the grid.
+    pub fn distance_and_gradient(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
+        let ([i, j, k], t) = grid_cell(&self.origin, self.h, self.dims, q)?;
+        let v = |a: usize, b: usize, c: usize| self.value(i + a, j + b, k + c);
+        Some(trilinear(
+            [
+                v(0, 0, 0),
+                v(1, 0, 0),
+                v(0, 1, 0),
+                v(1, 1, 0),
+                v(0, 0, 1),
+                v(1, 0, 1),
+                v(0, 1, 1),
+                v(1, 1, 1),
+            ],
+            t,
+            self.h,
+        ))
+    }
+}
+
+/// Step 2b for one block's values: every NaN point 6-connected inside the block to an exact
+/// point takes that point's sign as `±tf`. `false` when the block has no exact point.
+fn local_flood(v: &mut [f32], tf: f32) -> bool {
+    let mut stack: Vec<usize> = (0..BLOCK_POINTS).filter(|&l| !v[l].is_nan()).collect();
+    if stack.is_empty() {
+        return false;
+    }
+    // Each point is pushed at most twice (once exact, once when its sign is set): bounded.
+    while let Some(l) = stack.pop() {
+        let s = if v[l] >= 0.0 { tf } else { -tf };
+        let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
+        for (axis, step) in [1, BLOCK, BLOCK * BLOCK].into_iter().enumerate() {
+            for m in [
+                (g[axis] > 0).then(|| l - step),
+                (g[axis] + 1 < BLOCK).then(|| l + step),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                if v[m].is_nan() {
+                    v[m] = s;
+                    stack.push(m);
+                }
+            }
+        }
+    }
+    true
+}
+
+impl SignedDistance for SparseSdf {
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
+        self.distance(q)
+    }
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
+        self.distance_and_gradient(q).map(|(_, g)| g)
+    }
+}

@@ -1,0 +1,239 @@
+//! The sparse truncated distance field against independent exact distances: the parry BVH's on
+//! Paton's ledge scenes, closed forms on a closed box and a tilted plane. Each test fails if the
+//! documented bound `|f - clamp(d, -T, T)| <= (sqrt 3 / 2) h + T 2^-24` is violated anywhere it
+//! samples, or if a sign beyond the bound is wrong; typed errors for bad parameters and caps.
+
+use nalgebra::{Point3, Vector3};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::parry_mesh::ParryMesh;
+use rappel_terrain::paton_scene::PatonScene;
+use rappel_terrain::sdf::SdfError;
+use rappel_terrain::sparse_sdf::{SparseSdf, SparseSdfParams};
+use rappel_terrain::surface::SignedDistance;
+
+/// Samples `n` points from `sample`, checks the bound against `exact`; returns how many lay
+/// within `T` of the surface and how many beyond.
+fn check_bound(
+    f: &SparseSdf,
+    n: usize,
+    mut sample: impl FnMut() -> Point3<f64>,
+    exact: impl Fn(&Point3<f64>) -> f64,
+) -> (usize, usize) {
+    let t = f.truncation();
+    let bound = f.error_bound();
+    let (mut near, mut far) = (0, 0);
+    for _ in 0..n {
+        let q = sample();
+        let d = exact(&q);
+        let got = f.distance(&q).expect("inside the box");
+        assert!(
+            (got - d.clamp(-t, t)).abs() <= bound + 1e-9,
+            "at {q}: field {got}, exact {d} (T {t}, bound {bound})"
+        );
+        if d.abs() > bound {
+            assert_eq!(got.signum(), d.signum(), "sign at {q}: {got} vs {d}");
+        }
+        if d.abs() < t { near += 1 } else { far += 1 }
+    }
+    (near, far)
+}
+
+#[test]
+fn ledge_scenes_within_the_bound_of_the_bvh_distance() {
+    for pole in [false, true] {
+        let scene = PatonScene::paper(pole);
+        let m = scene.mesh().expect("the paper's scene meshes");
+        let exact = ParryMesh::new(&m).expect("parry takes it");
+        let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(0.1)).expect("fits");
+        let (lo, hi) = f.bounds();
+        let mut rng = ChaCha8Rng::seed_from_u64(14);
+        let top = scene.height;
+        // Uniform over the box's interior (7 m inside the open ground's edge), and near the
+        // ledge. With the pole, above the ledge's top only: the pole's open bottom end is sunk
+        // into the ledge, where the exact sign is a convention.
+        let zmin = if pole { top + 0.05 } else { lo.z };
+        let (near, far) = check_bound(
+            &f,
+            1500,
+            || {
+                if rng.random_bool(0.5) {
+                    Point3::new(
+                        rng.random_range(lo.x + 7.0..hi.x - 7.0),
+                        rng.random_range(lo.y + 7.0..hi.y - 7.0),
+                        rng.random_range(zmin..hi.z),
+                    )
+                } else {
+                    Point3::new(
+                        rng.random_range(-6.0..4.0),
+                        rng.random_range(-6.0..6.0),
+                        rng.random_range(zmin..(top + 1.0).min(hi.z)),
+                    )
+                }
+            },
+            |q| exact.signed_distance(q).expect("finite"),
+        );
+        assert!(
+            near > 50 && far > 300,
+            "pole {pole}: {near} near, {far} far"
+        );
+    }
+}
+
+/// A closed box of half-sizes `e` about `c`, outward triangles.
+fn closed_box(c: Point3<f64>, e: Vector3<f64>) -> TriMesh {
+    let v: Vec<Point3<f64>> = (0..8)
+        .map(|i| {
+            let s = |b: usize| if i >> b & 1 == 1 { 1.0 } else { -1.0 };
+            c + Vector3::new(s(0) * e.x, s(1) * e.y, s(2) * e.z)
+        })
+        .collect();
+    let quads = [
+        [0, 2, 3, 1], // z-
+        [4, 5, 7, 6], // z+
+        [0, 1, 5, 4], // y-
+        [2, 6, 7, 3], // y+
+        [0, 4, 6, 2], // x-
+        [1, 3, 7, 5], // x+
+    ];
+    let t = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    TriMesh::new(v, t).expect("a closed box")
+}
+
+#[test]
+fn closed_box_against_its_closed_form() {
+    let (c, e) = (Point3::new(0.13, -0.21, 0.37), Vector3::new(1.0, 0.7, 0.5));
+    let m = closed_box(c, e);
+    // Check the mesh's orientation with the exact distance at the centre: inside is negative.
+    assert!(m.signed_distance(&c) < -0.4);
+    let mut p = SparseSdfParams::new(0.05);
+    p.truncation = 0.2;
+    p.margin = 0.6;
+    let f = SparseSdf::from_mesh(&m, &p).expect("fits");
+    let closed_form = |q: &Point3<f64>| {
+        let a = (q - c).abs() - e;
+        let out = a.sup(&Vector3::zeros()).norm();
+        let inside = a.x.max(a.y).max(a.z).min(0.0);
+        out + inside
+    };
+    let (lo, hi) = f.bounds();
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let (near, far) = check_bound(
+        &f,
+        3000,
+        || {
+            Point3::new(
+                rng.random_range(lo.x..hi.x),
+                rng.random_range(lo.y..hi.y),
+                rng.random_range(lo.z..hi.z),
+            )
+        },
+        closed_form,
+    );
+    assert!(near > 300 && far > 1000, "{near} near, {far} far");
+    // Deep inside (0.3 m from every face, beyond T): the flood carried the inside sign.
+    assert_eq!(f.distance(&c), Some(-f.truncation()));
+    assert!(f.distance(&Point3::new(50.0, 0.0, 0.0)).is_none());
+}
+
+#[test]
+fn tilted_plane_distance_and_gradient() {
+    // z = 0.3 x - 0.2 y + 1 over [-10, 10]^2 (two triangles; z from -4 to 6).
+    let z = |x: f64, y: f64| 0.3 * x - 0.2 * y + 1.0;
+    let v = [(-10.0, -10.0), (10.0, -10.0), (10.0, 10.0), (-10.0, 10.0)]
+        .map(|(x, y)| Point3::new(x, y, z(x, y)))
+        .to_vec();
+    let m = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]]).expect("a plane");
+    let n = Vector3::new(-0.3, 0.2, 1.0).normalize();
+    let closed_form = |q: &Point3<f64>| (q - Point3::new(0.0, 0.0, 1.0)).dot(&n);
+    let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(0.1)).expect("fits");
+    let mut rng = ChaCha8Rng::seed_from_u64(99);
+    let (near, far) = check_bound(
+        &f,
+        2000,
+        || {
+            let (x, y) = (rng.random_range(-8.0..8.0), rng.random_range(-8.0..8.0));
+            Point3::new(x, y, z(x, y) + rng.random_range(-1.0..1.0))
+        },
+        closed_form,
+    );
+    assert!(near > 200 && far > 800, "{near} near, {far} far");
+    // Within T - 2 h every corner is exact and the distance linear: the interpolant is exact
+    // and its gradient the normal (to f32 rounding over h).
+    for k in 0..50 {
+        let (x, y) = (-5.0 + 0.21 * k as f64, 4.0 - 0.17 * k as f64);
+        let q = Point3::new(x, y, z(x, y)) + n * (0.004 * k as f64 - 0.1);
+        let (d, g) = f.distance_and_gradient(&q).expect("inside");
+        assert!((d - closed_form(&q)).abs() < 1e-6, "{d} at {q}");
+        assert!((g - n).norm() < 1e-5, "{g} vs {n}");
+    }
+    // Far above: T and no gradient.
+    let (d, g) = f
+        .distance_and_gradient(&Point3::new(0.0, 0.0, 2.5))
+        .expect("inside");
+    assert_eq!(d, f.truncation());
+    assert_eq!(g, Vector3::zeros());
+}
+
+#[test]
+fn bad_parameters_and_caps_are_typed_errors() {
+    let m = PatonScene::paper(false).mesh().expect("meshes");
+    for h in [0.0, -0.1, f64::NAN, f64::INFINITY] {
+        let mut p = SparseSdfParams::new(0.1);
+        p.resolution = h;
+        assert!(
+            matches!(
+                SparseSdf::from_mesh(&m, &p),
+                Err(SdfError::BadParameter {
+                    name: "resolution",
+                    ..
+                })
+            ),
+            "resolution {h}"
+        );
+    }
+    let mut p = SparseSdfParams::new(0.1);
+    p.truncation = 0.15;
+    assert!(matches!(
+        SparseSdf::from_mesh(&m, &p),
+        Err(SdfError::BadParameter {
+            name: "truncation",
+            ..
+        })
+    ));
+    let mut p = SparseSdfParams::new(0.1);
+    p.margin = f64::NAN;
+    assert!(matches!(
+        SparseSdf::from_mesh(&m, &p),
+        Err(SdfError::BadParameter { name: "margin", .. })
+    ));
+    let mut p = SparseSdfParams::new(0.1);
+    p.max_blocks = 0;
+    assert!(matches!(
+        SparseSdf::from_mesh(&m, &p),
+        Err(SdfError::BadParameter {
+            name: "max_blocks",
+            ..
+        })
+    ));
+    // A micrometre grid over a 40 m scene: refused before allocating anything.
+    let mut p = SparseSdfParams::new(1e-6);
+    p.truncation = 0.4;
+    assert!(matches!(
+        SparseSdf::from_mesh(&m, &p),
+        Err(SdfError::TooManyBlockCells { .. })
+    ));
+    let mut p = SparseSdfParams::new(0.1);
+    p.max_blocks = 100;
+    match SparseSdf::from_mesh(&m, &p) {
+        Err(SdfError::TooManyBlocks { blocks, cap: 100 }) => assert!(blocks > 100),
+        other => panic!("expected TooManyBlocks, got {other:?}"),
+    }
+    // A resolution far coarser than the scene is valid: one block or a few, bound still holds.
+    let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(100.0)).expect("coarse");
+    assert!(f.block_count() >= 1);
+}
