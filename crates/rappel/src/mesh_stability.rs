@@ -163,8 +163,8 @@ pub fn drive_and_check(
     }
     let n = (n as usize).max(1);
     let axel = AxelParams::default();
-    // Settling and prediction through parry's BVH (as `stability_map`); the boom sweep and the
-    // stability placement use the mesh itself.
+    // Settling, prediction and the boom sweep's candidate triangles through parry's BVH (as
+    // `stability_map`).
     let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
     let z_top = ground.bounds().1.z + 1.0;
     let mut tips = Vec::with_capacity(n + 1);
@@ -188,7 +188,14 @@ pub fn drive_and_check(
     }
     let pose = last.expect("the target settled");
     let out = predict_path(&bvh, &PredictParams::new(PREDICT_RESOLUTION), root, &tips)?;
-    Ok(pose_stability(ground, &pose, &out.history))
+    Ok(pose_stability(
+        &IndexedGround {
+            mesh: ground,
+            bvh: &bvh,
+        },
+        &pose,
+        &out.history,
+    ))
 }
 
 /// A map's grid: ground points `(x0 + i step, y0 + j step)` within the bounds, every pose

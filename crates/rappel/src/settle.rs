@@ -11,7 +11,7 @@ use std::path::Path;
 use nalgebra::Point3;
 
 use rappel_mechanics::axel::AxelParams;
-use rappel_mechanics::boom_contact::{place_boom_in_contact, place_boom_inline};
+use rappel_mechanics::boom_contact::{IndexedGround, place_boom_in_contact, place_boom_inline};
 use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_planners::anchor_prediction::{AnchorHistory, detach_height};
@@ -420,7 +420,8 @@ pub fn settle_report(
     let (_, hi) = ground.bounds();
     let params = AxelParams::default();
     // Settling asks hundreds of distances: through parry's BVH (agrees with the brute-force
-    // mesh distance to 1e-9, `terrain::parry_mesh`); the boom sweep uses the mesh itself.
+    // mesh distance to 1e-9, `terrain::parry_mesh`); the boom sweep takes its candidate
+    // triangles from the same BVH (`boom_contact::IndexedGround`).
     let bvh = ParryMesh::new(ground).map_err(|_| {
         rappel_mechanics::settle::SettleError::Parameter(
             "parry's BVH refused the mesh (more vertices than u32 indices)",
@@ -436,7 +437,15 @@ pub fn settle_report(
         &SettleParams::default(),
     )?;
     let stability = match anchor.map(|a| AnchorHistory::new(Point3::new(a[0], a[1], a[2]))) {
-        Some(Ok(history)) => boom_verdicts(ground, &pose, &params, &history),
+        Some(Ok(history)) => boom_verdicts(
+            &IndexedGround {
+                mesh: ground,
+                bvh: &bvh,
+            },
+            &pose,
+            &params,
+            &history,
+        ),
         Some(Err(e)) => ["inline", "in-contact"]
             .map(|boom| BoomVerdict {
                 boom: boom.to_string(),
