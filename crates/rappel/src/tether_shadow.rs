@@ -1,0 +1,130 @@
+//! Shadow sampling for the tethered rover: the sample-bias hook
+//! ([`rappel_planners::sampler::StateSpace::sample_biased`]) of [`crate::navigate`].
+//!
+//! A state is *in the shadow* of the tether's root anchor when the straight segment from the
+//! anchor to the rover's tether end is blocked by the terrain: the taut tether cannot reach such
+//! a state without bending around a feature (a pole, a lip, a boulder), so its anchor history
+//! must hold an extra anchor there. These are exactly the states that make the problem
+//! non-Markovian (Paton §V-A: the pole wrap of test 3 starts with a motion into the narrow
+//! strip behind the pole, which a uniform sampler rarely hits). Drawing a fraction of the
+//! samples from the shadow is the tether's form of the visibility- and obstacle-based samplers
+//! of the PRM literature (samples where the free space is hard to see into).
+//!
+//! The test is cheap and approximate (it only shapes a sampling distribution; every sample is
+//! still checked by the validator): the ground height under `(x, y)` by a vertical ray cast on
+//! the mesh's BVH, the tether end `2 r_w` above it (Axel's tether leaves `r_w` above the axle, which
+//! stands `r_w` above level ground: 0.65 m), and one ray cast from the
+//! anchor towards it, stopped [`END_CLEARANCE`] short of it. A draw is uniform in the region
+//! and heading, kept if shadowed; at most [`SHADOW_ATTEMPTS`] draws per call.
+
+use std::sync::Arc;
+
+use nalgebra::{Point3, Vector3};
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+
+use rappel_mechanics::axel::AxelParams;
+use rappel_terrain::parry_mesh::ParryMesh;
+
+/// Uniform draws per shadow sample before the search gives up (returns `None`, and the planner
+/// samples uniformly): the bound of the sampling loop. With the pole's shadow about 2 % of
+/// Paton's sampled region, 256 draws miss it with probability `0.98^256` < 1 %.
+pub const SHADOW_ATTEMPTS: usize = 256;
+
+/// How far short of the tether end the sight line stops, metres, so that the ground right under
+/// the rover (e.g. a slope rising towards the anchor) does not count as a feature: a tenth of
+/// Axel's 1 m boom.
+pub const END_CLEARANCE: f64 = 0.1;
+
+/// The shadow of one anchor on a mesh ground, over a rectangular region of ground points.
+#[derive(Clone)]
+pub struct TetherShadow {
+    ground: Arc<ParryMesh>,
+    anchor: Point3<f64>,
+    lo: [f64; 2],
+    hi: [f64; 2],
+    z_top: f64,
+    z_bottom: f64,
+    end_height: f64,
+}
+
+impl std::fmt::Debug for TetherShadow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TetherShadow")
+            .field("anchor", &self.anchor)
+            .field("lo", &self.lo)
+            .field("hi", &self.hi)
+            .finish()
+    }
+}
+
+impl PartialEq for TetherShadow {
+    fn eq(&self, o: &Self) -> bool {
+        Arc::ptr_eq(&self.ground, &o.ground)
+            && self.anchor == o.anchor
+            && self.lo == o.lo
+            && self.hi == o.hi
+    }
+}
+
+impl TetherShadow {
+    /// The shadow of `anchor` on `ground` (whose heights lie in `[z_bottom, z_top]`) over the
+    /// ground points in the box `lo`-`hi`.
+    pub fn new(
+        ground: Arc<ParryMesh>,
+        anchor: Point3<f64>,
+        lo: [f64; 2],
+        hi: [f64; 2],
+        z_bottom: f64,
+        z_top: f64,
+    ) -> Self {
+        TetherShadow {
+            end_height: 2.0 * AxelParams::default().wheel_radius,
+            ground,
+            anchor,
+            lo,
+            hi,
+            z_top,
+            z_bottom,
+        }
+    }
+
+    /// The tether end over ground point `(x, y)` (`2 r_w` above the first ground hit from
+    /// above), or `None` where no ground lies under it.
+    pub fn tether_end(&self, x: f64, y: f64) -> Option<Point3<f64>> {
+        let from = Point3::new(x, y, self.z_top + 1.0);
+        let t = self
+            .ground
+            .cast_ray(&from, &-Vector3::z(), self.z_top - self.z_bottom + 2.0)?;
+        Some(Point3::new(x, y, from.z - t + self.end_height))
+    }
+
+    /// Whether ground point `(x, y)` is in the anchor's shadow (module doc).
+    pub fn shadowed(&self, x: f64, y: f64) -> bool {
+        let Some(end) = self.tether_end(x, y) else {
+            return false;
+        };
+        let d = end - self.anchor;
+        let len = d.norm();
+        if !(len > END_CLEARANCE) {
+            return false;
+        }
+        self.ground
+            .cast_ray(&self.anchor, &(d / len), len - END_CLEARANCE)
+            .is_some()
+    }
+
+    /// A ground point and heading `(x, y, yaw)` uniform over the shadowed part of the region,
+    /// within [`SHADOW_ATTEMPTS`] draws from `rng`; `None` if every draw was lit.
+    pub fn sample(&self, rng: &mut ChaCha8Rng) -> Option<(f64, f64, f64)> {
+        for _ in 0..SHADOW_ATTEMPTS {
+            let x = rng.random_range(self.lo[0]..self.hi[0]);
+            let y = rng.random_range(self.lo[1]..self.hi[1]);
+            if self.shadowed(x, y) {
+                let yaw = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
+                return Some((x, y, yaw));
+            }
+        }
+        None
+    }
+}
