@@ -28,8 +28,17 @@ use rappel_terrain::parry_mesh::ParryMesh;
 
 /// Uniform draws per shadow sample before the search gives up (returns `None`, and the planner
 /// samples uniformly): the bound of the sampling loop. With the pole's shadow about 2 % of
-/// Paton's sampled region, 256 draws miss it with probability `0.98^256` < 1 %.
+/// Paton's sampled region (about 7 % widened by [`SILHOUETTE_BAND`]), 256 draws miss it with
+/// probability below `0.98^256` < 1 %.
 pub const SHADOW_ATTEMPTS: usize = 256;
+
+/// Half-width of the band the shadow is widened by across the sight line, metres (the
+/// *silhouette band*): a ground point counts as shadowed when the sight line to its tether end,
+/// or one shifted sideways (horizontally, perpendicular to it) by this much at the tether end,
+/// is blocked. The states beside a narrow shadow are the ones a motion into it starts from
+/// (the pole's own shadow, 0.6 m wide, is mostly too close to the pole for Axel's body); Axel's
+/// 1 m boom.
+pub const SILHOUETTE_BAND: f64 = 1.0;
 
 /// How far short of the tether end the sight line stops, metres, so that the ground right under
 /// the rover (e.g. a slope rising towards the anchor) does not count as a feature: a tenth of
@@ -99,28 +108,50 @@ impl TetherShadow {
         Some(Point3::new(x, y, from.z - t + self.end_height))
     }
 
-    /// Whether ground point `(x, y)` is in the anchor's shadow (module doc).
+    /// Whether the sight line from the anchor to `end` is blocked by the ground before it
+    /// comes within [`END_CLEARANCE`] of `end`.
+    fn blocked(&self, end: &Point3<f64>) -> bool {
+        let d = end - self.anchor;
+        let len = d.norm();
+        len > END_CLEARANCE
+            && self
+                .ground
+                .cast_ray(&self.anchor, &(d / len), len - END_CLEARANCE)
+                .is_some()
+    }
+
+    /// Whether ground point `(x, y)` is in the anchor's shadow: the sight line to its tether
+    /// end is blocked (module doc).
     pub fn shadowed(&self, x: f64, y: f64) -> bool {
+        self.tether_end(x, y).is_some_and(|e| self.blocked(&e))
+    }
+
+    /// Whether ground point `(x, y)` is in the shadow widened by [`SILHOUETTE_BAND`] either side
+    /// of the sight line (the bias distribution's support).
+    pub fn near_shadow(&self, x: f64, y: f64) -> bool {
         let Some(end) = self.tether_end(x, y) else {
             return false;
         };
-        let d = end - self.anchor;
-        let len = d.norm();
-        if !(len > END_CLEARANCE) {
-            return false;
+        if self.blocked(&end) {
+            return true;
         }
-        self.ground
-            .cast_ray(&self.anchor, &(d / len), len - END_CLEARANCE)
-            .is_some()
+        let d = end - self.anchor;
+        let Some(side) = Vector3::new(-d.y, d.x, 0.0).try_normalize(0.0) else {
+            return false;
+        };
+        [1.0, -1.0]
+            .iter()
+            .any(|s| self.blocked(&(end + side * (s * SILHOUETTE_BAND))))
     }
 
-    /// A ground point and heading `(x, y, yaw)` uniform over the shadowed part of the region,
-    /// within [`SHADOW_ATTEMPTS`] draws from `rng`; `None` if every draw was lit.
+    /// A ground point and heading `(x, y, yaw)` uniform over the widened shadow
+    /// ([`TetherShadow::near_shadow`]) within the region, within [`SHADOW_ATTEMPTS`] draws
+    /// from `rng`; `None` if every draw was lit.
     pub fn sample(&self, rng: &mut ChaCha8Rng) -> Option<(f64, f64, f64)> {
         for _ in 0..SHADOW_ATTEMPTS {
             let x = rng.random_range(self.lo[0]..self.hi[0]);
             let y = rng.random_range(self.lo[1]..self.hi[1]);
-            if self.shadowed(x, y) {
+            if self.near_shadow(x, y) {
                 let yaw = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
                 return Some((x, y, yaw));
             }
