@@ -28,16 +28,18 @@ use rappel_terrain::parry_mesh::ParryMesh;
 
 /// Uniform draws per shadow sample before the search gives up (returns `None`, and the planner
 /// samples uniformly): the bound of the sampling loop. With the pole's shadow about 2 % of
-/// Paton's sampled region (about 7 % widened by [`SILHOUETTE_BAND`]), 256 draws miss it with
+/// Paton's sampled region (about 6 % with its copies shifted by [`SILHOUETTE_BAND`]), 256 draws miss it with
 /// probability below `0.98^256` < 1 %.
 pub const SHADOW_ATTEMPTS: usize = 256;
 
-/// Half-width of the band the shadow is widened by across the sight line, metres (the
-/// *silhouette band*): a ground point counts as shadowed when the sight line to its tether end,
-/// or one shifted sideways (horizontally, perpendicular to it) by this much at the tether end,
-/// is blocked. The states beside a narrow shadow are the ones a motion into it starts from
-/// (the pole's own shadow, 0.6 m wide, is mostly too close to the pole for Axel's body); Axel's
-/// 1 m boom.
+/// Sideways shift of the sight line, metres (the *silhouette band*): a ground point counts as
+/// near the shadow when the sight line to its tether end, or one of the two with the end
+/// shifted sideways (horizontally, perpendicular to it) by this much, is blocked. The support
+/// is therefore the shadow and its two copies shifted by this much either side (three strips
+/// behind a narrow pole, with gaps between them where the shadow is narrower than the shift,
+/// not a solid widening). The states beside a narrow shadow are the ones a motion into it
+/// starts from (the pole's own shadow, 0.7 m wide, is mostly too close to the pole for Axel's
+/// body); Axel's 1 m boom.
 pub const SILHOUETTE_BAND: f64 = 1.0;
 
 /// How far short of the tether end the sight line stops, metres, so that the ground right under
@@ -126,8 +128,8 @@ impl TetherShadow {
         self.tether_end(x, y).is_some_and(|e| self.blocked(&e))
     }
 
-    /// Whether ground point `(x, y)` is in the shadow widened by [`SILHOUETTE_BAND`] either side
-    /// of the sight line (the bias distribution's support).
+    /// Whether ground point `(x, y)` is in the shadow or in one of its copies shifted by
+    /// [`SILHOUETTE_BAND`] either side of the sight line (the bias distribution's support).
     pub fn near_shadow(&self, x: f64, y: f64) -> bool {
         let Some(end) = self.tether_end(x, y) else {
             return false;
@@ -144,7 +146,7 @@ impl TetherShadow {
             .any(|s| self.blocked(&(end + side * (s * SILHOUETTE_BAND))))
     }
 
-    /// A ground point and heading `(x, y, yaw)` uniform over the widened shadow
+    /// A ground point and heading `(x, y, yaw)` uniform over the shadow and its shifted copies
     /// ([`TetherShadow::near_shadow`]) within the region, within [`SHADOW_ATTEMPTS`] draws
     /// from `rng`; `None` if every draw was lit.
     pub fn sample(&self, rng: &mut ChaCha8Rng) -> Option<(f64, f64, f64)> {
@@ -157,5 +159,65 @@ impl TetherShadow {
             }
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rappel_terrain::paton_scene::PatonScene;
+
+    fn shadow(pole: bool, anchor: usize) -> TetherShadow {
+        let scene = PatonScene::paper(pole);
+        let ground = scene.mesh().unwrap();
+        let (lo, hi) = ground.bounds();
+        let fast = Arc::new(ParryMesh::new(&ground).unwrap());
+        let root = scene.anchor_points()[anchor];
+        TetherShadow::new(fast, root, [-4.5, -3.0], [5.8, 3.0], lo.z, hi.z)
+    }
+
+    #[test]
+    fn the_pole_casts_its_shadow_and_the_lip_hides_the_slope() {
+        // Test 3: root (7.2, 0, 6), pole axis (-2.5, 0), radius 0.3 (a 32-gon, inscribed
+        // 0.2986), 10 m tall. By similar triangles the shadow at x = -4 reaches
+        // |y| < 0.3 (7.2 + 4) / (7.2 + 2.5) = 0.346; the copies shifted by 1 m cover
+        // 0.654 < |y| < 1.346, and 0.346 < |y| < 0.654 is a gap.
+        let s = shadow(true, 1);
+        let end = s.tether_end(-4.0, 0.0).unwrap();
+        assert!((end.z - (4.0 + 0.65)).abs() < 1e-9, "{end:?}");
+        assert!(s.shadowed(-4.0, 0.0) && s.shadowed(-4.0, 0.25) && s.shadowed(-4.0, -0.25));
+        assert!(!s.shadowed(-4.0, 0.45) && !s.shadowed(-4.0, 1.0));
+        for y in [0.0, 1.0, -1.0, 0.7, -1.3] {
+            assert!(s.near_shadow(-4.0, y), "{y}");
+        }
+        for y in [0.5, -0.5, 1.6, -2.5] {
+            assert!(!s.near_shadow(-4.0, y), "{y}");
+        }
+        // In front of the pole the ledge top, the slope and the ground are all in sight.
+        for (x, y) in [(-1.0, 0.0), (-2.0, 0.0), (1.5, 0.0), (4.8, 0.0)] {
+            assert!(!s.near_shadow(x, y), "{x} {y}");
+        }
+        // Test 2 (no pole): nothing on the ledge top is hidden from the same root; every draw
+        // misses, so the planner falls back to uniform samples.
+        let two = shadow(false, 1);
+        assert!(!two.near_shadow(-4.0, 0.0) && !two.near_shadow(-1.0, 1.0));
+        let mut rng = <ChaCha8Rng as rand::SeedableRng>::seed_from_u64(3);
+        assert!(two.sample(&mut rng).is_none());
+        // Test 1: root (-5.9, 0, 6) behind the start. The sight line to the tether end on the
+        // slope at x = 1.5 (ground 4 - 1.5 tan 55 = 1.858, end 2.508) crosses x = 0 at
+        // z = 6 - 3.492 * 5.9 / 7.4 = 3.22, below the lip (4): hidden. The ledge top is seen.
+        let one = shadow(false, 0);
+        assert!(one.shadowed(1.5, 0.0) && !one.shadowed(-1.0, 0.0));
+        // Draws are deterministic and inside the support.
+        let three = shadow(true, 1);
+        let draw = |seed| {
+            let mut rng = <ChaCha8Rng as rand::SeedableRng>::seed_from_u64(seed);
+            (0..20)
+                .map(|_| three.sample(&mut rng).unwrap())
+                .collect::<Vec<_>>()
+        };
+        let a = draw(5);
+        assert_eq!(a, draw(5));
+        assert!(a.iter().all(|&(x, y, _)| three.near_shadow(x, y)));
     }
 }
