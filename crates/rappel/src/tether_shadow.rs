@@ -13,7 +13,7 @@
 //! The test is cheap and approximate (it only shapes a sampling distribution; every sample is
 //! still checked by the validator): the ground height under `(x, y)` by a vertical ray cast on
 //! the mesh's BVH, the tether end `2 r_w` above it (Axel's tether leaves `r_w` above the axle, which
-//! stands `r_w` above level ground: 0.65 m), and one ray cast from the
+//! stands `r_w` above level ground), and one ray cast from the
 //! anchor towards it, stopped [`END_CLEARANCE`] short of it. A draw is uniform in the region
 //! and heading, kept if shadowed; at most [`SHADOW_ATTEMPTS`] draws per call.
 
@@ -184,7 +184,8 @@ mod tests {
         // 0.654 < |y| < 1.346, and 0.346 < |y| < 0.654 is a gap.
         let s = shadow(true, 1);
         let end = s.tether_end(-4.0, 0.0).unwrap();
-        assert!((end.z - (4.0 + 0.65)).abs() < 1e-9, "{end:?}");
+        let r_w = AxelParams::default().wheel_radius;
+        assert!((end.z - (4.0 + 2.0 * r_w)).abs() < 1e-9, "{end:?}");
         assert!(s.shadowed(-4.0, 0.0) && s.shadowed(-4.0, 0.25) && s.shadowed(-4.0, -0.25));
         assert!(!s.shadowed(-4.0, 0.45) && !s.shadowed(-4.0, 1.0));
         for y in [0.0, 1.0, -1.0, 0.7, -1.3] {
@@ -204,8 +205,8 @@ mod tests {
         let mut rng = <ChaCha8Rng as rand::SeedableRng>::seed_from_u64(3);
         assert!(two.sample(&mut rng).is_none());
         // Test 1: root (-5.9, 0, 6) behind the start. The sight line to the tether end on the
-        // slope at x = 1.5 (ground 4 - 1.5 tan 55 = 1.858, end 2.508) crosses x = 0 at
-        // z = 6 - 3.492 * 5.9 / 7.4 = 3.22, below the lip (4): hidden. The ledge top is seen.
+        // slope at x = 1.5 (ground 4 - 1.5 tan 55 = 1.858, end 2.558) crosses x = 0 at
+        // z = 6 - 3.442 * 5.9 / 7.4 = 3.26, below the lip (4): hidden. The ledge top is seen.
         let one = shadow(false, 0);
         assert!(one.shadowed(1.5, 0.0) && !one.shadowed(-1.0, 0.0));
         // Draws are deterministic and inside the support.
