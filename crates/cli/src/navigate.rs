@@ -1,4 +1,4 @@
-//! `rappel navigate SCENE --seed S [--test N] [--iterations N] [--time T] [--held] [--json]
+//! `rappel navigate SCENE --seed S [--test N] [--iterations N] [--time T] [--held] [--shadow] [--json]
 //! [--svg OUT] [--html OUT]`: plans the tethered rover's path on a Paton scene with ABIT*
 //! ([`rappel::navigate`]): the start on the ledge, the goal on the ground beyond the slope, the
 //! root anchor of the scene's test N. Prints the path, its anchor history, the stability margin
@@ -34,6 +34,10 @@ pub struct Args {
     /// `RoverProblem::held_within_boom_reach`; off: the faithful model).
     #[arg(long)]
     held: bool,
+    /// Draw a fifth of the samples from the root anchor's shadow, where the tether must wrap
+    /// (`rappel::tether_shadow`; off: Paton's uniform sampling).
+    #[arg(long)]
+    shadow: bool,
     #[command(flatten)]
     picture: PictureArgs,
     /// Print the report as JSON.
@@ -74,6 +78,9 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     };
     let mut problem = RoverProblem::paton(&scene, anchor).map_err(at)?;
     problem.held_within_boom_reach = args.held;
+    if args.shadow {
+        problem.shadow_sample_fraction = rappel::navigate::SHADOW_SAMPLE_FRACTION;
+    }
     let term = Termination::iterations(args.iterations).or_time(time);
     // A search checks motions for seconds to minutes: say so on a terminal.
     let progress = rappel::progress::Progress::spinner("navigate");

@@ -3,7 +3,7 @@
 //! prints the tally of outcomes (`docs/sampler.md`, "Diagnosing test 3").
 //!
 //! `cargo run --release -p rappel --example navigate_diag -- TEST SEED ITERATIONS`; environment:
-//! `INFL`, `COPY`, `BATCH`, `KF` override the settings, `EXACT` compares histories exactly,
+//! `INFL`, `COPY`, `BATCH`, `KF`, `BIAS` (shadow-sample fraction) override the settings, `EXACT` compares histories exactly,
 //! `DUMP` prints every motion.
 use rappel::navigate::{RoverProblem, RoverSpace, RoverState};
 use rappel::planners::anchor_prediction::AnchorHistory;
@@ -81,16 +81,19 @@ fn main() {
             .unwrap()
             .with_rgg_k_factor(env("KF", 1.0))
             .unwrap()
+            .with_biased_sample_fraction(env("BIAS", 0.0))
+            .unwrap()
     })
     .unwrap();
     let st = abit.solve(Termination::iterations(iters)).unwrap();
     println!(
-        "elapsed {:.2}s iterations {} batches {} states {} motions {} events {:?}",
+        "elapsed {:.2}s iterations {} batches {} states {} motions {} shadow samples {} events {:?}",
         t.elapsed().as_secs_f64(),
         st.iterations,
         st.batches,
         st.states,
         st.motions_checked,
+        st.biased_samples,
         st.events.first()
     );
     let log = v.log.borrow();

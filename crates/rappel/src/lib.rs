@@ -56,6 +56,7 @@ pub mod stability;
 pub mod sticking_profile;
 pub mod svg;
 pub mod tether;
+pub mod tether_shadow;
 pub mod track;
 pub mod viewer;
 

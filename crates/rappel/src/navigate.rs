@@ -30,6 +30,7 @@
 //! metre (driving 1 m at 10° roll costs 0.17 m extra). The heuristic `W_LEN * |b - a|` in the
 //! plane is admissible (the 3D drive is at least as long and the other terms are non-negative).
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use nalgebra::Point3;
@@ -49,6 +50,7 @@ use rappel_terrain::paton_scene::PatonScene;
 use rappel_terrain::surface::SignedDistance;
 
 use crate::mesh_stability::{PREDICT_RESOLUTION, pose_stability, settle_from, tether_end};
+use crate::tether_shadow::TetherShadow;
 
 /// Weight of the drive length in the cost, per metre.
 pub const W_LEN: f64 = 1.0;
@@ -129,13 +131,16 @@ fn angle_diff(a: f64, b: f64) -> f64 {
     }
 }
 
-/// The state space: ground points in an axis-aligned box, any heading.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The state space: ground points in an axis-aligned box, any heading; its bias distribution
+/// ([`StateSpace::sample_biased`]) is the root anchor's shadow ([`TetherShadow`]).
+#[derive(Debug, Clone, PartialEq)]
 pub struct RoverSpace {
     /// Lower `(x, y)` corner of the sampled region.
     pub lo: [f64; 2],
     /// Upper corner.
     pub hi: [f64; 2],
+    /// The shadow the biased samples are drawn from (`None`: no bias).
+    pub shadow: Option<TetherShadow>,
 }
 
 impl StateSpace<4> for RoverSpace {
@@ -147,6 +152,11 @@ impl StateSpace<4> for RoverSpace {
             y: rng.random_range(self.lo[1]..self.hi[1]),
             yaw: rng.random_range(-std::f64::consts::PI..std::f64::consts::PI),
         }
+    }
+
+    fn sample_biased(&self, rng: &mut ChaCha8Rng) -> Option<RoverState> {
+        let (x, y, yaw) = self.shadow.as_ref()?.sample(rng)?;
+        Some(RoverState { x, y, yaw })
     }
 
     fn sample_informed(
@@ -282,7 +292,12 @@ pub struct RoverProblem {
     /// prediction; the boom sweeps of the stability verdict need the triangles) query it instead of `ground`'s brute-force exact
     /// distances (same triangles, same pseudo-normal sign; only floating-point rounding
     /// differs), and [`RoverProblem::revalidate`] re-checks every reported path on `ground`.
-    fast: ParryMesh,
+    fast: Arc<ParryMesh>,
+    /// Fraction of the planner's samples drawn from the root anchor's shadow
+    /// ([`TetherShadow`], ABIT*'s `biased_sample_fraction`). 0 (the default of
+    /// [`RoverProblem::paton`]) is Paton's uniform sampling; [`SHADOW_SAMPLE_FRACTION`] is ours,
+    /// which [`navigate`] pairs with [`SHADOW_RGG_K_FACTOR`].
+    pub shadow_sample_fraction: f64,
     /// Height from which states are settled: 1 m above the mesh's top.
     z_top: f64,
 }
@@ -303,17 +318,28 @@ impl RoverProblem {
         let s = scene.start();
         let foot = scene.slope_foot_x();
         let half = (0.5 * scene.length - 0.5).clamp(0.5, 3.0);
-        let fast = ParryMesh::new(&ground).map_err(|e| e.to_string())?;
-        let z_top = ground.bounds().1.z + 1.0;
+        let fast = Arc::new(ParryMesh::new(&ground).map_err(|e| e.to_string())?);
+        let (bottom, top) = ground.bounds();
+        let z_top = top.z + 1.0;
+        let (lo, hi) = ([-scene.width + 0.5, -half], [foot + 3.0, half]);
         Ok(RoverProblem {
+            space: RoverSpace {
+                lo,
+                hi,
+                shadow: Some(TetherShadow::new(
+                    fast.clone(),
+                    root,
+                    lo,
+                    hi,
+                    bottom.z,
+                    top.z,
+                )),
+            },
             fast,
+            shadow_sample_fraction: 0.0,
             z_top,
             ground,
             root,
-            space: RoverSpace {
-                lo: [-scene.width + 0.5, -half],
-                hi: [foot + 3.0, half],
-            },
             start: RoverState {
                 x: s.x,
                 y: s.y,
@@ -335,7 +361,7 @@ impl RoverProblem {
 
     /// The settled pose of a state on the planner's BVH ground.
     fn settle_fast(&self, s: &RoverState) -> Result<SettledPose, String> {
-        settle_from(&self.fast, self.z_top, s.x, s.y, s.yaw.to_degrees())
+        settle_from(&*self.fast, self.z_top, s.x, s.y, s.yaw.to_degrees())
     }
 
     /// Walks `poses` (each with the drive length since the previous one) from `history` at the
@@ -444,7 +470,7 @@ impl RoverProblem {
     ) -> Result<Walk, String> {
         let poses = motion_poses(from, to)
             .ok_or_else(|| format!("the motion needs more than {MAX_MOTION_POSES} poses"))?;
-        self.walk_on(&self.fast, history, &poses)
+        self.walk_on(&*self.fast, history, &poses)
     }
 }
 
@@ -496,6 +522,17 @@ pub fn rover_settings(seed: u64) -> AbitSettings {
         .with_seed(seed)
 }
 
+/// Our shadow-sampling fraction ([`RoverProblem::shadow_sample_fraction`]): a fifth of the
+/// samples from the root anchor's shadow (`docs/sampler.md`, test 3).
+pub const SHADOW_SAMPLE_FRACTION: f64 = 0.2;
+
+/// ABIT*'s `rgg_k_factor` with shadow sampling: 0.6 of BIT*'s `k` (11 neighbours instead of
+/// 17 in the first batch of 100). The shadow samples keep the region behind a wrapped feature dense, so
+/// fewer neighbours suffice there, and every motion check saved on the open ledge top (where
+/// the unwrapped class fails its descents one by one) comes off the time to the first wrapped
+/// solution (`docs/sampler.md`, measured on test 3).
+pub const SHADOW_RGG_K_FACTOR: f64 = 0.6;
+
 /// A planning run's outcome.
 #[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct NavigateReport {
@@ -526,6 +563,8 @@ pub struct NavigateReport {
     pub states: usize,
     /// Motions checked.
     pub motions_checked: u64,
+    /// Samples drawn from the anchor's shadow (0 with Paton's uniform sampling).
+    pub shadow_samples: u64,
     /// Iterations until the first solution.
     pub first_solution_iteration: Option<u64>,
     /// Wall time until the first solution, seconds.
@@ -560,12 +599,20 @@ pub fn navigate(
         return Err("the root anchor is not finite".into());
     }
     let began = std::time::Instant::now();
+    let mut settings = rover_settings(seed)
+        .with_biased_sample_fraction(problem.shadow_sample_fraction)
+        .map_err(|e| e.to_string())?;
+    if problem.shadow_sample_fraction > 0.0 {
+        settings = settings
+            .with_rgg_k_factor(SHADOW_RGG_K_FACTOR)
+            .map_err(|e| e.to_string())?;
+    }
     let mut abit = Abit::new(
         &problem.space,
         problem,
         problem.start,
         problem.goal,
-        rover_settings(seed),
+        settings,
     )
     .map_err(|e| e.to_string())?;
     let status = abit.solve(termination).map_err(|e| e.to_string())?;
@@ -584,6 +631,7 @@ pub fn navigate(
         batches: status.batches,
         states: status.states,
         motions_checked: status.motions_checked,
+        shadow_samples: status.biased_samples,
         first_solution_iteration: first.map(|e| e.iteration),
         first_solution_s: first.map(|e| e.elapsed.as_secs_f64()),
         elapsed_s: began.elapsed().as_secs_f64(),

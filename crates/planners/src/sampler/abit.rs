@@ -21,6 +21,8 @@
 //!    k nearest tree states; a copied history accepts a compatible extension when the sample is
 //!    first connected. After each
 //!    improved solution a fresh goal state with undetermined history is added.
+//! 7. **Biased samples.** A fraction `biased_sample_fraction` of new samples comes from the
+//!    space's bias distribution ([`StateSpace::sample_biased`]), e.g. where a tether can wrap.
 //!
 //! Vertices are never pruned (ids stay stable); informed sampling keeps new density where it
 //! can improve the solution, and edges that cannot are never queued.
@@ -91,6 +93,9 @@ pub struct PlannerStatus<S, H> {
     pub states: usize,
     /// Motions evaluated by the validator.
     pub motions_checked: u64,
+    /// Samples that came from the space's bias distribution
+    /// ([`StateSpace::sample_biased`]; 0 unless `biased_sample_fraction` > 0).
+    pub biased_samples: u64,
     /// Every improvement so far, in order (costs strictly decrease).
     pub events: Vec<SolutionEvent>,
     /// Which budget or condition ended the last [`Abit::solve`] (`None` from [`Abit::status`]
@@ -129,6 +134,11 @@ type Motion<H> = Option<(f64, H)>;
 /// `history_copies_on_expansion`): the bound on copies per location.
 pub const MAX_STATES_PER_LOCATION: usize = 8;
 
+/// Draws from the space's bias distribution per biased sample before the planner falls back to
+/// uniform (or informed) sampling: the bound of the biased sampling loop. Each draw is already
+/// the result of the space's own bounded search, so a few suffice.
+pub const BIASED_DRAWS: usize = 16;
+
 /// The ABIT* planner over space `S` and validator `V` (k-d embedding dimension `K`).
 pub struct Abit<'a, S, V, const K: usize>
 where
@@ -153,6 +163,7 @@ where
     search_in_batch: u32,
     iterations: u64,
     batches: u64,
+    biased_samples: u64,
     events: Vec<SolutionEvent>,
     created: Instant,
     /// The wall-time limit of the running [`Abit::solve`], checked between samples of a batch.
@@ -203,6 +214,7 @@ where
             search_in_batch: 0,
             iterations: 0,
             batches: 0,
+            biased_samples: 0,
             events: Vec::new(),
             created: Instant::now(),
             deadline: None,
@@ -263,6 +275,7 @@ where
             batches: self.batches,
             states: self.graph.nodes.len(),
             motions_checked: self.motions.len() as u64,
+            biased_samples: self.biased_samples,
             events: self.events.clone(),
             stopped_by: None,
         }
@@ -527,8 +540,18 @@ where
                 break;
             }
             let copy = self.rng.random::<f64>() < self.settings.history_copy_fraction;
-            let Some(s) = self.sample(&start_state) else {
-                continue;
+            // No draw at fraction 0, so uniform runs keep their random stream.
+            let biased = self.settings.biased_sample_fraction > 0.0
+                && self.rng.random::<f64>() < self.settings.biased_sample_fraction;
+            let s = match biased.then(|| self.sample_biased(&start_state)).flatten() {
+                Some(s) => {
+                    self.biased_samples += 1;
+                    s
+                }
+                None => match self.sample(&start_state) {
+                    Some(s) => s,
+                    None => continue,
+                },
             };
             let key = self.space.key(&s);
             let history = if copy {
@@ -565,6 +588,26 @@ where
             } else {
                 self.space.sample_uniform(&mut self.rng)
             };
+            if self.validator.state_valid(&s) {
+                return Some(s);
+            }
+        }
+        None
+    }
+
+    /// One valid sample from the space's bias distribution that could improve the solution,
+    /// within [`BIASED_DRAWS`] draws; `None` (uniform or informed sampling takes over) when the
+    /// space has no bias, its own search missed, or every draw was invalid or uninformative.
+    fn sample_biased(&mut self, start: &S::State) -> Option<S::State> {
+        for _ in 0..BIASED_DRAWS {
+            let s = self.space.sample_biased(&mut self.rng)?;
+            if self.best_cost.is_finite()
+                && self.space.cost_heuristic(start, &s)
+                    + self.space.cost_heuristic(&s, &self.goal_state)
+                    >= self.best_cost
+            {
+                continue;
+            }
             if self.validator.state_valid(&s) {
                 return Some(s);
             }

@@ -27,6 +27,8 @@ pub mod termination;
 pub mod validator;
 
 #[cfg(test)]
+mod tests_bias;
+#[cfg(test)]
 mod tests_geometric;
 #[cfg(test)]
 mod tests_history;

@@ -28,6 +28,7 @@ pub enum SettingsError {
 /// | `inflation_scaling` | 10.0 | the later searches of a batch use `1 + inflation_scaling / n` (n = graph states) |
 /// | `truncation_scaling` | 5.0 | a search stops once `(1 + truncation_scaling / n) f_min >= c_best` |
 /// | `history_copy_fraction` | 0.0 | fraction of new samples that copy a neighbour's history (Paton §V-A) |
+/// | `biased_sample_fraction` | 0.0 | fraction of new samples drawn from the space's bias distribution ([`super::StateSpace::sample_biased`]); 0 = uniform (and informed) sampling only |
 /// | `max_sample_attempts` | 10000 | rejection-sampling attempts per batch per requested sample, the bound of the sampling loop |
 /// | `history_copies_on_expansion` | false | expanding a state next to one that a different history class claimed cheaper creates a copy of that location with undetermined history for this class (see `docs/sampler.md`) |
 /// | `seed` | 0 | the ChaCha8 seed: same seed, same settings, same iterations give the same path |
@@ -39,6 +40,7 @@ pub struct AbitSettings {
     pub(crate) inflation_scaling: f64,
     pub(crate) truncation_scaling: f64,
     pub(crate) history_copy_fraction: f64,
+    pub(crate) biased_sample_fraction: f64,
     pub(crate) max_sample_attempts: usize,
     pub(crate) history_copies_on_expansion: bool,
     pub(crate) seed: u64,
@@ -53,6 +55,7 @@ impl Default for AbitSettings {
             inflation_scaling: 10.0,
             truncation_scaling: 5.0,
             history_copy_fraction: 0.0,
+            biased_sample_fraction: 0.0,
             max_sample_attempts: 10_000,
             history_copies_on_expansion: false,
             seed: 0,
@@ -131,6 +134,19 @@ impl AbitSettings {
         Ok(self)
     }
 
+    /// Fraction of new samples drawn from the space's bias distribution, in `[0, 1]`.
+    pub fn with_biased_sample_fraction(mut self, f: f64) -> Result<Self, SettingsError> {
+        if !(0.0..=1.0).contains(&f) {
+            return Err(SettingsError::OutOfRange {
+                name: "biased_sample_fraction",
+                value: f.to_string(),
+                reason: "must be in [0, 1]",
+            });
+        }
+        self.biased_sample_fraction = f;
+        Ok(self)
+    }
+
     /// Rejection-sampling attempts per requested sample, in `1..=1_000_000`.
     pub fn with_max_sample_attempts(mut self, n: usize) -> Result<Self, SettingsError> {
         if !(1..=1_000_000).contains(&n) {
@@ -183,6 +199,14 @@ mod tests {
                 "history_copy_fraction",
             ),
             (s.clone().with_max_sample_attempts(0), "max_sample_attempts"),
+            (
+                s.clone().with_biased_sample_fraction(f64::NAN),
+                "biased_sample_fraction",
+            ),
+            (
+                s.clone().with_biased_sample_fraction(-0.1),
+                "biased_sample_fraction",
+            ),
         ] {
             match r {
                 Err(SettingsError::OutOfRange { name: n, .. }) => assert_eq!(n, name),

@@ -37,6 +37,20 @@ pub trait StateSpace<const K: usize> {
         max_cost: f64,
     ) -> Informed<Self::State>;
 
+    /// A state drawn from the space's *bias* distribution (the sample-bias hook): a
+    /// problem-specific distribution that concentrates samples where the problem is hard, e.g.
+    /// near features a tether can wrap (the rover's shadow sampling, `docs/sampler.md`), like
+    /// the obstacle-based and visibility-based samplers of the PRM literature. The planner
+    /// draws a fraction `biased_sample_fraction` of its samples here and checks their validity
+    /// (and, once a solution exists, membership of the informed set) itself. `None` when the
+    /// space has no bias or its own bounded search missed; the planner then samples uniformly
+    /// (or informed). Must take its randomness from `rng` only (determinism). The default has
+    /// no bias.
+    fn sample_biased(&self, rng: &mut ChaCha8Rng) -> Option<Self::State> {
+        let _ = rng;
+        None
+    }
+
     /// The metric distance between two states.
     fn distance(&self, a: &Self::State, b: &Self::State) -> f64;
 
