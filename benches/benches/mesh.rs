@@ -26,6 +26,7 @@ use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict};
 use rappel_terrain::paton_scene::PatonScene;
 use rappel_terrain::sdf::{Sdf, SdfParams};
+use rappel_terrain::surface::SignedDistance;
 use std::hint::black_box;
 
 fn mesh(c: &mut Criterion) {
@@ -230,34 +231,26 @@ fn mesh(c: &mut Criterion) {
     });
     // The four-wheel settler mid-slope.
     let rover = rappel_mechanics::four_wheel::FourWheelParams::default();
-    g.bench_function("settle_four_wheel_slope_sdf_10cm", |b| {
-        b.iter(|| {
-            rappel_mechanics::four_wheel_settle::settle_four_wheel(
-                &field,
-                &rover,
-                black_box(x),
-                0.0,
-                5.9,
-                0.0,
-                &p,
-            )
-            .expect("settles")
-        })
-    });
-    g.bench_function("settle_four_wheel_slope_exact_mesh", |b| {
-        b.iter(|| {
-            rappel_mechanics::four_wheel_settle::settle_four_wheel(
-                &m,
-                &rover,
-                black_box(x),
-                0.0,
-                5.9,
-                0.0,
-                &p,
-            )
-            .expect("settles")
-        })
-    });
+    let ground: [(&str, &dyn SignedDistance); 2] = [
+        ("settle_four_wheel_slope_sdf_10cm", &field),
+        ("settle_four_wheel_slope_exact_mesh", &m),
+    ];
+    for (name, ground) in ground {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                rappel_mechanics::four_wheel_settle::settle_four_wheel(
+                    ground,
+                    &rover,
+                    black_box(x),
+                    0.0,
+                    5.9,
+                    0.0,
+                    &p,
+                )
+                .expect("settles")
+            })
+        });
+    }
     let mut sp = SdfParams::new(0.2);
     sp.margin = 2.0;
     g.bench_function("sdf_ledge_20cm", |b| {

@@ -2,7 +2,7 @@
 //! distances against closed forms, and each kind of bad file a typed error naming the file.
 
 use nalgebra::Point3;
-use rappel_terrain::mesh::MeshError;
+use rappel_terrain::mesh::{MeshError, TriMesh};
 use rappel_terrain::mesh_file::{MeshFileError, read_mesh, read_obj, read_ply, read_stl};
 use std::path::PathBuf;
 
@@ -68,15 +68,20 @@ fn ascii_and_binary_stl_read_the_same_tetrahedron() {
     }
     ascii += "endsolid t\n";
     for p in [temp("t.stl", &bin), temp("ta.stl", ascii.as_bytes())] {
-        let m = read_stl(&p).unwrap();
-        assert_eq!((m.vertices().len(), m.triangles().len()), (4, 4), "{p:?}");
-        // Inside, 0.1 from the face z = 0 (the nearest): -0.1 (closed tetrahedron).
-        let d = m.signed_distance(&Point3::new(0.2, 0.2, 0.1));
-        assert!((d + 0.1).abs() < 1e-6, "{p:?}: {d}");
-        // Outside below the base.
-        let d = m.signed_distance(&Point3::new(0.2, 0.2, -0.5));
-        assert!((d - 0.5).abs() < 1e-6, "{p:?}: {d}");
+        assert_is_the_unit_tetrahedron(&read_stl(&p).unwrap(), &p);
     }
+}
+
+/// `m` is the closed tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1) read from `p`: four vertices,
+/// four faces, and signed distances from the closed forms.
+fn assert_is_the_unit_tetrahedron(m: &TriMesh, p: &std::path::Path) {
+    assert_eq!((m.vertices().len(), m.triangles().len()), (4, 4), "{p:?}");
+    // Inside, 0.1 from the face z = 0 (the nearest): -0.1 (closed tetrahedron).
+    let d = m.signed_distance(&Point3::new(0.2, 0.2, 0.1));
+    assert!((d + 0.1).abs() < 1e-6, "{p:?}: {d}");
+    // Outside below the base.
+    let d = m.signed_distance(&Point3::new(0.2, 0.2, -0.5));
+    assert!((d - 0.5).abs() < 1e-6, "{p:?}: {d}");
 }
 
 #[test]
@@ -203,12 +208,7 @@ fn binary_tetrahedron(big_endian: bool) -> Vec<u8> {
 fn binary_ply_in_both_byte_orders_reads_the_tetrahedron() {
     for big in [false, true] {
         let p = temp(&format!("t{big}.ply"), &binary_tetrahedron(big));
-        let m = read_ply(&p).unwrap();
-        assert_eq!((m.vertices().len(), m.triangles().len()), (4, 4), "{p:?}");
-        let d = m.signed_distance(&Point3::new(0.2, 0.2, 0.1));
-        assert!((d + 0.1).abs() < 1e-6, "{p:?}: {d}");
-        let d = m.signed_distance(&Point3::new(0.2, 0.2, -0.5));
-        assert!((d - 0.5).abs() < 1e-6, "{p:?}: {d}");
+        assert_is_the_unit_tetrahedron(&read_ply(&p).unwrap(), &p);
     }
 }
 
