@@ -316,23 +316,37 @@ impl Sdf {
 
     /// Distance and gradient of the trilinear interpolant at `q`; `None` outside the grid.
     pub fn distance_and_gradient(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
-        let ([i, j, k], t) = grid_cell(&self.origin, self.h, self.dims, q)?;
-        let v = |a: usize, b: usize, c: usize| self.value(i + a, j + b, k + c);
-        Some(trilinear(
-            [
-                v(0, 0, 0),
-                v(1, 0, 0),
-                v(0, 1, 0),
-                v(1, 1, 0),
-                v(0, 0, 1),
-                v(1, 0, 1),
-                v(0, 1, 1),
-                v(1, 1, 1),
-            ],
-            t,
-            self.h,
-        ))
+        interpolate(&self.origin, self.h, self.dims, q, |i, j, k| {
+            self.value(i, j, k)
+        })
     }
+}
+
+/// Distance and gradient at `q` of the trilinear interpolant of the grid of `dims` points
+/// `origin + (i, j, k) h` whose values `value(i, j, k)` gives; `None` outside the grid.
+pub(crate) fn interpolate(
+    origin: &Point3<f64>,
+    h: f64,
+    dims: [usize; 3],
+    q: &Point3<f64>,
+    value: impl Fn(usize, usize, usize) -> f64,
+) -> Option<(f64, Vector3<f64>)> {
+    let ([i, j, k], t) = grid_cell(origin, h, dims, q)?;
+    let v = |a: usize, b: usize, c: usize| value(i + a, j + b, k + c);
+    Some(trilinear(
+        [
+            v(0, 0, 0),
+            v(1, 0, 0),
+            v(0, 1, 0),
+            v(1, 1, 0),
+            v(0, 0, 1),
+            v(1, 0, 1),
+            v(0, 1, 1),
+            v(1, 1, 1),
+        ],
+        t,
+        h,
+    ))
 }
 
 /// The cell of the grid of `dims` points `origin + (i, j, k) h` holding `q` (its lowest corner,

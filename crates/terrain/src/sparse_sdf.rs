@@ -52,7 +52,7 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use crate::mesh::{TriMesh, closest_point_triangle};
-use crate::sdf::{INTERPOLATION_BOUND, SdfError, grid_cell, trilinear};
+use crate::sdf::{INTERPOLATION_BOUND, SdfError, interpolate};
 use crate::surface::SignedDistance;
 
 /// Grid points per block side.
@@ -555,22 +555,9 @@ impl SparseSdf {
     /// Distance and gradient of the trilinear interpolant at `q` (zero gradient where every
     /// corner reads `±T`); `None` outside the grid.
     pub fn distance_and_gradient(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
-        let ([i, j, k], t) = grid_cell(&self.origin, self.h, self.dims, q)?;
-        let v = |a: usize, b: usize, c: usize| self.value(i + a, j + b, k + c);
-        Some(trilinear(
-            [
-                v(0, 0, 0),
-                v(1, 0, 0),
-                v(0, 1, 0),
-                v(1, 1, 0),
-                v(0, 0, 1),
-                v(1, 0, 1),
-                v(0, 1, 1),
-                v(1, 1, 1),
-            ],
-            t,
-            self.h,
-        ))
+        interpolate(&self.origin, self.h, self.dims, q, |i, j, k| {
+            self.value(i, j, k)
+        })
     }
 }
 

@@ -9,7 +9,7 @@ use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
 use super::abit::Abit;
-use super::obstacle_world::{Obstacle, ObstacleWorld};
+use super::obstacle_world::ObstacleWorld;
 use super::real_vector::RealVectorSpace;
 use super::settings::AbitSettings;
 use super::space::{Informed, StateSpace};
@@ -29,16 +29,7 @@ struct BiasedPlane {
 
 fn plane(bias: bool) -> BiasedPlane {
     BiasedPlane {
-        world: ObstacleWorld {
-            space: RealVectorSpace::new([-3.0, -3.0], [3.0, 3.0]).unwrap(),
-            obstacles: vec![Obstacle::Sphere {
-                centre: [0.0, 0.0],
-                radius: 1.0,
-            }],
-            start: [-2.0, 0.0],
-            goal: [2.0, 0.0],
-            resolution: 0.001,
-        },
+        world: super::tests_geometric::circle_2d(),
         bias,
         calls: Cell::new(0),
     }

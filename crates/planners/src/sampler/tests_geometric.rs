@@ -11,7 +11,8 @@ use super::settings::AbitSettings;
 use super::termination::Termination;
 
 /// The circle world: the shortest path is tangent, arc, tangent.
-fn circle_2d() -> ObstacleWorld<2> {
+/// A 6 x 6 square with a unit disc in the middle, start and goal either side of it.
+pub(super) fn circle_2d() -> ObstacleWorld<2> {
     ObstacleWorld {
         space: RealVectorSpace::new([-3.0, -3.0], [3.0, 3.0]).unwrap(),
         obstacles: vec![Obstacle::Sphere {
