@@ -47,6 +47,19 @@
 //! sorted by `y`, so a segment only tests the poles in its `y` range: on a crater strip (long in
 //! `y`) a segment meets a handful.
 //!
+//! # From the sleeve, in time proportional to the path ([`CutIndex`])
+//! Homotopic paths with the same endpoints have the same windings, so a class's signature can be
+//! read off any path in its sleeve instead of its SHP: the path from the start through one point
+//! strictly inside each portal (its midpoint) to the goal. Each of its segments lies in one free
+//! triangle, and a cut that meets a free triangle crosses it from side to side (the pole lies
+//! strictly inside an obstacle, never in a free triangle), so inside that triangle the segment
+//! crosses the cut exactly when its ends lie on opposite sides of the cut's line: a comparison of
+//! `y` coordinates, exact for the midpoints by an error-free sum. [`CutIndex`] lists, once per
+//! map, the cuts meeting each free triangle; [`HSignature::of_sleeve`] then costs `O(n + c log
+//! c)` for a sleeve of `n` triangles whose triangles meet `c` cuts (each is crossed or not), not
+//! `O(poles in the path's y band)`. The winding form over the SHP's polyline
+//! ([`HSignature::of_taut_path`]) is its test oracle: both give identical signatures.
+//!
 //! # Homology, not homotopy (thesis Fig. 2.4)
 //! The H-signature is a homology invariant. A loop that goes around obstacle A, then B, then A
 //! backwards, then B backwards (the commutator `A B A^-1 B^-1`) winds zero times around each
@@ -56,9 +69,10 @@
 
 use crate::funnel::TautPath;
 use crate::path::Path;
+use crate::sleeve::Sleeve;
 use nalgebra::{Complex, Point2};
 use rappel_geometry::btm::Btm;
-use rappel_geometry::dcel::{FaceKind, ObstacleId, TriangleId};
+use rappel_geometry::dcel::{FaceKind, HalfEdgeId, ObstacleId, TriangleId};
 use rappel_geometry::predicates::orient2d;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -222,8 +236,54 @@ impl HSignature {
             cut_crossings(poles, &a, q, |o, delta| crossings.push((o, delta)));
             a = *q;
         }
+        HSignature::from_crossings(*first, a, crossings)
+    }
+
+    /// The signature of the class whose sleeve is `sleeve`, for a path from `start` (in the
+    /// sleeve's first triangle) to `goal` (in its last), read from the cuts `index` lists for the
+    /// sleeve's triangles (module docs, "From the sleeve"): equal to the winding form of every
+    /// path from `start` to `goal` whose reduced crossing sequence is the sleeve's portals (its
+    /// SHP's, for instance). `index` must have been built for the sleeve's BTM.
+    pub fn of_sleeve(
+        btm: &Btm,
+        index: &CutIndex,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+        sleeve: &Sleeve,
+    ) -> HSignature {
+        let d = btm.dcel();
+        let ends = |h: HalfEdgeId| {
+            let (u, v) = (d.point(d.origin(h)), d.point(d.destination(h)));
+            (u.y, v.y)
+        };
+        let mut crossings = Vec::new();
+        let mut entry = Side::Point(start.y);
+        let portals = sleeve.portals();
+        for (i, &t) in sleeve.triangles().iter().enumerate() {
+            let exit = match portals.get(i) {
+                Some(&h) => Side::Midpoint(ends(h)),
+                None => Side::Point(goal.y),
+            };
+            for &(y, o) in index.cuts(t) {
+                let above = entry.at_or_above(y);
+                if above != exit.at_or_above(y) {
+                    crossings.push((o, if above { 1 } else { -1 }));
+                }
+            }
+            entry = exit;
+        }
+        HSignature::from_crossings(start, goal, crossings)
+    }
+
+    /// The signature from its endpoints and its cut crossings in any order: summed per obstacle
+    /// by one sort, zero sums dropped.
+    fn from_crossings(
+        start: Point2<f64>,
+        end: Point2<f64>,
+        mut crossings: Vec<(ObstacleId, i64)>,
+    ) -> HSignature {
         crossings.sort_unstable_by_key(|&(o, _)| o);
-        let mut windings: Vec<(ObstacleId, i64)> = Vec::new();
+        let mut windings: Vec<(ObstacleId, i64)> = Vec::with_capacity(crossings.len());
         for (o, delta) in crossings {
             match windings.last_mut() {
                 Some((last, n)) if *last == o => *n += delta,
@@ -232,8 +292,8 @@ impl HSignature {
         }
         windings.retain(|&(_, n)| n != 0);
         HSignature {
-            start: *first,
-            end: a,
+            start,
+            end,
             windings,
         }
     }
@@ -378,4 +438,151 @@ fn cut_crossings(
             crossed(*o, -1);
         }
     }
+}
+
+/// Where a point of the sleeve path lies, as far as the cuts' lines care: its `y`, or the exact
+/// midpoint of a portal given by its endpoints' `y`.
+#[derive(Clone, Copy)]
+enum Side {
+    Point(f64),
+    Midpoint((f64, f64)),
+}
+
+impl Side {
+    /// `true` when the point is at or above the line `y = cut` (the half-open rule of the module
+    /// docs). For a midpoint `(u + v) / 2 >= cut` is decided exactly: the rounded sum `s` of `u`
+    /// and `v` is on the same side of `2 cut` as the exact sum whenever they differ (rounding to
+    /// nearest is monotone and `2 cut` is a float), and when `s = 2 cut` the sign of the sum's
+    /// rounding error (Knuth's two-sum, exact) decides. Coordinates lie in the map's domain
+    /// ([`rappel_geometry::domain`]), so nothing overflows.
+    #[inline]
+    fn at_or_above(self, cut: f64) -> bool {
+        match self {
+            Side::Point(y) => y >= cut,
+            Side::Midpoint((u, v)) => {
+                let s = u + v;
+                let twice = 2.0 * cut;
+                if s != twice {
+                    return s > twice;
+                }
+                let bv = s - u;
+                let av = s - bv;
+                (u - av) + (v - bv) >= 0.0
+            }
+        }
+    }
+}
+
+/// For every free triangle of a BTM, the branch cuts (module docs) that meet it: the poles `zeta`
+/// with `min y < zeta.y <= max y` over the triangle's corners whose cut (the ray from `zeta`
+/// towards `-x`, lowered infinitesimally by the half-open rule) passes through the triangle, as
+/// `(zeta.y, obstacle)` in one packed array. Built once per map, it lets
+/// [`HSignature::of_sleeve`] read a class's signature from its sleeve.
+///
+/// The build examines, for each free triangle, the poles in its `y` range; on a map long in `x`
+/// (cuts crossing many triangles) the index could grow to `O(poles x triangles)`, so the build
+/// stops once it has examined [`CutIndex::MAX_WORK_PER_TRIANGLE`] poles per free triangle (or
+/// listed as many cuts), and the map has no index: signatures are then computed in winding form.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CutIndex {
+    /// `first[t] .. first[t + 1]` is triangle `t`'s range in `cuts` (triangle capacity + 1).
+    first: Vec<u32>,
+    /// `(zeta.y, obstacle)` of each cut meeting a triangle, grouped by triangle.
+    cuts: Vec<(f64, ObstacleId)>,
+}
+
+impl CutIndex {
+    /// Most poles examined (and cuts listed) per free triangle, on average over the map, before
+    /// the build gives up (the crater strips need about 5 to 10).
+    pub const MAX_WORK_PER_TRIANGLE: usize = 64;
+
+    /// The index of `btm`'s free triangles for `poles`, or `None` when the map is too
+    /// unfavourable (the work bound above) or a pole lies in a closed free triangle (poles from
+    /// [`Poles::new`] never do; [`Poles::from_points`] may place one there).
+    pub fn new(btm: &Btm, poles: &Poles) -> Option<CutIndex> {
+        let d = btm.dcel();
+        let capacity = d.triangle_capacity();
+        let free = btm.triangles().count();
+        let budget = free
+            .saturating_mul(Self::MAX_WORK_PER_TRIANGLE)
+            .min(u32::MAX as usize);
+        let mut work = 0usize;
+        let mut first = Vec::with_capacity(capacity + 1);
+        let mut cuts = Vec::new();
+        for t in (0..capacity as u32).map(TriangleId) {
+            first.push(cuts.len() as u32);
+            if d.face_kind(t) != FaceKind::Free {
+                continue;
+            }
+            let corners = d.triangle_points(t);
+            let lo = corners.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+            let hi = corners
+                .iter()
+                .map(|p| p.y)
+                .fold(f64::NEG_INFINITY, f64::max);
+            let from = poles.sorted.partition_point(|(p, _)| p.y <= lo);
+            let to = poles.sorted.partition_point(|(p, _)| p.y <= hi);
+            for (zeta, o) in &poles.sorted[from..to.max(from)] {
+                work += 1;
+                if work > budget {
+                    return None;
+                }
+                if cut_meets(&corners, zeta)? {
+                    cuts.push((zeta.y, *o));
+                }
+            }
+        }
+        first.push(cuts.len() as u32);
+        Some(CutIndex { first, cuts })
+    }
+
+    /// The cuts meeting triangle `t` (empty for ids beyond the BTM's capacity when built).
+    pub fn cuts(&self, t: TriangleId) -> &[(f64, ObstacleId)] {
+        match (self.first.get(t.index()), self.first.get(t.index() + 1)) {
+            (Some(&a), Some(&b)) => &self.cuts[a as usize..b as usize],
+            _ => &[],
+        }
+    }
+
+    /// Number of (triangle, cut) pairs listed.
+    pub fn len(&self) -> usize {
+        self.cuts.len()
+    }
+
+    /// `true` when no cut meets any free triangle.
+    pub fn is_empty(&self) -> bool {
+        self.cuts.is_empty()
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        self.first.capacity() * 4 + self.cuts.capacity() * std::mem::size_of::<(f64, ObstacleId)>()
+    }
+}
+
+/// Whether the cut of `zeta` meets the counter-clockwise triangle `corners`, given `min y <
+/// zeta.y <= max y` (so the line `y = zeta.y`, lowered infinitesimally, crosses its interior):
+/// the line's chord through the triangle lies wholly on one side of `zeta`, and the cut holds it
+/// when that side is `-x`. The chord ends on the two edges whose ends lie on opposite sides of
+/// the line; on either, directed upwards, `zeta` lies to the right exactly when the chord is to
+/// its left (`zeta` can lie on the line of at most one of them, since both lines meet only at
+/// their shared corner). `None` when `zeta` lies in the closed triangle (no chord side).
+fn cut_meets(corners: &[Point2<f64>; 3], zeta: &Point2<f64>) -> Option<bool> {
+    let mut inside = true;
+    let mut side = None;
+    for i in 0..3 {
+        let (u, v) = (corners[i], corners[(i + 1) % 3]);
+        let turn = orient2d(&u, &v, zeta);
+        inside &= turn >= 0.0;
+        let (u_above, v_above) = (u.y >= zeta.y, v.y >= zeta.y);
+        if u_above != v_above && turn != 0.0 && side.is_none() {
+            // Directed upwards the edge is (u, v) when v is above, else (v, u): flip the sign.
+            let upward_turn = if v_above { turn } else { -turn };
+            side = Some(upward_turn < 0.0);
+        }
+    }
+    if inside {
+        return None;
+    }
+    side
 }

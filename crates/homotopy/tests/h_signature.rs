@@ -1,19 +1,23 @@
 //! H-signatures: agreement with the analytic angle sum and with eq. 2.3's product form evaluated
-//! by quadrature, exact winding counts among 10,000 poles, and the homology-versus-homotopy
-//! caveat of thesis Fig. 2.4.
+//! by quadrature, exact winding counts among 10,000 poles, the homology-versus-homotopy
+//! caveat of thesis Fig. 2.4, and signatures read from sleeves through the cut index equal to
+//! the winding form on random walks (crater strips, and a map built for ties: poles at the height
+//! of obstacle vertices and of portal midpoints).
 
 mod common;
 
-use common::p;
+use common::{p, random_walk, small_strip, steps};
 use nalgebra::{Complex, Point2};
+use proptest::prelude::*;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::dcel::ObstacleId;
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::{PointInPolygon, Polygon};
 use rappel_homotopy::crossing::CrossingSequence;
-use rappel_homotopy::h_signature::{HSignature, Poles};
+use rappel_homotopy::h_signature::{CutIndex, HSignature, Poles};
 use rappel_homotopy::homotopy::is_contractible;
 use rappel_homotopy::path::Path;
+use rappel_homotopy::sleeve::Sleeve;
 use std::f64::consts::{PI, TAU};
 
 /// Tolerance for comparing two ways of computing the same angle sum (a few hundred terms of
@@ -259,5 +263,148 @@ fn poles_lie_inside_their_obstacles() {
             btm.locate(&zeta),
             rappel_geometry::btm::Location::Obstacle(o)
         );
+    }
+}
+
+/// A 20 x 20 map built for ties: right triangles `(x0, y0), (x0 + 3, y0), (x0, y0 + 3)` whose
+/// poles (their centroids, exactly `(x0 + 1, y0 + 1)`) lie at the height of no vertex of their
+/// own but at the exact midpoint height of the diagonals from the squares `[6, 7] x [y0, y0 + 2]`
+/// and `[12, 13] x [y0, y0 + 2]` (corners at `y0` and `y0 + 2`) to the triangles' corners.
+fn tie_map() -> (Map, Btm) {
+    let mut obstacles = Vec::new();
+    for y0 in [2.0, 8.0, 14.0] {
+        for x0 in [2.0, 8.0, 14.0] {
+            obstacles.push(Polygon::new(vec![
+                p(x0, y0),
+                p(x0 + 3., y0),
+                p(x0, y0 + 3.),
+            ]));
+        }
+        for x0 in [6.0, 12.0] {
+            obstacles.push(Polygon::new(vec![
+                p(x0, y0),
+                p(x0 + 1., y0),
+                p(x0 + 1., y0 + 2.),
+                p(x0, y0 + 2.),
+            ]));
+        }
+    }
+    let map = Map::new(
+        Polygon::new(vec![p(0., 0.), p(20., 0.), p(20., 20.), p(0., 20.)]),
+        obstacles,
+    );
+    let btm = Btm::build(&map).unwrap();
+    (map, btm)
+}
+
+/// The signature read from the path's sleeve equals the winding form of the path itself.
+fn sleeve_agrees(btm: &Btm, poles: &Poles, index: &CutIndex, points: Vec<Point2<f64>>) {
+    let path = Path::new(points).unwrap();
+    let chi = CrossingSequence::reduced_of_path(btm, &path).unwrap();
+    let sleeve = Sleeve::from_crossing_sequence(btm, &chi).unwrap();
+    let from_sleeve = HSignature::of_sleeve(btm, index, path.start(), path.end(), &sleeve);
+    assert_eq!(from_sleeve, HSignature::of_path(poles, &path), "{path:?}");
+}
+
+#[test]
+fn the_tie_map_has_poles_at_vertex_and_midpoint_heights() {
+    let (_, btm) = tie_map();
+    let poles = Poles::new(&btm);
+    assert_eq!(poles.len(), 15);
+    let d = btm.dcel();
+    let pole_heights: Vec<f64> = poles.iter().map(|(_, z)| z.y).collect();
+    // Some diagonal's exact midpoint lies at a pole's height (the ties the index must decide).
+    let tie = btm.triangles().flat_map(|t| t.half_edges()).any(|h| {
+        d.twin(h).is_some() && {
+            let (u, v) = (d.point(d.origin(h)), d.point(d.destination(h)));
+            u.y != v.y && pole_heights.contains(&(0.5 * (u.y + v.y)))
+        }
+    });
+    assert!(tie);
+    assert!(poles.iter().any(|(_, z)| z.y == 3.0));
+}
+
+#[test]
+fn the_index_refuses_poles_in_free_space_and_maps_long_across_the_cuts() {
+    // A pole placed in a free triangle: no chord side, no index.
+    let (_, btm) = tie_map();
+    let poles = Poles::from_points([(ObstacleId(0), p(1.0, 1.0))]);
+    assert_eq!(CutIndex::new(&btm, &poles), None);
+    // 300 obstacles in one row along x: every cut crosses the whole row, so the index would hold
+    // O(poles x triangles) entries; the build gives up and signatures stay in winding form.
+    let row: Vec<Polygon> = (0..300)
+        .map(|i| {
+            let x = 2.0 + 3.0 * f64::from(i);
+            Polygon::new(vec![p(x, 4.0), p(x + 1.0, 4.0), p(x + 1.0, 6.0), p(x, 6.0)])
+        })
+        .collect();
+    let map = Map::new(
+        Polygon::new(vec![p(0., 0.), p(903., 0.), p(903., 10.), p(0., 10.)]),
+        row,
+    );
+    let btm = Btm::build(&map).unwrap();
+    assert_eq!(CutIndex::new(&btm, &Poles::new(&btm)), None);
+    // The tie map itself is indexed.
+    let (_, btm) = tie_map();
+    let index = CutIndex::new(&btm, &Poles::new(&btm)).expect("a small map is indexed");
+    assert!(!index.is_empty());
+}
+
+#[test]
+fn sleeve_signatures_equal_the_winding_form_around_and_through_ties() {
+    // Hand-made: once around the middle triangle (pole (9, 9)) counter-clockwise, through the
+    // vertex heights of the ties, and the straight segment beside it.
+    let (_, btm) = tie_map();
+    let poles = Poles::new(&btm);
+    let index = CutIndex::new(&btm, &poles).unwrap();
+    let around = vec![
+        p(7.5, 7.5),
+        p(11.5, 7.5),
+        p(11.5, 11.5),
+        p(7.5, 11.5),
+        p(7.5, 7.5),
+        p(11.5, 7.5),
+    ];
+    sleeve_agrees(&btm, &poles, &index, around.clone());
+    let h = HSignature::of_path(&poles, &Path::new(around).unwrap());
+    assert!(!h.is_trivial());
+    sleeve_agrees(&btm, &poles, &index, vec![p(1., 1.), p(1., 19.)]);
+    sleeve_agrees(&btm, &poles, &index, vec![p(5.5, 19.), p(5.5, 1.)]);
+    sleeve_agrees(
+        &btm,
+        &poles,
+        &index,
+        vec![p(5.5, 1.), p(5.5, 6.5), p(11.5, 6.5), p(11.5, 3.)],
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// Random walks (through obstacle vertices and along edges, winding around obstacles) on
+    /// seeded crater strips: the signature read from the walk's sleeve is the walk's own.
+    #[test]
+    fn sleeve_signatures_equal_the_winding_form_on_strips(
+        seed in 0u64..10_000,
+        n in 1usize..12,
+        walk in steps(40),
+    ) {
+        let (g, btm) = small_strip(n, seed);
+        let poles = Poles::new(&btm);
+        let index = CutIndex::new(&btm, &poles).expect("strips are indexed");
+        sleeve_agrees(&btm, &poles, &index, random_walk(&g.map, g.start, &walk));
+    }
+
+    /// The same on the tie map, walks snapping to vertices at the poles' heights.
+    #[test]
+    fn sleeve_signatures_equal_the_winding_form_on_ties(
+        from in 0usize..4,
+        walk in steps(60),
+    ) {
+        let (map, btm) = tie_map();
+        let poles = Poles::new(&btm);
+        let index = CutIndex::new(&btm, &poles).unwrap();
+        let start = [p(1., 1.), p(5., 3.), p(11., 9.), p(19., 15.)][from];
+        sleeve_agrees(&btm, &poles, &index, random_walk(&map, start, &walk));
     }
 }

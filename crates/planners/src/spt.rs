@@ -107,7 +107,7 @@ use rappel_homotopy::funnel::TautPath;
 use rappel_homotopy::funnel_state::{
     FunnelNode, FunnelState, FunnelStateError, FunnelTree, NodeId,
 };
-use rappel_homotopy::h_signature::{HSignature, Poles};
+use rappel_homotopy::h_signature::{CutIndex, HSignature, Poles};
 use rappel_homotopy::path::PathError;
 use rappel_homotopy::shp::ShortestHomotopicPath;
 use rappel_homotopy::sleeve::{Sleeve, SleeveError};
@@ -381,6 +381,9 @@ pub struct SptPlanner<'b> {
     btm: &'b Btm,
     component: Vec<u32>,
     poles: Poles,
+    /// The cuts meeting each free triangle, for signatures read from sleeves (`None` on maps
+    /// where the index would be too large: signatures in winding form then).
+    cuts: Option<CutIndex>,
     /// Scratch spaces of finished searches, reused by the next ones (at most [`POOL_SIZE`], each
     /// at most [`POOL_MAX_BYTES`]): a query on a prepared planner allocates nothing once warm.
     pool: Mutex<Vec<Scratch>>,
@@ -393,14 +396,18 @@ impl Clone for SptPlanner<'_> {
             btm: self.btm,
             component: self.component.clone(),
             poles: self.poles.clone(),
+            cuts: self.cuts.clone(),
             pool: Mutex::new(Vec::new()),
         }
     }
 }
 
 impl<'b> SptPlanner<'b> {
-    /// Prepares searches on `btm`: labels the connected components of its dual graph and places
-    /// the H-signature poles. Linear in the size of the BTM.
+    /// Prepares searches on `btm`: labels the connected components of its dual graph, places
+    /// the H-signature poles and lists the cuts meeting each free triangle ([`CutIndex`], so
+    /// that a class's signature costs what its sleeve crosses). Linear in the size of the BTM
+    /// for the components and poles; the cut index is bounded by
+    /// [`CutIndex::MAX_WORK_PER_TRIANGLE`] poles examined per free triangle.
     pub fn new(btm: &'b Btm) -> SptPlanner<'b> {
         let d = btm.dcel();
         let mut component = vec![NONE; d.triangle_capacity()];
@@ -424,10 +431,13 @@ impl<'b> SptPlanner<'b> {
             }
             label += 1;
         }
+        let poles = Poles::new(btm);
+        let cuts = CutIndex::new(btm, &poles);
         SptPlanner {
             btm,
             component,
-            poles: Poles::new(btm),
+            poles,
+            cuts,
             pool: Mutex::new(Vec::new()),
         }
     }
@@ -462,6 +472,12 @@ impl<'b> SptPlanner<'b> {
     /// The H-signature poles.
     pub fn poles(&self) -> &Poles {
         &self.poles
+    }
+
+    /// The cut index signatures are read with (`None` when the map was too unfavourable to
+    /// index: signatures are then computed in winding form from the SHP's polyline).
+    pub fn cut_index(&self) -> Option<&CutIndex> {
+        self.cuts.as_ref()
     }
 
     /// `true` when the two free triangles are connected in free space.
@@ -1211,7 +1227,10 @@ impl<'a> SptSearch<'a> {
         }
         let sleeve = Sleeve::from_portals(btm, self.start_triangle, portals)?;
         let crossings = sleeve.crossing_sequence();
-        let h_signature = HSignature::of_taut_path(&self.planner.poles, &taut);
+        let h_signature = match &self.planner.cuts {
+            Some(cuts) => HSignature::of_sleeve(btm, cuts, taut.start(), taut.goal(), &sleeve),
+            None => HSignature::of_taut_path(&self.planner.poles, &taut),
+        };
         self.emitted += 1;
         self.shortest.get_or_insert(taut.length);
         Ok(Some(RankedShp {

@@ -41,6 +41,9 @@ fn check_class(btm: &Btm, planner: &SptPlanner<'_>, c: &RankedShp) {
     );
     let again = shortest_homotopic_path(btm, &path).unwrap();
     assert!((again.taut.length - taut.length).abs() <= 1e-9 * taut.length.max(1.0));
+    // The class's signature is read from its sleeve through the cut index; the winding form
+    // of its SHP's polyline is the oracle.
+    assert!(planner.cut_index().is_some());
     assert_eq!(c.h_signature, HSignature::of_path(planner.poles(), &path));
 }
 
