@@ -16,7 +16,8 @@
 //! The first SHP on the 100,000-obstacle strip takes seconds per query, so it runs only when the
 //! environment variable `RAPPEL_BENCH_100K` is set: once per side, timed, with its memory (the
 //! search's peak bytes and the process's peak resident set growth, the peak reset before each
-//! run), printed in the set-up; then the criterion group `planner_first_shp_100k`.
+//! run), printed in the set-up; then the criterion group `planner_first_shp_100k` (skipped when
+//! the variable is `once`: the single timed runs only).
 //!
 //! Polyanya works in `f32`; the set-up asserts that its lengths agree with ours (1e-4 relative on
 //! the strips' long queries, 1e-3 on the short ones, 1e-3 absolute on the arena).
@@ -135,7 +136,18 @@ impl Strip {
     /// Checks that both planners answer `(a, b)` with the same length (relative tolerance `rel`)
     /// and prints it.
     fn check(&self, what: &str, (a, b): (Point2<f64>, Point2<f64>), rel: f64) {
+        let t = std::time::Instant::now();
         let spt = SptPlanner::new(&self.btm);
+        eprintln!(
+            "{} obstacles: planner prepared in {:.1} ms, cut index {}",
+            self.n,
+            t.elapsed().as_secs_f64() * 1e3,
+            spt.cut_index().map_or("none".into(), |c| format!(
+                "{} entries, {:.1} MB",
+                c.len(),
+                c.bytes() as f64 / 1e6
+            )),
+        );
         let ours = spt
             .shortest_path(a, b)
             .expect("search runs")
@@ -446,10 +458,14 @@ fn planner(c: &mut Criterion) {
             .first()
             .unwrap_or_else(|| panic!("no first SHP: {:?}", ours.termination));
         eprintln!(
-            "100000 obstacles, first SHP once: SPT {:.4} m in {:.2} s, {} expansions, search peak {:.1} MB, process peak RSS growth {}",
+            "100000 obstacles, first SHP once: SPT {:.4} m in {:.2} s, {} expansions ({} tree nodes, queue peak {}, pruned: {} dominated, {} incumbent), search peak {:.1} MB, process peak RSS growth {}",
             first.length(),
             time.as_secs_f64(),
             ours.stats.expansions,
+            ours.stats.tree_nodes,
+            ours.stats.queue_peak,
+            ours.stats.pruned_dominated,
+            ours.stats.pruned_incumbent,
             ours.stats.peak_bytes as f64 / 1e6,
             growth.map_or("n/a".into(), |g| format!("{g:.1} MB")),
         );
@@ -470,6 +486,9 @@ fn planner(c: &mut Criterion) {
             );
         }
         drop(ours);
+        if std::env::var_os("RAPPEL_BENCH_100K").is_some_and(|v| v == "once") {
+            return;
+        }
         let mut g = c.benchmark_group("planner_first_shp_100k");
         g.sample_size(10);
         g.bench_function("spt", |bch| {

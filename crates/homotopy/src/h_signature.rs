@@ -55,10 +55,12 @@
 //! strictly inside an obstacle, never in a free triangle), so inside that triangle the segment
 //! crosses the cut exactly when its ends lie on opposite sides of the cut's line: a comparison of
 //! `y` coordinates, exact for the midpoints by an error-free sum. [`CutIndex`] lists, once per
-//! map, the cuts meeting each free triangle; [`HSignature::of_sleeve`] then costs `O(n + c log
-//! c)` for a sleeve of `n` triangles whose triangles meet `c` cuts (each is crossed or not), not
-//! `O(poles in the path's y band)`. The winding form over the SHP's polyline
-//! ([`HSignature::of_taut_path`]) is its test oracle: both give identical signatures.
+//! map, the cuts meeting each free triangle sorted by height, so the cuts a segment crosses in a
+//! triangle are one range of its list found by two binary searches; [`HSignature::of_sleeve`]
+//! then costs `O(n log m + c log c)` for a sleeve of `n` triangles meeting at most `m` cuts each
+//! and `c` cut crossings (the signature's own size, before cancellation), not `O(poles in the
+//! path's y band)`. The winding form over the SHP's polyline ([`HSignature::of_taut_path`]) is
+//! its test oracle: both give identical signatures.
 //!
 //! # Homology, not homotopy (thesis Fig. 2.4)
 //! The H-signature is a homology invariant. A loop that goes around obstacle A, then B, then A
@@ -233,10 +235,10 @@ impl HSignature {
         let mut crossings = Vec::new();
         let mut a = *first;
         for q in rest {
-            cut_crossings(poles, &a, q, |o, delta| crossings.push((o, delta)));
+            cut_crossings(poles, &a, q, |o, delta| crossings.push(pack(o, delta > 0)));
             a = *q;
         }
-        HSignature::from_crossings(*first, a, crossings)
+        HSignature::from_packed(*first, a, crossings)
     }
 
     /// The signature of the class whose sleeve is `sleeve`, for a path from `start` (in the
@@ -264,27 +266,30 @@ impl HSignature {
                 Some(&h) => Side::Midpoint(ends(h)),
                 None => Side::Point(goal.y),
             };
-            for &(y, o) in index.cuts(t) {
-                let above = entry.at_or_above(y);
-                if above != exit.at_or_above(y) {
-                    crossings.push((o, if above { 1 } else { -1 }));
-                }
-            }
+            // The triangle's cuts are sorted by height: those at or below the entry's height
+            // come first, so the crossed ones are one range between the two partition points.
+            let cuts = index.cuts(t);
+            let at_entry = cuts.partition_point(|&r| entry.at_or_above(index.height(r)));
+            let at_exit = cuts.partition_point(|&r| exit.at_or_above(index.height(r)));
+            // Downwards (entry above) is +1, upwards -1: the direction bit of `pack`.
+            let (range, down) = if at_entry > at_exit {
+                (at_exit..at_entry, true)
+            } else {
+                (at_entry..at_exit, false)
+            };
+            crossings.extend(cuts[range].iter().map(|&r| pack(index.obstacle(r), down)));
             entry = exit;
         }
-        HSignature::from_crossings(start, goal, crossings)
+        HSignature::from_packed(start, goal, crossings)
     }
 
-    /// The signature from its endpoints and its cut crossings in any order: summed per obstacle
-    /// by one sort, zero sums dropped.
-    fn from_crossings(
-        start: Point2<f64>,
-        end: Point2<f64>,
-        mut crossings: Vec<(ObstacleId, i64)>,
-    ) -> HSignature {
-        crossings.sort_unstable_by_key(|&(o, _)| o);
+    /// The signature from its endpoints and its cut crossings packed by [`pack`], in any order:
+    /// one sort of machine words, summed per obstacle, zero sums dropped.
+    fn from_packed(start: Point2<f64>, end: Point2<f64>, mut crossings: Vec<u64>) -> HSignature {
+        crossings.sort_unstable();
         let mut windings: Vec<(ObstacleId, i64)> = Vec::with_capacity(crossings.len());
-        for (o, delta) in crossings {
+        for c in crossings {
+            let (o, delta) = (ObstacleId((c >> 1) as u32), if c & 1 == 1 { 1 } else { -1 });
             match windings.last_mut() {
                 Some((last, n)) if *last == o => *n += delta,
                 _ => windings.push((o, delta)),
@@ -473,27 +478,38 @@ impl Side {
     }
 }
 
+/// One cut crossing as a machine word: the obstacle id above a direction bit (1 downwards,
+/// counter-clockwise about the pole, `+1`; 0 upwards, `-1`), so that sorting the words groups
+/// the crossings by obstacle in increasing id.
+#[inline]
+fn pack(o: ObstacleId, down: bool) -> u64 {
+    (u64::from(o.0) << 1) | u64::from(down)
+}
+
 /// For every free triangle of a BTM, the branch cuts (module docs) that meet it: the poles `zeta`
 /// with `min y < zeta.y <= max y` over the triangle's corners whose cut (the ray from `zeta`
 /// towards `-x`, lowered infinitesimally by the half-open rule) passes through the triangle, as
-/// `(zeta.y, obstacle)` in one packed array. Built once per map, it lets
-/// [`HSignature::of_sleeve`] read a class's signature from its sleeve.
+/// ranks into the poles sorted by height, so each triangle's list is sorted by height too. Built
+/// once per map, it lets [`HSignature::of_sleeve`] read a class's signature from its sleeve.
 ///
-/// The build examines, for each free triangle, the poles in its `y` range; on a map long in `x`
-/// (cuts crossing many triangles) the index could grow to `O(poles x triangles)`, so the build
-/// stops once it has examined [`CutIndex::MAX_WORK_PER_TRIANGLE`] poles per free triangle (or
-/// listed as many cuts), and the map has no index: signatures are then computed in winding form.
+/// The build examines, for each free triangle, the poles in its `y` range (found by galloping
+/// from the previous triangle's range: triangles are numbered in a spatially coherent order);
+/// on a map long in `x` (cuts crossing many triangles) the index could grow to `O(poles x
+/// triangles)`, so the build stops once it has examined [`CutIndex::MAX_WORK_PER_TRIANGLE`] poles
+/// per free triangle, and the map has no index: signatures are then computed in winding form.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CutIndex {
+    /// `(zeta.y, obstacle)` of every pole, sorted by height (then id).
+    poles: Vec<(f64, ObstacleId)>,
     /// `first[t] .. first[t + 1]` is triangle `t`'s range in `cuts` (triangle capacity + 1).
     first: Vec<u32>,
-    /// `(zeta.y, obstacle)` of each cut meeting a triangle, grouped by triangle.
-    cuts: Vec<(f64, ObstacleId)>,
+    /// Ranks into `poles` of the cuts meeting each triangle, grouped by triangle, ascending.
+    cuts: Vec<u32>,
 }
 
 impl CutIndex {
-    /// Most poles examined (and cuts listed) per free triangle, on average over the map, before
-    /// the build gives up (the crater strips need about 5 to 10).
+    /// Most poles examined per free triangle, on average over the map, before the build gives up
+    /// (the crater strips need about 5 to 10).
     pub const MAX_WORK_PER_TRIANGLE: usize = 64;
 
     /// The index of `btm`'s free triangles for `poles`, or `None` when the map is too
@@ -506,9 +522,11 @@ impl CutIndex {
         let budget = free
             .saturating_mul(Self::MAX_WORK_PER_TRIANGLE)
             .min(u32::MAX as usize);
+        let sorted = &poles.sorted;
         let mut work = 0usize;
         let mut first = Vec::with_capacity(capacity + 1);
         let mut cuts = Vec::new();
+        let (mut from, mut to) = (0, 0);
         for t in (0..capacity as u32).map(TriangleId) {
             first.push(cuts.len() as u32);
             if d.face_kind(t) != FaceKind::Free {
@@ -520,28 +538,46 @@ impl CutIndex {
                 .iter()
                 .map(|p| p.y)
                 .fold(f64::NEG_INFINITY, f64::max);
-            let from = poles.sorted.partition_point(|(p, _)| p.y <= lo);
-            let to = poles.sorted.partition_point(|(p, _)| p.y <= hi);
-            for (zeta, o) in &poles.sorted[from..to.max(from)] {
+            from = gallop(sorted, from, |(p, _)| p.y <= lo);
+            to = gallop(sorted, to, |(p, _)| p.y <= hi);
+            for (rank, (zeta, _)) in sorted.iter().enumerate().take(to).skip(from) {
                 work += 1;
                 if work > budget {
                     return None;
                 }
                 if cut_meets(&corners, zeta)? {
-                    cuts.push((zeta.y, *o));
+                    cuts.push(rank as u32);
                 }
             }
         }
         first.push(cuts.len() as u32);
-        Some(CutIndex { first, cuts })
+        cuts.shrink_to_fit();
+        Some(CutIndex {
+            poles: sorted.iter().map(|(p, o)| (p.y, *o)).collect(),
+            first,
+            cuts,
+        })
     }
 
-    /// The cuts meeting triangle `t` (empty for ids beyond the BTM's capacity when built).
-    pub fn cuts(&self, t: TriangleId) -> &[(f64, ObstacleId)] {
+    /// The cuts meeting triangle `t`, as ranks ([`CutIndex::height`], [`CutIndex::obstacle`]),
+    /// ascending in height (empty for ids beyond the BTM's capacity when built).
+    pub fn cuts(&self, t: TriangleId) -> &[u32] {
         match (self.first.get(t.index()), self.first.get(t.index() + 1)) {
             (Some(&a), Some(&b)) => &self.cuts[a as usize..b as usize],
             _ => &[],
         }
+    }
+
+    /// The height `zeta.y` of the cut of rank `r`.
+    #[inline]
+    pub fn height(&self, r: u32) -> f64 {
+        self.poles[r as usize].0
+    }
+
+    /// The obstacle of the cut of rank `r`.
+    #[inline]
+    pub fn obstacle(&self, r: u32) -> ObstacleId {
+        self.poles[r as usize].1
     }
 
     /// Number of (triangle, cut) pairs listed.
@@ -556,33 +592,88 @@ impl CutIndex {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        self.first.capacity() * 4 + self.cuts.capacity() * std::mem::size_of::<(f64, ObstacleId)>()
+        self.poles.capacity() * std::mem::size_of::<(f64, ObstacleId)>()
+            + self.first.capacity() * 4
+            + self.cuts.capacity() * 4
+    }
+}
+
+/// The partition point of `sorted` for the monotone predicate `below` (true on a prefix),
+/// found by galloping from the previous answer `hint`: `O(log k)` for an answer `k` places away.
+fn gallop<T>(sorted: &[T], hint: usize, below: impl Fn(&T) -> bool) -> usize {
+    let hint = hint.min(sorted.len());
+    if hint < sorted.len() && below(&sorted[hint]) {
+        // Forwards: the answer is beyond `hint`.
+        let mut step = 1;
+        let mut lo = hint + 1;
+        while lo + step <= sorted.len() && below(&sorted[lo + step - 1]) {
+            lo += step;
+            step *= 2;
+        }
+        let hi = (lo + step).min(sorted.len());
+        lo + sorted[lo..hi].partition_point(below)
+    } else {
+        // Backwards: the answer is at or before `hint`.
+        let mut step = 1;
+        let mut hi = hint;
+        while hi >= step && !below(&sorted[hi - step]) {
+            hi -= step;
+            step *= 2;
+        }
+        let lo = hi.saturating_sub(step);
+        lo + sorted[lo..hi].partition_point(below)
     }
 }
 
 /// Whether the cut of `zeta` meets the counter-clockwise triangle `corners`, given `min y <
 /// zeta.y <= max y` (so the line `y = zeta.y`, lowered infinitesimally, crosses its interior):
-/// the line's chord through the triangle lies wholly on one side of `zeta`, and the cut holds it
-/// when that side is `-x`. The chord ends on the two edges whose ends lie on opposite sides of
-/// the line; on either, directed upwards, `zeta` lies to the right exactly when the chord is to
-/// its left (`zeta` can lie on the line of at most one of them, since both lines meet only at
-/// their shared corner). `None` when `zeta` lies in the closed triangle (no chord side).
+/// the line's chord through the triangle ends on the two edges whose ends lie on opposite sides
+/// of the line, and lies wholly on one side of `zeta` unless `zeta` is in the closed triangle.
+/// On each of the two edges, directed upwards, `zeta` lies to the right exactly when that end
+/// of the chord is to its left. Both ends on the left: the cut meets the triangle; both on the
+/// right: it does not. `None` when they disagree or `zeta` lies on one of the edges (it is then
+/// in the closed triangle: no side).
 fn cut_meets(corners: &[Point2<f64>; 3], zeta: &Point2<f64>) -> Option<bool> {
-    let mut inside = true;
-    let mut side = None;
+    let mut sides = [None, None];
+    let mut found = 0;
     for i in 0..3 {
         let (u, v) = (corners[i], corners[(i + 1) % 3]);
-        let turn = orient2d(&u, &v, zeta);
-        inside &= turn >= 0.0;
         let (u_above, v_above) = (u.y >= zeta.y, v.y >= zeta.y);
-        if u_above != v_above && turn != 0.0 && side.is_none() {
-            // Directed upwards the edge is (u, v) when v is above, else (v, u): flip the sign.
-            let upward_turn = if v_above { turn } else { -turn };
-            side = Some(upward_turn < 0.0);
+        if u_above == v_above {
+            continue;
         }
+        let (below, above) = if v_above { (u, v) } else { (v, u) };
+        let turn = orient2d(&below, &above, zeta);
+        if turn == 0.0 || found == 2 {
+            return None;
+        }
+        sides[found] = Some(turn < 0.0);
+        found += 1;
     }
-    if inside {
-        return None;
+    match sides {
+        [Some(a), Some(b)] if a == b => Some(a),
+        _ => None,
     }
-    side
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gallop;
+
+    #[test]
+    fn galloping_finds_the_partition_point_from_any_hint() {
+        // Sorted values with repeats; every threshold and every hint, against `partition_point`.
+        let sorted: Vec<u32> = (0..40u32).map(|i| i / 3).collect();
+        for threshold in 0..16 {
+            let expected = sorted.partition_point(|&x| x <= threshold);
+            for hint in 0..=sorted.len() + 2 {
+                assert_eq!(
+                    gallop(&sorted, hint, |&x| x <= threshold),
+                    expected,
+                    "threshold {threshold}, hint {hint}"
+                );
+            }
+        }
+        assert_eq!(gallop(&[] as &[u32], 3, |&x| x < 1), 0);
+    }
 }
