@@ -50,11 +50,12 @@
 //! # From the sleeve, in time proportional to the path ([`CutIndex`])
 //! Homotopic paths with the same endpoints have the same windings, so a class's signature can be
 //! read off any path in its sleeve instead of its SHP: the path from the start through one point
-//! strictly inside each portal (its midpoint) to the goal. Each of its segments lies in one free
+//! strictly inside each portal to the goal (at the height of the point before, clamped into the
+//! portal's open height range, so that it climbs and drops as little as the sleeve allows). Each of its segments lies in one free
 //! triangle, and a cut that meets a free triangle crosses it from side to side (the pole lies
 //! strictly inside an obstacle, never in a free triangle), so inside that triangle the segment
 //! crosses the cut exactly when its ends lie on opposite sides of the cut's line: a comparison of
-//! `y` coordinates, exact for the midpoints by an error-free sum. [`CutIndex`] lists, once per
+//! `y` coordinates (exact also for a portal midpoint, by an error-free sum). [`CutIndex`] lists, once per
 //! map, the cuts meeting each free triangle sorted by height, so the cuts a segment crosses in a
 //! triangle are one range of its list found by two binary searches; [`HSignature::of_sleeve`]
 //! then costs `O(n log m + c log c)` for a sleeve of `n` triangles meeting at most `m` cuts each
@@ -263,7 +264,7 @@ impl HSignature {
         let portals = sleeve.portals();
         for (i, &t) in sleeve.triangles().iter().enumerate() {
             let exit = match portals.get(i) {
-                Some(&h) => Side::Midpoint(ends(h)),
+                Some(&h) => entry.onto(ends(h)),
                 None => Side::Point(goal.y),
             };
             // The triangle's cuts are sorted by height: those at or below the entry's height
@@ -454,6 +455,31 @@ enum Side {
 }
 
 impl Side {
+    /// The sleeve path's point on the next portal, whose ends have heights `(u, v)`: strictly
+    /// inside the portal, at a height as close to this point's as possible, so that the path
+    /// climbs and drops no more than its sleeve forces it to (every cut it crosses and crosses
+    /// back is work, not signature). Any point strictly inside a portal gives the same signature
+    /// (module docs); the height is the previous one clamped to the portal's open range (the
+    /// first float inside at an end), the portal's height when it is level, and its exact
+    /// midpoint when no float lies strictly between its ends.
+    #[inline]
+    fn onto(self, (u, v): (f64, f64)) -> Side {
+        let (lo, hi) = if u <= v { (u, v) } else { (v, u) };
+        if lo == hi {
+            return Side::Point(lo);
+        }
+        let (first, last) = (lo.next_up(), hi.next_down());
+        if first > last {
+            return Side::Midpoint((u, v));
+        }
+        let y = match self {
+            Side::Point(y) => y,
+            // A midpoint lies strictly inside its own portal: start from either end's side.
+            Side::Midpoint((a, _)) => a,
+        };
+        Side::Point(y.clamp(first, last))
+    }
+
     /// `true` when the point is at or above the line `y = cut` (the half-open rule of the module
     /// docs). For a midpoint `(u + v) / 2 >= cut` is decided exactly: the rounded sum `s` of `u`
     /// and `v` is on the same side of `2 cut` as the exact sum whenever they differ (rounding to
@@ -658,7 +684,35 @@ fn cut_meets(corners: &[Point2<f64>; 3], zeta: &Point2<f64>) -> Option<bool> {
 
 #[cfg(test)]
 mod tests {
-    use super::gallop;
+    use super::{Side, gallop};
+
+    #[test]
+    fn portal_points_lie_strictly_inside_and_midpoints_are_decided_exactly() {
+        // Clamped strictly inside the open height range.
+        let Side::Point(y) = Side::Point(5.0).onto((1.0, 2.0)) else {
+            panic!("a float lies inside");
+        };
+        assert!(1.0 < y && y < 2.0 && y == 2.0f64.next_down());
+        let Side::Point(y) = Side::Point(1.5).onto((2.0, 1.0)) else {
+            panic!("a float lies inside");
+        };
+        assert_eq!(y, 1.5);
+        // A level portal keeps its height.
+        assert!(matches!(
+            Side::Point(0.0).onto((3.0, 3.0)),
+            Side::Point(3.0)
+        ));
+        // Ends one ulp apart: no float strictly between, so the exact midpoint 1 + 2^-53, whose
+        // rounded doubled sum is exactly 2 (the tie the error-free sum decides).
+        let (u, v) = (1.0f64, 1.0f64.next_up());
+        let mid = Side::Point(0.0).onto((u, v));
+        assert!(matches!(mid, Side::Midpoint(_)));
+        assert!(mid.at_or_above(1.0));
+        assert!(!mid.at_or_above(v));
+        assert!(mid.at_or_above(0.5));
+        assert!(!mid.at_or_above(1.5));
+        assert!(Side::Point(1.0).at_or_above(1.0));
+    }
 
     #[test]
     fn galloping_finds_the_partition_point_from_any_hint() {
