@@ -30,6 +30,7 @@ use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::generate::{CraterStripOptions, GeneratedMap, crater_strip};
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::Polygon;
+use rappel_homotopy::h_signature::HSignature;
 use rappel_planners::spt::{SearchOptions, SptPlanner};
 use std::collections::HashMap;
 use std::hint::black_box;
@@ -376,6 +377,42 @@ fn planner(c: &mut Criterion) {
                 &(a, b),
                 |bch, &(a, b)| bch.iter(|| mesh.path(black_box(a), black_box(b)).map(|p| p.length)),
             );
+        }
+    }
+    g.finish();
+
+    // The class's H-signature both ways on the same class: the winding form over the SHP's
+    // polyline and the sleeve read through the cut index.
+    let mut g = c.benchmark_group("planner_h_signature");
+    for s in &strips {
+        let spt = SptPlanner::new(&s.btm);
+        let Some(index) = spt.cut_index() else {
+            continue;
+        };
+        let mut queries = vec![("short", s.short)];
+        if s.n <= 10_000 {
+            queries.push(("first", (s.generated.start, s.generated.goal)));
+        }
+        for (what, (a, b)) in queries {
+            let class = spt
+                .shortest_path(a, b)
+                .expect("search runs")
+                .expect("connected");
+            let (taut, sleeve) = (&class.shp.taut, &class.shp.sleeve);
+            eprintln!(
+                "{} obstacles, {what}: {} windings, sleeve of {} triangles, {} poles tested in winding form",
+                s.n,
+                class.h_signature.windings().len(),
+                sleeve.len(),
+                spt.poles().band_work(&taut.points),
+            );
+            let id = format!("{}/{what}", s.n);
+            g.bench_function(BenchmarkId::new("winding", &id), |bch| {
+                bch.iter(|| HSignature::of_taut_path(spt.poles(), black_box(taut)))
+            });
+            g.bench_function(BenchmarkId::new("sleeve", &id), |bch| {
+                bch.iter(|| HSignature::of_sleeve(&s.btm, index, a, b, black_box(sleeve)))
+            });
         }
     }
     g.finish();

@@ -163,6 +163,16 @@ impl Poles {
         self.sorted.iter().map(|(p, o)| (*o, *p))
     }
 
+    /// The number of pole tests the winding form ([`HSignature::of_path`]) makes for the
+    /// polyline through `points`: the poles in each segment's `y` band, summed. Two binary
+    /// searches per segment.
+    pub fn band_work(&self, points: &[Point2<f64>]) -> usize {
+        points
+            .windows(2)
+            .map(|w| self.in_band(&w[0], &w[1]).len())
+            .sum()
+    }
+
     /// The poles whose cut a segment from `a` to `b` might cross: `min y < zeta.y <= max y`.
     fn in_band(&self, a: &Point2<f64>, b: &Point2<f64>) -> &[(Point2<f64>, ObstacleId)] {
         let (lo, hi) = (a.y.min(b.y), a.y.max(b.y));

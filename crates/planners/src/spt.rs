@@ -84,6 +84,17 @@
 //! answer). Searches on several threads each take their own space. [`SptPlanner::shortest_taut_path`]
 //! answers with the path alone, without the sleeve, crossings and H-signature of a class.
 //!
+//! # H-signatures
+//! A class's H-signature is the same in its two forms ([`rappel_homotopy::h_signature`]): the
+//! winding form over the SHP's polyline tests every pole in each segment's `y` band; the sleeve
+//! form reads the crossed cuts of each sleeve triangle from a per-map [`CutIndex`]. On the crater
+//! strips the winding form is the cheaper (a path down a strip crosses the cuts of about half the
+//! poles in its band anyway, and the poles lie contiguous in memory, where the sleeve's
+//! triangles are scattered); the sleeve form pays on maps wide across the path, where the band
+//! holds many poles the path never passes. [`SptPlanner::h_signature`] takes the cheaper by
+//! counting (two binary searches per SHP segment), and builds the index only once the winding
+//! form's excess over the answered classes has cost as much as building it.
+//!
 //! # Simple classes
 //! A class is **simple** when, in its SHP's list of anchors (the map vertices the taut tether
 //! wraps, in order), no map vertex occurs twice and the anchors on each obstacle are consecutive:
@@ -113,7 +124,8 @@ use rappel_homotopy::shp::ShortestHomotopicPath;
 use rappel_homotopy::sleeve::{Sleeve, SleeveError};
 use serde::{Deserialize, Serialize};
 use std::collections::BinaryHeap;
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, OnceLock};
 
 /// Default number of classes a search returns.
 pub const DEFAULT_MAX_CLASSES: usize = 10;
@@ -381,9 +393,16 @@ pub struct SptPlanner<'b> {
     btm: &'b Btm,
     component: Vec<u32>,
     poles: Poles,
-    /// The cuts meeting each free triangle, for signatures read from sleeves (`None` on maps
-    /// where the index would be too large: signatures in winding form then).
-    cuts: Option<CutIndex>,
+    /// The cuts meeting each free triangle, for signatures read from sleeves, built when it
+    /// pays (module docs, "H-signatures"); `Some(None)` on maps where the index would be too
+    /// large (signatures in winding form then).
+    cuts: OnceLock<Option<CutIndex>>,
+    /// Pole tests the winding form made beyond what the sleeve form would have cost, summed over
+    /// the classes answered while there was no index.
+    excess: AtomicUsize,
+    /// Pole tests the index's build is worth ([`INDEX_BUILD_TESTS_PER_TRIANGLE`] per free
+    /// triangle).
+    index_cost: usize,
     /// Scratch spaces of finished searches, reused by the next ones (at most [`POOL_SIZE`], each
     /// at most [`POOL_MAX_BYTES`]): a query on a prepared planner allocates nothing once warm.
     pool: Mutex<Vec<Scratch>>,
@@ -397,17 +416,17 @@ impl Clone for SptPlanner<'_> {
             component: self.component.clone(),
             poles: self.poles.clone(),
             cuts: self.cuts.clone(),
+            excess: AtomicUsize::new(self.excess.load(Ordering::Relaxed)),
+            index_cost: self.index_cost,
             pool: Mutex::new(Vec::new()),
         }
     }
 }
 
 impl<'b> SptPlanner<'b> {
-    /// Prepares searches on `btm`: labels the connected components of its dual graph, places
-    /// the H-signature poles and lists the cuts meeting each free triangle ([`CutIndex`], so
-    /// that a class's signature costs what its sleeve crosses). Linear in the size of the BTM
-    /// for the components and poles; the cut index is bounded by
-    /// [`CutIndex::MAX_WORK_PER_TRIANGLE`] poles examined per free triangle.
+    /// Prepares searches on `btm`: labels the connected components of its dual graph and places
+    /// the H-signature poles. Linear in the size of the BTM. The cut index of the sleeve-form
+    /// signatures is built later, if ever, when it pays (module docs, "H-signatures").
     pub fn new(btm: &'b Btm) -> SptPlanner<'b> {
         let d = btm.dcel();
         let mut component = vec![NONE; d.triangle_capacity()];
@@ -431,13 +450,16 @@ impl<'b> SptPlanner<'b> {
             }
             label += 1;
         }
-        let poles = Poles::new(btm);
-        let cuts = CutIndex::new(btm, &poles);
         SptPlanner {
             btm,
             component,
-            poles,
-            cuts,
+            poles: Poles::new(btm),
+            cuts: OnceLock::new(),
+            excess: AtomicUsize::new(0),
+            index_cost: btm
+                .triangles()
+                .count()
+                .saturating_mul(INDEX_BUILD_TESTS_PER_TRIANGLE),
             pool: Mutex::new(Vec::new()),
         }
     }
@@ -474,10 +496,51 @@ impl<'b> SptPlanner<'b> {
         &self.poles
     }
 
-    /// The cut index signatures are read with (`None` when the map was too unfavourable to
-    /// index: signatures are then computed in winding form from the SHP's polyline).
+    /// The cut index of the sleeve-form signatures, when built (`None` before, and on maps too
+    /// unfavourable to index).
     pub fn cut_index(&self) -> Option<&CutIndex> {
-        self.cuts.as_ref()
+        self.cuts.get().and_then(Option::as_ref)
+    }
+
+    /// Builds the cut index now (a no-op once built), for callers that know many classes with
+    /// long winding-form signatures will follow; `None` when the map is too unfavourable to
+    /// index ([`CutIndex::new`]).
+    pub fn prepare_cut_index(&self) -> Option<&CutIndex> {
+        self.cuts
+            .get_or_init(|| CutIndex::new(self.btm, &self.poles))
+            .as_ref()
+    }
+
+    /// The H-signature of a class from its SHP and sleeve, in whichever of the two equal forms
+    /// costs less (module docs, "H-signatures"): the winding form tests every pole in each SHP
+    /// segment's `y` band; the sleeve form costs about [`SLEEVE_TESTS_PER_TRIANGLE`] pole tests
+    /// per sleeve triangle, once the index exists. Without an index the excess of the winding
+    /// form is accumulated, and the index is built once that excess reaches the build's own
+    /// cost (the ski-rental rule: never more than twice the cost of the better choice made in
+    /// hindsight, up to the constants).
+    pub fn h_signature(&self, taut: &TautPath, sleeve: &Sleeve) -> HSignature {
+        let winding = self.poles.band_work(&taut.points);
+        let from_sleeve = SLEEVE_TESTS_PER_TRIANGLE.saturating_mul(sleeve.len());
+        if winding > from_sleeve {
+            let index = match self.cuts.get() {
+                Some(index) => index.as_ref(),
+                None => {
+                    let excess = self
+                        .excess
+                        .fetch_add(winding - from_sleeve, Ordering::Relaxed)
+                        .saturating_add(winding - from_sleeve);
+                    if excess >= self.index_cost {
+                        self.prepare_cut_index()
+                    } else {
+                        None
+                    }
+                }
+            };
+            if let Some(index) = index {
+                return HSignature::of_sleeve(self.btm, index, taut.start(), taut.goal(), sleeve);
+            }
+        }
+        HSignature::of_taut_path(&self.poles, taut)
     }
 
     /// `true` when the two free triangles are connected in free space.
@@ -839,6 +902,15 @@ impl Scratch {
             + self.simple_prefix.len()
     }
 }
+
+/// Cost of the sleeve-form signature per sleeve triangle, in winding-form pole tests (measured
+/// on the crater strips, `planner_h_signature` bench: 35-75 ns per triangle against about 13 ns
+/// per pole test, with margin).
+pub const SLEEVE_TESTS_PER_TRIANGLE: usize = 6;
+
+/// Cost of building the cut index per free triangle, in winding-form pole tests (measured: 36 ms
+/// for the 67,360 free triangles of the 10,000-obstacle strip, at about 13 ns per pole test).
+pub const INDEX_BUILD_TESTS_PER_TRIANGLE: usize = 40;
 
 /// Most scratch spaces an [`SptPlanner`] keeps for reuse (one per thread searching at once is
 /// enough; more are dropped).
@@ -1227,10 +1299,7 @@ impl<'a> SptSearch<'a> {
         }
         let sleeve = Sleeve::from_portals(btm, self.start_triangle, portals)?;
         let crossings = sleeve.crossing_sequence();
-        let h_signature = match &self.planner.cuts {
-            Some(cuts) => HSignature::of_sleeve(btm, cuts, taut.start(), taut.goal(), &sleeve),
-            None => HSignature::of_taut_path(&self.planner.poles, &taut),
-        };
+        let h_signature = self.planner.h_signature(&taut, &sleeve);
         self.emitted += 1;
         self.shortest.get_or_insert(taut.length);
         Ok(Some(RankedShp {

@@ -41,10 +41,13 @@ fn check_class(btm: &Btm, planner: &SptPlanner<'_>, c: &RankedShp) {
     );
     let again = shortest_homotopic_path(btm, &path).unwrap();
     assert!((again.taut.length - taut.length).abs() <= 1e-9 * taut.length.max(1.0));
-    // The class's signature is read from its sleeve through the cut index; the winding form
-    // of its SHP's polyline is the oracle.
-    assert!(planner.cut_index().is_some());
-    assert_eq!(c.h_signature, HSignature::of_path(planner.poles(), &path));
+    // The class's signature (in whichever form the planner chose), and its sleeve form through
+    // the cut index, both equal the winding form of its SHP's polyline, the oracle.
+    let oracle = HSignature::of_path(planner.poles(), &path);
+    assert_eq!(c.h_signature, oracle);
+    let index = planner.prepare_cut_index().expect("small maps are indexed");
+    let from_sleeve = HSignature::of_sleeve(btm, index, taut.start(), taut.goal(), &c.shp.sleeve);
+    assert_eq!(from_sleeve, oracle);
 }
 
 #[test]
@@ -366,4 +369,68 @@ fn a_planner_reused_across_queries_answers_like_a_fresh_one() {
         }
     }
     assert!(incumbent_pruned > 0, "the incumbent never pruned a funnel");
+}
+
+#[test]
+fn the_cut_index_is_built_once_it_pays_and_never_on_short_strip_queries() {
+    use rappel_geometry::map::Map;
+    use rappel_geometry::polygon::Polygon;
+    // 60 x 8 unit squares on a 3 m pitch: a path down the map passes 8 rows, each holding 60
+    // poles in its band, through a sleeve of a few dozen triangles. The winding form tests
+    // about ten times what the sleeve form costs, so after enough classes the planner builds
+    // the index and reads signatures from sleeves, still equal to the oracle's.
+    let squares = (0..8)
+        .flat_map(|row| {
+            (0..60).map(move |col| (3.0 * f64::from(col) + 1.0, 3.0 * f64::from(row) + 1.5))
+        })
+        .map(|(x, y)| {
+            Polygon::new(vec![
+                p(x, y),
+                p(x + 1.0, y),
+                p(x + 1.0, y + 1.0),
+                p(x, y + 1.0),
+            ])
+        })
+        .collect();
+    let map = Map::new(
+        Polygon::new(vec![p(0., 0.), p(181., 0.), p(181., 26.), p(0., 26.)]),
+        squares,
+    );
+    let btm = Btm::build(&map).unwrap();
+    let planner = SptPlanner::new(&btm);
+    let mut built_after = None;
+    for i in 0..2_000 {
+        let x = 0.5 + 3.0 * f64::from(i % 60);
+        let best = planner
+            .shortest_path(p(x, 25.5), p(x + 0.2, 0.5))
+            .unwrap()
+            .unwrap();
+        let path = best.shp.taut.to_path();
+        assert_eq!(
+            best.h_signature,
+            HSignature::of_path(planner.poles(), &path)
+        );
+        if planner.cut_index().is_some() {
+            built_after = Some(i + 1);
+            break;
+        }
+    }
+    let n = built_after.expect("the index pays on this map");
+    assert!(n > 1, "built on the first class already");
+    // Once built, later classes are read from sleeves (and still agree).
+    let c = planner
+        .shortest_path(p(90.5, 25.5), p(20.5, 0.5))
+        .unwrap()
+        .unwrap();
+    check_class(&btm, &planner, &c);
+    // Repeated queries on a small random map (few poles in any band) never build it.
+    let Some(m) = random_map(3, 8) else {
+        panic!("random map 3 exists");
+    };
+    let btm = Btm::build(&m.map).unwrap();
+    let planner = SptPlanner::new(&btm);
+    for _ in 0..50 {
+        planner.shortest_path(m.start, m.goal).unwrap().unwrap();
+    }
+    assert!(planner.cut_index().is_none());
 }
