@@ -51,21 +51,32 @@ impl NodeId {
     }
 }
 
-/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal).
+/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal). 40
+/// bytes: the vertex id is stored with a sentinel for "none" (an `Option<VertexId>` would pad
+/// the node to 48), which matters when a search on a large map makes millions of nodes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FunnelNode {
     /// Position.
     pub point: Point2<f64>,
-    /// The map vertex it lifts (`None` for the root and for goal points).
-    pub vertex: Option<VertexId>,
     /// Length of the shortest path from the root, `g(v)`.
     pub length: f64,
+    /// The map vertex it lifts, [`NO_VERTEX`] for the root and goal points.
+    vertex: u32,
     parent: u32,
     jump: u32,
     depth: u32,
 }
 
+/// The stored vertex id of a node that lifts no map vertex.
+const NO_VERTEX: u32 = u32::MAX;
+
 impl FunnelNode {
+    /// The map vertex it lifts (`None` for the root and for goal points).
+    #[inline]
+    pub fn vertex(&self) -> Option<VertexId> {
+        (self.vertex != NO_VERTEX).then_some(VertexId(self.vertex))
+    }
+
     /// The predecessor, `None` for the root.
     pub fn parent(&self) -> Option<NodeId> {
         (self.depth > 0).then_some(NodeId(self.parent))
@@ -97,7 +108,7 @@ impl FunnelTree {
         self.nodes.clear();
         self.nodes.push(FunnelNode {
             point: start,
-            vertex: None,
+            vertex: NO_VERTEX,
             length: 0.0,
             parent: 0,
             jump: 0,
@@ -155,13 +166,25 @@ impl FunnelTree {
         };
         self.nodes.push(FunnelNode {
             point,
-            vertex,
+            vertex: vertex.map_or(NO_VERTEX, |v| v.0),
             length: p.length + (point - p.point).norm(),
             parent: parent.0,
             jump,
             depth: p.depth + 1,
         });
         NodeId((self.nodes.len() - 1) as u32)
+    }
+
+    /// Removes node `id` if it is the last node added and not the root, and returns whether it
+    /// did. For a node nothing refers to any more (a split whose two children were both
+    /// dropped): the arena then keeps only nodes a search may still need. The caller must hold
+    /// no other reference to it (ids are reused by the next node added).
+    pub fn discard_last(&mut self, id: NodeId) -> bool {
+        if id.0 == 0 || id.index() + 1 != self.nodes.len() {
+            return false;
+        }
+        self.nodes.pop();
+        true
     }
 
     /// The nodes from the root to `id`.
@@ -185,7 +208,7 @@ impl FunnelTree {
             btm,
             self.path(id).into_iter().map(|n| {
                 let node = &self.nodes[n.index()];
-                (node.point, node.vertex)
+                (node.point, node.vertex())
             }),
         )
     }

@@ -169,7 +169,7 @@ impl<'b> ShortestPathMap<'b> {
         for f in &initial {
             for tip in [f.left(), f.right()] {
                 let n = tree.node(tip);
-                if let Some(v) = n.vertex {
+                if let Some(v) = n.vertex() {
                     best[v.index()] = best[v.index()].min(n.length);
                 }
             }
@@ -180,7 +180,7 @@ impl<'b> ShortestPathMap<'b> {
         }
         let dominated = |tree: &FunnelTree, best: &[f64], f: &FunnelState| {
             let apex = tree.node(f.apex());
-            apex.vertex.is_some_and(|v| best[v.index()] < apex.length)
+            apex.vertex().is_some_and(|v| best[v.index()] < apex.length)
                 || mouth_is_covered(btm, tree, best, f)
         };
         let mut records: Vec<(u32, FunnelState)> = Vec::new();
@@ -290,7 +290,7 @@ impl<'b> ShortestPathMap<'b> {
                 *best = Some(Geodesic {
                     length,
                     last_anchor: n.point,
-                    anchor_vertex: n.vertex,
+                    anchor_vertex: n.vertex(),
                 });
             }
         };

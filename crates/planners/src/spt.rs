@@ -318,6 +318,10 @@ pub struct SearchStats {
     pub skipped_not_simple: usize,
     /// Nodes in the shortest path tree.
     pub tree_nodes: usize,
+    /// Split nodes removed at once because both children were dropped (dead ends and pruned
+    /// children: nothing refers to them).
+    #[serde(default)]
+    pub nodes_discarded: usize,
     /// Largest number of queued entries.
     pub queue_peak: usize,
     /// Peak bytes held by the search's own structures (tree nodes, queue, trail, pruning lists),
@@ -1139,6 +1143,16 @@ impl<'a> SptSearch<'a> {
                     }
                 }
             }
+            if kept == [None, None]
+                && split.node != split.predecessor
+                && self.scratch.tree.discard_last(split.node)
+            {
+                // No funnel holds the new node: its storage is reused by the next one (its
+                // vertex's lift is already recorded for pruning). Memory then follows the
+                // funnels alive, not every expansion.
+                self.scratch.simple_prefix.truncate(self.scratch.tree.len());
+                self.stats.nodes_discarded += 1;
+            }
             let through = match kept {
                 [Some(c), None] | [None, Some(c)] => {
                     c.0 <= key && self.stats.expansions < self.options.max_expansions
@@ -1242,7 +1256,7 @@ impl<'a> SptSearch<'a> {
             return false;
         }
         let apex = self.scratch.tree.node(f.apex());
-        apex.vertex
+        apex.vertex()
             .is_some_and(|v| self.scratch.lifts.dominates(v, apex.length))
     }
 
@@ -1254,7 +1268,7 @@ impl<'a> SptSearch<'a> {
         let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
         let apex = self.scratch.tree.node(f.apex());
         // Every SHP through the funnel passes through its apex: g(apex) + h(apex) bounds it.
-        let through_apex = match (&self.to_goal, apex.vertex) {
+        let through_apex = match (&self.to_goal, apex.vertex()) {
             (Some(h), Some(v)) => apex.length + h[v.index()],
             _ => 0.0,
         };
@@ -1332,7 +1346,7 @@ impl<'a> SptSearch<'a> {
         let btm = self.planner.btm;
         let anchors = path.windows(3).filter_map(|w| {
             let [a, b, c] = [w[0], w[1], w[2]].map(|n| self.scratch.tree.node(n));
-            let v = b.vertex?;
+            let v = b.vertex()?;
             (orient2d(&a.point, &b.point, &c.point) != 0.0).then(|| (v, btm.obstacle_of_vertex(v)))
         });
         let simple = anchors_are_simple(anchors);
