@@ -113,7 +113,7 @@ use rappel_geometry::btm::Btm;
 use rappel_geometry::compact::Compact;
 use rappel_geometry::dcel::{HalfEdgeId, ObstacleId, TriangleId, VertexId};
 use rappel_geometry::predicates::orient2d;
-use rappel_homotopy::crossing::Tracer;
+use rappel_homotopy::crossing::{CrossingSequence, Tracer};
 use rappel_homotopy::funnel::TautPath;
 use rappel_homotopy::funnel_state::{
     FunnelNode, FunnelState, FunnelStateError, FunnelTree, NodeId,
@@ -194,17 +194,24 @@ pub struct SearchOptions {
     max_length_factor: Option<f64>,
     max_expansions: usize,
     simple_only: bool,
+    #[serde(default = "default_trail_limit")]
+    trail_limit: usize,
+}
+
+fn default_trail_limit() -> usize {
+    TRAIL_MAX_ENTRIES
 }
 
 impl Default for SearchOptions {
     /// [`DEFAULT_MAX_CLASSES`] classes, no length bound, [`DEFAULT_MAX_EXPANSIONS`] expansions,
-    /// every class.
+    /// every class, a trail of at most [`TRAIL_MAX_ENTRIES`] mouths.
     fn default() -> Self {
         SearchOptions {
             max_classes: Some(DEFAULT_MAX_CLASSES),
             max_length_factor: None,
             max_expansions: DEFAULT_MAX_EXPANSIONS,
             simple_only: false,
+            trail_limit: TRAIL_MAX_ENTRIES,
         }
     }
 }
@@ -246,6 +253,19 @@ impl SearchOptions {
     pub fn with_simple_only(mut self, simple_only: bool) -> Self {
         self.simple_only = simple_only;
         self
+    }
+
+    /// Record at most `n` funnel mouths for building sleeves from the search's trail; beyond
+    /// that the trail is dropped and sleeves are traced from the SHPs (the same sleeves: a
+    /// memory bound, not an approximation). Default [`TRAIL_MAX_ENTRIES`].
+    pub fn with_trail_limit(mut self, n: usize) -> Self {
+        self.trail_limit = n;
+        self
+    }
+
+    /// The trail limit.
+    pub fn trail_limit(&self) -> usize {
+        self.trail_limit
     }
 
     /// The class count, if any.
@@ -864,6 +884,8 @@ struct Scratch {
     tree: FunnelTree,
     queue: BinaryHeap<Entry>,
     trail: Vec<(HalfEdgeId, u32)>,
+    /// Whether this query's trail outgrew [`TRAIL_MAX_ENTRIES`] and was dropped.
+    trail_dropped: bool,
     lifts: Lifts,
     simple_prefix: Vec<u8>,
 }
@@ -874,6 +896,7 @@ impl Scratch {
             tree: FunnelTree::new(Point2::origin()),
             queue: BinaryHeap::new(),
             trail: Vec::new(),
+            trail_dropped: false,
             lifts: Lifts::default(),
             simple_prefix: Vec::new(),
         }
@@ -884,6 +907,7 @@ impl Scratch {
         self.tree.reset(start);
         self.queue.clear();
         self.trail.clear();
+        self.trail_dropped = false;
         self.simple_prefix.clear();
     }
 
@@ -915,6 +939,12 @@ pub const SLEEVE_TESTS_PER_TRIANGLE: usize = 6;
 /// Cost of building the cut index per free triangle, in winding-form pole tests (measured: 36 ms
 /// for the 67,360 free triangles of the 10,000-obstacle strip, at about 13 ns per pole test).
 pub const INDEX_BUILD_TESTS_PER_TRIANGLE: usize = 40;
+
+/// Most funnel mouths a search records for building its classes' sleeves from the trail (8 bytes
+/// each: 8 MB); a search that queues more (a first SHP on a 100,000-obstacle strip queues tens of
+/// millions) drops the trail and traces each class's sleeve from its SHP instead, in time
+/// proportional to the SHP's triangles.
+pub const TRAIL_MAX_ENTRIES: usize = 1 << 20;
 
 /// Most scratch spaces an [`SptPlanner`] keeps for reuse (one per thread searching at once is
 /// enough; more are dropped).
@@ -1160,8 +1190,7 @@ impl<'a> SptSearch<'a> {
                 _ => false,
             };
             for (child_key, child) in kept.into_iter().flatten() {
-                let child_trail = self.scratch.trail.len() as u32;
-                self.scratch.trail.push((child.mouth(), trail));
+                let child_trail = self.record_mouth(child.mouth(), trail);
                 if through {
                     (key, f, trail) = (child_key, child, child_trail);
                 } else {
@@ -1208,9 +1237,26 @@ impl<'a> SptSearch<'a> {
         if !self.admit(key, &f) {
             return;
         }
-        let trail = self.scratch.trail.len() as u32;
-        self.scratch.trail.push((f.mouth(), parent_trail));
+        let trail = self.record_mouth(f.mouth(), parent_trail);
         self.push(key, Kind::Funnel { funnel: f, trail });
+    }
+
+    /// Records a queued funnel's mouth after its parent's, returning its trail index; once the
+    /// trail holds the options' trail limit of mouths it is dropped (its memory freed) and the
+    /// sleeves of the classes still to come are traced from their SHPs instead (`NONE` from
+    /// then on).
+    fn record_mouth(&mut self, mouth: HalfEdgeId, parent: u32) -> u32 {
+        if self.scratch.trail_dropped {
+            return NONE;
+        }
+        if self.scratch.trail.len() >= self.options.trail_limit {
+            self.scratch.trail = Vec::new();
+            self.scratch.trail_dropped = true;
+            return NONE;
+        }
+        let index = self.scratch.trail.len() as u32;
+        self.scratch.trail.push((mouth, parent));
+        index
     }
 
     /// Queues a goal entry and notes its key among the pending goals.
@@ -1294,6 +1340,14 @@ impl<'a> SptSearch<'a> {
             self.stats.skipped_not_simple += 1;
             return Ok(None);
         }
+        if self.scratch.trail_dropped {
+            // The sleeve is the SHP's reduced crossing sequence (module invariant, tested
+            // against the trail's): traced in time proportional to the SHP's triangles.
+            let chi = CrossingSequence::reduced_of_path(btm, &taut.to_path())
+                .map_err(|e| SearchError::Internal(format!("tracing the SHP of a class: {e}")))?;
+            let sleeve = Sleeve::from_crossing_sequence(btm, &chi)?;
+            return Ok(Some(self.class(taut, sleeve, simple)));
+        }
         // The trail is walked twice (count, then fill from the back): one allocation of the
         // sleeve's exact size instead of a vector grown by doubling.
         let trails = &self.scratch.trail;
@@ -1312,11 +1366,16 @@ impl<'a> SptSearch<'a> {
             *slot = mouth;
         }
         let sleeve = Sleeve::from_portals(btm, self.start_triangle, portals)?;
+        Ok(Some(self.class(taut, sleeve, simple)))
+    }
+
+    /// The class answer from its SHP and sleeve.
+    fn class(&mut self, taut: TautPath, sleeve: Sleeve, simple: bool) -> RankedShp {
         let crossings = sleeve.crossing_sequence();
         let h_signature = self.planner.h_signature(&taut, &sleeve);
         self.emitted += 1;
         self.shortest.get_or_insert(taut.length);
-        Ok(Some(RankedShp {
+        RankedShp {
             rank: self.emitted,
             shp: ShortestHomotopicPath {
                 taut,
@@ -1326,7 +1385,7 @@ impl<'a> SptSearch<'a> {
             h_signature,
             simple,
             expansions: self.stats.expansions,
-        }))
+        }
     }
 
     /// `true` when the anchors on the tree path to `apex` (strict turns strictly between the root

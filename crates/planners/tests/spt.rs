@@ -434,3 +434,31 @@ fn the_cut_index_is_built_once_it_pays_and_never_on_short_strip_queries() {
     }
     assert!(planner.cut_index().is_none());
 }
+
+#[test]
+fn sleeves_traced_from_the_shps_equal_the_trails() {
+    // With the trail dropped at once (limit 0) or midway, every class is the same as with the
+    // trail: same SHP, sleeve, crossings and signature.
+    let mut compared = 0;
+    for seed in 0..40u64 {
+        let Some(m) = random_map(seed, 6 + (seed % 6) as usize) else {
+            continue;
+        };
+        let btm = Btm::build(&m.map).unwrap();
+        let planner = SptPlanner::new(&btm);
+        let run = |o: SearchOptions| planner.search(m.start, m.goal, &o).unwrap().run().unwrap();
+        let with_trail = run(options(Some(6)));
+        for limit in [0, 7] {
+            let traced = run(options(Some(6)).with_trail_limit(limit));
+            assert_eq!(
+                traced.classes, with_trail.classes,
+                "seed {seed}, limit {limit}"
+            );
+            for c in &traced.classes {
+                check_class(&btm, &planner, c);
+            }
+        }
+        compared += with_trail.classes.len();
+    }
+    assert!(compared > 100, "{compared}");
+}
