@@ -191,7 +191,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
     };
     let answer = if feasible { Answer::Yes } else { Answer::No };
     if args.jsonl {
-        let summary = PlanStreamLine::Summary(PlanSummary::from(&report));
+        let summary = PlanStreamLine::Summary(Box::new(PlanSummary::from(&report)));
         crate::outln!("{}", summary.to_line());
     } else if args.json {
         crate::output::print_report(&report)?;

@@ -81,7 +81,7 @@ pub enum PlanStreamLine {
     /// One class, as soon as it is decided.
     Class(ClassReport),
     /// The run succeeded: the last line.
-    Summary(PlanSummary),
+    Summary(Box<PlanSummary>),
     /// The run failed after the stream began: the last line.
     Error {
         /// What failed (the same text as the `error:` line on stderr).
