@@ -1,5 +1,5 @@
 //! The streamed form of a plan (`rappel plan --jsonl`, issue 10): one JSON object per line, each
-//! in the report [`Envelope`](crate::report::Envelope) (`schema_version`, `"report":
+//! in the report [`Envelope`] (`schema_version`, `"report":
 //! "plan_stream"`) and tagged by `type`:
 //! - `"class"`: one homotopy class, as soon as it is decided (the fields of
 //!   [`ClassReport`]), shortest first;
