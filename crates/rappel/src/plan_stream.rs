@@ -5,7 +5,8 @@
 //!   [`ClassReport`]), shortest first;
 //! - `"summary"`: the last line of a run that succeeded ([`PlanSummary`]: the plan's report
 //!   without its classes, with their count);
-//! - `"error"`: the last line of a run that failed after the stream began (`message`).
+//! - `"error"`: the last line of a run that failed, whether or not classes were printed before
+//!   (`message`).
 //!
 //! A stream is complete exactly when its last line is a `summary`; one ending in an `error` (exit
 //! code 2) or in neither (the process was killed) is not. The schema is
@@ -82,7 +83,7 @@ pub enum PlanStreamLine {
     Class(ClassReport),
     /// The run succeeded: the last line.
     Summary(Box<PlanSummary>),
-    /// The run failed after the stream began: the last line.
+    /// The run failed (exit code 2): the last line.
     Error {
         /// What failed (the same text as the `error:` line on stderr).
         message: String,
