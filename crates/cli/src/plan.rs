@@ -14,8 +14,8 @@
 //! JSON object per class as it is decided and a final `summary` object (`rappel::plan_stream`).
 //! A run that fails after its output began ends that output with a marker, so that it cannot be
 //! taken for complete: the text's last line is `error        MESSAGE (the output above is
-//! incomplete)` and the JSON lines' last object has `"type": "error"`; the exit code is 2 and the
-//! usual `error:` line goes to stderr. A complete text report ends with its `verdict` (and
+//! incomplete)`; with `--jsonl` every failed run's last object has `"type": "error"`; the exit
+//! code is 2 and the usual `error:` line goes to stderr. A complete text report ends with its `verdict` (and
 //! friction) lines, a complete `--jsonl` stream with its `summary` object.
 //! `--progress` forces the progress over the K classes on stderr (`rappel::progress`), which is
 //! otherwise shown only when stderr is a terminal.
@@ -75,7 +75,8 @@ pub struct Args {
 }
 
 /// Runs `rappel plan`: [`Answer::Yes`] when a class is feasible and has an ascent/descent pair.
-/// A failure after the output began ends it with the error marker (module docs).
+/// A failure after the text output began, or any failure with `--jsonl`, ends the output with the
+/// error marker (module docs).
 pub fn run(args: &Args) -> Result<Answer, CliError> {
     let mut began = false;
     let result = run_marked(args, &mut began);
