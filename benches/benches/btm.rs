@@ -1,5 +1,5 @@
 //! BTM benchmarks (issues 2 and 10): building the constrained Delaunay BTM of the generated
-//! 10,000-obstacle crater strip (and of the 100,000-obstacle strip when the environment variable
+//! 1,000- and 10,000-obstacle crater strips (and of the 100,000-obstacle strip when the environment variable
 //! `RAPPEL_BENCH_100K` is set), side by side in one run with spade's constrained Delaunay bulk
 //! load of the same vertices and edges; and a local update (insert or remove one obstacle) versus
 //! a full rebuild.
@@ -29,6 +29,7 @@ fn strip(n: usize) -> Map {
 }
 
 fn build(c: &mut Criterion) {
+    build_group(c, 1_000, 50);
     build_group(c, 10_000, 30);
     if std::env::var_os("RAPPEL_BENCH_100K").is_some() {
         build_group(c, 100_000, 10);

@@ -1,6 +1,6 @@
-//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json]
+//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json | --jsonl]
 //! [--reachable-areas] [--svg OUT] [--html OUT] [--window XMIN,YMIN,XMAX,YMAX]
-//! [--export OUT.geojson|OUT.csv]`:
+//! [--export OUT.geojson|OUT.csv] [--progress]`:
 //! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
 //! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths,
@@ -10,13 +10,23 @@
 //! With PTFOs (a `friction` section) the frictional planner runs too, and its verdict decides.
 //! Without a picture the classes are streamed (`rappel::plan::plan_streamed`): each class's block
 //! is printed as soon as the class is decided and its geometry dropped, then the summary (model,
-//! planes, class count, verdict); `--json` prints the one envelope at the end.
+//! planes, class count, verdict); `--json` prints the one envelope at the end; `--jsonl` prints one
+//! JSON object per class as it is decided and a final `summary` object (`rappel::plan_stream`).
+//! A run that fails after its output began ends that output with a marker, so that it cannot be
+//! taken for complete: the text's last line is `error        MESSAGE (the output above is
+//! incomplete)`; with `--jsonl` every failed run's last object has `"type": "error"`; the exit
+//! code is 2 and the usual `error:` line goes to stderr. A complete text report ends with its `verdict` (and
+//! friction) lines, a complete `--jsonl` stream with its `summary` object.
+//! `--progress` forces the progress over the K classes on stderr (`rappel::progress`), which is
+//! otherwise shown only when stderr is a terminal.
 
 use crate::output::{
     Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_file,
 };
 use rappel::export::{ExportFormat, export_plan};
-use rappel::plan::{ClassReport, PlanOptions, PlanReport, plan_detailed, plan_streamed};
+use rappel::plan::{ClassReport, PlanOptions, PlanReport, plan_detailed_each, plan_streamed};
+use rappel::plan_stream::{PlanStreamLine, PlanSummary};
+use rappel::progress::{Progress, Show};
 use rappel::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
@@ -38,8 +48,16 @@ pub struct Args {
     #[arg(long, value_name = "N", default_value_t = rappel::planners::spt::DEFAULT_MAX_EXPANSIONS)]
     max_expansions: usize,
     /// Print the report as JSON.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "jsonl")]
     json: bool,
+    /// Stream the report as JSON lines: one object per class as it is decided, then a
+    /// `summary` object (or an `error` object when the run fails); `docs/output-format.md`.
+    #[arg(long, conflicts_with_all = ["svg", "html"])]
+    jsonl: bool,
+    /// Show progress over the classes on stderr even when it is not a terminal (plain lines; a
+    /// bar on a terminal, where it is shown anyway).
+    #[arg(long)]
+    progress: bool,
     /// Cut each anchor reachable set to free space and report its area (`reachable_area_m2` in
     /// the JSON; a polygon overlay per anchor of every class, so off by default).
     #[arg(long)]
@@ -57,7 +75,34 @@ pub struct Args {
 }
 
 /// Runs `rappel plan`: [`Answer::Yes`] when a class is feasible and has an ascent/descent pair.
+/// A failure after the text output began, or any failure with `--jsonl`, ends the output with the
+/// error marker (module docs).
 pub fn run(args: &Args) -> Result<Answer, CliError> {
+    let mut began = false;
+    let result = run_marked(args, &mut began);
+    if let Err(e) = &result {
+        if args.jsonl {
+            crate::outln!(
+                "{}",
+                PlanStreamLine::Error {
+                    message: e.0.clone()
+                }
+                .to_line()
+            );
+        } else if began {
+            crate::outln!("{}", error_marker(&e.0));
+        }
+    }
+    result
+}
+
+/// The last line of a text report whose run failed after some of it was printed.
+fn error_marker(message: &str) -> String {
+    format!("error        {message} (the output above is incomplete)")
+}
+
+/// [`run`] without the marker; `began` is set once something is printed on stdout.
+fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
     if args.classes == 0 {
         return Err(CliError("--classes 0: list at least one class".into()));
     }
@@ -104,17 +149,30 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     // Without a picture the classes are streamed: each class's block is printed as soon as it
     // is decided and its geometry dropped (text mode: the classes first, then the summary).
     let streamed = !args.picture.wanted();
+    let show = if args.progress {
+        Show::Always
+    } else {
+        Show::Auto
+    };
+    let progress = Progress::with(options.classes as u64, "classes", show);
     let report = if streamed {
-        let json = args.json;
-        plan_streamed(&s, &options, &mut |c| {
-            if !json {
+        let (json, jsonl) = (args.json, args.jsonl);
+        let r = plan_streamed(&s, &options, &mut |c| {
+            progress.inc(1);
+            if jsonl {
+                *began = true;
+                crate::outln!("{}", PlanStreamLine::Class(c.clone()).to_line());
+            } else if !json {
+                *began = true;
                 print_class(c);
             }
-        })
-        .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?
+        });
+        progress.finish();
+        r.map_err(|e| CliError(format!("{}: {e}", args.file.display())))?
     } else {
-        let plan = plan_detailed(&s, &options)
-            .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
+        let plan = plan_detailed_each(&s, &options, &mut |_| progress.inc(1));
+        progress.finish();
+        let plan = plan.map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
         let title = match &plan.outcome.pair {
             Some(p) => format!("{}: class {} (ascent/descent pair)", s.name, p.rank),
             None => format!("{}: no feasible class", s.name),
@@ -133,7 +191,10 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         None => report.chosen.is_some(),
     };
     let answer = if feasible { Answer::Yes } else { Answer::No };
-    if args.json {
+    if args.jsonl {
+        let summary = PlanStreamLine::Summary(Box::new(PlanSummary::from(&report)));
+        crate::outln!("{}", summary.to_line());
+    } else if args.json {
         crate::output::print_report(&report)?;
     } else {
         let file = args.file.display().to_string();

@@ -1,10 +1,13 @@
-//! `rappel query MAP --pairs PAIRS.json [--classes K] [--repeat N] [--json]`: many start/goal
+//! `rappel query MAP --pairs PAIRS.json [--classes K] [--repeat N] [--json] [--progress]`: many start/goal
 //! pairs on one map (a scenario file or a map-only file), the BTM built once; each pair's
 //! shortest length (or its K shortest classes) and the median time of its query. Exit 0 when
-//! every pair is connected, 1 when some pair is not, 2 when a pair or a file is bad.
+//! every pair is connected, 1 when some pair is not, 2 when a pair or a file is bad. Progress
+//! over the pairs goes to stderr when it is a terminal, or always with `--progress`
+//! (`rappel::progress`).
 
 use crate::output::{Answer, CliError, print_report};
-use rappel::query::{answer, load_map, load_pairs};
+use rappel::progress::Show;
+use rappel::query::{answer_with_progress, load_map, load_pairs};
 use std::path::PathBuf;
 
 /// Arguments of `rappel query`.
@@ -24,6 +27,10 @@ pub struct Args {
     /// Print the answers as JSON.
     #[arg(long)]
     json: bool,
+    /// Show progress on stderr even when it is not a terminal (plain lines; a bar on a terminal,
+    /// where it is shown anyway).
+    #[arg(long)]
+    progress: bool,
 }
 
 /// Runs `rappel query`.
@@ -31,7 +38,13 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     let err = |e: rappel::query::QueryError| CliError(e.to_string());
     let map = load_map(&args.map).map_err(err)?;
     let pairs = load_pairs(&args.pairs).map_err(err)?;
-    let answers = answer(&map, &pairs, args.classes, args.repeat).map_err(err)?;
+    let show = if args.progress {
+        Show::Always
+    } else {
+        Show::Auto
+    };
+    let answers =
+        answer_with_progress(&map, &pairs, args.classes, args.repeat, show).map_err(err)?;
     if args.json {
         print_report(&rappel::query::QueryReport {
             answers: answers.clone(),

@@ -241,3 +241,75 @@ fn compaction_after_many_updates_keeps_every_triangle() {
     btm.remove_obstacle(id).unwrap();
     btm.check_invariants().unwrap();
 }
+
+/// The free triangles of a BTM as sorted triples of their corners' coordinates (bits), sorted.
+fn free_triangles_by_points(btm: &Btm) -> Vec<[(u64, u64); 3]> {
+    let d = btm.dcel();
+    let mut out: Vec<[(u64, u64); 3]> = btm
+        .triangles()
+        .map(|t| {
+            let mut c = d.triangle_points(t).map(|p| (p.x.to_bits(), p.y.to_bits()));
+            c.sort_unstable();
+            c
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+/// The build works in its own (Hilbert) vertex numbering and numbers back in map order (issue
+/// 10): the ids users see are the map's, ring after ring (boundary first, then each obstacle in
+/// turn, three scaffold ids before them), each at its map point and on its ring; every ring edge is
+/// a map edge with free space on its left; and the free triangles do not depend on the order the
+/// obstacles are listed in.
+#[test]
+fn vertex_ids_follow_the_map_and_the_triangles_not_its_listing_order() {
+    for seed in [1, 2, 3] {
+        let map = strip(150, seed);
+        let btm = Btm::build(&map).expect("valid strip");
+        let d = btm.dcel();
+        let mut next_id = 3usize;
+        let rings = std::iter::once(btm.boundary_vertices()).chain(
+            btm.obstacle_ids()
+                .map(|o| btm.obstacle_vertices(o).expect("live obstacle")),
+        );
+        let polygons = std::iter::once(&map.boundary).chain(&map.obstacles);
+        for (k, (ids, polygon)) in rings.zip(polygons).enumerate() {
+            // The ring's points, read in the orientation that puts free space on the left.
+            let points: Vec<Point2<f64>> = ids.iter().map(|&v| d.point(v)).collect();
+            let mut backwards = polygon.vertices.clone();
+            backwards.reverse();
+            assert!(
+                points == polygon.vertices || points == backwards,
+                "ring {k}: the vertices are not the ring's, in order"
+            );
+            for (i, v) in ids.iter().enumerate() {
+                assert_eq!(v.index(), next_id + i, "ring {k}: ids in map order");
+                let expected = (k > 0).then(|| rappel_geometry::dcel::ObstacleId(k as u32 - 1));
+                assert_eq!(btm.obstacle_of_vertex(*v), expected);
+                // The edge to the next vertex of the ring is a map edge, free on its left.
+                let w = ids[(i + 1) % ids.len()];
+                let h = d
+                    .edges_around_vertex(*v)
+                    .find(|&h| d.destination(h) == w)
+                    .unwrap_or_else(|| panic!("ring {k}: edge {i} missing"));
+                assert!(d.is_map_edge(h));
+                assert!(
+                    btm.is_free_triangle(d.incident_face(h)),
+                    "ring {k}: edge {i}"
+                );
+            }
+            next_id += ids.len();
+        }
+        assert_eq!(next_id, 3 + map.vertex_count());
+        let mut reversed = map.clone();
+        reversed.obstacles.reverse();
+        let other = Btm::build(&reversed).expect("valid strip");
+        assert_eq!(
+            free_triangles_by_points(&btm),
+            free_triangles_by_points(&other),
+            "seed {seed}"
+        );
+        btm.check_invariants().expect("invariants hold");
+    }
+}

@@ -45,6 +45,7 @@ pub mod mesh_stability;
 pub mod navigate;
 pub mod online;
 pub mod plan;
+pub mod plan_stream;
 pub mod progress;
 pub mod ptfo_spec;
 pub mod query;

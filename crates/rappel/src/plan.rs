@@ -301,6 +301,16 @@ pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan,
     plan_core(scenario, options, true, &mut |_| {})
 }
 
+/// [`plan_detailed`], handing each class's report to `on_class` as soon as the class is decided
+/// (for progress; the classes' geometry is kept, unlike [`plan_streamed`]).
+pub fn plan_detailed_each(
+    scenario: &Scenario,
+    options: &PlanOptions,
+    on_class: &mut dyn FnMut(&ClassReport),
+) -> Result<Plan, PlanError> {
+    plan_core(scenario, options, true, on_class)
+}
+
 /// Plans `scenario` handing each class's report to `on_class` as soon as the class is decided
 /// (searched, checked by Alg. 5, its pair built if it is the first feasible one), shortest first,
 /// and drops the class's geometry (sleeve, funnel, anchor reachable sets) right after: the memory

@@ -6,6 +6,7 @@
 //! [`MAX_PAIRS`] pairs. A pair whose point is not in free space gets its own error, naming its
 //! index; the others are answered.
 
+use crate::progress::Show;
 use crate::scenario::Scenario;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
@@ -136,6 +137,18 @@ pub fn answer(
     classes: usize,
     repeat: usize,
 ) -> Result<Vec<QueryAnswer>, QueryError> {
+    answer_with_progress(map, pairs, classes, repeat, Show::Auto)
+}
+
+/// [`answer`], with progress over the pairs on stderr as `show` says
+/// ([`crate::progress`]: a bar on a terminal; `Show::Always` writes plain lines otherwise).
+pub fn answer_with_progress(
+    map: &Map,
+    pairs: &[QueryPair],
+    classes: usize,
+    repeat: usize,
+    show: Show,
+) -> Result<Vec<QueryAnswer>, QueryError> {
     if !(1..=MAX_QUERY_CLASSES).contains(&classes) {
         return Err(QueryError::Option(format!(
             "--classes {classes}: between 1 and {MAX_QUERY_CLASSES}"
@@ -152,7 +165,7 @@ pub fn answer(
         .with_max_classes(Some(classes))
         .map_err(|e| QueryError::Option(e.to_string()))?;
     let mut out = Vec::with_capacity(pairs.len());
-    let progress = crate::progress::Progress::new(pairs.len() as u64, "pairs");
+    let progress = crate::progress::Progress::with(pairs.len() as u64, "pairs", show);
     for (index, pair) in pairs.iter().enumerate() {
         progress.inc(1);
         let mut answer = QueryAnswer {

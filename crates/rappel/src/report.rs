@@ -158,6 +158,10 @@ pub fn schemas() -> Vec<(&'static str, Schema)> {
         ("homotopic", schema_of::<HomotopicReport>()),
         ("gen_map", schema_of::<GenMapReport>()),
         ("plan", schema_of::<crate::plan::PlanReport>()),
+        (
+            "plan_stream",
+            schema_of::<crate::plan_stream::PlanStreamLine>(),
+        ),
         ("query", schema_of::<crate::query::QueryReport>()),
         ("online", schema_of::<crate::online::OnlineReport>()),
         ("track", schema_of::<crate::track::TrackReport>()),

@@ -13,6 +13,17 @@
 //! 4. **Faces**: a flood fill from the map edges labels each triangle free, obstacle or exterior
 //!    (free space lies to the left of every ring, oriented boundary counter-clockwise and
 //!    obstacles clockwise).
+//!
+//! **Vertex order.** Steps 2-4 run with the map vertices numbered in Hilbert order (after the
+//! three scaffold vertices), and the finished triangulation is numbered back in map order (ring
+//! after ring, as [`Btm`]'s users see it): one pass over the half-edges' origins and the vertex
+//! arrays. Maps number their obstacles in any order (the generated strips in none), so in map
+//! order the vertices of neighbouring triangles lie far apart in the point and ring arrays and the
+//! insertion walks, the incircle tests, the constraint pass (one fan search per map edge) and the
+//! face seeds were bound by cache misses on large maps. The triangles made are the same in either
+//! numbering (every decision is a geometric predicate on the points, the walk's random choices
+//! are seeded, and the Hilbert order breaks ties by map id); the constraints are inserted and the
+//! faces seeded in Hilbert order too.
 
 use super::{Btm, BtmError, ObstacleRecord};
 use crate::btm::locate::{Locator, RawLocation, WalkRng};
@@ -57,23 +68,31 @@ impl Btm {
             rings.push(add_ring(&mut dcel, o, false, kind));
         }
 
-        // Delaunay insertion in Hilbert order.
+        // The triangulation is made with the map vertices numbered in Hilbert order (module
+        // docs, "Vertex order"), and numbered back in map order at the end.
         let order = hilbert_order(&dcel, dcel.scaffold, dcel.points.len() as u32);
+        let renumbered = Renumbering::new(dcel.scaffold, order);
+        let in_map_order = renumbered.apply(&mut dcel);
+
+        // Delaunay insertion in Hilbert order.
         let mut rng = WalkRng::new();
         let mut last = 0u32;
         let mut stack = Vec::with_capacity(64);
-        for v in order {
+        for v in dcel.scaffold..dcel.points.len() as u32 {
             last = insert_vertex(&mut dcel, v, last, &mut rng, &mut stack)?;
         }
 
-        // Constraints.
-        for ring in &rings {
-            for i in 0..ring.len() {
-                insert_constraint(&mut dcel, ring[i], ring[(i + 1) % ring.len()])?;
+        // Constraints: the map edge leaving each vertex, in the same order; each one's half-edge
+        // as found, a hint for the face seeds (a later insertion may have replaced it).
+        let mut found = vec![NONE; dcel.points.len()];
+        for v in dcel.scaffold..dcel.points.len() as u32 {
+            if let Some(link) = dcel.ring[v as usize] {
+                found[v as usize] = insert_constraint(&mut dcel, v, link.next)?.unwrap_or(NONE);
             }
         }
 
-        classify_faces(&mut dcel);
+        classify_faces(&mut dcel, &found)?;
+        renumbered.undo(&mut dcel, in_map_order);
         let mut rings = rings.into_iter();
         let boundary = rings.next().unwrap_or_default();
         let obstacles = rings
@@ -124,6 +143,73 @@ pub(crate) fn add_ring(
         ids.push(dcel.add_vertex(p, Some(RingLink { kind, next })));
     }
     ids
+}
+
+/// The vertex numbering the triangulation is made in (module docs, "Vertex order"): the map
+/// vertices in Hilbert order after the scaffold's, so that vertices near each other in the plane
+/// are near each other in the vertex arrays.
+struct Renumbering {
+    /// The map-order id of each build id.
+    map_id: Vec<u32>,
+}
+
+/// The vertex arrays in map order, kept while the build works in its own order.
+struct MapOrderVertices {
+    points: Vec<Point2<f64>>,
+    ring: Vec<Option<RingLink>>,
+}
+
+impl Renumbering {
+    /// Build ids: the scaffold's `0..scaffold` unchanged, then `order`.
+    fn new(scaffold: u32, order: Vec<u32>) -> Self {
+        let mut map_id: Vec<u32> = (0..scaffold).collect();
+        map_id.extend(order);
+        Renumbering { map_id }
+    }
+
+    /// Renumbers `dcel`'s vertices (no triangle may refer to a map vertex yet) and returns the
+    /// arrays in map order for [`Self::undo`].
+    fn apply(&self, dcel: &mut Dcel) -> MapOrderVertices {
+        let mut build_id = vec![NONE; self.map_id.len()];
+        for (b, &m) in self.map_id.iter().enumerate() {
+            build_id[m as usize] = b as u32;
+        }
+        let points = std::mem::take(&mut dcel.points);
+        let ring = std::mem::take(&mut dcel.ring);
+        dcel.points = self.map_id.iter().map(|&m| points[m as usize]).collect();
+        dcel.ring = self
+            .map_id
+            .iter()
+            .map(|&m| {
+                ring[m as usize].map(|l| RingLink {
+                    kind: l.kind,
+                    next: build_id[l.next as usize],
+                })
+            })
+            .collect();
+        dcel.vertex_edge = self
+            .map_id
+            .iter()
+            .map(|&m| dcel.vertex_edge[m as usize])
+            .collect();
+        MapOrderVertices { points, ring }
+    }
+
+    /// Numbers `dcel`'s vertices back in map order.
+    fn undo(&self, dcel: &mut Dcel, map_order: MapOrderVertices) {
+        for o in dcel.origin.iter_mut() {
+            if let Some(&m) = self.map_id.get(*o as usize) {
+                *o = m;
+            }
+        }
+        let mut vertex_edge = vec![NONE; self.map_id.len()];
+        for (b, &m) in self.map_id.iter().enumerate() {
+            vertex_edge[m as usize] = dcel.vertex_edge[b];
+        }
+        dcel.vertex_edge = vertex_edge;
+        dcel.points = map_order.points;
+        dcel.ring = map_order.ring;
+    }
 }
 
 /// Vertex ids `from..to` sorted along a Hilbert curve over their bounding box.
@@ -211,11 +297,12 @@ pub(crate) fn insert_vertex(
     Ok(dcel.vertex_edge[v as usize] / 3)
 }
 
-/// Makes `a - b` a map edge of the triangulation (see the module docs).
-pub(crate) fn insert_constraint(dcel: &mut Dcel, a: u32, b: u32) -> Result<(), BtmError> {
+/// Makes `a - b` a map edge of the triangulation (see the module docs); the half-edge `a -> b`
+/// when the edge was there already (`None` when it was inserted).
+pub(crate) fn insert_constraint(dcel: &mut Dcel, a: u32, b: u32) -> Result<Option<u32>, BtmError> {
     if let Some(h) = dcel.find_edge(a, b) {
         dcel.set_constrained(h, true);
-        return Ok(());
+        return Ok(Some(h));
     }
     let (pa, pb) = (dcel.points[a as usize], dcel.points[b as usize]);
     let through = |v: u32| BtmError::EdgeThroughVertex {
@@ -293,7 +380,7 @@ pub(crate) fn insert_constraint(dcel: &mut Dcel, a: u32, b: u32) -> Result<(), B
     right.reverse();
     triangulate_pseudo_polygon(dcel, b, a, &right, &mut tris);
     dcel.replace_cavity(&dead, &tris, face, Some((a, b)));
-    Ok(())
+    Ok(None)
 }
 
 /// Constrained Delaunay triangulation of the pseudo-polygon with base edge `s -> e` and the chain
@@ -317,12 +404,19 @@ fn triangulate_pseudo_polygon(dcel: &Dcel, s: u32, e: u32, chain: &[u32], out: &
     }
 }
 
-/// Labels every live triangle free, obstacle or exterior by flood fill from the map edges.
+/// Labels every live triangle free, obstacle or exterior by flood fill from the map edges (the
+/// edge leaving each map vertex along its ring, vertices in id order: in the build's Hilbert
+/// numbering consecutive seeds are near each other). `found[v]` is the half-edge of `v`'s map
+/// edge as the constraint pass found it, or `NONE`; it is used when it is still that edge, and the
+/// edge is searched in `v`'s fan otherwise.
 ///
 /// A triangle is labelled when it is first queued and queued only then, so each is visited once.
 /// The fill never crosses a map edge and every seed of one region carries the same label (free
-/// space lies left of every ring), so the first label a triangle gets is its label.
-pub(crate) fn classify_faces(dcel: &mut Dcel) {
+/// space lies left of every ring), so the first label a triangle gets is its label. Both sides of
+/// every map edge are labelled first and the fill runs after: it then only enters the pockets of
+/// triangles without a map edge, near their seeds, instead of crossing the whole free space from
+/// the first seed in no memory order.
+fn classify_faces(dcel: &mut Dcel, found: &[u32]) -> Result<(), BtmError> {
     let mut seen = vec![false; dcel.face.len()];
     let mut queue: Vec<u32> = Vec::new();
     let mut label = |dcel: &mut Dcel, queue: &mut Vec<u32>, t: u32, kind: FaceKind| {
@@ -332,34 +426,44 @@ pub(crate) fn classify_faces(dcel: &mut Dcel) {
             queue.push(t);
         }
     };
-    for h in 0..dcel.origin.len() as u32 {
-        if !dcel.constrained[h as usize] || dcel.face[(h / 3) as usize] == FaceKind::Dead {
-            continue;
-        }
-        let (a, b) = (dcel.origin[h as usize], dcel.dest(h));
+    for a in dcel.scaffold..dcel.points.len() as u32 {
         let Some(link) = dcel.ring[a as usize] else {
             continue;
         };
-        if link.next == b {
-            label(dcel, &mut queue, h / 3, FaceKind::Free);
-            let g = dcel.twin[h as usize];
-            if g != NONE {
-                let across = match link.kind {
-                    EdgeKind::Obstacle(o) => FaceKind::Obstacle(o),
-                    _ => FaceKind::Exterior,
-                };
-                label(dcel, &mut queue, g / 3, across);
-            }
+        let hint = found.get(a as usize).copied().unwrap_or(NONE);
+        let still = hint != NONE
+            && dcel.face[(hint / 3) as usize] != FaceKind::Dead
+            && dcel.origin[hint as usize] == a
+            && dcel.dest(hint) == link.next;
+        let h = if still {
+            Some(hint)
+        } else {
+            dcel.find_edge(a, link.next)
+        };
+        let Some(h) = h else {
+            let (p, q) = (dcel.points[a as usize], dcel.points[link.next as usize]);
+            return Err(BtmError::Internal(format!(
+                "map edge ({}, {}) - ({}, {}) missing after its insertion",
+                p.x, p.y, q.x, q.y
+            )));
+        };
+        label(dcel, &mut queue, h / 3, FaceKind::Free);
+        let g = dcel.twin[h as usize];
+        if g != NONE {
+            let across = match link.kind {
+                EdgeKind::Obstacle(o) => FaceKind::Obstacle(o),
+                _ => FaceKind::Exterior,
+            };
+            label(dcel, &mut queue, g / 3, across);
         }
-        // Fill as we go: the queue stays short and the triangles just labelled are in cache.
-        while let Some(t) = queue.pop() {
-            let kind = dcel.face[t as usize];
-            for i in 0..3 {
-                let e = 3 * t + i;
-                let g = dcel.twin[e as usize];
-                if !dcel.constrained[e as usize] && g != NONE {
-                    label(dcel, &mut queue, g / 3, kind);
-                }
+    }
+    while let Some(t) = queue.pop() {
+        let kind = dcel.face[t as usize];
+        for i in 0..3 {
+            let e = 3 * t + i;
+            let g = dcel.twin[e as usize];
+            if !dcel.constrained[e as usize] && g != NONE {
+                label(dcel, &mut queue, g / 3, kind);
             }
         }
     }
@@ -369,6 +473,7 @@ pub(crate) fn classify_faces(dcel: &mut Dcel) {
             dcel.face[t] = FaceKind::Exterior;
         }
     }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -1,0 +1,110 @@
+//! The streamed form of a plan (`rappel plan --jsonl`, issue 10): one JSON object per line, each
+//! in the report [`Envelope`] (`schema_version`, `"report":
+//! "plan_stream"`) and tagged by `type`:
+//! - `"class"`: one homotopy class, as soon as it is decided (the fields of
+//!   [`ClassReport`]), shortest first;
+//! - `"summary"`: the last line of a run that succeeded ([`PlanSummary`]: the plan's report
+//!   without its classes, with their count);
+//! - `"error"`: the last line of a run that failed, whether or not classes were printed before
+//!   (`message`).
+//!
+//! A stream is complete exactly when its last line is a `summary`; one ending in an `error` (exit
+//! code 2) or in neither (the process was killed) is not. The schema is
+//! `docs/schemas/plan_stream.json` (`docs/output-format.md`).
+
+use crate::plan::{ClassReport, PairReport, PlanReport, PlaneReport};
+use crate::report::{Envelope, Report};
+use nalgebra::Point2;
+use rappel_planners::spt::{SearchStats, Termination};
+use serde::{Deserialize, Serialize};
+
+/// A plan's report without its classes: the last line of a complete stream.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct PlanSummary {
+    /// The scenario's name.
+    pub scenario: String,
+    /// Start.
+    #[schemars(with = "[f64; 2]")]
+    pub start: Point2<f64>,
+    /// Goal.
+    #[schemars(with = "[f64; 2]")]
+    pub goal: Point2<f64>,
+    /// The traversability model.
+    pub traversability: String,
+    /// Clearance around anchors, m.
+    pub clearance_m: f64,
+    /// The planes (empty: flat, tether-free ground).
+    pub planes: Vec<PlaneReport>,
+    /// How many `class` lines came before (the classes found).
+    pub class_count: usize,
+    /// The chosen pair (the shortest feasible class with a valid pair).
+    pub chosen: Option<PairReport>,
+    /// One line: which class was chosen, or why none was.
+    pub verdict: String,
+    /// Why the search stopped.
+    #[serde(with = "rappel_planners::search_report::termination_serde")]
+    #[schemars(with = "rappel_planners::search_report::TerminationName")]
+    pub termination: Termination,
+    /// The search's counters.
+    #[schemars(with = "rappel_planners::search_report::SearchStatsReport")]
+    pub stats: SearchStats,
+    /// Warnings (concave plane edges, approximated robot models).
+    pub warnings: Vec<String>,
+    /// Frictional planning (Alg. 7), when the scenario has PTFOs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<crate::friction_plan::FrictionReport>,
+}
+
+impl From<&PlanReport> for PlanSummary {
+    fn from(r: &PlanReport) -> Self {
+        PlanSummary {
+            scenario: r.scenario.clone(),
+            start: r.start,
+            goal: r.goal,
+            traversability: r.traversability.clone(),
+            clearance_m: r.clearance_m,
+            planes: r.planes.clone(),
+            class_count: r.classes.len(),
+            chosen: r.chosen.clone(),
+            verdict: r.verdict.clone(),
+            termination: r.termination,
+            stats: r.stats,
+            warnings: r.warnings.clone(),
+            friction: r.friction.clone(),
+        }
+    }
+}
+
+/// One line of `rappel plan --jsonl` (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum PlanStreamLine {
+    /// One class, as soon as it is decided.
+    Class(ClassReport),
+    /// The run succeeded: the last line.
+    Summary(Box<PlanSummary>),
+    /// The run failed (exit code 2): the last line.
+    Error {
+        /// What failed (the same text as the `error:` line on stderr).
+        message: String,
+    },
+}
+
+impl Report for PlanStreamLine {
+    const KIND: &'static str = "plan_stream";
+}
+
+impl PlanStreamLine {
+    /// This line in its envelope as one line of compact JSON (no newline).
+    ///
+    /// ```
+    /// use rappel::plan_stream::PlanStreamLine;
+    /// use rappel::report::read_report;
+    /// let line = PlanStreamLine::Error { message: "disk full".into() }.to_line();
+    /// assert_eq!(line, r#"{"schema_version":1,"report":"plan_stream","type":"error","message":"disk full"}"#);
+    /// assert!(matches!(read_report::<PlanStreamLine>(&line), Ok(PlanStreamLine::Error { .. })));
+    /// ```
+    pub fn to_line(&self) -> String {
+        serde_json::to_string(&Envelope::new(self)).unwrap_or_default()
+    }
+}
