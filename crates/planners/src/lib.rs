@@ -18,6 +18,7 @@
 //! The robot enters only through the [`rappel_mechanics::anchor_traversability::AnchorTraversability`]
 //! trait; definitions and choices are collected in `docs/planner.md`.
 
+pub mod anchor_index;
 pub mod anchor_prediction;
 pub mod feasibility;
 pub mod frictional;
