@@ -142,7 +142,8 @@ mod tests {
                 }
             }
         }
-        // A leg meets a few cells of the arc, not the whole arc.
-        assert!(visited < 55 * 2000 / 10, "{visited} anchors visited");
+        // A leg meets the cells of a few metres of the arc (a few hundred anchors), not the whole
+        // arc.
+        assert!(visited < 55 * 2000 / 4, "{visited} anchors visited");
     }
 }

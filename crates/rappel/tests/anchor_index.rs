@@ -7,10 +7,7 @@
 
 use rappel::dem::dem_scenario;
 use rappel::geometry::btm::Btm;
-use rappel::geometry::map::Map;
-use rappel::geometry::polygon::Polygon;
 use rappel::mechanics::friction_cone::TetherFrictionCone;
-use rappel::nalgebra::Point2;
 use rappel::planners::feasibility::{Evaluation, FeasibilityContext, check_feasibility_evaluated};
 use rappel::planners::path_pair::{AnchorClearance, PairInput, path_pair_evaluated};
 use rappel::planners::spt::{SearchOptions, SptPlanner};
@@ -87,32 +84,6 @@ fn compare(scenario: &Scenario, k: usize) -> Covered {
     covered
 }
 
-/// The star of `benches/benches/feasibility.rs` with `vertices` vertices (radii 20 and 17 m
-/// alternating, centred at (50, 55)) on its 100 x 130 m map, two planes.
-fn star(vertices: usize) -> Scenario {
-    let mut s = Scenario::from_ron_str(
-        r#"(map: (boundary: [(0.0, -10.0), (100.0, -10.0), (100.0, 120.0), (0.0, 120.0)]),
-            start: (50.0, 115.0), goal: (55.0, 0.0),
-            robot: (model: Point, mass_kg: 35.0, clearance_m: 0.5),
-            terrain: (planes: [(y_top: 120.0, y_bottom: 60.0, slope_deg: 30.0, friction: 0.4),
-                               (y_top: 60.0, y_bottom: -10.0, slope_deg: 50.0, friction: 0.4)]))"#,
-    )
-    .expect("scenario");
-    let ring = (0..vertices)
-        .map(|i| {
-            let a = std::f64::consts::TAU * i as f64 / vertices as f64;
-            let r = if i % 2 == 0 { 20.0 } else { 17.0 };
-            Point2::new(50.0 + r * a.cos(), 55.0 + r * a.sin())
-        })
-        .collect();
-    s.map = Map::new(
-        Polygon::rectangle(0.0, -10.0, 100.0, 130.0),
-        vec![Polygon::new(ring)],
-    );
-    s.name = format!("star-{vertices}");
-    s
-}
-
 fn fixture(name: &str) -> Scenario {
     let path = format!("{}/../../fixtures/{name}", env!("CARGO_MANIFEST_DIR"));
     Scenario::load(path).expect("fixture")
@@ -138,7 +109,7 @@ fn seeded_strips_give_identical_reports() {
 fn a_long_star_gives_identical_reports() {
     // 2,000 vertices: the class round the star wraps a hundred anchors, the next classes wind
     // round it again (a thousand more), so every query meets a crowd of anchors.
-    let c = compare(&star(2_000), 3);
+    let c = compare(&rappel::generated::star_scenario(2_000).expect("star"), 3);
     assert!(c.anchors_examined >= 100 && c.pairs >= 1, "{c:?}");
 }
 

@@ -27,11 +27,18 @@
 //!   galloping out from `a_j` and bisecting to [`TIE_WIDTH_FRACTION`]); the via route's triangle
 //!   lies inside the direct route's, so it is clear at least as far;
 //! - for the waypoint preference only (never the verdict): the ends of the clearance disks of the
-//!   anchors near `L_j`, and where the direct move passes exactly `clearance` from an anchor not
-//!   yet released (a quadratic).
+//!   anchors near `L_j`, and where the direct move's segment passes exactly `clearance` from an
+//!   anchor not yet released (a quadratic in `t` for the distance to the move's line, kept where
+//!   the foot of the perpendicular lies inside the segment). The anchors with such values are
+//!   found with the anchor grid ([`crate::anchor_index`]); each anchor's values depend on the
+//!   anchor alone, so the grid changes which anchors are looked at, never the values.
 //!
 //! Between consecutive critical values every condition is constant, so one evaluation of the
-//! exact predicates at a representative point decides the whole cell: a reachable part narrower
+//! exact predicates at a representative point decides the whole cell. The wedge verdict changes
+//! only at the verdict's own values (route structure, wedge, sweep ends), so with
+//! [`crate::anchor_index::Evaluation::Indexed`] it is evaluated once per span between those and
+//! reused for every cell the clearance values split it into ([`Evaluation::Direct`] evaluates
+//! every cell; the equivalence tests compare both): a reachable part narrower
 //! than the spacing of any ladder is found, and rounding an input in its last bits moves the cell
 //! ends by a few ulps but changes a verdict only when a reachable cell is itself that thin (a true
 //! tie). Cells narrower than [`TIE_WIDTH_FRACTION`] of the map's extent are such ties and are not
@@ -158,23 +165,25 @@ impl Moving {
 }
 
 /// The real roots of `c[0] + c[1] t + c[2] t^2` (numerically stable form; a double root counts
-/// once, none when the polynomial is zero).
-fn roots(c: [f64; 3]) -> Vec<f64> {
+/// once, none when the polynomial is zero), without allocating (called per anchor per edge).
+fn roots(c: [f64; 3]) -> impl Iterator<Item = f64> {
     let [c0, c1, c2] = c;
+    let mut out = [f64::NAN; 2];
     if c2 == 0.0 {
-        return if c1 == 0.0 { vec![] } else { vec![-c0 / c1] };
+        if c1 != 0.0 {
+            out[0] = -c0 / c1;
+        }
+    } else {
+        let disc = c1 * c1 - 4.0 * c2 * c0;
+        if disc >= 0.0 {
+            let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
+            out[0] = q / c2;
+            if q != 0.0 {
+                out[1] = c0 / q;
+            }
+        }
     }
-    let disc = c1 * c1 - 4.0 * c2 * c0;
-    if disc < 0.0 {
-        return vec![];
-    }
-    let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
-    let mut out = vec![q / c2];
-    if q != 0.0 {
-        out.push(c0 / q);
-    }
-    out.retain(|t| t.is_finite());
-    out
+    out.into_iter().filter(|t| t.is_finite())
 }
 
 impl Climb<'_, '_> {
@@ -697,7 +706,6 @@ impl Climb<'_, '_> {
                     sq[1] - c * c * n[1],
                     sq[2] - c * c * n[2],
                 ])
-                .into_iter()
                 .filter(inside),
             );
         });
