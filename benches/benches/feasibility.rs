@@ -6,65 +6,25 @@
 //! classes on the star and on the strip.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use nalgebra::Point2;
+use rappel::generated::star_scenario;
 use rappel::plan::{PlanOptions, plan};
 use rappel::scenario::Scenario;
 use rappel_geometry::btm::Btm;
-use rappel_geometry::map::Map;
-use rappel_geometry::polygon::Polygon;
 use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_planners::feasibility::{FeasibilityContext, check_feasibility, fill_reachable_areas};
 use rappel_planners::spt::{SearchOptions, SptPlanner};
 use rappel_planners::terrain::PlaneSeries;
-use rappel_terrain::plane_series::TerrainPlane;
 use std::hint::black_box;
 
 /// Vertices of the star obstacle.
 const STAR_VERTICES: usize = 10_000;
 
-/// A 100 x 130 m map with one star of [`STAR_VERTICES`] vertices (radii 20 and 17 m alternating)
-/// centred at (50, 55).
-fn star_map() -> Map {
-    let star = (0..STAR_VERTICES)
-        .map(|i| {
-            let a = std::f64::consts::TAU * i as f64 / STAR_VERTICES as f64;
-            let r = if i % 2 == 0 { 20.0 } else { 17.0 };
-            Point2::new(50.0 + r * a.cos(), 55.0 + r * a.sin())
-        })
-        .collect();
-    Map::new(
-        Polygon::rectangle(0.0, -10.0, 100.0, 130.0),
-        vec![Polygon::new(star)],
-    )
-}
-
-/// Two planes: 30 degrees above y = 60, 50 degrees below, mu 0.4.
-fn planes() -> Vec<TerrainPlane> {
-    vec![
-        TerrainPlane::new(120.0, 60.0, 30.0, 0.4),
-        TerrainPlane::new(60.0, -10.0, 50.0, 0.4),
-    ]
-}
-
-fn star_scenario(map: &Map) -> Scenario {
-    let mut s = Scenario::from_ron_str(
-        r#"(map: (boundary: [(0.0, -10.0), (100.0, -10.0), (100.0, 120.0), (0.0, 120.0)]),
-            start: (50.0, 115.0), goal: (55.0, 0.0),
-            robot: (model: Point, mass_kg: 35.0, clearance_m: 0.5),
-            terrain: (planes: [(y_top: 120.0, y_bottom: 60.0, slope_deg: 30.0, friction: 0.4),
-                               (y_top: 60.0, y_bottom: -10.0, slope_deg: 50.0, friction: 0.4)]))"#,
-    )
-    .expect("scenario");
-    s.map = map.clone();
-    s
-}
-
 fn feasibility(c: &mut Criterion) {
-    let map = star_map();
-    let btm = Btm::build(&map).expect("star map");
-    let terrain = PlaneSeries::new(&planes(), &TetherFrictionCone).expect("planes");
+    let star = star_scenario(STAR_VERTICES).expect("star");
+    let btm = Btm::build(&star.map).expect("star map");
+    let terrain = PlaneSeries::new(&star.terrain.planes, &TetherFrictionCone).expect("planes");
     let best = SptPlanner::new(&btm)
-        .shortest_path(Point2::new(50.0, 115.0), Point2::new(55.0, 0.0))
+        .shortest_path(star.start, star.goal)
         .expect("search")
         .expect("a path");
     let ctx = FeasibilityContext {
@@ -132,7 +92,6 @@ fn feasibility(c: &mut Criterion) {
         classes: 10,
         ..Default::default()
     };
-    let star = star_scenario(&map);
     g.bench_function("star-10000/plan-k10", |b| {
         b.iter(|| black_box(plan(&star, &options).expect("plan")))
     });

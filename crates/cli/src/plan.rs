@@ -260,9 +260,11 @@ fn print_head(file: &str, r: &PlanReport) {
     );
 }
 
-/// One class's block.
+/// One class's block, formatted whole and written at once (a class around a long obstacle has
+/// thousands of anchor lines: one write, not one per line).
 fn print_class(c: &ClassReport) {
-    crate::outln!(
+    use std::fmt::Write as _;
+    let mut block = format!(
         "class {:<3}    length {:.3} m, {} anchors{}: {}",
         c.rank,
         c.length,
@@ -270,12 +272,14 @@ fn print_class(c: &ClassReport) {
         if c.simple { "" } else { ", not simple" },
         c.verdict
     );
+    // Writing to a String cannot fail.
     for a in &c.anchors {
         let on = a
             .obstacle
             .map_or_else(|| "boundary".to_string(), |o| format!("obstacle {o}"));
-        crate::outln!(
-            "  a{:<3} ({:.3}, {:.3}) {on}, psi {:.2}°, theta_max {} (previous {}), {}",
+        let _ = write!(
+            block,
+            "\n  a{:<3} ({:.3}, {:.3}) {on}, psi {:.2}°, theta_max {} (previous {}), {}",
             a.index,
             a.point.x,
             a.point.y,
@@ -286,16 +290,15 @@ fn print_class(c: &ClassReport) {
         );
     }
     if !c.waypoints.is_empty() {
-        let list: Vec<String> = c
-            .waypoints
-            .iter()
-            .map(|w| format!("({:.3}, {:.3})", w.x, w.y))
-            .collect();
-        crate::outln!("  waypoints  {}", list.join(" "));
+        block.push_str("\n  waypoints ");
+        for w in &c.waypoints {
+            let _ = write!(block, " ({:.3}, {:.3})", w.x, w.y);
+        }
     }
     if let Some(f) = &c.pair_failure {
-        crate::outln!("  no pair    {f}");
+        let _ = write!(block, "\n  no pair    {f}");
     }
+    crate::outln!("{block}");
 }
 
 /// The verdict and the chosen pair.

@@ -67,6 +67,10 @@ pub enum GenerateError {
     /// A parameter is out of range; the message names it and the accepted range.
     #[error("crater strip: {0}")]
     Option(String),
+    /// A star obstacle's parameter is out of range (`rappel::generated::star_scenario`); the
+    /// message names it and the accepted range.
+    #[error("star: {0}")]
+    Star(String),
 }
 
 /// Largest strip width accepted, metres (a crater wall, not a continent).

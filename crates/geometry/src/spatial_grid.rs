@@ -28,6 +28,10 @@ enum Buckets {
     },
 }
 
+/// Relative slack (of the grid's coordinates' magnitude) added to the margin of
+/// [`SpatialGrid::visit_near_convex`], so that rounding in its cell bounds never drops an item.
+const GRID_SLACK: f64 = 1e-12;
+
 /// Upper bound on the number of cells, whatever the item count: bounds memory for degenerate
 /// inputs (a handful of huge items) while leaving ~1 cell per item for ordinary maps.
 const MAX_CELLS: usize = 1 << 22;
@@ -192,6 +196,82 @@ impl SpatialGrid {
         (0..self.cols * self.rows).map(|i| self.bucket(i))
     }
 
+    /// Calls `f` with the ids of every cell that meets the convex hull of `corners` (a point, a
+    /// segment, a triangle, ..., in any order) grown by `margin` in `x` and in `y`: a superset
+    /// of the items whose boxes come within `margin` of the hull (in any norm no larger than
+    /// the maximum norm, the Euclidean one included), each cell visited once, column by column.
+    /// The cells are found without rounding against the hull: a column's rows are those of the
+    /// `y` range of the hull over the column's `x` range widened by `margin` (the hull's edges,
+    /// i.e. the segments between every two corners, clipped to that range), then widened by
+    /// `margin`; so the cost is the number of cells the grown hull meets, not the grid's size.
+    /// Nothing is visited for no corners or a non-finite corner or margin.
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::{polygon::Aabb, spatial_grid::SpatialGrid};
+    /// let points: Vec<Point2<f64>> = (0..100).map(|i| Point2::new(i as f64, (i * i % 97) as f64)).collect();
+    /// let boxes: Vec<Aabb> = points.iter().map(|p| Aabb { min: *p, max: *p }).collect();
+    /// let grid = SpatialGrid::packed(Aabb::of_points(points.iter()), points.len(), &boxes);
+    /// let mut near = Vec::new();
+    /// grid.visit_near_convex(&[Point2::new(10.0, 0.0), Point2::new(60.0, 90.0)], 2.0, |id| near.push(id));
+    /// assert!(near.contains(&50)); // (50, 75) lies 0.2 from the segment
+    /// assert!(!near.contains(&99)); // (99, 4) lies far from it
+    /// ```
+    pub fn visit_near_convex(&self, corners: &[Point2<f64>], margin: f64, mut f: impl FnMut(u32)) {
+        if corners.is_empty()
+            || !margin.is_finite()
+            || corners
+                .iter()
+                .any(|p| !(p.x.is_finite() && p.y.is_finite()))
+        {
+            return;
+        }
+        // Cell bounds recomputed here and the interpolated hull may differ from the division
+        // that placed the items by a few ulps of the coordinates: widen by far more than that.
+        let scale = self.origin.x.abs().max(self.origin.y.abs())
+            + self.cell * (self.cols + self.rows) as f64;
+        let margin = margin.abs() + GRID_SLACK * scale;
+        let (x_min, x_max) = corners
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p.x), b.max(p.x))
+            });
+        let col = |x: f64| self.col_row(&Point2::new(x, self.origin.y)).0;
+        let (c0, c1) = (col(x_min - margin), col(x_max + margin));
+        for c in c0..=c1 {
+            // The column's x range (unbounded at the grid's first and last columns, which hold
+            // every point clamped into them), widened by the margin.
+            let xa = if c == 0 {
+                f64::NEG_INFINITY
+            } else {
+                self.origin.x + self.cell * c as f64 - margin
+            };
+            let xb = if c + 1 == self.cols {
+                f64::INFINITY
+            } else {
+                self.origin.x + self.cell * (c + 1) as f64 + margin
+            };
+            let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for (i, p) in corners.iter().enumerate() {
+                for q in &corners[i..] {
+                    if let Some((a, b)) = y_range_in_slab(p, q, xa, xb) {
+                        y_lo = y_lo.min(a);
+                        y_hi = y_hi.max(b);
+                    }
+                }
+            }
+            if y_lo > y_hi {
+                continue;
+            }
+            let row = |y: f64| self.col_row(&Point2::new(self.origin.x, y)).1;
+            for r in row(y_lo - margin)..=row(y_hi + margin) {
+                for &id in self.bucket(r * self.cols + c) {
+                    f(id);
+                }
+            }
+        }
+    }
+
     /// Ids in cells at Chebyshev ring distance exactly `ring` around the cell of `p` (ring 0 is
     /// the cell itself), for searches that widen until something is found. `None` once the ring
     /// lies entirely outside the grid.
@@ -234,6 +314,27 @@ impl SpatialGrid {
         }
         Some(None)
     }
+}
+
+/// The `y` range of the segment `p -> q` (a point when `p == q`) over `xa <= x <= xb`, if it
+/// meets that slab. The interpolated ends may be off by an ulp or two; callers widen the range
+/// by a margin. Bounds may be infinite.
+fn y_range_in_slab(p: &Point2<f64>, q: &Point2<f64>, xa: f64, xb: f64) -> Option<(f64, f64)> {
+    let (p, q) = if p.x <= q.x { (p, q) } else { (q, p) };
+    if q.x < xa || p.x > xb {
+        return None;
+    }
+    let at = |x: f64| {
+        if x <= p.x {
+            p.y
+        } else if x >= q.x {
+            q.y
+        } else {
+            p.y + (q.y - p.y) * ((x - p.x) / (q.x - p.x))
+        }
+    };
+    let (ya, yb) = (at(xa.max(p.x)), at(xb.min(q.x)));
+    Some((ya.min(yb), ya.max(yb)))
 }
 
 #[cfg(test)]
@@ -330,6 +431,75 @@ mod tests {
             more.insert(&boxes[0], 9999);
             grown.insert(&boxes[0], 9999);
             assert!(more.buckets().eq(grown.buckets()));
+        }
+    }
+
+    #[test]
+    fn visiting_near_a_hull_finds_every_point_within_the_margin_once() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let dist_to_segment = |p: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>| {
+            let d = b - a;
+            let t = if d.norm_squared() > 0.0 {
+                ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (a + d * t - p).norm()
+        };
+        let cross = |a: &Point2<f64>, b: &Point2<f64>, p: &Point2<f64>| {
+            (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)
+        };
+        for round in 0..40 {
+            let n = rng.random_range(1..400);
+            // Points on a thin arc (the anchors of a long obstacle) or scattered.
+            let points: Vec<Point2<f64>> = (0..n)
+                .map(|i| {
+                    if round % 2 == 0 {
+                        let a = 0.6 * i as f64 / n as f64;
+                        Point2::new(50.0 + 20.0 * a.cos(), 55.0 + 20.0 * a.sin())
+                    } else {
+                        Point2::new(rng.random_range(0.0..100.0), rng.random_range(-10.0..30.0))
+                    }
+                })
+                .collect();
+            let boxes: Vec<Aabb> = points.iter().map(|p| Aabb { min: *p, max: *p }).collect();
+            let grid = SpatialGrid::packed(Aabb::of_points(points.iter()), n, &boxes);
+            for _ in 0..20 {
+                let k = rng.random_range(1..4);
+                let corners: Vec<Point2<f64>> = (0..k)
+                    .map(|_| {
+                        Point2::new(
+                            rng.random_range(-10.0..110.0),
+                            rng.random_range(-20.0..80.0),
+                        )
+                    })
+                    .collect();
+                let margin = rng.random_range(0.0..3.0);
+                let mut seen = vec![0usize; n];
+                grid.visit_near_convex(&corners, margin, |id| seen[id as usize] += 1);
+                assert!(seen.iter().all(|&s| s <= 1), "a point visited twice");
+                for (i, p) in points.iter().enumerate() {
+                    let mut d = f64::INFINITY;
+                    for a in &corners {
+                        for b in &corners {
+                            d = d.min(dist_to_segment(p, a, b));
+                        }
+                    }
+                    if k == 3 {
+                        let s: Vec<f64> = (0..3)
+                            .map(|e| cross(&corners[e], &corners[(e + 1) % 3], p))
+                            .collect();
+                        if s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0) {
+                            d = 0.0;
+                        }
+                    }
+                    assert!(
+                        d > margin || seen[i] == 1,
+                        "round {round}: point {i} at {d} within {margin} of {corners:?} not visited"
+                    );
+                }
+            }
         }
     }
 }

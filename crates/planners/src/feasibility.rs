@@ -45,6 +45,8 @@
 //! (Def. 2.4) when every intermediate anchor is passable; otherwise the report names the first
 //! impassable one met on the way up and why ([`Impassability`]).
 
+use crate::anchor_index::AnchorIndex;
+pub use crate::anchor_index::Evaluation;
 use crate::terrain::PlaneSeries;
 use nalgebra::{Point2, Vector2};
 use rappel_geometry::btm::Btm;
@@ -322,8 +324,10 @@ struct Climb<'c, 'a> {
     points: Vec<Point2<f64>>,
     /// Map box, for rays and polygons.
     bounds: Aabb,
-    /// The intermediate anchors `a_1 .. a_n` as `(x, j)`, sorted by `x`, for clearance queries.
-    by_x: Vec<(f64, usize)>,
+    /// The intermediate anchors `a_1 .. a_n` in a grid, for the clearance queries.
+    index: AnchorIndex,
+    /// How anchor queries and cells are evaluated.
+    evaluation: Evaluation,
     /// `own_waypoint[j]`: anchor `a_j` is its own waypoint (a solid friction anchor the robot
     /// drives over, thesis Alg. 10), index 0 unused.
     own_waypoint: Vec<bool>,
@@ -367,6 +371,18 @@ pub fn check_feasibility_with(
     taut: &TautPath,
     own_waypoint: &dyn Fn(usize) -> bool,
 ) -> FeasibilityReport {
+    check_feasibility_evaluated(ctx, taut, own_waypoint, Evaluation::Indexed)
+}
+
+/// [`check_feasibility_with`] with the anchor queries and cells evaluated as `evaluation` says:
+/// [`Evaluation::Indexed`] is what every planner uses; [`Evaluation::Direct`] is the earlier,
+/// quadratic form, kept as the oracle of the equivalence tests (both give identical reports).
+pub fn check_feasibility_evaluated(
+    ctx: &FeasibilityContext<'_>,
+    taut: &TautPath,
+    own_waypoint: &dyn Fn(usize) -> bool,
+    evaluation: Evaluation,
+) -> FeasibilityReport {
     let d = ctx.btm.dcel();
     let bounds = Aabb::of_points(
         ctx.btm
@@ -378,8 +394,7 @@ pub fn check_feasibility_with(
     );
     let mut points = vec![taut.start()];
     points.extend(taut.anchors.iter().map(|a| a.point));
-    let mut by_x: Vec<(f64, usize)> = (1..points.len()).map(|j| (points[j].x, j)).collect();
-    by_x.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let index = AnchorIndex::new(&points[1..], 2.0 * ctx.clearance, evaluation);
     let own_waypoint = (0..points.len())
         .map(|j| j > 0 && own_waypoint(j))
         .collect();
@@ -387,7 +402,8 @@ pub fn check_feasibility_with(
         ctx,
         points,
         bounds,
-        by_x,
+        index,
+        evaluation,
         own_waypoint,
     };
     climb.run(taut)
@@ -632,20 +648,21 @@ impl Climb<'_, '_> {
     /// move `q -> w` from the anchors not yet released (`a_1 .. a_j`; a path pair bends around
     /// the released ones).
     ///
-    /// Only the anchors whose `x` lies within the clearance of the move's `x` range are looked at
-    /// (a binary search in [`Climb::by_x`]), so a class wrapping thousands of vertices costs per
-    /// candidate the anchors near the move, not all of them.
+    /// Only the anchors whose `x` lies within the clearance of the move's `x` range are looked at,
+    /// and of those only the ones the anchor grid finds within twice the clearance of the move
+    /// (the others are farther than the clearance, so they pass), so a class wrapping thousands
+    /// of vertices costs per candidate the anchors near the move, not all of them.
     fn clear_of_anchors(&self, j: usize, q: &Point2<f64>, w: &Point2<f64>) -> bool {
         let c = self.ctx.clearance * (1.0 - CLEARANCE_TOLERANCE);
         let (lo, hi) = (q.x.min(w.x) - c, q.x.max(w.x) + c);
-        let first = self.by_x.partition_point(|&(x, _)| x < lo);
-        self.by_x[first..]
-            .iter()
-            .take_while(|&&(x, _)| x <= hi)
-            .all(|&(_, i)| {
-                let a = &self.points[i];
-                (i > j || distance_to_segment(a, q, w) >= c) && (a - w).norm() >= c
-            })
+        let mut clear = true;
+        self.index.visit_near(&[*q, *w], 2.0 * c, |i| {
+            let a = &self.points[i];
+            if clear && lo <= a.x && a.x <= hi {
+                clear = (i > j || distance_to_segment(a, q, w) >= c) && (a - w).norm() >= c;
+            }
+        });
+        clear
     }
 
     /// `C_j` as convex pieces, with its visibility line.

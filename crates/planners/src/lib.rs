@@ -11,6 +11,7 @@
 //! | [`shortest_path_map`] | geodesic length and last anchor of every point from one start, built once | Mitchell's continuous Dijkstra, Polyanya's root pruning |
 //! | [`terrain`] | the plane series under the map and each plane's tether limit | §2.1.2, §2.4.4 |
 //! | [`feasibility`] | anchors, anchor reachable sets, passability, waypoints | Alg. 5, Defs. 2.1-2.4, eq. 2.7 |
+//! | [`anchor_index`] | the anchors of a class near a move, a leg or an edge (a grid superset) | issue 10 (long obstacles) |
 //! | [`path_pair`] | homotopic ascent/descent path pairs, next class on failure | Alg. 6, §2.2.4 |
 //! | [`online`] | map changes, sleeve update, H-constrained replanning, backtracking, simulator | §3.5, Alg. 11-13 |
 //! | [`visibility_graph`] | brute-force Euclidean shortest paths, the independent test oracle | Lozano-Pérez and Wesley |
@@ -18,6 +19,7 @@
 //! The robot enters only through the [`rappel_mechanics::anchor_traversability::AnchorTraversability`]
 //! trait; definitions and choices are collected in `docs/planner.md`.
 
+pub mod anchor_index;
 pub mod anchor_prediction;
 pub mod feasibility;
 pub mod frictional;

@@ -30,6 +30,7 @@
 //! feasible ascent and a valid pair ([`plan_path_pair`]); the clearance is the scenario's
 //! `robot.clearance_m`.
 
+use crate::anchor_index::{AnchorIndex, Evaluation};
 use crate::feasibility::{
     CLEARANCE_TOLERANCE, FeasibilityContext, FeasibilityReport, RouteCorner, check_feasibility,
     distance_to_segment,
@@ -172,8 +173,22 @@ pub fn path_pair_with(
     ctx: &FeasibilityContext<'_>,
     input: PairInput<'_>,
 ) -> Result<PathPair, PairFailure> {
+    path_pair_evaluated(ctx, input, Evaluation::Indexed)
+}
+
+/// [`path_pair_with`] with the anchors near each leg found as `evaluation` says:
+/// [`Evaluation::Indexed`] (what every planner uses) or [`Evaluation::Direct`] (every anchor
+/// tested against every leg: the earlier, quadratic form, the oracle of the equivalence tests;
+/// both give identical pairs).
+pub fn path_pair_evaluated(
+    ctx: &FeasibilityContext<'_>,
+    input: PairInput<'_>,
+    evaluation: Evaluation,
+) -> Result<PathPair, PairFailure> {
     let taut = input.taut;
     let anchors: Vec<Point2<f64>> = taut.anchors.iter().map(|a| a.point).collect();
+    let index = AnchorIndex::new(&anchors, 2.0 * ctx.clearance, evaluation);
+    let margin = 2.0 * ctx.clearance;
     let clearances: Vec<f64> = (0..anchors.len())
         .map(|k| match input.anchors.get(k) {
             Some(AnchorClearance::DriveOver) => 0.0,
@@ -184,13 +199,19 @@ pub fn path_pair_with(
     let mut descent = vec![Corner::fixed(taut.start())];
     descent.extend(offsets.iter().copied());
     descent.push(Corner::fixed(taut.goal()));
-    let descent = keep_clear("descent", descent, &anchors, &clearances);
+    let near = Near {
+        index: &index,
+        anchors: &anchors,
+        clearances: &clearances,
+        margin,
+    };
+    let descent = keep_clear("descent", descent, &near);
     let tether_free = ctx.terrain.all_tether_free();
     let ascent = if tether_free {
         descent.clone().map(|d| d.into_iter().rev().collect())
     } else {
-        let bent = bend_around_released(input.route, &anchors, &offsets, &clearances);
-        keep_clear("ascent", bent, &anchors, &clearances)
+        let bent = bend_around_released(input.route, &offsets, &near);
+        keep_clear("ascent", bent, &near)
     };
     let ascent = ascent?;
     let word = input.crossings;
@@ -289,30 +310,58 @@ fn mitre_offsets(taut: &TautPath, clearances: &[f64]) -> Vec<Corner> {
         .collect()
 }
 
+/// The anchors of a pair's checks with their clearances, and the grid that finds the ones near a
+/// leg.
+struct Near<'a> {
+    index: &'a AnchorIndex,
+    /// `a_1 .. a_n` (`anchors[k - 1]` is `a_k`).
+    anchors: &'a [Point2<f64>],
+    /// The clearance kept from each, m.
+    clearances: &'a [f64],
+    /// Twice the largest clearance: the grid's margin, a superset of the anchors within any
+    /// clearance of a leg.
+    margin: f64,
+}
+
+impl Near<'_> {
+    /// Calls `f(k, d)` with `d` the distance from `a_k` to the leg `p -> q` for every anchor
+    /// `a_k` closer than its clearance (less [`CLEARANCE_TOLERANCE`]), in no particular order.
+    fn too_close(&self, p: &Point2<f64>, q: &Point2<f64>, mut f: impl FnMut(usize, f64)) {
+        self.index.visit_near(&[*p, *q], self.margin, |k| {
+            let d = distance_to_segment(&self.anchors[k - 1], p, q);
+            if d < self.clearances[k - 1] * (1.0 - CLEARANCE_TOLERANCE) {
+                f(k, d);
+            }
+        });
+    }
+}
+
 /// Bends every ascent leg that passes within the clearance of an anchor it has already released
 /// through that anchor's mitre corner (which lies on the released side of its visibility line).
-fn bend_around_released(
-    route: &[RouteCorner],
-    anchors: &[Point2<f64>],
-    offsets: &[Corner],
-    clearances: &[f64],
-) -> Vec<Corner> {
-    let n = anchors.len();
-    let c = |k: usize| clearances[k - 1] * (1.0 - CLEARANCE_TOLERANCE);
+/// The nearest such anchor first (the lowest index among equally near ones); each anchor bends a
+/// leg at most once, so a leg gets at most `n` bends.
+fn bend_around_released(route: &[RouteCorner], offsets: &[Corner], near: &Near<'_>) -> Vec<Corner> {
+    let n = near.anchors.len();
     let mut out = vec![Corner::fixed(route[0].point)];
-    for w in route.windows(2) {
+    // `bent_on[k] == leg + 1`: anchor `k` already bends leg `leg`.
+    let mut bent_on = vec![0usize; n + 1];
+    for (leg, w) in route.windows(2).enumerate() {
         let released = w[0].released_from.max(1)..=n;
         let (mut from, to) = (w[0].point, w[1].point);
-        let mut bent: Vec<usize> = Vec::new();
-        while let Some(k) = released
-            .clone()
-            .filter(|k| !bent.contains(k))
-            .map(|k| (k, distance_to_segment(&anchors[k - 1], &from, &to)))
-            .filter(|(k, d)| *d < c(*k))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(k, _)| k)
-        {
-            bent.push(k);
+        loop {
+            let mut nearest: Option<(usize, f64)> = None;
+            near.too_close(&from, &to, |k, d| {
+                if released.contains(&k)
+                    && bent_on[k] != leg + 1
+                    && nearest.is_none_or(|(kn, dn)| d.total_cmp(&dn).then(k.cmp(&kn)).is_lt())
+                {
+                    nearest = Some((k, d));
+                }
+            });
+            let Some((k, _)) = nearest else {
+                break;
+            };
+            bent_on[k] = leg + 1;
             from = offsets[k - 1].point();
             out.push(offsets[k - 1]);
         }
@@ -327,23 +376,23 @@ const PUSH_ROUNDS: usize = 32;
 /// Pushes owned corners away from their anchors until every segment keeps the clearance from
 /// every anchor; fails naming the anchor when a segment that no owned corner can move is too
 /// close.
+/// The worst offence is the smallest distance, the first leg and then the lowest anchor among
+/// equal ones.
 fn keep_clear(
     which: &str,
     mut corners: Vec<Corner>,
-    anchors: &[Point2<f64>],
-    clearances: &[f64],
+    near: &Near<'_>,
 ) -> Result<Vec<Point2<f64>>, PairFailure> {
+    let clearances = near.clearances;
     for round in 0..=PUSH_ROUNDS {
         let mut worst: Option<(usize, usize, f64)> = None;
         for i in 0..corners.len().saturating_sub(1) {
             let (p, q) = (corners[i].point(), corners[i + 1].point());
-            for (k, a) in anchors.iter().enumerate() {
-                let d = distance_to_segment(a, &p, &q);
-                if d < clearances[k] * (1.0 - CLEARANCE_TOLERANCE) && worst.is_none_or(|w| d < w.2)
-                {
-                    worst = Some((i, k + 1, d));
+            near.too_close(&p, &q, |k, d| {
+                if worst.is_none_or(|w| d < w.2 || (d == w.2 && w.0 == i && k < w.1)) {
+                    worst = Some((i, k, d));
                 }
-            }
+            });
         }
         let Some((i, k, d)) = worst else {
             let mut points: Vec<Point2<f64>> = corners.iter().map(Corner::point).collect();

@@ -1,8 +1,12 @@
 //! Generated scenarios: a random crater strip (see `rappel_geometry::generate`) wrapped as a full
-//! scenario with one 45-degree tether-demand plane (mu 0.4) covering the strip.
+//! scenario with one 45-degree tether-demand plane (mu 0.4) covering the strip, and one long star
+//! obstacle (the long-obstacle benchmark and tests of issue 10).
 
 use crate::scenario::{RobotParams, Scenario, Terrain};
+use nalgebra::Point2;
 use rappel_geometry::generate::{CraterStripOptions, GenerateError, crater_strip};
+use rappel_geometry::map::Map;
+use rappel_geometry::polygon::Polygon;
 use rappel_terrain::plane_series::TerrainPlane;
 
 /// Slope of the single plane of a generated strip, degrees.
@@ -43,6 +47,73 @@ pub fn crater_strip_scenario(
                 slope_deg: GENERATED_SLOPE_DEG,
                 friction: GENERATED_FRICTION,
             }],
+        },
+        friction: None,
+        georeference: None,
+    })
+}
+
+/// Centre of the star of [`star_scenario`], m.
+pub const STAR_CENTRE: [f64; 2] = [50.0, 55.0];
+/// Radius of the star's even vertices (its convex hull), m.
+pub const STAR_OUTER_RADIUS: f64 = 20.0;
+/// Radius of the star's odd vertices, m.
+pub const STAR_INNER_RADIUS: f64 = 17.0;
+/// Largest vertex count [`star_scenario`] accepts (a bound on memory, not on the planner).
+pub const MAX_STAR_VERTICES: usize = 1_000_000;
+
+/// One star obstacle of `vertices` vertices (even, at least 6; at most [`MAX_STAR_VERTICES`]):
+/// vertex `i` at angle `2 pi i / vertices` around [`STAR_CENTRE`], at [`STAR_OUTER_RADIUS`] for
+/// even `i` and [`STAR_INNER_RADIUS`] for odd `i`, on a 100 x 130 m map (`y` from -10 to 120),
+/// start (50, 115), goal (55, 0), a point robot with a 0.5 m clearance, and two planes: 30° above
+/// `y = 60`, 50° below, mu 0.4. Every class wraps hundreds of the star's corners, each near the
+/// visibility line of the one before: the long-obstacle case of issue 10 (`benches/benches/
+/// feasibility.rs`).
+///
+/// ```
+/// let s = rappel::generated::star_scenario(2_000).unwrap();
+/// s.validate().unwrap();
+/// assert_eq!(s.map.obstacles[0].len(), 2_000);
+/// assert!(rappel::generated::star_scenario(7).is_err());
+/// ```
+pub fn star_scenario(vertices: usize) -> Result<Scenario, GenerateError> {
+    if vertices < 6 || vertices % 2 == 1 || vertices > MAX_STAR_VERTICES {
+        return Err(GenerateError::Star(format!(
+            "vertices must be even, from 6 to {MAX_STAR_VERTICES}, not {vertices}"
+        )));
+    }
+    let [cx, cy] = STAR_CENTRE;
+    let ring = (0..vertices)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / vertices as f64;
+            let r = if i % 2 == 0 {
+                STAR_OUTER_RADIUS
+            } else {
+                STAR_INNER_RADIUS
+            };
+            Point2::new(cx + r * a.cos(), cy + r * a.sin())
+        })
+        .collect();
+    Ok(Scenario {
+        name: format!("star-{vertices}"),
+        description: format!(
+            "One star obstacle of {vertices} vertices (radii {STAR_OUTER_RADIUS} / {STAR_INNER_RADIUS} m) on a 100 x 130 m map."
+        ),
+        map: Map::new(
+            Polygon::rectangle(0.0, -10.0, 100.0, 130.0),
+            vec![Polygon::new(ring)],
+        ),
+        start: Point2::new(50.0, 115.0),
+        goal: Point2::new(55.0, 0.0),
+        robot: RobotParams {
+            clearance_m: 0.5,
+            ..RobotParams::default()
+        },
+        terrain: Terrain {
+            planes: vec![
+                TerrainPlane::new(120.0, 60.0, 30.0, 0.4),
+                TerrainPlane::new(60.0, -10.0, 50.0, 0.4),
+            ],
         },
         friction: None,
         georeference: None,

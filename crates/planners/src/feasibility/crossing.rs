@@ -27,11 +27,18 @@
 //!   galloping out from `a_j` and bisecting to [`TIE_WIDTH_FRACTION`]); the via route's triangle
 //!   lies inside the direct route's, so it is clear at least as far;
 //! - for the waypoint preference only (never the verdict): the ends of the clearance disks of the
-//!   anchors near `L_j`, and where the direct move passes exactly `clearance` from an anchor not
-//!   yet released (a quadratic).
+//!   anchors near `L_j`, and where the direct move's segment passes exactly `clearance` from an
+//!   anchor not yet released (a quadratic in `t` for the distance to the move's line, kept where
+//!   the foot of the perpendicular lies inside the segment). The anchors with such values are
+//!   found with the anchor grid ([`crate::anchor_index`]); each anchor's values depend on the
+//!   anchor alone, so the grid changes which anchors are looked at, never the values.
 //!
 //! Between consecutive critical values every condition is constant, so one evaluation of the
-//! exact predicates at a representative point decides the whole cell: a reachable part narrower
+//! exact predicates at a representative point decides the whole cell. The wedge verdict changes
+//! only at the verdict's own values (route structure, wedge, sweep ends), so with
+//! [`crate::anchor_index::Evaluation::Indexed`] it is evaluated once per span between those and
+//! reused for every cell the clearance values split it into ([`Evaluation::Direct`] evaluates
+//! every cell; the equivalence tests compare both): a reachable part narrower
 //! than the spacing of any ladder is found, and rounding an input in its last bits moves the cell
 //! ends by a few ulps but changes a verdict only when a reachable cell is itself that thin (a true
 //! tie). Cells narrower than [`TIE_WIDTH_FRACTION`] of the map's extent are such ties and are not
@@ -47,12 +54,13 @@
 //! again exactly); else the first clear representative; else the first reachable one. Only the
 //! first [`MAX_PREFERENCE_CELLS`] reachable cells are looked at for the preference.
 
-use super::{Climb, MIN_WAYPOINT_STEP_FRACTION, admits_direction, in_wedge};
+use super::{Climb, Evaluation, MIN_WAYPOINT_STEP_FRACTION, admits_direction, in_wedge};
 use nalgebra::{Point2, Vector2};
 use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::homotopy::is_contractible;
 use rappel_homotopy::path::Path;
 use rappel_mechanics::anchor_traversability::TetherLimit;
+use std::cell::Cell;
 
 /// Cells of the visibility line narrower than this fraction of the map's extent (the larger side
 /// of its bounding box) are ties and never used: 10 nm on a 100 m map, far above the rounding of
@@ -73,6 +81,11 @@ pub const ROOMY_CLEARANCES: f64 = 2.0;
 /// cost where anchors crowd the visibility line (a long obstacle's corners every few centimetres
 /// split it into thousands of cells, none clear).
 pub const MAX_PREFERENCE_CELLS: usize = 16;
+
+/// The anchor grid's margin for the clearance values, in clearances: twice the distance the
+/// values look at, so that the grid's superset holds every anchor with a value, whatever the
+/// rounding of a root.
+const CANDIDATE_MARGIN_CLEARANCES: f64 = 2.0;
 
 /// Points sampled on each side of a sweep's limit by the debug check of the prefix claim
 /// ([`Climb::check_sweep_prefix`]).
@@ -101,6 +114,18 @@ pub(super) struct Crossing {
     pub reachable: Vec<[Point2<f64>; 2]>,
     /// The waypoint and its via point, if some point is reachable.
     pub choice: Option<(Point2<f64>, Option<Point2<f64>>)>,
+}
+
+/// The critical values of one visibility edge ([`Climb::critical_values`]).
+struct CriticalValues {
+    /// Every critical value in `(lo, hi)`, sorted: the cells' ends.
+    all: Vec<f64>,
+    /// The verdict's own (route structure, wedge, sweep ends), sorted: between two of them the
+    /// reachability verdict of a route is constant; the others only split cells for the
+    /// waypoint preference.
+    verdict: Vec<f64>,
+    /// `(route, u, v, clear_until)` per span of one route structure.
+    sweeps: Vec<(Route, f64, f64, f64)>,
 }
 
 /// A number linear in `t`: `c0 + c1 t`.
@@ -140,23 +165,25 @@ impl Moving {
 }
 
 /// The real roots of `c[0] + c[1] t + c[2] t^2` (numerically stable form; a double root counts
-/// once, none when the polynomial is zero).
-fn roots(c: [f64; 3]) -> Vec<f64> {
+/// once, none when the polynomial is zero), without allocating (called per anchor per edge).
+fn roots(c: [f64; 3]) -> impl Iterator<Item = f64> {
     let [c0, c1, c2] = c;
+    let mut out = [f64::NAN; 2];
     if c2 == 0.0 {
-        return if c1 == 0.0 { vec![] } else { vec![-c0 / c1] };
+        if c1 != 0.0 {
+            out[0] = -c0 / c1;
+        }
+    } else {
+        let disc = c1 * c1 - 4.0 * c2 * c0;
+        if disc >= 0.0 {
+            let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
+            out[0] = q / c2;
+            if q != 0.0 {
+                out[1] = c0 / q;
+            }
+        }
     }
-    let disc = c1 * c1 - 4.0 * c2 * c0;
-    if disc < 0.0 {
-        return vec![];
-    }
-    let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
-    let mut out = vec![q / c2];
-    if q != 0.0 {
-        out.push(c0 / q);
-    }
-    out.retain(|t| t.is_finite());
-    out
+    out.into_iter().filter(|t| t.is_finite())
 }
 
 impl Climb<'_, '_> {
@@ -341,10 +368,15 @@ impl Climb<'_, '_> {
             })
             .collect();
         let (lo_all, hi_all) = (pieces[0].0, pieces[pieces.len() - 1].1);
-        let (cuts, limits) = self.critical_values(j, &q, lo_all, hi_all, step, tie);
+        let values = self.critical_values(j, &q, lo_all, hi_all, step, tie);
+        let (cuts, limits) = (&values.all, &values.sweeps);
+        // The wedge verdict of the current span between verdict values, per route: constant
+        // there (module docs), so evaluated once per span and piece with `Evaluation::Indexed`,
+        // in every cell with `Evaluation::Direct`. Cells are visited in increasing `t`.
+        let wedge_cache: Cell<(usize, usize, [Option<bool>; 2])> = Cell::new((0, 0, [None; 2]));
         // `w(t)` on `route` per the cells: the route exists, the move is in the wedge, and `t`
         // is within the clear prefix of the sweep (exact loop tests in `sweep_limit`).
-        let reaches_cell = |route: Route, t: f64| -> Option<Point2<f64>> {
+        let reaches_cell = |piece: usize, route: Route, t: f64| -> Option<Point2<f64>> {
             let clear = limits
                 .iter()
                 .any(|&(r, u, v, until)| r == route && u <= t && t <= v && t < until);
@@ -352,13 +384,28 @@ impl Climb<'_, '_> {
                 return None;
             }
             let from = self.route_start(j, &q, route, t)?;
-            in_wedge(self.ctx.terrain, &apex, &from, &(apex + dir * t)).then_some(from)
+            let evaluate = || in_wedge(self.ctx.terrain, &apex, &from, &(apex + dir * t));
+            let inside = match self.evaluation {
+                Evaluation::Direct => evaluate(),
+                Evaluation::Indexed => {
+                    let span = values.verdict.partition_point(|&v| v < t);
+                    let (p, sp, mut known) = wedge_cache.get();
+                    if (p, sp) != (piece, span) {
+                        known = [None; 2];
+                    }
+                    let slot = usize::from(route == Route::Via);
+                    let inside = *known[slot].get_or_insert_with(evaluate);
+                    wedge_cache.set((piece, span, known));
+                    inside
+                }
+            };
+            inside.then_some(from)
         };
         let mut reachable: Vec<(f64, f64)> = Vec::new();
         // Preferred: clear and roomy; then clear; then any reachable point.
         let (mut choice, mut clear, mut fallback) = (None, None, None);
         let mut preference_cells = 0;
-        for &(lo, hi) in &pieces {
+        for (piece, &(lo, hi)) in pieces.iter().enumerate() {
             let mut ends: Vec<f64> = std::iter::once(lo)
                 .chain(cuts.iter().copied().filter(|&t| lo < t && t < hi))
                 .chain(std::iter::once(hi))
@@ -379,7 +426,7 @@ impl Climb<'_, '_> {
                 let roomy = t.max(ROOMY_CLEARANCES * c);
                 let mut any = false;
                 for route in [Route::Direct, Route::Via] {
-                    let Some(from) = reaches_cell(route, t) else {
+                    let Some(from) = reaches_cell(piece, route, t) else {
                         continue;
                     };
                     any = true;
@@ -430,9 +477,8 @@ impl Climb<'_, '_> {
         }
     }
 
-    /// Every critical value of `t` in `(lo, hi)` (module docs), sorted, with the sweep limits:
-    /// `(route, u, v, clear_until)` per span of one route structure.
-    #[allow(clippy::type_complexity)]
+    /// Every critical value of `t` in `(lo, hi)` (module docs), sorted, the verdict's own among
+    /// them, and the sweep limits.
     fn critical_values(
         &self,
         j: usize,
@@ -441,7 +487,7 @@ impl Climb<'_, '_> {
         hi: f64,
         step: f64,
         tie: f64,
-    ) -> (Vec<f64>, Vec<(Route, f64, f64, f64)>) {
+    ) -> CriticalValues {
         let mut sweeps = Vec::new();
         let apex = self.points[j];
         let dir = self.direction(j);
@@ -507,11 +553,20 @@ impl Climb<'_, '_> {
             sweeps.push((Route::Via, lo, via_end, via));
             cuts.push(via);
         }
+        let tidy = |cuts: &mut Vec<f64>| {
+            cuts.retain(|t| t.is_finite() && lo < *t && *t < hi);
+            cuts.sort_by(f64::total_cmp);
+            cuts.dedup();
+        };
+        let mut verdict = cuts.clone();
+        tidy(&mut verdict);
         self.clearance_values(j, q, lo, hi, &mut cuts);
-        cuts.retain(|t| t.is_finite() && lo < *t && *t < hi);
-        cuts.sort_by(f64::total_cmp);
-        cuts.dedup();
-        (cuts, sweeps)
+        tidy(&mut cuts);
+        CriticalValues {
+            all: cuts,
+            verdict,
+            sweeps,
+        }
     }
 
     /// How far the sweep of `route` stays clear on the span `[u, v]` of one route structure,
@@ -600,7 +655,16 @@ impl Climb<'_, '_> {
 
     /// The waypoint preference's critical values (module docs): where `w(t)` enters or leaves
     /// the clearance disk of an anchor near `L_j`, and where the direct move from `q` passes
-    /// exactly `clearance` from an anchor not yet released.
+    /// exactly `clearance` from an anchor not yet released (the distance to the move's segment:
+    /// the roots of the distance to its line whose foot lies inside the segment; the distance to
+    /// its end `w(t)` is the disk's).
+    ///
+    /// Each anchor's values are a function of the anchor alone, and only anchors within the
+    /// clearance of the segment `[w_lo, w_hi]` or of the triangle `q, w_lo, w_hi` have any in
+    /// `(lo, hi)`: the anchor grid visits those (and others, which add nothing), so the values do
+    /// not depend on the grid. Around a long obstacle that is a few anchors per edge, where the
+    /// distance to the move's whole line (used before) put a value for nearly every anchor ahead
+    /// into every edge.
     fn clearance_values(&self, j: usize, q: &Point2<f64>, lo: f64, hi: f64, cuts: &mut Vec<f64>) {
         let c = self.ctx.clearance;
         if c <= 0.0 {
@@ -609,31 +673,41 @@ impl Climb<'_, '_> {
         let apex = self.points[j];
         let dir = self.direction(j);
         let (w_lo, w_hi) = (apex + dir * lo, apex + dir * hi);
-        let x_lo = q.x.min(w_lo.x).min(w_hi.x) - c;
-        let x_hi = q.x.max(w_lo.x).max(w_hi.x) + c;
-        let first = self.by_x.partition_point(|&(x, _)| x < x_lo);
-        for &(_, i) in self.by_x[first..].iter().take_while(|&&(x, _)| x <= x_hi) {
-            let a = self.points[i];
-            let rel = a - apex;
+        let margin = CANDIDATE_MARGIN_CLEARANCES * c;
+        self.index.visit_near(&[w_lo, w_hi], margin, |i| {
+            let rel = self.points[i] - apex;
             // |w(t) - a| = c.
             cuts.extend(roots([
                 rel.norm_squared() - c * c,
                 -2.0 * rel.dot(&dir),
                 1.0,
             ]));
-            if i <= j {
-                // Distance from a to the line through q and w(t) equal to c:
-                // cross(w - q, a - q)^2 = c^2 |w - q|^2, with w - q = d0 + t dir.
-                let (d0, aq) = (apex - q, a - q);
-                let m = Lin(d0.x * aq.y - d0.y * aq.x, dir.x * aq.y - dir.y * aq.x);
-                let sq = m.times(m);
-                let n = [d0.norm_squared(), 2.0 * d0.dot(&dir), dir.norm_squared()];
-                cuts.extend(roots([
+        });
+        self.index.visit_near(&[*q, w_lo, w_hi], margin, |i| {
+            if i > j {
+                return;
+            }
+            let a = self.points[i];
+            // Distance from a to the line through q and w(t) equal to c:
+            // cross(w - q, a - q)^2 = c^2 |w - q|^2, with w - q = d0 + t dir; kept where the
+            // foot of the perpendicular lies strictly inside the segment q -> w(t).
+            let (d0, aq) = (apex - q, a - q);
+            let m = Lin(d0.x * aq.y - d0.y * aq.x, dir.x * aq.y - dir.y * aq.x);
+            let sq = m.times(m);
+            let n = [d0.norm_squared(), 2.0 * d0.dot(&dir), dir.norm_squared()];
+            let inside = |t: &f64| {
+                let wq = d0 + dir * *t;
+                let foot = aq.dot(&wq);
+                0.0 < foot && foot < wq.norm_squared()
+            };
+            cuts.extend(
+                roots([
                     sq[0] - c * c * n[0],
                     sq[1] - c * c * n[1],
                     sq[2] - c * c * n[2],
-                ]));
-            }
-        }
+                ])
+                .filter(inside),
+            );
+        });
     }
 }

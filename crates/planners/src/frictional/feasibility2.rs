@@ -18,16 +18,19 @@
 //! release. It is safe iff the robot is then already held by `a_{j-1}`: the robot's tether
 //! directions from `a_{j-1}` over the release wedge (directions from `a_j` within `α_r` of `ψ_j`,
 //! on the anchor's side) run from `ψ_j` to `ψ_j` rotated by `α_r`, so it suffices and is necessary
-//! (for an unbounded wedge) that both ends lie in `a_{j-1}`'s tether limit. No sampling.
+//! (for an unbounded wedge) that both ends lie in `a_{j-1}`'s tether limit. No sampling, and no
+//! float angle compared: each end is put inside or outside the limit's wedge by the exact test
+//! Alg. 5 uses ([`admits_direction`]), on the input points and on the turned direction as
+//! computed (the turn `α_r` itself is transcendental).
 
 use super::FrictionModel;
 use super::anchor_check::{AnchorVerdict, PtfoCheck};
 use crate::feasibility::{
-    FeasibilityContext, FeasibilityReport, Passability, angle_from_fall_line,
-    check_feasibility_with,
+    FeasibilityContext, FeasibilityReport, Passability, admits_direction, check_feasibility_with,
 };
-use nalgebra::{Point2, Rotation2};
+use nalgebra::{Point2, Rotation2, Vector2};
 use rappel_homotopy::funnel::Side;
+use rappel_mechanics::anchor_traversability::TetherLimit;
 use rappel_mechanics::ptfo::PtfoClass;
 use serde::{Deserialize, Serialize};
 
@@ -69,6 +72,21 @@ impl Feasibility2Report {
     pub fn feasible(&self) -> bool {
         self.blocked.is_none()
     }
+}
+
+/// `true` when the tether limit `limit` of `a_{j-1}` holds both ends of the release wedge: the
+/// tether's direction `prev -> anchor` (`a_{j-1} -> a_j`) and that direction turned by the release
+/// turn (`rotated`, computed). Each is decided exactly, as Alg. 5 decides wedges
+/// ([`admits_direction`]: the wedge's edge directions and Shewchuk's predicates), on the input
+/// points and on the computed vector as it stands, so no float angle is compared.
+fn release_held(
+    limit: &TetherLimit,
+    prev: &Point2<f64>,
+    anchor: &Point2<f64>,
+    rotated: &Vector2<f64>,
+) -> bool {
+    admits_direction(limit, prev, anchor)
+        && admits_direction(limit, &Point2::origin(), &Point2::from(*rotated))
 }
 
 /// Alg. 10 on the result of Alg. 8 (module docs). `ctx.btm` must be the BTM the check ended on.
@@ -113,8 +131,7 @@ pub fn check_feasibility2(
         };
         let rotated = Rotation2::new(sign * release_turn.min(turn)) * u;
         let release_safe = release_turn < turn
-            && assess.previous_limit.admits(angle_from_fall_line(&u))
-            && assess.previous_limit.admits(angle_from_fall_line(&rotated));
+            && release_held(&assess.previous_limit, &prev, &d.anchor.point, &rotated);
         if !release_safe && blocked.is_none() {
             blocked = Some(format!(
                 "friction anchor {} at ({:.3}, {:.3}): it releases {:.1} deg before the \
@@ -146,5 +163,46 @@ pub fn check_feasibility2(
         waypoints,
         sweeps,
         blocked,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::feasibility::wedge_edges;
+
+    /// Directions on an edge of the wedge and one ulp either side: the verdict follows the exact
+    /// side (strictly inside the open wedge), whether the direction is given by two points or as a
+    /// computed vector. The reference: each direction differs from the edge direction `(s, -c)` only
+    /// in `x`, so it is inside exactly when its `|x|` is below `s`.
+    #[test]
+    fn the_release_wedge_is_decided_on_the_exact_side_of_its_edges() {
+        let o = Point2::origin();
+        for max_angle in [0.1_f64, 0.342_345_678, 0.5, 0.9, 1.2] {
+            let limit = TetherLimit::Cone { max_angle };
+            let [right, left] = wedge_edges(max_angle);
+            for edge in [right, left] {
+                let (s, c) = (edge.x, edge.y);
+                let inside = Vector2::new(if s > 0.0 { s.next_down() } else { s.next_up() }, c);
+                let outside = Vector2::new(if s > 0.0 { s.next_up() } else { s.next_down() }, c);
+                let held = |v: &Vector2<f64>| release_held(&limit, &o, &Point2::from(*v), v);
+                assert!(!held(&edge), "{max_angle}: on the edge");
+                assert!(held(&inside), "{max_angle}: one ulp inside");
+                assert!(!held(&outside), "{max_angle}: one ulp outside");
+                // Either end alone outside the wedge releases the robot.
+                let fall = Vector2::new(0.0, -1.0);
+                assert!(!release_held(&limit, &o, &Point2::from(fall), &outside));
+                assert!(!release_held(&limit, &o, &Point2::from(outside), &fall));
+                assert!(release_held(&limit, &o, &Point2::from(fall), &inside));
+            }
+        }
+        // A tether-free plane holds every direction.
+        let v = Vector2::new(1.0, 5.0);
+        assert!(release_held(
+            &TetherLimit::TetherFree,
+            &o,
+            &Point2::from(v),
+            &v
+        ));
     }
 }
