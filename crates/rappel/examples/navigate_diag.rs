@@ -65,8 +65,12 @@ fn main() {
     let iters: u64 = args.get(3).map_or(750, |s| s.parse().unwrap());
     let scene = PatonScene::paper(test == 3);
     let mut p = RoverProblem::paton(&scene, if test == 1 { 0 } else { 1 }).unwrap();
-    if let (Ok(c), Some(sh)) = (std::env::var("CORE"), p.space.shadow.take()) {
-        p.space.shadow = Some(sh.with_core_fraction(c.parse().unwrap()));
+    if let Ok(c) = std::env::var("CORE") {
+        p.space.shadow = p
+            .space
+            .shadow
+            .take()
+            .map(|sh| sh.with_core_fraction(c.parse().unwrap()));
     }
     let v = Logged {
         p: &p,
