@@ -262,9 +262,7 @@ mod tests {
         // point with 0.4 < |y| < 0.6 at x < -3.5; the band puts about 15 % of its draws there.
         let three = shadow(true, 1);
         let mut rng = <ChaCha8Rng as rand::SeedableRng>::seed_from_u64(11);
-        let draws: Vec<_> = (0..400)
-            .map(|_| three.sample(&mut rng).unwrap())
-            .collect();
+        let draws: Vec<_> = (0..400).map(|_| three.sample(&mut rng).unwrap()).collect();
         let core = draws
             .iter()
             .filter(|&&(x, y, _)| three.shadowed(x, y))
