@@ -53,8 +53,11 @@ pub struct Graph<S, H, const K: usize> {
     /// The states at each kd-tree location.
     locations: Vec<Vec<u32>>,
     kd: MutableKdTree<f64, K>,
-    /// The unbiased locations only (module doc).
+    /// The unbiased locations only (module doc), built at the first biased sample.
     kd_unbiased: MutableKdTree<f64, K>,
+    /// The key of every location (to build `kd_unbiased` when the first biased sample comes,
+    /// so that unbiased runs pay one vector push per sample, not a second kd-tree).
+    keys: Vec<[f64; K]>,
     /// Number of locations of biased samples (0: the second query is skipped).
     biased_locations: usize,
 }
@@ -71,6 +74,7 @@ impl<S, H, const K: usize> Default for Graph<S, H, K> {
             locations: Vec::new(),
             kd: MutableKdTree::default(),
             kd_unbiased: MutableKdTree::default(),
+            keys: Vec::new(),
             biased_locations: 0,
         }
     }
@@ -94,13 +98,21 @@ impl<S, H, const K: usize> Graph<S, H, K> {
         self.kd
             .add(&key, loc)
             .map_err(|e| IndexError(format!("{e:?}")))?;
+        let index = |kd: &mut MutableKdTree<f64, K>, key: &[f64; K], loc: u32| {
+            kd.add(key, loc).map_err(|e| IndexError(format!("{e:?}")))
+        };
         if biased {
+            if self.biased_locations == 0 {
+                // Every location so far is unbiased: index them all (once per graph).
+                for (l, k) in self.keys.iter().enumerate() {
+                    index(&mut self.kd_unbiased, k, l as u32)?;
+                }
+            }
             self.biased_locations += 1;
-        } else {
-            self.kd_unbiased
-                .add(&key, loc)
-                .map_err(|e| IndexError(format!("{e:?}")))?;
+        } else if self.biased_locations > 0 {
+            index(&mut self.kd_unbiased, &key, loc)?;
         }
+        self.keys.push(key);
         self.locations.push(Vec::new());
         self.push_node(state, history, loc, false)
     }
@@ -254,5 +266,17 @@ mod tests {
         // From x = 2.1 the unbiased nearest are also the nearest overall: no duplicates.
         let near = locs(&marked, marked.near(&[2.1, 0.0], 2));
         assert_eq!(near, vec![21, 22]);
+        // Unbiased locations added before the first biased one are indexed when it comes.
+        let mut late: Graph<(), (), 2> = Graph::default();
+        for x in [1.0, 2.0, 3.0] {
+            late.add((), None, [x, 0.0], false).unwrap();
+        }
+        for i in 0..20 {
+            late.add((), None, [0.005 * f64::from(i), 0.0], true)
+                .unwrap();
+        }
+        let near = locs(&late, late.near(&[0.05, 0.0], 3));
+        assert_eq!(&near[3..], &[0, 1, 2]);
+        assert!(near[..3].iter().all(|&l| l >= 3), "{near:?}");
     }
 }
