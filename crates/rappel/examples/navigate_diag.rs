@@ -4,7 +4,7 @@
 //!
 //! `cargo run --release -p rappel --example navigate_diag -- TEST SEED ITERATIONS`; environment:
 //! `INFL`, `COPY`, `BATCH`, `KF`, `BIAS` (shadow-sample fraction) override the settings, `EXACT` compares histories exactly,
-//! `DUMP` prints every motion.
+//! `DUMP` prints every motion, `CORE` the shadow's core fraction (`TetherShadow::with_core_fraction`).
 use rappel::navigate::{RoverProblem, RoverSpace, RoverState};
 use rappel::planners::anchor_prediction::AnchorHistory;
 use rappel::planners::sampler::{Abit, MotionValidator, Termination};
@@ -64,7 +64,14 @@ fn main() {
     let seed: u64 = args.get(2).map_or(0, |s| s.parse().unwrap());
     let iters: u64 = args.get(3).map_or(750, |s| s.parse().unwrap());
     let scene = PatonScene::paper(test == 3);
-    let p = RoverProblem::paton(&scene, if test == 1 { 0 } else { 1 }).unwrap();
+    let mut p = RoverProblem::paton(&scene, if test == 1 { 0 } else { 1 }).unwrap();
+    if let Ok(c) = std::env::var("CORE") {
+        p.space.shadow = p
+            .space
+            .shadow
+            .take()
+            .map(|sh| sh.with_core_fraction(c.parse().unwrap()));
+    }
     let v = Logged {
         p: &p,
         log: RefCell::new(Vec::new()),

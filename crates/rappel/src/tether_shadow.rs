@@ -28,19 +28,27 @@ use rappel_terrain::parry_mesh::ParryMesh;
 
 /// Uniform draws per shadow sample before the search gives up (returns `None`, and the planner
 /// samples uniformly): the bound of the sampling loop. With the pole's shadow about 2 % of
-/// Paton's sampled region (about 6 % with its copies shifted by [`SILHOUETTE_BAND`]), 256 draws miss it with
-/// probability below `0.98^256` < 1 %.
-pub const SHADOW_ATTEMPTS: usize = 256;
+/// Paton's sampled region (1.1 m² of 62 m²), 512 draws miss it with probability about
+/// `0.982^512` = 1e-4; a band draw is kept with probability about 2.5 % (the band is about 7 %
+/// of the region, and a point in it is kept for the fraction of shifts that block, about 0.35),
+/// missed by all 512 with probability below `0.975^512` = 2e-6. A draw costs two ray casts on
+/// the BVH (microseconds), against milliseconds per motion check.
+pub const SHADOW_ATTEMPTS: usize = 512;
 
-/// Sideways shift of the sight line, metres (the *silhouette band*): a ground point counts as
-/// near the shadow when the sight line to its tether end, or one of the two with the end
-/// shifted sideways (horizontally, perpendicular to it) by this much, is blocked. The support
-/// is therefore the shadow and its two copies shifted by this much either side (three strips
-/// behind a narrow pole, with gaps between them where the shadow is narrower than the shift,
-/// not a solid widening). The states beside a narrow shadow are the ones a motion into it
-/// starts from (the pole's own shadow, 0.7 m wide, is mostly too close to the pole for Axel's
-/// body); Axel's 1 m boom.
+/// Half-width of the *silhouette band*, metres: a ground point is in the band when the sight
+/// line to its tether end, shifted sideways (horizontally, perpendicular to it) by some amount
+/// in `[-SILHOUETTE_BAND, SILHOUETTE_BAND]`, is blocked: the shadow widened by this much either
+/// side, without gaps. The states beside a narrow shadow are the ones a motion into it starts
+/// from (the pole's own shadow, 0.7 m wide, is mostly too close to the pole for Axel's body);
+/// Axel's 1 m boom.
 pub const SILHOUETTE_BAND: f64 = 1.0;
+
+/// Fraction of the shadow samples drawn from the shadow itself (the *core*); the rest come
+/// from the silhouette band. A state in the core can only be reached with an extra anchor, so
+/// it is where a new anchor class starts; the band holds the states the motions into it start
+/// from and end at (`docs/sampler.md`, "Diagnosing the shadow row's failing seeds": with the
+/// core drawn only as one of three strips, a batch often held no valid state in it).
+pub const SHADOW_CORE_FRACTION: f64 = 0.5;
 
 /// How far short of the tether end the sight line stops, metres, so that the ground right under
 /// the rover (e.g. a slope rising towards the anchor) does not count as a feature: a tenth of
@@ -57,6 +65,7 @@ pub struct TetherShadow {
     z_top: f64,
     z_bottom: f64,
     end_height: f64,
+    core_fraction: f64,
 }
 
 impl std::fmt::Debug for TetherShadow {
@@ -97,7 +106,16 @@ impl TetherShadow {
             hi,
             z_top,
             z_bottom,
+            core_fraction: SHADOW_CORE_FRACTION,
         }
+    }
+
+    /// The same shadow drawing a fraction `f` (clamped to `[0, 1]`; NaN counts as 0) of its
+    /// samples from the core instead of [`SHADOW_CORE_FRACTION`] (for experiments,
+    /// `examples/navigate_diag.rs`).
+    pub fn with_core_fraction(mut self, f: f64) -> Self {
+        self.core_fraction = if f.is_nan() { 0.0 } else { f.clamp(0.0, 1.0) };
+        self
     }
 
     /// The tether end over ground point `(x, y)` (`2 r_w` above the first ground hit from
@@ -128,32 +146,46 @@ impl TetherShadow {
         self.tether_end(x, y).is_some_and(|e| self.blocked(&e))
     }
 
-    /// Whether ground point `(x, y)` is in the shadow or in one of its copies shifted by
-    /// [`SILHOUETTE_BAND`] either side of the sight line (the bias distribution's support).
-    pub fn near_shadow(&self, x: f64, y: f64) -> bool {
+    /// Whether the sight line to the tether end over `(x, y)`, shifted sideways by `shift`
+    /// metres (horizontally, perpendicular to the sight line), is blocked.
+    pub fn shifted_shadowed(&self, x: f64, y: f64, shift: f64) -> bool {
         let Some(end) = self.tether_end(x, y) else {
             return false;
         };
-        if self.blocked(&end) {
-            return true;
-        }
         let d = end - self.anchor;
         let Some(side) = Vector3::new(-d.y, d.x, 0.0).try_normalize(0.0) else {
-            return false;
+            return self.blocked(&end);
         };
-        [1.0, -1.0]
-            .iter()
-            .any(|s| self.blocked(&(end + side * (s * SILHOUETTE_BAND))))
+        self.blocked(&(end + side * shift))
     }
 
-    /// A ground point and heading `(x, y, yaw)` uniform over the shadow and its shifted copies
-    /// ([`TetherShadow::near_shadow`]) within the region, within [`SHADOW_ATTEMPTS`] draws
-    /// from `rng`; `None` if every draw was lit.
+    /// Whether ground point `(x, y)` is in the silhouette band: some sideways shift of its
+    /// sight line within `[-SILHOUETTE_BAND, SILHOUETTE_BAND]` is blocked, checked at the
+    /// shifts `j * SILHOUETTE_BAND / 8`, `j = -8..=8` (exact for shadows wider than an eighth of
+    /// the band, 0.125 m; the pole's is 0.7 m). For tests and pictures; [`TetherShadow::sample`]
+    /// draws the shift instead.
+    pub fn near_shadow(&self, x: f64, y: f64) -> bool {
+        (-8..=8).any(|j| self.shifted_shadowed(x, y, SILHOUETTE_BAND * f64::from(j) / 8.0))
+    }
+
+    /// A ground point and heading `(x, y, yaw)`: with probability [`SHADOW_CORE_FRACTION`]
+    /// (or the fraction set by [`TetherShadow::with_core_fraction`])
+    /// uniform over the shadow, else from the silhouette band (a point and a sideways shift in
+    /// `[-SILHOUETTE_BAND, SILHOUETTE_BAND]` drawn uniformly, kept when the shifted sight line
+    /// is blocked: a density proportional to the measure of blocking shifts, a solid band with
+    /// no gaps), within [`SHADOW_ATTEMPTS`] draws from `rng`; `None` if every draw was lit.
     pub fn sample(&self, rng: &mut ChaCha8Rng) -> Option<(f64, f64, f64)> {
+        let core = rng.random::<f64>() < self.core_fraction;
         for _ in 0..SHADOW_ATTEMPTS {
             let x = rng.random_range(self.lo[0]..self.hi[0]);
             let y = rng.random_range(self.lo[1]..self.hi[1]);
-            if self.near_shadow(x, y) {
+            let hit = if core {
+                self.shadowed(x, y)
+            } else {
+                let shift = rng.random_range(-SILHOUETTE_BAND..=SILHOUETTE_BAND);
+                self.shifted_shadowed(x, y, shift)
+            };
+            if hit {
                 let yaw = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
                 return Some((x, y, yaw));
             }
@@ -180,18 +212,18 @@ mod tests {
     fn the_pole_casts_its_shadow_and_the_lip_hides_the_slope() {
         // Test 3: root (7.2, 0, 6), pole axis (-2.5, 0), radius 0.3 (a 32-gon, inscribed
         // 0.2986), 10 m tall. By similar triangles the shadow at x = -4 reaches
-        // |y| < 0.3 (7.2 + 4) / (7.2 + 2.5) = 0.346; the copies shifted by 1 m cover
-        // 0.654 < |y| < 1.346, and 0.346 < |y| < 0.654 is a gap.
+        // |y| < 0.3 (7.2 + 4) / (7.2 + 2.5) = 0.346; the band (shifts up to 1 m) covers
+        // |y| < 1.346 without gaps.
         let s = shadow(true, 1);
         let end = s.tether_end(-4.0, 0.0).unwrap();
         let r_w = AxelParams::default().wheel_radius;
         assert!((end.z - (4.0 + 2.0 * r_w)).abs() < 1e-9, "{end:?}");
         assert!(s.shadowed(-4.0, 0.0) && s.shadowed(-4.0, 0.25) && s.shadowed(-4.0, -0.25));
         assert!(!s.shadowed(-4.0, 0.45) && !s.shadowed(-4.0, 1.0));
-        for y in [0.0, 1.0, -1.0, 0.7, -1.3] {
+        for y in [0.0, 1.0, -1.0, 0.7, -1.3, 0.5, -0.5] {
             assert!(s.near_shadow(-4.0, y), "{y}");
         }
-        for y in [0.5, -0.5, 1.6, -2.5] {
+        for y in [1.45, -1.45, 1.6, -2.5] {
             assert!(!s.near_shadow(-4.0, y), "{y}");
         }
         // In front of the pole the ledge top, the slope and the ground are all in sight.
@@ -220,5 +252,36 @@ mod tests {
         let a = draw(5);
         assert_eq!(a, draw(5));
         assert!(a.iter().all(|&(x, y, _)| three.near_shadow(x, y)));
+    }
+
+    #[test]
+    fn half_the_samples_come_from_the_core_and_the_band_has_no_gaps() {
+        // 400 draws on test 3. Expected share in the pole's shadow: the core half plus the band
+        // draws that land in it (shadow 0.7 m of the band's 2.7 m width at x = -4, about a
+        // quarter): about 0.63. The former support (shadow and two 1 m shifted copies) had no
+        // point with 0.4 < |y| < 0.6 at x < -3.5; the band puts about 15 % of its draws there.
+        let three = shadow(true, 1);
+        let mut rng = <ChaCha8Rng as rand::SeedableRng>::seed_from_u64(11);
+        let draws: Vec<_> = (0..400).map(|_| three.sample(&mut rng).unwrap()).collect();
+        let core = draws
+            .iter()
+            .filter(|&&(x, y, _)| three.shadowed(x, y))
+            .count();
+        let gap = draws
+            .iter()
+            .filter(|&&(x, y, _)| x < -3.5 && y.abs() > 0.4 && y.abs() < 0.6)
+            .count();
+        assert!((200..=310).contains(&core), "{core}");
+        assert!(gap >= 12, "{gap}");
+        // Nothing in front of the pole: a point with x > -2.2 sees the root past the pole even
+        // with its sight line shifted 1 m sideways (the band reaches beside the pole).
+        let front = draws.iter().find(|&&(x, _, _)| x > -2.2);
+        assert!(front.is_none(), "{front:?}");
+        // Core only: every draw in the shadow (a miss of all 512 draws has probability 1e-4).
+        let only = shadow(true, 1).with_core_fraction(1.0);
+        assert!((0..50).all(|_| {
+            let (x, y, _) = only.sample(&mut rng).unwrap();
+            only.shadowed(x, y)
+        }));
     }
 }

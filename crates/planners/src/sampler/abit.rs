@@ -191,9 +191,9 @@ where
         }
         let mut graph = Graph::default();
         let h0 = validator.initial_history(&start);
-        let s = graph.add(start.clone(), Some(h0), space.key(&start))?;
+        let s = graph.add(start.clone(), Some(h0), space.key(&start), false)?;
         graph.nodes[s as usize].g = 0.0;
-        let gid = graph.add(goal.clone(), None, space.key(&goal))?;
+        let gid = graph.add(goal.clone(), None, space.key(&goal), false)?;
         graph.set_goal(gid);
         let mut me = Self {
             space,
@@ -543,13 +543,13 @@ where
             // No draw at fraction 0, so uniform runs keep their random stream.
             let biased = self.settings.biased_sample_fraction > 0.0
                 && self.rng.random::<f64>() < self.settings.biased_sample_fraction;
-            let s = match biased.then(|| self.sample_biased(&start_state)).flatten() {
+            let (s, from_bias) = match biased.then(|| self.sample_biased(&start_state)).flatten() {
                 Some(s) => {
                     self.biased_samples += 1;
-                    s
+                    (s, true)
                 }
                 None => match self.sample(&start_state) {
-                    Some(s) => s,
+                    Some(s) => (s, false),
                     None => continue,
                 },
             };
@@ -559,7 +559,7 @@ where
             } else {
                 None
             };
-            self.graph.add(s, history, key)?;
+            self.graph.add(s, history, key, from_bias)?;
         }
         Ok(())
     }
