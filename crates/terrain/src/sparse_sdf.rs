@@ -63,6 +63,29 @@ const BLOCK_POINTS: usize = BLOCK * BLOCK * BLOCK;
 /// bound at 10 cm and a margin. [`SparseSdfParams::new`] takes at least `3 h`.
 pub const DEFAULT_TRUNCATION: f64 = 0.4;
 
+/// Default propagation distance `D`, metres ([`SparseSdfParams::max_distance`]): values beyond the
+/// exact band are carried out to `D` by the wavefront, `±D` beyond. One metre covers Axel's boom
+/// reach (`L_c` = 1 m) and keeps the ledge scene at 5 cm near 30 M grid points (about 120 MB of
+/// `f32` values); larger `D` costs memory and build time in proportion to the volume within `D`
+/// of the surface.
+pub const DEFAULT_MAX_DISTANCE: f64 = 1.0;
+
+/// **Empirical** bound on the excess of a propagated grid value over the exact distance, in grid
+/// spacings: every propagated value is the exact distance to a real surface point (so never below
+/// the exact distance), and the property tests (`crates/terrain/tests/sparse_sdf.rs`, Paton's
+/// ledge scenes and closed forms) find it at most this many `h` above it. Not proven (the
+/// wavefront hands each voxel the best site of the neighbour that reached it first, like
+/// Danielsson's vector propagation, whose known errors are a fraction of a voxel).
+pub const PROPAGATION_EXCESS_VOXELS: f64 = 0.25;
+
+/// A site replaces a point's site only when it is closer by more than this many grid spacings
+/// (near-equal sites of one surface patch would otherwise relax points many times over).
+pub const RELAX_SLACK_VOXELS: f64 = 0.01;
+
+/// Cap on wavefront relaxations per propagated grid point (each strictly lowers the point's
+/// value or gives it its first one); over it is [`SdfError::PropagationBudget`].
+pub const MAX_RELAXATIONS_PER_POINT: usize = 16;
+
 /// Default cap on allocated blocks (2 KiB each: 512 MiB at the cap).
 pub const DEFAULT_MAX_BLOCKS: usize = 262_144;
 
@@ -86,8 +109,13 @@ const UNKNOWN: u32 = u32::MAX - 2;
 pub struct SparseSdfParams {
     /// Grid spacing `h`, metres (`> 0`, finite).
     pub resolution: f64,
-    /// Truncation distance `T`, metres (`>= 2 h`: the sign flood needs `T > sqrt 3 h`).
+    /// Truncation distance `T`, metres (`>= 2 h`: the sign flood needs `T > sqrt 3 h`): the exact
+    /// band.
     pub truncation: f64,
+    /// Propagation distance `D >= T`, metres: beyond the exact band the closest surface points
+    /// are carried outward by a wavefront up to `D`; values beyond are `±D`. `D = T`: no
+    /// propagation (a truncated field).
+    pub max_distance: f64,
     /// Margin added around the mesh's bounding box, metres (`>= 0`).
     pub margin: f64,
     /// Cap on allocated blocks.
@@ -97,12 +125,23 @@ pub struct SparseSdfParams {
 }
 
 impl SparseSdfParams {
-    /// Resolution `h`, truncation `max(DEFAULT_TRUNCATION, 3 h)`, margin `T`, the default caps.
+    /// Resolution `h`, truncation `T = max(DEFAULT_TRUNCATION, 3 h)`, propagation to
+    /// `D = max(DEFAULT_MAX_DISTANCE, T)`, margin `D`, the default caps.
     pub fn new(resolution: f64) -> Self {
+        let mut p = Self::truncated(resolution);
+        p.max_distance = DEFAULT_MAX_DISTANCE.max(p.truncation);
+        p.margin = p.max_distance;
+        p
+    }
+
+    /// As [`SparseSdfParams::new`] without propagation: `D = T`, margin `T` (values beyond the
+    /// exact band are `±T`, a truncated field).
+    pub fn truncated(resolution: f64) -> Self {
         let truncation = DEFAULT_TRUNCATION.max(3.0 * resolution);
         SparseSdfParams {
             resolution,
             truncation,
+            max_distance: truncation,
             margin: truncation,
             max_blocks: DEFAULT_MAX_BLOCKS,
             max_block_cells: DEFAULT_MAX_BLOCK_CELLS,
@@ -116,6 +155,7 @@ pub struct SparseSdf {
     origin: Point3<f64>,
     h: f64,
     truncation: f64,
+    max_distance: f64,
     dims: [usize; 3],
     cells: [usize; 3],
     /// Per block cell: the allocated block's index, or [`AIR`] / [`GROUND`].
@@ -162,6 +202,14 @@ impl SparseSdf {
                 "truncation",
                 t_max,
                 "must be finite and at least 2 resolutions",
+            ));
+        }
+        let d_max = p.max_distance;
+        if !(d_max.is_finite() && d_max >= t_max) {
+            return Err(bad(
+                "max_distance",
+                d_max,
+                "must be finite and at least the truncation",
             ));
         }
         if !(p.margin >= 0.0 && p.margin.is_finite()) {
@@ -289,10 +337,13 @@ impl SparseSdf {
         // slack covers the rounding of the unit normal (relative to the scene's size).
         let plane_slack = 1e-9 * (ext.norm() + t_max);
         let mut values = vec![0f32; nb * BLOCK_POINTS];
+        // The closest triangle of every exact point (the wavefront's sites).
+        let mut best_tri = vec![u32::MAX; nb * BLOCK_POINTS];
         values
             .par_chunks_mut(BLOCK_POINTS)
+            .zip(best_tri.par_chunks_mut(BLOCK_POINTS))
             .enumerate()
-            .for_each(|(k, out)| {
+            .for_each(|(k, (out, tri_out))| {
                 let cc = split(block_cells[k]);
                 // Each candidate with a point and the unit normal of its plane: the distance to
                 // the plane is a lower bound on the distance to the triangle, so a candidate
@@ -304,11 +355,12 @@ impl SparseSdf {
                         (t, mesh.corners(t)[0], mesh.face_normal(t))
                     })
                     .collect();
-                for (l, slot) in out.iter_mut().enumerate() {
+                for (l, (slot, tri_slot)) in out.iter_mut().zip(tri_out.iter_mut()).enumerate() {
                     let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
                     let q = origin
                         + Vector3::from([0, 1, 2].map(|a| (cc[a] * BLOCK + g[a]) as f64)).scale(h);
                     let mut best = f64::INFINITY;
+                    let mut best_t = u32::MAX;
                     for &(t, a, n) in &cand {
                         if (q - a).dot(&n).abs() > best.abs().min(t_max) + plane_slack {
                             continue;
@@ -316,21 +368,38 @@ impl SparseSdf {
                         let d = mesh.closest_on_triangle(t, &q).signed_distance;
                         if d.abs() < best.abs() {
                             best = d;
+                            best_t = t as u32;
                         }
                     }
-                    *slot = if best.abs() <= t_max {
-                        best as f32
+                    if best.abs() <= t_max {
+                        *slot = best as f32;
+                        *tri_slot = best_t;
                     } else {
-                        f32::NAN
-                    };
+                        *slot = f32::NAN;
+                    }
                 }
             });
 
         drop(pairs);
+        // 2a. The wavefront beyond the exact band, out to D.
+        if d_max > t_max {
+            let grid = Grid { origin, h, cells };
+            propagate(
+                mesh,
+                &grid,
+                &mut index,
+                &mut block_cells,
+                &mut values,
+                &best_tri,
+                d_max,
+                p.max_blocks,
+            )?;
+        }
+        drop(best_tri);
         // 2b. The sign flood inside each block (in parallel): an exact point's sign carried to
         // its 6-neighbours beyond T. A block without an exact point lies wholly beyond T, on one
         // side of the surface: it is released and becomes one unallocated node of step 3.
-        let tf = t_max as f32;
+        let tf = d_max as f32;
         let exact: Vec<bool> = values
             .par_chunks_mut(BLOCK_POINTS)
             .map(|v| local_flood(v, tf))
@@ -498,7 +567,8 @@ impl SparseSdf {
         Ok(SparseSdf {
             origin,
             h,
-            truncation: tf as f64,
+            truncation: t_max as f32 as f64,
+            max_distance: tf as f64,
             dims,
             cells,
             index,
@@ -517,15 +587,33 @@ impl SparseSdf {
         self.truncation
     }
 
+    /// Propagation distance `D` (the parameter rounded to `f32`), metres: values are clamped to
+    /// `[-D, D]`; equal to [`SparseSdf::truncation`] for a truncated field.
+    pub fn max_distance(&self) -> f64 {
+        self.max_distance
+    }
+
+    /// The **empirical** bound on how far a propagated grid value (between `T` and `D` in
+    /// magnitude) lies above the exact distance: [`PROPAGATION_EXCESS_VOXELS`] `h`; zero for a
+    /// truncated field (module doc).
+    pub fn excess_bound(&self) -> f64 {
+        if self.max_distance > self.truncation {
+            PROPAGATION_EXCESS_VOXELS * self.h
+        } else {
+            0.0
+        }
+    }
+
     /// Allocated blocks.
     pub fn block_count(&self) -> usize {
         self.values.len() / BLOCK_POINTS
     }
 
-    /// The proven bound on `|f(q) - clamp(d(q), -T, T)|` anywhere in the box (module doc):
-    /// `(sqrt 3 / 2) h + T 2^-24`.
+    /// The bound on `|f(q) - clamp(d(q), -D, D)|` anywhere in the box (module doc):
+    /// `(sqrt 3 / 2) h + D 2^-24` plus [`SparseSdf::excess_bound`] (zero without propagation,
+    /// where the bound is proven; with it, the excess term is empirical).
     pub fn error_bound(&self) -> f64 {
-        INTERPOLATION_BOUND * self.h + self.truncation * F32_ROUNDING
+        INTERPOLATION_BOUND * self.h + self.max_distance * F32_ROUNDING + self.excess_bound()
     }
 
     /// The grid's box `(min, max)`.
@@ -537,8 +625,8 @@ impl SparseSdf {
     fn value(&self, i: usize, j: usize, k: usize) -> f64 {
         let c = (k / BLOCK * self.cells[1] + j / BLOCK) * self.cells[0] + i / BLOCK;
         match self.index[c] {
-            AIR => self.truncation,
-            GROUND => -self.truncation,
+            AIR => self.max_distance,
+            GROUND => -self.max_distance,
             b => {
                 let l = ((k % BLOCK) * BLOCK + j % BLOCK) * BLOCK + i % BLOCK;
                 self.values[b as usize * BLOCK_POINTS + l] as f64
@@ -560,6 +648,212 @@ impl SparseSdf {
         })
     }
 }
+
+/// The block grid's geometry, for the wavefront.
+struct Grid {
+    origin: Point3<f64>,
+    h: f64,
+    cells: [usize; 3],
+}
+
+impl Grid {
+    fn split(&self, c: usize) -> [usize; 3] {
+        let n = self.cells;
+        [c % n[0], (c / n[0]) % n[1], c / (n[0] * n[1])]
+    }
+    fn cell_id(&self, c: [usize; 3]) -> usize {
+        (c[2] * self.cells[1] + c[1]) * self.cells[0] + c[0]
+    }
+    /// The grid coordinates of point `l` of the block in cell `c`.
+    fn point(&self, c: usize, l: usize) -> Point3<f64> {
+        let cc = self.split(c);
+        let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
+        self.origin + Vector3::from([0, 1, 2].map(|a| (cc[a] * BLOCK + g[a]) as f64)).scale(self.h)
+    }
+    /// The 6-neighbours of grid point `v` (`block * 512 + local`) in allocated blocks.
+    fn neighbours(&self, index: &[u32], block_cells: &[usize], v: usize, mut f: impl FnMut(usize)) {
+        let (b, l) = (v / BLOCK_POINTS, v % BLOCK_POINTS);
+        let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
+        let step = [1, BLOCK, BLOCK * BLOCK];
+        for axis in 0..3 {
+            for up in [false, true] {
+                if (up && g[axis] + 1 < BLOCK) || (!up && g[axis] > 0) {
+                    f(if up { v + step[axis] } else { v - step[axis] });
+                    continue;
+                }
+                let mut cc = self.split(block_cells[b]);
+                if up {
+                    if cc[axis] + 1 >= self.cells[axis] {
+                        continue;
+                    }
+                    cc[axis] += 1;
+                } else {
+                    if cc[axis] == 0 {
+                        continue;
+                    }
+                    cc[axis] -= 1;
+                }
+                let nb = index[self.cell_id(cc)];
+                if nb < UNKNOWN {
+                    let face = if up { 0 } else { BLOCK - 1 };
+                    f(nb as usize * BLOCK_POINTS + l - g[axis] * step[axis] + face * step[axis]);
+                }
+            }
+        }
+    }
+}
+
+/// Site marker of an exact point (its value stays).
+const EXACT_SITE: u32 = u32::MAX;
+/// Site marker of a point no site has reached yet.
+const NO_SITE: u32 = u32::MAX - 1;
+
+/// Step 2a (module doc): allocates the blocks within `D` of the band's blocks and carries the
+/// closest surface points outward. Each point beyond `T` takes the exact distance to the site
+/// (closest point of an exact boundary point) of the neighbour that reached it with the smallest
+/// distance, its sign from that neighbour; a bucketed queue processes points in increasing
+/// distance (buckets `h / 4` wide, Voxblox's bucketed priority queue). Points that no site
+/// reaches within `D` stay NaN (the sign floods set them to `±D`).
+#[allow(clippy::too_many_arguments)]
+fn propagate(
+    mesh: &TriMesh,
+    grid: &Grid,
+    index: &mut [u32],
+    block_cells: &mut Vec<usize>,
+    values: &mut Vec<f32>,
+    best_tri: &[u32],
+    d_max: f64,
+    max_blocks: usize,
+) -> Result<(), SdfError> {
+    let h = grid.h;
+    // Blocks: every cell within R blocks (Chebyshev) of a band block, R = floor(D / 8h) + 1, so
+    // that every grid point within D of the surface lies in an allocated block (a surface point
+    // lies in a band block's cell; a point R + 1 cells away is more than 8 R h > D from it).
+    let r = (d_max / (BLOCK as f64 * h)).floor() as usize + 1;
+    let n = grid.cells;
+    let mut mark: Vec<bool> = index.iter().map(|&b| b < UNKNOWN).collect();
+    for axis in 0..3 {
+        let stride = [1, n[0], n[0] * n[1]][axis];
+        let src = mark.clone();
+        mark.par_iter_mut().enumerate().for_each(|(c, m)| {
+            if *m {
+                return;
+            }
+            let pos = (c / stride) % n[axis];
+            let lo = pos.saturating_sub(r);
+            let hi = (pos + r).min(n[axis] - 1);
+            *m = (lo..=hi).any(|q| src[c - pos * stride + q * stride]);
+        });
+    }
+    let new_cells: Vec<usize> = (0..mark.len())
+        .filter(|&c| mark[c] && index[c] >= UNKNOWN)
+        .collect();
+    drop(mark);
+    let nb = block_cells.len() + new_cells.len();
+    // Queue entries are grid point indices below `SEED_FLAG`.
+    if nb > max_blocks || nb * BLOCK_POINTS >= SEED_FLAG as usize {
+        return Err(SdfError::TooManyBlocks {
+            blocks: nb,
+            cap: max_blocks,
+        });
+    }
+    for c in new_cells {
+        index[c] = block_cells.len() as u32;
+        block_cells.push(c);
+    }
+    values.resize(nb * BLOCK_POINTS, f32::NAN);
+    let mut site = vec![NO_SITE; nb * BLOCK_POINTS];
+    // Seeds: exact points with a NaN neighbour, their closest point the site.
+    let exact_blocks = best_tri.len() / BLOCK_POINTS;
+    let seeds: Vec<(usize, Point3<f32>)> = (0..exact_blocks)
+        .into_par_iter()
+        .flat_map_iter(|b| {
+            let mut out = Vec::new();
+            for l in 0..BLOCK_POINTS {
+                let v = b * BLOCK_POINTS + l;
+                if values[v].is_nan() {
+                    continue;
+                }
+                let mut open = false;
+                grid.neighbours(index, block_cells, v, |u| open |= values[u].is_nan());
+                if open {
+                    let q = grid.point(block_cells[b], l);
+                    let cp = mesh.closest_on_triangle(best_tri[v] as usize, &q).point;
+                    out.push((v, cp.cast::<f32>()));
+                }
+            }
+            out.into_iter()
+        })
+        .collect();
+    for (v, s) in site.iter_mut().zip(values.iter()) {
+        if !s.is_nan() {
+            *v = EXACT_SITE;
+        }
+    }
+    let width = 0.25 * h;
+    let n_buckets = (d_max / width).ceil() as usize + 2;
+    let bucket = |d: f64| ((d / width) as usize).min(n_buckets - 1);
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); n_buckets];
+    let sites: Vec<Point3<f32>> = seeds.iter().map(|s| s.1).collect();
+    for (k, &(v, _)) in seeds.iter().enumerate() {
+        // A seed pushes its own site (index k) to its neighbours.
+        buckets[bucket(values[v].abs() as f64)].push(k as u32 | SEED_FLAG);
+    }
+    let seed_points: Vec<u32> = seeds.iter().map(|s| s.0 as u32).collect();
+    drop(seeds);
+    let budget = MAX_RELAXATIONS_PER_POINT.saturating_mul(values.len());
+    // A new site must improve a point by more than this (so near-ties do not churn).
+    let slack = RELAX_SLACK_VOXELS * h;
+    let mut relaxations = 0usize;
+    let mut cur = 0;
+    while cur < n_buckets {
+        let Some(e) = buckets[cur].pop() else {
+            cur += 1;
+            continue;
+        };
+        let (v, s) = if e & SEED_FLAG != 0 {
+            let k = e & !SEED_FLAG;
+            (seed_points[k as usize] as usize, k)
+        } else {
+            (e as usize, site[e as usize])
+        };
+        let sp = sites[s as usize].cast::<f64>();
+        let air = values[v] >= 0.0;
+        let mut next: [usize; 6] = [0; 6];
+        let mut count = 0;
+        grid.neighbours(index, block_cells, v, |u| {
+            next[count] = u;
+            count += 1;
+        });
+        for &u in &next[..count] {
+            if site[u] == EXACT_SITE {
+                continue;
+            }
+            let q = grid.point(block_cells[u / BLOCK_POINTS], u % BLOCK_POINTS);
+            let d = (q - sp).norm();
+            if d > d_max || (site[u] != NO_SITE && d >= values[u].abs() as f64 - slack) {
+                continue;
+            }
+            relaxations += 1;
+            if relaxations > budget {
+                return Err(SdfError::PropagationBudget {
+                    relaxations,
+                    points: values.len(),
+                });
+            }
+            values[u] = if air { d as f32 } else { -(d as f32) };
+            site[u] = s;
+            buckets[bucket(d).max(cur)].push(u as u32);
+        }
+    }
+    if std::env::var_os("RAPPEL_SDF_PROBE").is_some() {
+        eprintln!("relaxations {relaxations} points {}", values.len());
+    }
+    Ok(())
+}
+
+/// Marks a queue entry as a seed (its value is the seed's index, not a grid point's).
+const SEED_FLAG: u32 = 1 << 31;
 
 /// Step 2b for one block's values: every NaN point 6-connected inside the block to an exact
 /// point takes that point's sign as `±tf`. `false` when the block has no exact point.
