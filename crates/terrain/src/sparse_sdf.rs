@@ -1,9 +1,11 @@
-//! Sparse, truncated Euclidean signed distance field of a [`TriMesh`] (Paton §IV; after Voxblox,
-//! Oleynikova et al. 2017, whose ESDF also stops at a `max_distance` and answers a default
-//! beyond it): voxel blocks of [`BLOCK`]³ grid points allocated only near the surface, exact
-//! signed distances in them up to the truncation distance `T`, `±T` beyond (the sign carried by
-//! a flood fill), trilinear distance and gradient queries with the same formulas as the dense
-//! [`crate::sdf::Sdf`].
+//! Sparse Euclidean signed distance field of a [`TriMesh`] (Paton §IV; after Voxblox,
+//! Oleynikova et al. 2017: a TSDF band of exact distances, then an ESDF wavefront beyond it up to
+//! a `max_distance`, a default value beyond that): voxel blocks of [`BLOCK`]³ grid points
+//! allocated only near the surface, exact signed distances in them up to the truncation distance
+//! `T`, propagated distances from `T` to the propagation distance `D`, `±D` beyond (the sign
+//! carried by a flood fill), trilinear distance and gradient queries with the same formulas as
+//! the dense [`crate::sdf::Sdf`]. [`SparseSdfParams::truncated`] builds the field without
+//! propagation (`D = T`).
 //!
 //! # Construction
 //! 1. **Blocks**: block `b` (grid points `8 b .. 8 b + 7` on each axis) is allocated when some
@@ -15,27 +17,48 @@
 //!    A point within `T` of the mesh has its closest triangle among the candidates (it is within
 //!    `r_b` of the centre), so every value `<= T` is exact; a larger value only proves `|d| > T`,
 //!    and its pseudo-normal sign (from a triangle that need not be the closest) is not trusted.
-//! 3. **Sign beyond the band**: first inside each block in parallel (a point beyond `T` takes
-//!    the sign of a 6-neighbour in its block; a block with no exact point lies wholly beyond `T`
-//!    and is released), then across blocks: the points with `|d| > T` and the unallocated blocks (every point
-//!    of which is farther than `T` from the mesh) take the sign of a neighbour by a breadth-first
-//!    flood from the exact points (6-neighbours; an unallocated block is one node, adjacent to
-//!    the facing points of an allocated neighbour). Two adjacent nodes with `|d| > T >= 2 h`
-//!    everywhere between them lie on one side of the surface, so the flood is exact for a closed
-//!    mesh and on the air side of a terrain patch; every node is reached because the grid is
-//!    connected and holds exact points. They store `±T`.
+//!    2a. **Propagation** (when `D > T`; Voxblox's `esdf_integrator` wavefront, here carrying
+//!    sites as in Danielsson's vector propagation): the exact points next to a point beyond `T`
+//!    are the seeds, each with its closest surface point as its *site*. A bucketed priority
+//!    queue (buckets `h / 4` wide) processes points in increasing distance; a processed point
+//!    offers its site to its 6-neighbours beyond `T`, which take it when it is closer than their
+//!    own by more than [`RELAX_SLACK_VOXELS`] `h`, with the exact distance to that site and the
+//!    processed point's sign. Blocks are allocated on demand where a point within `D` is reached
+//!    (same block cap). Sign: two 6-adjacent points one of which is beyond `T >= 2 h` lie on one
+//!    side of the surface, so the carried sign is exact. Single-threaded (the queue is
+//!    sequential); at most [`MAX_RELAXATIONS_PER_POINT`] relaxations per grid point.
+//! 3. **Sign beyond the reach**: first inside each block in parallel (a point still unknown
+//!    takes the sign of a 6-neighbour in its block; a block with no known point lies wholly
+//!    beyond the reach and is released), then across blocks: the remaining points and the
+//!    unallocated blocks (every point of which is farther than `T`, with propagation farther
+//!    than `D`, from the mesh) take the sign of a neighbour by a breadth-first flood from the
+//!    known points (6-neighbours; an unallocated block is one node, adjacent to the facing points
+//!    of an allocated neighbour). Two adjacent nodes with `|d| > T >= 2 h` everywhere between
+//!    them lie on one side of the surface, so the flood is exact for a closed mesh and on the air
+//!    side of a terrain patch; every node is reached because the grid is connected and holds
+//!    exact points. They store `±D`.
 //!
 //! # Error bound
-//! Every stored value is `clamp(d, -T, T)` at its grid point, `d` the mesh's exact signed
-//! distance, up to `f32` rounding (`T * 2^-24`). `clamp ∘ d` is 1-Lipschitz, so the trilinear
-//! interpolant `f` satisfies, at every query point in the grid's box,
-//! `|f(q) - clamp(d(q), -T, T)| <= (sqrt 3 / 2) h + T 2^-24` ([`SparseSdf::error_bound`]); hence
-//! where `|f(q)| < T - bound` the field is within the bound of the exact distance, and where it
-//! reads `±T` the exact distance is at least `T - 2 bound` in magnitude, with that sign. Callers
-//! that need distances farther than that (sphere tracing) step by at most `T` and take more steps.
-//! Callers in this workspace need near-surface values only: anchor prediction's contact depth is
-//! one voxel, Axel's body clearance 0.25 m, settling's drop starts 0.5 m above the ground and
-//! sphere-traces; [`DEFAULT_TRUNCATION`] covers the body clearance plus the bound.
+//! **Truncated** (`D = T`): every stored value is `clamp(d, -T, T)` at its grid point, `d` the
+//! mesh's exact signed distance, up to `f32` rounding (`T * 2^-24`). `clamp ∘ d` is
+//! 1-Lipschitz, so the trilinear interpolant `f` satisfies, at every query point in the grid's
+//! box, `|f(q) - clamp(d(q), -T, T)| <= (sqrt 3 / 2) h + T 2^-24` ([`SparseSdf::error_bound`],
+//! proven); hence where `|f(q)| < T - bound` the field is within the bound of the exact
+//! distance, and where it reads `±T` the exact distance is at least `T - 2 bound` in magnitude,
+//! with that sign.
+//!
+//! **Propagated** (`D > T`): values `<= T` are exact as above. A propagated value is the exact
+//! distance from its grid point to a real surface point (its site, stored in `f32`), so it is
+//! **never below** the exact distance (up to the site's `f32` rounding, a few micrometres on
+//! scenes of tens of metres) and never above `D`; its sign is exact. How far above is **not
+//! proven**: [`PROPAGATION_EXCESS_VOXELS`] `h` = 0.25 h is the empirical bound the property tests
+//! assert (`crates/terrain/tests/sparse_sdf.rs`: seeded grid points in the band and out to `D`
+//! on Paton's ledge and pole scenes against parry's exact distance, a closed box and a tilted
+//! plane; the largest excess measured was 0.11 h at 10 cm and 0.07 h at 5 cm). So every grid
+//! value lies in `[clamp(|d|, 0, D), clamp(|d|, 0, D) + 0.25 h]` in magnitude, and queries
+//! satisfy `|f(q) - clamp(d(q), -D, D)| <= (sqrt 3 / 2) h + D 2^-24 + 0.25 h`
+//! ([`SparseSdf::error_bound`], its last term empirical, [`SparseSdf::excess_bound`]).
+//! Sphere tracing may step by the field's value minus the bound.
 //!
 //! As for the dense field, beyond an open mesh's boundary the signed distance itself jumps (a
 //! convention, `docs/mesh.md`) and the flood may carry either side's sign there: crop queries to
@@ -43,8 +66,11 @@
 //!
 //! # Bounds
 //! The block index is dense over the grid's box (4 bytes per block cell, at most
-//! `max_block_cells`); allocated blocks (2 KiB each) at most `max_blocks`; candidate pairs at
-//! most [`MAX_CANDIDATES_PER_BLOCK`] per allowed block. Each is a typed [`SdfError`].
+//! `max_block_cells`); allocated blocks (2 KiB each, the band's and the wavefront's together) at
+//! most `max_blocks`; candidate pairs at most [`MAX_CANDIDATES_PER_BLOCK`] per allowed block;
+//! wavefront relaxations at most [`MAX_RELAXATIONS_PER_POINT`] per grid point. Each is a typed
+//! [`SdfError`]. Build memory with propagation: 4 bytes of value, 4 of site index and 4 of
+//! closest-triangle index per grid point, plus 12 bytes per seed.
 
 use std::collections::VecDeque;
 
@@ -656,6 +682,18 @@ struct Grid {
     cells: [usize; 3],
 }
 
+/// A grid point's 6-neighbour across one face.
+enum Neighbour {
+    /// A point of an allocated block (`block * 512 + local`).
+    Point(usize),
+    /// The neighbour lies in the unallocated block cell `cell` at local position `local`.
+    Unallocated { cell: usize, local: usize },
+    /// Outside the grid's box.
+    Outside,
+}
+
+const STEP: [usize; 3] = [1, BLOCK, BLOCK * BLOCK];
+
 impl Grid {
     fn split(&self, c: usize) -> [usize; 3] {
         let n = self.cells;
@@ -664,41 +702,48 @@ impl Grid {
     fn cell_id(&self, c: [usize; 3]) -> usize {
         (c[2] * self.cells[1] + c[1]) * self.cells[0] + c[0]
     }
-    /// The grid coordinates of point `l` of the block in cell `c`.
-    fn point(&self, c: usize, l: usize) -> Point3<f64> {
-        let cc = self.split(c);
+    /// The world position of point `l` of the block at block coordinates `cc`.
+    fn point(&self, cc: [u32; 3], l: usize) -> Point3<f64> {
+        let cc = cc.map(|c| c as usize);
         let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
         self.origin + Vector3::from([0, 1, 2].map(|a| (cc[a] * BLOCK + g[a]) as f64)).scale(self.h)
     }
-    /// The 6-neighbours of grid point `v` (`block * 512 + local`) in allocated blocks.
-    fn neighbours(&self, index: &[u32], block_cells: &[usize], v: usize, mut f: impl FnMut(usize)) {
+    /// The neighbour of grid point `v` (`block * 512 + local`) one step along `axis` (`up`: in
+    /// the positive direction).
+    fn neighbour(
+        &self,
+        index: &[u32],
+        coords: &[[u32; 3]],
+        v: usize,
+        axis: usize,
+        up: bool,
+    ) -> Neighbour {
         let (b, l) = (v / BLOCK_POINTS, v % BLOCK_POINTS);
-        let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
-        let step = [1, BLOCK, BLOCK * BLOCK];
-        for axis in 0..3 {
-            for up in [false, true] {
-                if (up && g[axis] + 1 < BLOCK) || (!up && g[axis] > 0) {
-                    f(if up { v + step[axis] } else { v - step[axis] });
-                    continue;
-                }
-                let mut cc = self.split(block_cells[b]);
-                if up {
-                    if cc[axis] + 1 >= self.cells[axis] {
-                        continue;
-                    }
-                    cc[axis] += 1;
-                } else {
-                    if cc[axis] == 0 {
-                        continue;
-                    }
-                    cc[axis] -= 1;
-                }
-                let nb = index[self.cell_id(cc)];
-                if nb < UNKNOWN {
-                    let face = if up { 0 } else { BLOCK - 1 };
-                    f(nb as usize * BLOCK_POINTS + l - g[axis] * step[axis] + face * step[axis]);
-                }
+        let g = (l / STEP[axis]) % BLOCK;
+        if up && g + 1 < BLOCK {
+            return Neighbour::Point(v + STEP[axis]);
+        }
+        if !up && g > 0 {
+            return Neighbour::Point(v - STEP[axis]);
+        }
+        let mut cc = coords[b].map(|c| c as usize);
+        if up {
+            if cc[axis] + 1 >= self.cells[axis] {
+                return Neighbour::Outside;
             }
+            cc[axis] += 1;
+        } else {
+            if cc[axis] == 0 {
+                return Neighbour::Outside;
+            }
+            cc[axis] -= 1;
+        }
+        let face = if up { 0 } else { BLOCK - 1 };
+        let local = l - g * STEP[axis] + face * STEP[axis];
+        let cell = self.cell_id(cc);
+        match index[cell] {
+            nb if nb < UNKNOWN => Neighbour::Point(nb as usize * BLOCK_POINTS + local),
+            _ => Neighbour::Unallocated { cell, local },
         }
     }
 }
@@ -708,12 +753,13 @@ const EXACT_SITE: u32 = u32::MAX;
 /// Site marker of a point no site has reached yet.
 const NO_SITE: u32 = u32::MAX - 1;
 
-/// Step 2a (module doc): allocates the blocks within `D` of the band's blocks and carries the
-/// closest surface points outward. Each point beyond `T` takes the exact distance to the site
-/// (closest point of an exact boundary point) of the neighbour that reached it with the smallest
-/// distance, its sign from that neighbour; a bucketed queue processes points in increasing
-/// distance (buckets `h / 4` wide, Voxblox's bucketed priority queue). Points that no site
-/// reaches within `D` stay NaN (the sign floods set them to `±D`).
+/// Step 2a (module doc): carries the closest surface points outward from the exact band. Each
+/// point beyond `T` takes the exact distance to the site (the closest surface point of an exact
+/// boundary point) of the neighbour that reached it with the smallest distance, and that
+/// neighbour's sign; a bucketed queue (buckets `h / 4` wide, Voxblox's bucketed priority
+/// queue) processes points in increasing distance. A block cell is allocated when the wavefront
+/// first reaches one of its points within `D` (at most `max_blocks` blocks in all). Points no
+/// site reaches within `D` stay NaN (the sign floods set them to `±D`).
 #[allow(clippy::too_many_arguments)]
 fn propagate(
     mesh: &TriMesh,
@@ -726,82 +772,58 @@ fn propagate(
     max_blocks: usize,
 ) -> Result<(), SdfError> {
     let h = grid.h;
-    // Blocks: every cell within R blocks (Chebyshev) of a band block, R = floor(D / 8h) + 1, so
-    // that every grid point within D of the surface lies in an allocated block (a surface point
-    // lies in a band block's cell; a point R + 1 cells away is more than 8 R h > D from it).
-    let r = (d_max / (BLOCK as f64 * h)).floor() as usize + 1;
-    let n = grid.cells;
-    let mut mark: Vec<bool> = index.iter().map(|&b| b < UNKNOWN).collect();
-    for axis in 0..3 {
-        let stride = [1, n[0], n[0] * n[1]][axis];
-        let src = mark.clone();
-        mark.par_iter_mut().enumerate().for_each(|(c, m)| {
-            if *m {
-                return;
-            }
-            let pos = (c / stride) % n[axis];
-            let lo = pos.saturating_sub(r);
-            let hi = (pos + r).min(n[axis] - 1);
-            *m = (lo..=hi).any(|q| src[c - pos * stride + q * stride]);
-        });
-    }
-    let new_cells: Vec<usize> = (0..mark.len())
-        .filter(|&c| mark[c] && index[c] >= UNKNOWN)
-        .collect();
-    drop(mark);
-    let nb = block_cells.len() + new_cells.len();
     // Queue entries are grid point indices below `SEED_FLAG`.
-    if nb > max_blocks || nb * BLOCK_POINTS >= SEED_FLAG as usize {
-        return Err(SdfError::TooManyBlocks {
-            blocks: nb,
-            cap: max_blocks,
-        });
-    }
-    for c in new_cells {
-        index[c] = block_cells.len() as u32;
-        block_cells.push(c);
-    }
-    values.resize(nb * BLOCK_POINTS, f32::NAN);
-    let mut site = vec![NO_SITE; nb * BLOCK_POINTS];
-    // Seeds: exact points with a NaN neighbour, their closest point the site.
-    let exact_blocks = best_tri.len() / BLOCK_POINTS;
-    let seeds: Vec<(usize, Point3<f32>)> = (0..exact_blocks)
-        .into_par_iter()
-        .flat_map_iter(|b| {
-            let mut out = Vec::new();
-            for l in 0..BLOCK_POINTS {
-                let v = b * BLOCK_POINTS + l;
-                if values[v].is_nan() {
-                    continue;
-                }
-                let mut open = false;
-                grid.neighbours(index, block_cells, v, |u| open |= values[u].is_nan());
-                if open {
-                    let q = grid.point(block_cells[b], l);
-                    let cp = mesh.closest_on_triangle(best_tri[v] as usize, &q).point;
-                    out.push((v, cp.cast::<f32>()));
-                }
-            }
-            out.into_iter()
-        })
+    let max_blocks = max_blocks.min((SEED_FLAG as usize - 1) / BLOCK_POINTS);
+    let mut coords: Vec<[u32; 3]> = block_cells
+        .iter()
+        .map(|&c| grid.split(c).map(|x| x as u32))
         .collect();
+    let mut site = vec![NO_SITE; values.len()];
     for (v, s) in site.iter_mut().zip(values.iter()) {
         if !s.is_nan() {
             *v = EXACT_SITE;
         }
     }
+    // Seeds: exact points with a neighbour that is NaN or unallocated; their closest point is
+    // the site.
+    let seeds: Vec<(u32, Point3<f32>)> = {
+        let (index, coords, values) = (&*index, &coords, &*values);
+        (0..coords.len())
+            .into_par_iter()
+            .flat_map_iter(|b| {
+                let mut out = Vec::new();
+                for l in 0..BLOCK_POINTS {
+                    let v = b * BLOCK_POINTS + l;
+                    if values[v].is_nan() {
+                        continue;
+                    }
+                    let open =
+                        (0..6).any(
+                            |k| match grid.neighbour(index, coords, v, k / 2, k % 2 == 1) {
+                                Neighbour::Point(u) => values[u].is_nan(),
+                                Neighbour::Unallocated { .. } => true,
+                                Neighbour::Outside => false,
+                            },
+                        );
+                    if open {
+                        let q = grid.point(coords[b], l);
+                        let cp = mesh.closest_on_triangle(best_tri[v] as usize, &q).point;
+                        out.push((v as u32, cp.cast::<f32>()));
+                    }
+                }
+                out.into_iter()
+            })
+            .collect()
+    };
     let width = 0.25 * h;
     let n_buckets = (d_max / width).ceil() as usize + 2;
     let bucket = |d: f64| ((d / width) as usize).min(n_buckets - 1);
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); n_buckets];
-    let sites: Vec<Point3<f32>> = seeds.iter().map(|s| s.1).collect();
     for (k, &(v, _)) in seeds.iter().enumerate() {
-        // A seed pushes its own site (index k) to its neighbours.
-        buckets[bucket(values[v].abs() as f64)].push(k as u32 | SEED_FLAG);
+        buckets[bucket(values[v as usize].abs() as f64)].push(k as u32 | SEED_FLAG);
     }
-    let seed_points: Vec<u32> = seeds.iter().map(|s| s.0 as u32).collect();
-    drop(seeds);
-    let budget = MAX_RELAXATIONS_PER_POINT.saturating_mul(values.len());
+    let (seed_points, sites): (Vec<u32>, Vec<Point3<f32>>) = seeds.into_iter().unzip();
+    let budget = MAX_RELAXATIONS_PER_POINT.saturating_mul(max_blocks * BLOCK_POINTS);
     // A new site must improve a point by more than this (so near-ties do not churn).
     let slack = RELAX_SLACK_VOXELS * h;
     let mut relaxations = 0usize;
@@ -819,19 +841,36 @@ fn propagate(
         };
         let sp = sites[s as usize].cast::<f64>();
         let air = values[v] >= 0.0;
-        let mut next: [usize; 6] = [0; 6];
-        let mut count = 0;
-        grid.neighbours(index, block_cells, v, |u| {
-            next[count] = u;
-            count += 1;
-        });
-        for &u in &next[..count] {
-            if site[u] == EXACT_SITE {
+        let qv = grid.point(coords[v / BLOCK_POINTS], v % BLOCK_POINTS);
+        for k in 0..6 {
+            let (axis, up) = (k / 2, k % 2 == 1);
+            let mut q = qv;
+            q[axis] += if up { h } else { -h };
+            let d = (q - sp).norm();
+            if d > d_max {
                 continue;
             }
-            let q = grid.point(block_cells[u / BLOCK_POINTS], u % BLOCK_POINTS);
-            let d = (q - sp).norm();
-            if d > d_max || (site[u] != NO_SITE && d >= values[u].abs() as f64 - slack) {
+            let u = match grid.neighbour(index, &coords, v, axis, up) {
+                Neighbour::Point(u) => u,
+                Neighbour::Outside => continue,
+                Neighbour::Unallocated { cell, local } => {
+                    let nb = block_cells.len();
+                    if nb >= max_blocks {
+                        return Err(SdfError::TooManyBlocks {
+                            blocks: nb + 1,
+                            cap: max_blocks,
+                        });
+                    }
+                    index[cell] = nb as u32;
+                    block_cells.push(cell);
+                    coords.push(grid.split(cell).map(|x| x as u32));
+                    values.resize((nb + 1) * BLOCK_POINTS, f32::NAN);
+                    site.resize((nb + 1) * BLOCK_POINTS, NO_SITE);
+                    nb * BLOCK_POINTS + local
+                }
+            };
+            if site[u] == EXACT_SITE || (site[u] != NO_SITE && d >= values[u].abs() as f64 - slack)
+            {
                 continue;
             }
             relaxations += 1;
@@ -845,9 +884,6 @@ fn propagate(
             site[u] = s;
             buckets[bucket(d).max(cur)].push(u as u32);
         }
-    }
-    if std::env::var_os("RAPPEL_SDF_PROBE").is_some() {
-        eprintln!("relaxations {relaxations} points {}", values.len());
     }
     Ok(())
 }
