@@ -31,7 +31,9 @@
 //! * the **utilisation**: the largest of `max(|λ_x|, |λ_y|)/(μ λ_z)` and `max_k |M_k|/(μ_m λ_z)`
 //!   over loaded contacts, in `[0, 1]` for a stable pose.
 //!
-//! Contacts without moment capacity (`μ_m = 0`) carry no moment variables and no moment term.
+//! Contacts without moment capacity (`μ_m = 0`) carry no moment variables and no moment term;
+//! a point contact ([`crate::robot::ContactFrame::point`]: Axel's boom on the ground, which has
+//! no grouser patch) carries no moment and has no moment term in the margin or utilisation.
 //! Infeasibility (proven by the active-set method, or clarabel's `PrimalInfeasible`) means "not
 //! stable".
 
@@ -114,7 +116,9 @@ impl StabilityQp {
         }
         add_equilibrium(&mut b, robot, &layout, self.settings.gravity(), w);
         add_friction_pyramids(&mut b, &layout, |i| robot.contact_friction(i));
-        add_moment_bounds(&mut b, &layout, robot.moment_coefficient);
+        add_moment_bounds(&mut b, &layout, robot.moment_coefficient, |i| {
+            robot.contacts[i].point
+        });
         add_tether_bounds(&mut b, robot, &layout, w);
         Ok((b, w, layout))
     }
@@ -192,7 +196,8 @@ impl StabilityQp {
         for i in 0..layout.contacts {
             let mu = robot.contact_friction(i);
             let f = Vector3::from_fn(|k, _| x[layout.force(i, k)]);
-            let m = if layout.with_moments {
+            let moments = layout.with_moments && !robot.contacts[i].point;
+            let m = if moments {
                 Vector3::from_fn(|k, _| x[layout.moment(i, k)])
             } else {
                 Vector3::zeros()
@@ -204,14 +209,14 @@ impl StabilityQp {
                 0.0
             };
             margin += 2.0 * fz * fz - tangential;
-            if layout.with_moments {
+            if moments {
                 margin += 3.0 * fz * fz - m.norm_squared() / (mu_m * mu_m);
             }
             if fz > UNLOADED_CONTACT {
                 if mu > MIN_FRICTION {
                     utilization = utilization.max(f.x.abs().max(f.y.abs()) / (mu * fz));
                 }
-                if layout.with_moments {
+                if moments {
                     utilization = utilization.max(m.amax() / (mu_m * fz));
                 }
             }
