@@ -46,8 +46,8 @@ use crate::statics::{
 use crate::traversability::{Assessment, StabilityCriterion, StabilityError, StabilitySettings};
 use nalgebra::Vector3;
 
-/// Friction coefficients below this are treated as frictionless in the objective weights (the
-/// pyramid then forces tangential forces to zero anyway).
+/// Friction coefficients at or below this are treated as frictionless: their tangential forces
+/// get objective weight 1 (the pyramid forces them to zero anyway) and no utilisation.
 pub const MIN_FRICTION: f64 = 1e-9;
 /// A contact whose normal force is below this fraction of the weight counts as unloaded and is
 /// left out of the utilisation.
@@ -105,7 +105,15 @@ impl StabilityQp {
         let layout = Self::layout(robot);
         let mut b = ConicBuilder::new(layout.len());
         for i in 0..layout.contacts {
-            let wf = 1.0 / robot.contact_friction(i).max(MIN_FRICTION).powi(2);
+            // A frictionless contact's pyramid holds its tangential forces at zero; weighting them
+            // by 1 / MIN_FRICTION² (1e18) would wreck the problem's scaling (both solvers then
+            // called feasible poses infeasible), so they get weight 1.
+            let mu = robot.contact_friction(i);
+            let wf = if mu > MIN_FRICTION {
+                1.0 / (mu * mu)
+            } else {
+                1.0
+            };
             b.add_square(layout.force(i, 0), wf);
             b.add_square(layout.force(i, 1), wf);
             if layout.with_moments {

@@ -828,9 +828,15 @@ fn propagate(
     let slack = RELAX_SLACK_VOXELS * h;
     let mut relaxations = 0usize;
     let mut cur = 0;
+    // Each bucket is sorted when it is reached (descending, popped from the end: ascending grid
+    // point order, for memory locality); entries pushed into the current bucket are popped next.
+    buckets[0].par_sort_unstable_by(|a, b| b.cmp(a));
     while cur < n_buckets {
         let Some(e) = buckets[cur].pop() else {
             cur += 1;
+            if cur < n_buckets {
+                buckets[cur].par_sort_unstable_by(|a, b| b.cmp(a));
+            }
             continue;
         };
         let (v, s) = if e & SEED_FLAG != 0 {
