@@ -392,7 +392,7 @@ fn the_boom_contact_has_its_own_friction() {
 /// with a seeded anchor in the air (at least 0.3 m above the mesh), the in-contact boom with
 /// wheel friction 0.6 is checked with boom friction 0 and 0.6. The feasible set only grows with
 /// the coefficient, so no pose may lose stability; some poses must be **held only by the boom's
-/// friction** (unstable at 0, stable at 0.6: 25 of the 1 045 poses checked), and in each of
+/// friction** (unstable at 0, stable at 0.6: 25 of the 1 046 poses checked), and in each of
 /// those the boom's tangential force is non-zero and inside its pyramid. Fails if the boom's
 /// own coefficient is ignored (no flips) or misapplied (a flip the wrong way), and failed on a
 /// real defect: a frictionless contact's tangential forces were weighted 1e18 in the objective,
@@ -408,7 +408,7 @@ fn boom_friction_decides_some_verdicts() {
     let (mut checked, mut flips) = (0, 0);
     for _ in 0..1500 {
         let (x, y) = (rng.random_range(-1.5..3.5), rng.random_range(-4.0..4.0));
-        let yaw = rng.random_range(-3.14..3.14);
+        let yaw = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
         let anchor = Point3::new(
             rng.random_range(-6.0..9.0),
             rng.random_range(-5.0..5.0),
@@ -455,7 +455,7 @@ fn boom_friction_decides_some_verdicts() {
             assert_eq!(boom.moment, Vector3::zeros(), "point contact");
         }
     }
-    // 25 of 1 045 when written.
+    // 25 of 1 046 when written.
     assert!(checked > 800, "{checked} poses checked");
     assert!(
         flips >= 10,
