@@ -396,7 +396,7 @@ fn the_boom_contact_has_its_own_friction() {
 /// those the boom's tangential force is non-zero and inside its pyramid. Fails if the boom's
 /// own coefficient is ignored (no flips) or misapplied (a flip the wrong way), and failed on a
 /// real defect: a frictionless contact's tangential forces were weighted 1e18 in the objective,
-/// and both solvers then called 172 poses whose boom carried no load unstable at friction 0.
+/// and both solvers then called poses whose boom carried no load unstable at friction 0.
 #[test]
 fn boom_friction_decides_some_verdicts() {
     use rand::{RngExt, SeedableRng};
