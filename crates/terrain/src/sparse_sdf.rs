@@ -54,7 +54,7 @@
 //! proven**: [`PROPAGATION_EXCESS_VOXELS`] `h` = 0.25 h is the empirical bound the property tests
 //! assert (`crates/terrain/tests/sparse_sdf.rs`: seeded grid points in the band and out to `D`
 //! on Paton's ledge and pole scenes against parry's exact distance, a closed box and a tilted
-//! plane; the largest excess measured was 0.11 h at 10 cm and 0.07 h at 5 cm). So every grid
+//! plane; the largest excess measured in a probe was 0.11 h at 10 cm and 0.07 h at 5 cm). So every grid
 //! value lies in `[clamp(|d|, 0, D), clamp(|d|, 0, D) + 0.25 h]` in magnitude, and queries
 //! satisfy `|f(q) - clamp(d(q), -D, D)| <= (sqrt 3 / 2) h + D 2^-24 + 0.25 h`
 //! ([`SparseSdf::error_bound`], its last term empirical, [`SparseSdf::excess_bound`]).
