@@ -69,3 +69,39 @@ fn bad_settle_map_input_exits_2() {
         assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
     }
 }
+
+/// `--field RES`: settling and anchor prediction through the sparse distance field shade the
+/// slope like the exact path (test-1 root: every slope cell stable, anchored on the lip); a bad
+/// resolution exits 2 naming the field.
+#[test]
+fn field_option_shades_the_slope_and_refuses_bad_resolutions() {
+    let ledge = fixture("paton/ledge.ron");
+    let base = [
+        "settle-map",
+        &ledge,
+        "--test",
+        "1",
+        "--x",
+        "-2,2.5",
+        "--y",
+        "-2,2",
+        "--step",
+        "0.5",
+        "--json",
+    ];
+    let mut args = base.to_vec();
+    args.extend(["--field", "0.1"]);
+    let o = rappel(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let cells = slope_cells(&v);
+    assert!(cells.len() >= 36, "{}", cells.len());
+    for c in &cells {
+        assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(true), "{c}");
+    }
+    let mut bad = base.to_vec();
+    bad.extend(["--field", "0"]);
+    let o = rappel(&bad);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("distance field"), "{}", stderr(&o));
+}

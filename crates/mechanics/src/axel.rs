@@ -163,6 +163,11 @@ impl RobotModel for Axel {
         (index == 2).then_some(self.params.boom_friction)
     }
 
+    /// The boom's tip on the ground (contact 2) is a point contact: no grouser patch.
+    fn contact_is_point(&self, index: usize) -> bool {
+        index == 2
+    }
+
     fn contact_moment_coefficient(&self) -> f64 {
         self.params.moment_coefficient
     }

@@ -332,6 +332,7 @@ pub fn place_boom_in_contact<G: BoomGround + ?Sized>(
         position: contact.point,
         rotation: Rotation3::from_basis_unchecked(&[x, z.cross(&x), z]),
         friction: Some(params.boom_friction),
+        point: true,
     });
     Ok((placed, contact))
 }

@@ -203,6 +203,13 @@ pub trait RobotModel: Sync {
         None
     }
 
+    /// Whether the configuration's contact `index` is a point contact (no moment, see
+    /// [`ContactFrame::point`]); `false` by default. Axel's boom tip on the ground.
+    fn contact_is_point(&self, index: usize) -> bool {
+        let _ = index;
+        false
+    }
+
     /// Total mass (kg).
     fn total_mass(&self) -> f64 {
         self.configuration(None)
@@ -246,6 +253,10 @@ pub struct ContactFrame {
     /// [`PlacedRobot::friction`] (`None`: that one); Axel's boom resting on the ground carries
     /// [`crate::axel::AxelParams::boom_friction`].
     pub friction: Option<f64>,
+    /// A **point contact**: no contact patch, so no moment (only a force in its friction
+    /// pyramid) whatever the robot's [`PlacedRobot::moment_coefficient`]. Axel's boom on the
+    /// ground (Paton §IV-C grants moments to the wheels' grouser patches).
+    pub point: bool,
 }
 
 /// The tether force line in the world frame.
@@ -281,6 +292,16 @@ impl PlacedRobot {
     /// robot's.
     pub fn contact_friction(&self, i: usize) -> f64 {
         self.contacts[i].friction.unwrap_or(self.friction)
+    }
+
+    /// The moment bound coefficient of contact `i`: the robot's `μ_m`, zero for a point contact
+    /// ([`ContactFrame::point`]).
+    pub fn contact_moment_coefficient(&self, i: usize) -> f64 {
+        if self.contacts[i].point {
+            0.0
+        } else {
+            self.moment_coefficient
+        }
     }
 }
 
@@ -340,6 +361,7 @@ pub fn place(
                 position: to_world * c,
                 rotation: Rotation3::from_matrix_unchecked(contact_rotation),
                 friction: model.contact_friction(i),
+                point: model.contact_is_point(i),
             })
             .collect(),
         tether: tether_line,

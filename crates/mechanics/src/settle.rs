@@ -227,6 +227,7 @@ pub fn place_on_ground<D: SignedDistance + ?Sized>(
             position: *c,
             rotation: frame(c)?,
             friction: None,
+            point: false,
         });
     }
     for (i, c) in config.contacts.iter().enumerate().skip(replaces) {
@@ -234,6 +235,7 @@ pub fn place_on_ground<D: SignedDistance + ?Sized>(
             position: to_world(c),
             rotation,
             friction: model.contact_friction(i),
+            point: model.contact_is_point(i),
         });
     }
     let tether = match (anchor, anchor_robot) {

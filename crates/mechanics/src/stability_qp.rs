@@ -31,7 +31,9 @@
 //! * the **utilisation**: the largest of `max(|λ_x|, |λ_y|)/(μ λ_z)` and `max_k |M_k|/(μ_m λ_z)`
 //!   over loaded contacts, in `[0, 1]` for a stable pose.
 //!
-//! Contacts without moment capacity (`μ_m = 0`) carry no moment variables and no moment term.
+//! Contacts without moment capacity (`μ_m = 0`) carry no moment variables and no moment term;
+//! a point contact ([`crate::robot::ContactFrame::point`]: Axel's boom on the ground, which has
+//! no grouser patch) carries no moment and has no moment term in the margin or utilisation.
 //! Infeasibility (proven by the active-set method, or clarabel's `PrimalInfeasible`) means "not
 //! stable".
 
@@ -44,8 +46,8 @@ use crate::statics::{
 use crate::traversability::{Assessment, StabilityCriterion, StabilityError, StabilitySettings};
 use nalgebra::Vector3;
 
-/// Friction coefficients below this are treated as frictionless in the objective weights (the
-/// pyramid then forces tangential forces to zero anyway).
+/// Friction coefficients at or below this are treated as frictionless: their tangential forces
+/// get objective weight 1 (the pyramid forces them to zero anyway) and no utilisation.
 pub const MIN_FRICTION: f64 = 1e-9;
 /// A contact whose normal force is below this fraction of the weight counts as unloaded and is
 /// left out of the utilisation.
@@ -103,7 +105,15 @@ impl StabilityQp {
         let layout = Self::layout(robot);
         let mut b = ConicBuilder::new(layout.len());
         for i in 0..layout.contacts {
-            let wf = 1.0 / robot.contact_friction(i).max(MIN_FRICTION).powi(2);
+            // A frictionless contact's pyramid holds its tangential forces at zero; weighting them
+            // by 1 / MIN_FRICTION² (1e18) would wreck the problem's scaling (both solvers then
+            // called feasible poses infeasible), so they get weight 1.
+            let mu = robot.contact_friction(i);
+            let wf = if mu > MIN_FRICTION {
+                1.0 / (mu * mu)
+            } else {
+                1.0
+            };
             b.add_square(layout.force(i, 0), wf);
             b.add_square(layout.force(i, 1), wf);
             if layout.with_moments {
@@ -114,7 +124,9 @@ impl StabilityQp {
         }
         add_equilibrium(&mut b, robot, &layout, self.settings.gravity(), w);
         add_friction_pyramids(&mut b, &layout, |i| robot.contact_friction(i));
-        add_moment_bounds(&mut b, &layout, robot.moment_coefficient);
+        add_moment_bounds(&mut b, &layout, robot.moment_coefficient, |i| {
+            robot.contacts[i].point
+        });
         add_tether_bounds(&mut b, robot, &layout, w);
         Ok((b, w, layout))
     }
@@ -192,7 +204,8 @@ impl StabilityQp {
         for i in 0..layout.contacts {
             let mu = robot.contact_friction(i);
             let f = Vector3::from_fn(|k, _| x[layout.force(i, k)]);
-            let m = if layout.with_moments {
+            let moments = layout.with_moments && !robot.contacts[i].point;
+            let m = if moments {
                 Vector3::from_fn(|k, _| x[layout.moment(i, k)])
             } else {
                 Vector3::zeros()
@@ -204,14 +217,14 @@ impl StabilityQp {
                 0.0
             };
             margin += 2.0 * fz * fz - tangential;
-            if layout.with_moments {
+            if moments {
                 margin += 3.0 * fz * fz - m.norm_squared() / (mu_m * mu_m);
             }
             if fz > UNLOADED_CONTACT {
                 if mu > MIN_FRICTION {
                     utilization = utilization.max(f.x.abs().max(f.y.abs()) / (mu * fz));
                 }
-                if layout.with_moments {
+                if moments {
                     utilization = utilization.max(m.amax() / (mu_m * fz));
                 }
             }

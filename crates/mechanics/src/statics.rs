@@ -16,7 +16,10 @@
 //!   constrain variables that act on nothing, so they are included;
 //! * friction pyramid (Paton eqs. 1-3, Kumar eqs. 3c-3d): `λ_iz >= 0`, `|λ_ix|, |λ_iy| <= μ_i λ_iz`
 //!   (`μ_i` the contact's own coefficient: the wheels' `μ`, Axel's boom its own);
-//! * moment bounds (Paton eqs. 4-6): `|M_ix|, |M_iy|, |M_iz| <= μ_m λ_iz`;
+//! * moment bounds (Paton eqs. 4-6): `|M_ix|, |M_iy|, |M_iz| <= μ_m λ_iz`; a point contact
+//!   ([`crate::robot::ContactFrame::point`], Axel's boom on the ground) carries no moment: its
+//!   moment variables appear in neither the balance nor the bounds, and the objective holds
+//!   them at zero;
 //! * tether (Kumar eq. 3e): `0 <= λ_t <= T_max / W`.
 
 use crate::conic::ConicBuilder;
@@ -132,7 +135,9 @@ pub(crate) fn add_equilibrium(
         for k in 0..3 {
             let axis = rot.column(k).into_owned();
             push(layout.force(i, k), axis, r.cross(&axis));
-            if layout.with_moments {
+            // A point contact's moment variables act on nothing (its objective term holds them
+            // at zero): it carries no moment.
+            if layout.with_moments && !c.point {
                 push(layout.moment(i, k), Vector3::zeros(), axis);
             }
         }
@@ -176,12 +181,18 @@ pub(crate) fn add_friction_pyramids(
     }
 }
 
-/// Adds the moment bounds `|M_k| <= μ_m λ_z` of every contact (Paton eqs. 4-6).
-pub(crate) fn add_moment_bounds(b: &mut ConicBuilder, layout: &Layout, mu_m: f64) {
+/// Adds the moment bounds `|M_k| <= μ_m λ_z` of every contact that carries moments (Paton eqs.
+/// 4-6; `point(i)`: contact `i` is a point contact, its moments act on nothing and stay free).
+pub(crate) fn add_moment_bounds(
+    b: &mut ConicBuilder,
+    layout: &Layout,
+    mu_m: f64,
+    point: impl Fn(usize) -> bool,
+) {
     if !layout.with_moments {
         return;
     }
-    for i in 0..layout.contacts {
+    for i in (0..layout.contacts).filter(|&i| !point(i)) {
         let z = layout.force(i, 2);
         for k in 0..3 {
             let m = layout.moment(i, k);

@@ -387,3 +387,78 @@ fn the_boom_contact_has_its_own_friction() {
         .is_err()
     );
 }
+
+/// Boom friction that changes verdicts: over seeded settled poses on Paton's ledge scene, each
+/// with a seeded anchor in the air (at least 0.3 m above the mesh), the in-contact boom with
+/// wheel friction 0.6 is checked with boom friction 0 and 0.6. The feasible set only grows with
+/// the coefficient, so no pose may lose stability; some poses must be **held only by the boom's
+/// friction** (unstable at 0, stable at 0.6: 25 of the 1 046 poses checked), and in each of
+/// those the boom's tangential force is non-zero and inside its pyramid. Fails if the boom's
+/// own coefficient is ignored (no flips) or misapplied (a flip the wrong way), and failed on a
+/// real defect: a frictionless contact's tangential forces were weighted 1e18 in the objective,
+/// and both solvers then called poses whose boom carried no load unstable at friction 0.
+#[test]
+fn boom_friction_decides_some_verdicts() {
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+    use rappel_mechanics::stability_qp::StabilityQp;
+    let scene = PatonScene::paper(false);
+    let mesh = scene.mesh().unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let (mut checked, mut flips) = (0, 0);
+    for _ in 0..1500 {
+        let (x, y) = (rng.random_range(-1.5..3.5), rng.random_range(-4.0..4.0));
+        let yaw = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
+        let anchor = Point3::new(
+            rng.random_range(-6.0..9.0),
+            rng.random_range(-5.0..5.0),
+            rng.random_range(0.0..8.0),
+        );
+        if mesh.signed_distance(&anchor) < 0.3 {
+            continue;
+        }
+        let Ok(pose) = settle_axel(
+            &mesh,
+            &AxelParams::default(),
+            x,
+            y,
+            10.0,
+            yaw,
+            &SettleParams::default(),
+        ) else {
+            continue;
+        };
+        let check = |boom_friction: f64| {
+            let a = AxelParams {
+                boom_friction,
+                ..AxelParams::default()
+            };
+            let (placed, _) = place_boom_in_contact(&pose, &a, &mesh, 0.6, (&anchor, None)).ok()?;
+            // The boom's contact is the last one (after the wheels' settled contacts).
+            assert!(placed.contacts.last().is_some_and(|c| c.point));
+            Some(StabilityQp::default().check(&placed).unwrap())
+        };
+        let (Some(without), Some(with)) = (check(0.0), check(0.6)) else {
+            continue;
+        };
+        checked += 1;
+        assert!(
+            with.stable || !without.stable,
+            "boom friction 0.6 lost a pose stable without it: ({x}, {y}) yaw {yaw}"
+        );
+        if with.stable && !without.stable {
+            flips += 1;
+            let boom = with.wrenches.last().unwrap();
+            let b = boom.force;
+            let t = b.x.abs().max(b.y.abs());
+            assert!(t > 1e-6 && t <= 0.6 * b.z * (1.0 + 1e-6) + 1e-6, "{b:?}");
+            assert_eq!(boom.moment, Vector3::zeros(), "point contact");
+        }
+    }
+    // 25 of 1 046 when written.
+    assert!(checked > 800, "{checked} poses checked");
+    assert!(
+        flips >= 10,
+        "{flips} of {checked} poses held only by boom friction"
+    );
+}

@@ -114,7 +114,8 @@ fn unit(rng: &mut ChaCha8Rng) -> Unit<Vector3<f64>> {
 }
 
 /// A random placed robot: 1-4 contacts with frames tilted up to 0.8 rad about each axis (30 %
-/// with their own friction coefficient in [0, 1), like Axel's boom), 1-3 masses, friction 0.05-1.2, moments on or off, a tether in a random direction (limited or
+/// with their own friction coefficient in [0, 1), 30 % point contacts without moments, like
+/// Axel's boom), 1-3 masses, friction 0.05-1.2, moments on or off, a tether in a random direction (limited or
 /// not) or none.
 fn random_robot(rng: &mut ChaCha8Rng) -> PlacedRobot {
     let contacts = (0..rng.random_range(1..=4))
@@ -130,6 +131,7 @@ fn random_robot(rng: &mut ChaCha8Rng) -> PlacedRobot {
                 rng.random_range(-3.1..3.1),
             ),
             friction: rng.random_bool(0.3).then(|| rng.random_range(0.0..1.0)),
+            point: rng.random_bool(0.3),
         })
         .collect();
     let masses: Vec<PointMass> = (0..rng.random_range(1..=3))

@@ -153,3 +153,40 @@ fn solver_trouble_is_a_typed_error() {
         Err(StabilityError::Input(_))
     ));
 }
+
+#[test]
+fn a_point_contact_carries_no_moment() {
+    use nalgebra::Rotation3;
+    use rappel_mechanics::robot::{ContactFrame, PointMass};
+    // One horizontal contact at the origin, a 10 kg mass `d` beside it: a contact patch
+    // (`μ_m` = 0.1 m) holds it by a moment `W d` iff `W d <= μ_m W`, i.e. d <= 0.1 m (statics by
+    // hand); a point contact never holds it off-centre, and holds it exactly above.
+    let robot = |d: f64, point: bool| PlacedRobot {
+        masses: vec![PointMass {
+            mass: 10.0,
+            position: Point3::new(d, 0.0, 0.3),
+        }],
+        contacts: vec![ContactFrame {
+            position: Point3::origin(),
+            rotation: Rotation3::identity(),
+            friction: None,
+            point,
+        }],
+        tether: None,
+        friction: 0.6,
+        moment_coefficient: 0.1,
+        reference: Point3::origin(),
+    };
+    let both = |r: &PlacedRobot| {
+        let dense = StabilityQp::default().check(r).unwrap();
+        let clarabel = StabilityQp::default().check_clarabel(r).unwrap();
+        assert_eq!(dense.stable, clarabel.stable, "dense vs clarabel");
+        dense
+    };
+    assert!(both(&robot(0.09, false)).stable);
+    assert!(!both(&robot(0.11, false)).stable);
+    assert!(!both(&robot(0.01, true)).stable);
+    let centred = both(&robot(0.0, true));
+    assert!(centred.stable);
+    assert_eq!(centred.wrenches[0].moment, Vector3::zeros());
+}

@@ -272,9 +272,54 @@ pub struct StabilityMap {
     pub failed: usize,
 }
 
+/// Margin of the distance field around the mesh for [`stability_map_through_field`], metres:
+/// settling starts 1 m above the mesh's top and its footprint probes reach a little higher.
+pub const FIELD_MARGIN: f64 = 2.0;
+
+/// As [`stability_map`], with settling and anchor prediction (the tether's swept triangle and the
+/// body-collision points along the axle) reading the sparse distance field of `ground` at
+/// `resolution` metres ([`rappel_terrain::sparse_sdf`], propagated to its default
+/// `max_distance`; prediction's `h` the field's resolution) instead of parry's exact BVH
+/// distances; the boom sweep and the stability placement stay on the mesh. The field's
+/// interpolation error (`SparseSdf::error_bound`, about 0.11 m at 10 cm, `docs/mesh.md`) moves
+/// settled heights and contacts by up to that much, so verdicts may differ from the exact path
+/// on poses near a threshold (measured on the Fig. 8 map: `tests`).
+pub fn stability_map_through_field(
+    ground: &TriMesh,
+    root: &AnchorHistory,
+    spec: &MapSpec,
+    resolution: f64,
+) -> Result<StabilityMap, MeshStabilityError> {
+    let mut params = rappel_terrain::sparse_sdf::SparseSdfParams::new(resolution);
+    // Settling starts 1 m above the mesh (`settle_from`'s `z_top`) and samples a little above
+    // that: the box must reach it.
+    params.margin = params.margin.max(FIELD_MARGIN);
+    let field = rappel_terrain::sparse_sdf::SparseSdf::from_mesh(ground, &params)
+        .map_err(|e| MeshStabilityError::Parameter(format!("distance field: {e}")))?;
+    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
+    stability_map_on(ground, &bvh, &field, resolution, root, spec)
+}
+
 /// The stability map of `spec` under root anchor `root` (see the module doc).
 pub fn stability_map(
     ground: &TriMesh,
+    root: &AnchorHistory,
+    spec: &MapSpec,
+) -> Result<StabilityMap, MeshStabilityError> {
+    // Settling, prediction, the boom sweep's candidate triangles and the stability placement's
+    // contact frames through parry's BVH (agrees with the brute-force mesh distance to 1e-9,
+    // `terrain::parry_mesh`; the sweep finds the brute force's contacts, `boom_contact`).
+    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
+    stability_map_on(ground, &bvh, &bvh, PREDICT_RESOLUTION, root, spec)
+}
+
+/// The stability map with settling and prediction through `distance` (prediction at `h`), the
+/// boom and the placement through `bvh`.
+fn stability_map_on<D: SignedDistance + Sync>(
+    ground: &TriMesh,
+    bvh: &ParryMesh,
+    distance: &D,
+    h: f64,
     root: &AnchorHistory,
     spec: &MapSpec,
 ) -> Result<StabilityMap, MeshStabilityError> {
@@ -306,10 +351,6 @@ pub fn stability_map(
         )));
     }
     let (nx, ny) = (fx as usize, fy as usize);
-    // Settling, prediction, the boom sweep's candidate triangles and the stability placement's
-    // contact frames through parry's BVH (agrees with the brute-force mesh distance to 1e-9,
-    // `terrain::parry_mesh`; the sweep finds the brute force's contacts, `boom_contact`).
-    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
     let at = |i: usize, j: usize| {
         (
             spec.x.0 + i as f64 * spec.step,
@@ -330,7 +371,7 @@ pub fn stability_map(
         .into_par_iter()
         .map(|c| {
             let (x, y) = at(c % nx, c / nx);
-            settle_from(&bvh, ground.bounds().1.z + 1.0, x, y, spec.yaw_deg)
+            settle_from(distance, ground.bounds().1.z + 1.0, x, y, spec.yaw_deg)
         })
         .collect();
     let mut histories: Vec<Option<Result<AnchorHistory, String>>> = vec![None; nx * ny];
@@ -346,7 +387,7 @@ pub fn stability_map(
             });
         }
     });
-    let params = PredictParams::new(PREDICT_RESOLUTION);
+    let params = PredictParams::new(h);
     let ring = |i: usize, j: usize| i.abs_diff(si).max(j.abs_diff(sj));
     let rings = (si.max(nx - 1 - si)).max(sj.max(ny - 1 - sj));
     // Ring by ring outward (at most max(nx, ny) rings, each cell once).
@@ -386,7 +427,7 @@ pub fn stability_map(
                     let pc = pi + pj * nx;
                     if let (Some(Ok(h)), Ok(pp)) = (&histories[pc], &poses[pc]) {
                         match predict(
-                            &bvh,
+                            distance,
                             &params,
                             h,
                             &tether_end(pp, &axel),
@@ -411,14 +452,7 @@ pub fn stability_map(
             match (&poses[c], &histories[c]) {
                 (Ok(p), Some(Ok(h))) => MapCell {
                     ground: [x, y],
-                    pose: Some(pose_stability(
-                        &IndexedGround {
-                            mesh: ground,
-                            bvh: &bvh,
-                        },
-                        p,
-                        h,
-                    )),
+                    pose: Some(pose_stability(&IndexedGround { mesh: ground, bvh }, p, h)),
                     failure: None,
                 },
                 (Err(e), _) => MapCell {

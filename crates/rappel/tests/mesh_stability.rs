@@ -5,6 +5,7 @@
 
 use rappel::mesh_stability::{
     MapSpec, MeshStabilityError, PREDICT_RESOLUTION, drive_and_check, map_svg, stability_map,
+    stability_map_through_field,
 };
 use rappel::planners::anchor_prediction::AnchorHistory;
 use rappel::terrain::paton_scene::PatonScene;
@@ -116,5 +117,54 @@ fn bad_maps_are_typed_errors() {
     assert!(matches!(
         drive_and_check(&ground, &root, [-1.0, 0.0], [500.0, 0.0], 0.0),
         Err(MeshStabilityError::Settle { .. })
+    ));
+}
+
+/// Paton's use of the distance field: the Fig. 8 maps (test-1 and test-2 roots) with settling and
+/// anchor prediction through the sparse 10 cm field against the same maps through parry's exact
+/// distances. Every cell must settle in both or neither with the same verdict, and the last
+/// anchors must agree within the field's error bound plus two prediction resolutions (a contact
+/// is noticed up to `h` late, docs/mesh.md).
+#[test]
+fn field_map_agrees_with_the_exact_map() {
+    let scene = PatonScene::paper(false);
+    let ground = scene.mesh().unwrap();
+    let spec = MapSpec::fig8(&scene);
+    let h = 0.1;
+    let bound = rappel::terrain::sparse_sdf::SparseSdf::from_mesh(
+        &ground,
+        &rappel::terrain::sparse_sdf::SparseSdfParams::new(h),
+    )
+    .unwrap()
+    .error_bound();
+    for root in scene.anchor_points().into_iter().take(2) {
+        let root = AnchorHistory::new(root).unwrap();
+        let exact = stability_map(&ground, &root, &spec).unwrap();
+        let field = stability_map_through_field(&ground, &root, &spec, h).unwrap();
+        assert_eq!(exact.cells.len(), field.cells.len());
+        let mut compared = 0;
+        for (e, f) in exact.cells.iter().zip(&field.cells) {
+            assert_eq!(e.pose.is_some(), f.pose.is_some(), "{e:?} vs {f:?}");
+            if let (Some(pe), Some(pf)) = (&e.pose, &f.pose) {
+                assert_eq!(pe.stable, pf.stable, "{e:?} vs {f:?}");
+                let (ae, af) = (pe.anchors.last().unwrap(), pf.anchors.last().unwrap());
+                let gap = (0..3).map(|k| (ae[k] - af[k]).powi(2)).sum::<f64>().sqrt();
+                assert!(
+                    gap <= bound + 2.0 * h.max(PREDICT_RESOLUTION),
+                    "{gap}: {e:?} vs {f:?}"
+                );
+                compared += 1;
+            }
+        }
+        assert!(compared >= 60, "{compared} cells compared");
+    }
+    assert!(matches!(
+        stability_map_through_field(
+            &ground,
+            &AnchorHistory::new(scene.anchor_points()[0]).unwrap(),
+            &spec,
+            -1.0
+        ),
+        Err(MeshStabilityError::Parameter(_))
     ));
 }

@@ -107,6 +107,17 @@ pub enum SdfError {
         /// The cap.
         cap: usize,
     },
+    /// The sparse field's wavefront beyond its exact band ran over its relaxation budget
+    /// (`sparse_sdf::MAX_RELAXATIONS_PER_POINT` per grid point).
+    #[error(
+        "sparse SDF propagation made {relaxations} relaxations over {points} grid points, over its budget (lower max_distance)"
+    )]
+    PropagationBudget {
+        /// Relaxations made when the budget ran out.
+        relaxations: usize,
+        /// Grid points of the allocated blocks.
+        points: usize,
+    },
 }
 
 /// A signed distance field on a regular grid of points `origin + (i, j, k) h`.

@@ -1,7 +1,11 @@
-//! The sparse truncated distance field against independent exact distances: the parry BVH's on
-//! Paton's ledge scenes, closed forms on a closed box and a tilted plane. Each test fails if the
-//! documented bound `|f - clamp(d, -T, T)| <= (sqrt 3 / 2) h + T 2^-24` is violated anywhere it
-//! samples, or if a sign beyond the bound is wrong; typed errors for bad parameters and caps.
+//! The sparse distance field against independent exact distances: the parry BVH's on Paton's
+//! ledge scenes, closed forms on a closed box and a tilted plane. Truncated fields (`D = T`):
+//! each test fails if the proven bound `|f - clamp(d, -T, T)| <= (sqrt 3 / 2) h + T 2^-24` is
+//! violated anywhere it samples, or if a sign beyond the bound is wrong. Propagated fields
+//! (`D > T`): grid values must never lie below the exact distance (they are distances to real
+//! surface points) and at most the empirical `PROPAGATION_EXCESS_VOXELS * h` above it, in the
+//! band and far out; interpolated queries within `error_bound`. Typed errors for bad parameters
+//! and caps.
 
 use nalgebra::{Point3, Vector3};
 use rand::{RngExt, SeedableRng};
@@ -21,7 +25,7 @@ fn check_bound(
     mut sample: impl FnMut() -> Point3<f64>,
     exact: impl Fn(&Point3<f64>) -> f64,
 ) -> (usize, usize) {
-    let t = f.truncation();
+    let t = f.max_distance();
     let bound = f.error_bound();
     let (mut near, mut far) = (0, 0);
     for _ in 0..n {
@@ -46,7 +50,7 @@ fn ledge_scenes_within_the_bound_of_the_bvh_distance() {
         let scene = PatonScene::paper(pole);
         let m = scene.mesh().expect("the paper's scene meshes");
         let exact = ParryMesh::new(&m).expect("parry takes it");
-        let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(0.1)).expect("fits");
+        let f = SparseSdf::from_mesh(&m, &SparseSdfParams::truncated(0.1)).expect("fits");
         let (lo, hi) = f.bounds();
         let mut rng = ChaCha8Rng::seed_from_u64(14);
         let top = scene.height;
@@ -110,8 +114,9 @@ fn closed_box_against_its_closed_form() {
     let m = closed_box(c, e);
     // Check the mesh's orientation with the exact distance at the centre: inside is negative.
     assert!(m.signed_distance(&c) < -0.4);
-    let mut p = SparseSdfParams::new(0.05);
+    let mut p = SparseSdfParams::truncated(0.05);
     p.truncation = 0.2;
+    p.max_distance = 0.2;
     p.margin = 0.6;
     let f = SparseSdf::from_mesh(&m, &p).expect("fits");
     let closed_form = |q: &Point3<f64>| {
@@ -150,7 +155,7 @@ fn tilted_plane_distance_and_gradient() {
     let m = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]]).expect("a plane");
     let n = Vector3::new(-0.3, 0.2, 1.0).normalize();
     let closed_form = |q: &Point3<f64>| (q - Point3::new(0.0, 0.0, 1.0)).dot(&n);
-    let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(0.1)).expect("fits");
+    let f = SparseSdf::from_mesh(&m, &SparseSdfParams::truncated(0.1)).expect("fits");
     let mut rng = ChaCha8Rng::seed_from_u64(99);
     let (near, far) = check_bound(
         &f,
@@ -233,7 +238,165 @@ fn bad_parameters_and_caps_are_typed_errors() {
         Err(SdfError::TooManyBlocks { blocks, cap: 100 }) => assert!(blocks > 100),
         other => panic!("expected TooManyBlocks, got {other:?}"),
     }
+    let mut p = SparseSdfParams::new(0.1);
+    p.max_distance = 0.3;
+    assert!(matches!(
+        SparseSdf::from_mesh(&m, &p),
+        Err(SdfError::BadParameter {
+            name: "max_distance",
+            ..
+        })
+    ));
+    // The wavefront's blocks count against the cap: room for the band but not for D = 1 m.
+    let band = SparseSdf::from_mesh(&m, &SparseSdfParams::truncated(0.1)).expect("fits");
+    let mut p = SparseSdfParams::new(0.1);
+    p.max_blocks = band.block_count() * 3 / 2;
+    match SparseSdf::from_mesh(&m, &p) {
+        Err(SdfError::TooManyBlocks { blocks, cap }) => assert!(blocks > cap),
+        other => panic!("expected TooManyBlocks, got {other:?}"),
+    }
     // A resolution far coarser than the scene is valid: one block or a few, bound still holds.
     let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(100.0)).expect("coarse");
     assert!(f.block_count() >= 1);
+}
+
+/// Checks grid point `q` of a propagated field against the exact distance `d`: the sign, never
+/// below `min(|d|, D)` (up to `f32` rounding), at most `excess_bound` above it. Returns whether
+/// `q` lay beyond the exact band (`T < |d| <= D`).
+fn check_grid_point(f: &SparseSdf, q: &Point3<f64>, d: f64) -> bool {
+    let got = f.distance(q).expect("inside the box");
+    let dm = f.max_distance();
+    let rounding = 4e-6 * (1.0 + q.coords.norm());
+    let excess = got.abs() - d.abs().min(dm);
+    assert!(
+        excess >= -rounding && excess <= f.excess_bound() + rounding,
+        "at {q}: field {got}, exact {d} (D {dm}, excess {excess}, bound {})",
+        f.excess_bound()
+    );
+    if d.abs() > rounding {
+        assert_eq!(got.signum(), d.signum(), "sign at {q}: {got} vs {d}");
+    }
+    d.abs() > f.truncation() && d.abs() <= dm
+}
+
+#[test]
+fn propagated_field_on_the_ledge_scenes_against_the_bvh() {
+    for pole in [false, true] {
+        let scene = PatonScene::paper(pole);
+        let m = scene.mesh().expect("the paper's scene meshes");
+        let exact = ParryMesh::new(&m).expect("parry takes it");
+        let h = 0.1;
+        let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(h)).expect("fits");
+        assert!(f.max_distance() > f.truncation());
+        let (lo, hi) = f.bounds();
+        let n = (hi - lo) / h;
+        let mut rng = ChaCha8Rng::seed_from_u64(1414);
+        let top = scene.height;
+        let zmin = if pole { top + 0.05 } else { lo.z };
+        // Grid points: uniform over the interior (7 m inside the open ground's edge) and near
+        // the ledge; with the pole above the ledge's top only (its open bottom end is sunk).
+        let (mut band, mut far) = (0, 0);
+        for k in 0..3000 {
+            let (x0, x1, y0, y1) = if k % 2 == 0 {
+                (lo.x + 7.0, hi.x - 7.0, lo.y + 7.0, hi.y - 7.0)
+            } else {
+                (-6.0, 4.0, -6.0, 6.0)
+            };
+            // Grid indices of the sampled ranges (heights up to 1.5 m above the top).
+            let idx = |a: f64, b: f64, lo: f64, n: f64| {
+                let i0 = ((a - lo) / h).ceil().max(0.0) as i64;
+                let i1 = ((b - lo) / h).floor().min(n.round()) as i64;
+                (i0, i1)
+            };
+            let (i0, i1) = idx(x0, x1, lo.x, n.x);
+            let (j0, j1) = idx(y0, y1, lo.y, n.y);
+            let (k0, k1) = idx(zmin, top + 1.5, lo.z, n.z);
+            let q = lo
+                + Vector3::new(
+                    rng.random_range(i0..=i1) as f64,
+                    rng.random_range(j0..=j1) as f64,
+                    rng.random_range(k0..=k1) as f64,
+                ) * h;
+            let d = exact.signed_distance(&q).expect("finite");
+            if check_grid_point(&f, &q, d) {
+                far += 1;
+            } else if d.abs() <= f.truncation() {
+                band += 1;
+            }
+        }
+        assert!(
+            band > 100 && far > 300,
+            "pole {pole}: {band} band, {far} far"
+        );
+        // Interpolated queries, including the far ones: within the documented bound.
+        let (near, beyond) = check_bound(
+            &f,
+            1500,
+            || {
+                Point3::new(
+                    rng.random_range(-6.0..4.0),
+                    rng.random_range(-6.0..6.0),
+                    rng.random_range(zmin..(top + 1.5).min(hi.z)),
+                )
+            },
+            |q| exact.signed_distance(q).expect("finite"),
+        );
+        assert!(
+            near > 100 && beyond > 20,
+            "pole {pole}: {near} near, {beyond} beyond"
+        );
+    }
+}
+
+#[test]
+fn propagated_field_against_closed_forms() {
+    // A closed box 2 x 1.4 x 1 m: its centre lies 0.5 m deep, beyond T = 0.2 m; the wavefront
+    // must carry the exact -0.5 there (the truncated field reads -T).
+    let (c, e) = (Point3::new(0.13, -0.21, 0.37), Vector3::new(1.0, 0.7, 0.5));
+    let m = closed_box(c, e);
+    let h = 0.05;
+    let mut p = SparseSdfParams::new(h);
+    p.truncation = 0.2;
+    let f = SparseSdf::from_mesh(&m, &p).expect("fits");
+    assert_eq!(f.max_distance(), 1.0);
+    let closed_form = |q: &Point3<f64>| {
+        let a = (q - c).abs() - e;
+        a.sup(&Vector3::zeros()).norm() + a.x.max(a.y).max(a.z).min(0.0)
+    };
+    let (lo, hi) = f.bounds();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut far = 0;
+    for _ in 0..4000 {
+        let g = (hi - lo) / h;
+        let q = lo
+            + Vector3::new(
+                rng.random_range(0..=g.x.round() as i64) as f64,
+                rng.random_range(0..=g.y.round() as i64) as f64,
+                rng.random_range(0..=g.z.round() as i64) as f64,
+            ) * h;
+        far += usize::from(check_grid_point(&f, &q, closed_form(&q)));
+    }
+    assert!(far > 1000, "{far} far");
+    let centre = f.distance(&c).expect("inside");
+    assert!((centre + 0.5).abs() <= f.error_bound(), "centre {centre}");
+    // A tilted plane: 0.3-1.0 m above and below, far beyond T, within the bound.
+    let z = |x: f64, y: f64| 0.3 * x - 0.2 * y + 1.0;
+    let v = [(-10.0, -10.0), (10.0, -10.0), (10.0, 10.0), (-10.0, 10.0)]
+        .map(|(x, y)| Point3::new(x, y, z(x, y)))
+        .to_vec();
+    let m = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]]).expect("a plane");
+    let n = Vector3::new(-0.3, 0.2, 1.0).normalize();
+    let plane = |q: &Point3<f64>| (q - Point3::new(0.0, 0.0, 1.0)).dot(&n);
+    let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(0.1)).expect("fits");
+    let (near, far) = check_bound(
+        &f,
+        2000,
+        || {
+            let (x, y) = (rng.random_range(-8.0..8.0), rng.random_range(-8.0..8.0));
+            let s = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            Point3::new(x, y, z(x, y)) + n * (s * rng.random_range(0.3..1.0))
+        },
+        plane,
+    );
+    assert!(near > 1000 && far < 2000, "{near} near, {far} far");
 }

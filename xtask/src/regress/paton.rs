@@ -66,9 +66,10 @@ pub fn suite() -> Result<Vec<Case>, String> {
         (mid.origin[2] - want).abs() < 1e-3
             && (mid.pitch_deg + scene.slope_deg).abs() < 1e-3f64.to_degrees(),
     ));
-    // The same two poses settled through the sparse truncated distance field at 5 cm
-    // (`terrain::sparse_sdf`): on the top and mid-slope every corner the wheels read lies on one
-    // plane within T, so the trilinear field is exact there and the closed forms hold to 1e-3.
+    // The same two poses settled through the sparse distance field at 5 cm (`terrain::sparse_sdf`,
+    // propagated to its default 1 m): on the top and mid-slope every corner the wheels read lies
+    // on one plane within T, so the trilinear field is exact there and the closed forms hold to
+    // 1e-3.
     let mut sp = rappel::terrain::sparse_sdf::SparseSdfParams::new(0.05);
     sp.margin = 2.0;
     let field = rappel::terrain::sparse_sdf::SparseSdf::from_mesh(&ground, &sp)
