@@ -181,24 +181,13 @@ impl Sdf {
             });
         }
         let h = p.resolution;
-        let (lo, hi) = mesh.bounds();
-        let origin = lo - Vector3::repeat(p.margin);
-        let ext = (hi - lo) + Vector3::repeat(2.0 * p.margin);
-        let n = |e: f64| (e / h).ceil() + 1.0;
-        let (fx, fy, fz) = (n(ext.x), n(ext.y), n(ext.z));
+        let (origin, _, [fx, fy, fz]) = padded_grid(mesh, h, p.margin);
         let total = fx * fy * fz;
         if total.is_nan() || total > p.max_voxels as f64 {
-            let c = |f: f64| {
-                if f < usize::MAX as f64 {
-                    f as usize
-                } else {
-                    usize::MAX
-                }
-            };
             return Err(SdfError::TooManyVoxels {
-                nx: c(fx),
-                ny: c(fy),
-                nz: c(fz),
+                nx: saturating_count(fx),
+                ny: saturating_count(fy),
+                nz: saturating_count(fz),
                 cap: p.max_voxels,
             });
         }
@@ -413,6 +402,30 @@ impl crate::surface::SignedDistance for Sdf {
     }
     fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
         self.gradient(q)
+    }
+}
+
+/// The grid box of a field over `mesh`: the mesh's bounds grown by `margin` on every side, as its
+/// corner (the grid origin), its extent, and the number of grid points along each axis at
+/// spacing `h`, as floats so that a caller can check its cap before any count overflows.
+pub(crate) fn padded_grid(
+    mesh: &TriMesh,
+    h: f64,
+    margin: f64,
+) -> (Point3<f64>, Vector3<f64>, [f64; 3]) {
+    let (lo, hi) = mesh.bounds();
+    let origin = lo - Vector3::repeat(margin);
+    let ext = (hi - lo) + Vector3::repeat(2.0 * margin);
+    let n = |e: f64| (e / h).ceil() + 1.0;
+    (origin, ext, [n(ext.x), n(ext.y), n(ext.z)])
+}
+
+/// A grid count held as a float, as a `usize` for an error message (saturating at `usize::MAX`).
+pub(crate) fn saturating_count(f: f64) -> usize {
+    if f < usize::MAX as f64 {
+        f as usize
+    } else {
+        usize::MAX
     }
 }
 

@@ -78,7 +78,7 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use crate::mesh::{TriMesh, closest_point_triangle};
-use crate::sdf::{INTERPOLATION_BOUND, SdfError, interpolate};
+use crate::sdf::{INTERPOLATION_BOUND, SdfError, interpolate, padded_grid, saturating_count};
 use crate::surface::SignedDistance;
 
 /// Grid points per block side.
@@ -255,25 +255,14 @@ impl SparseSdf {
                 "must be in 1 ..= 2^32 - 1",
             ));
         }
-        let (lo, hi) = mesh.bounds();
-        let origin = lo - Vector3::repeat(p.margin);
-        let ext = (hi - lo) + Vector3::repeat(2.0 * p.margin);
-        let points = |e: f64| (e / h).ceil() + 1.0;
-        let fp = [points(ext.x), points(ext.y), points(ext.z)];
+        let (origin, ext, fp) = padded_grid(mesh, h, p.margin);
         let fc = fp.map(|n| (n / BLOCK as f64).ceil());
         let total = fc[0] * fc[1] * fc[2];
         if !(total.is_finite() && total <= p.max_block_cells as f64) {
-            let c = |f: f64| {
-                if f < usize::MAX as f64 {
-                    f as usize
-                } else {
-                    usize::MAX
-                }
-            };
             return Err(SdfError::TooManyBlockCells {
-                nx: c(fc[0]),
-                ny: c(fc[1]),
-                nz: c(fc[2]),
+                nx: saturating_count(fc[0]),
+                ny: saturating_count(fc[1]),
+                nz: saturating_count(fc[2]),
                 cap: p.max_block_cells,
             });
         }
