@@ -44,20 +44,28 @@ fn check_bound(
     (near, far)
 }
 
+/// One of Paton's ledge scenes (`pole`: test 3's) with parry's exact distances and the field of
+/// `params`; also the ledge's top height and the lowest height sampled (with the pole, above the
+/// ledge's top only: the pole's open bottom end is sunk into the ledge, where the exact sign is a
+/// convention).
+fn ledge_case(pole: bool, params: &SparseSdfParams) -> (ParryMesh, SparseSdf, f64, f64) {
+    let scene = PatonScene::paper(pole);
+    let m = scene.mesh().expect("the paper's scene meshes");
+    let exact = ParryMesh::new(&m).expect("parry takes it");
+    let f = SparseSdf::from_mesh(&m, params).expect("fits");
+    let top = scene.height;
+    let zmin = if pole { top + 0.05 } else { f.bounds().0.z };
+    (exact, f, top, zmin)
+}
+
 #[test]
 fn ledge_scenes_within_the_bound_of_the_bvh_distance() {
     for pole in [false, true] {
-        let scene = PatonScene::paper(pole);
-        let m = scene.mesh().expect("the paper's scene meshes");
-        let exact = ParryMesh::new(&m).expect("parry takes it");
-        let f = SparseSdf::from_mesh(&m, &SparseSdfParams::truncated(0.1)).expect("fits");
+        let (exact, f, top, zmin) = ledge_case(pole, &SparseSdfParams::truncated(0.1));
         let (lo, hi) = f.bounds();
         let mut rng = ChaCha8Rng::seed_from_u64(14);
-        let top = scene.height;
         // Uniform over the box's interior (7 m inside the open ground's edge), and near the
-        // ledge. With the pole, above the ledge's top only: the pole's open bottom end is sunk
-        // into the ledge, where the exact sign is a convention.
-        let zmin = if pole { top + 0.05 } else { lo.z };
+        // ledge.
         let (near, far) = check_bound(
             &f,
             1500,
@@ -282,17 +290,12 @@ fn check_grid_point(f: &SparseSdf, q: &Point3<f64>, d: f64) -> bool {
 #[test]
 fn propagated_field_on_the_ledge_scenes_against_the_bvh() {
     for pole in [false, true] {
-        let scene = PatonScene::paper(pole);
-        let m = scene.mesh().expect("the paper's scene meshes");
-        let exact = ParryMesh::new(&m).expect("parry takes it");
         let h = 0.1;
-        let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(h)).expect("fits");
+        let (exact, f, top, zmin) = ledge_case(pole, &SparseSdfParams::new(h));
         assert!(f.max_distance() > f.truncation());
         let (lo, hi) = f.bounds();
         let n = (hi - lo) / h;
         let mut rng = ChaCha8Rng::seed_from_u64(1414);
-        let top = scene.height;
-        let zmin = if pole { top + 0.05 } else { lo.z };
         // Grid points: uniform over the interior (7 m inside the open ground's edge) and near
         // the ledge; with the pole above the ledge's top only (its open bottom end is sunk).
         let (mut band, mut far) = (0, 0);
