@@ -58,6 +58,15 @@ fn ledge_case(pole: bool, params: &SparseSdfParams) -> (ParryMesh, SparseSdf, f6
     (exact, f, top, zmin)
 }
 
+/// A point near the ledge (x in -6 .. 4, y in -6 .. 6 m) at a height in `zmin .. zmax`.
+fn near_ledge(rng: &mut ChaCha8Rng, zmin: f64, zmax: f64) -> Point3<f64> {
+    Point3::new(
+        rng.random_range(-6.0..4.0),
+        rng.random_range(-6.0..6.0),
+        rng.random_range(zmin..zmax),
+    )
+}
+
 #[test]
 fn ledge_scenes_within_the_bound_of_the_bvh_distance() {
     for pole in [false, true] {
@@ -77,11 +86,7 @@ fn ledge_scenes_within_the_bound_of_the_bvh_distance() {
                         rng.random_range(zmin..hi.z),
                     )
                 } else {
-                    Point3::new(
-                        rng.random_range(-6.0..4.0),
-                        rng.random_range(-6.0..6.0),
-                        rng.random_range(zmin..(top + 1.0).min(hi.z)),
-                    )
+                    near_ledge(&mut rng, zmin, (top + 1.0).min(hi.z))
                 }
             },
             |q| exact.signed_distance(q).expect("finite"),
@@ -335,13 +340,7 @@ fn propagated_field_on_the_ledge_scenes_against_the_bvh() {
         let (near, beyond) = check_bound(
             &f,
             1500,
-            || {
-                Point3::new(
-                    rng.random_range(-6.0..4.0),
-                    rng.random_range(-6.0..6.0),
-                    rng.random_range(zmin..(top + 1.5).min(hi.z)),
-                )
-            },
+            || near_ledge(&mut rng, zmin, (top + 1.5).min(hi.z)),
             |q| exact.signed_distance(q).expect("finite"),
         );
         assert!(
