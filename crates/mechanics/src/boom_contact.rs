@@ -307,22 +307,7 @@ pub fn place_boom_in_contact<G: BoomGround + ?Sized>(
 ) -> Result<(PlacedRobot, BoomContact), BoomContactError> {
     let (pivot, azimuth, up) = boom_frame(pose, params, anchor.0)?;
     let contact = sweep_boom(mesh, &pivot, &azimuth, &up, params.boom_length)?;
-    let axel = Axel::new(AxelParams {
-        boom: BoomMode::Resting(contact.elevation),
-        ..*params
-    })?;
-    let mut placed = place_on_ground(
-        GroundContacts {
-            origin: pose.origin,
-            rotation: pose.rotation,
-            contacts: &pose.contacts,
-            replaces: 2,
-        },
-        &axel,
-        mesh,
-        friction,
-        Some(anchor),
-    )?;
+    let mut placed = place_resting(pose, params, contact.elevation, mesh, friction, anchor)?;
     let z = contact.normal.into_inner();
     let boom = contact.tip - pivot;
     let x = (boom - z * boom.dot(&z))
@@ -398,8 +383,22 @@ pub fn place_boom_inline<G: BoomGround + ?Sized>(
         Ok(_) | Err(BoomContactError::NoGround(_)) => {}
         Err(e) => return Err(e),
     }
+    place_resting(pose, params, inline, mesh, friction, anchor)
+}
+
+/// The settled pose's wheel contacts with the boom resting at `elevation` (radians above the
+/// ground plane, toward the anchor: [`BoomMode::Resting`]) and the tether toward `anchor`: the
+/// placement both boom configurations share, before the in-contact one adds its boom contact.
+fn place_resting<G: BoomGround + ?Sized>(
+    pose: &SettledPose,
+    params: &AxelParams,
+    elevation: f64,
+    mesh: &G,
+    friction: f64,
+    anchor: (&Point3<f64>, Option<f64>),
+) -> Result<PlacedRobot, BoomContactError> {
     let axel = Axel::new(AxelParams {
-        boom: BoomMode::Resting(inline),
+        boom: BoomMode::Resting(elevation),
         ..*params
     })?;
     Ok(place_on_ground(
