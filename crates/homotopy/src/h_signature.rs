@@ -226,17 +226,18 @@ impl HSignature {
 
     /// The signature of a path.
     pub fn of_path(poles: &Poles, path: &Path) -> HSignature {
-        HSignature::of_polyline(poles, path.points(), &mut Vec::new())
+        HSignature::of_polyline(poles, path.points(), &mut Vec::new()).0
     }
 
     /// The signature of a taut path's polyline, without copying it into a [`Path`] first.
     pub fn of_taut_path(poles: &Poles, taut: &TautPath) -> HSignature {
-        HSignature::of_polyline(poles, &taut.points, &mut Vec::new())
+        HSignature::of_polyline(poles, &taut.points, &mut Vec::new()).0
     }
 
     /// [`HSignature::of_taut_path`] with a caller's buffer for the cut crossings (cleared
     /// first; left holding them), so that a planner answering many queries allocates only the
-    /// signature itself.
+    /// signature itself; also returns the pole tests it made ([`Poles::band_work`] of the
+    /// path's points, counted on the way instead of by a second pass of binary searches).
     ///
     /// ```
     /// use nalgebra::Point2;
@@ -252,14 +253,15 @@ impl HSignature {
     /// let west = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
     /// let taut = shortest_homotopic_path(&btm, &west).unwrap().taut;
     /// let mut buffer = Vec::new();
-    /// let h = HSignature::of_taut_path_reusing(&poles, &taut, &mut buffer);
+    /// let (h, tests) = HSignature::of_taut_path_reusing(&poles, &taut, &mut buffer);
     /// assert_eq!(h, HSignature::of_taut_path(&poles, &taut));
+    /// assert_eq!(tests, poles.band_work(&taut.points));
     /// ```
     pub fn of_taut_path_reusing(
         poles: &Poles,
         taut: &TautPath,
         crossings: &mut Vec<u64>,
-    ) -> HSignature {
+    ) -> (HSignature, usize) {
         HSignature::of_polyline(poles, &taut.points, crossings)
     }
 
@@ -267,18 +269,24 @@ impl HSignature {
     /// gives the trivial signature at the origin). The crossings of all segments are collected
     /// first and summed per obstacle once, by one sort: `O(c log c)` for `c` cut crossings (a
     /// long path down a strip crosses the cuts of half its obstacles), where adding them one by
-    /// one into the sorted list would shift it on every new obstacle.
-    fn of_polyline(poles: &Poles, points: &[Point2<f64>], crossings: &mut Vec<u64>) -> HSignature {
+    /// one into the sorted list would shift it on every new obstacle. Also returns the pole
+    /// tests made ([`Poles::band_work`]).
+    fn of_polyline(
+        poles: &Poles,
+        points: &[Point2<f64>],
+        crossings: &mut Vec<u64>,
+    ) -> (HSignature, usize) {
         let Some((first, rest)) = points.split_first() else {
-            return HSignature::new(Point2::origin());
+            return (HSignature::new(Point2::origin()), 0);
         };
         crossings.clear();
         let mut a = *first;
+        let mut tests = 0;
         for q in rest {
-            cut_crossings(poles, &a, q, |o, delta| crossings.push(pack(o, delta > 0)));
+            tests += cut_crossings(poles, &a, q, |o, delta| crossings.push(pack(o, delta > 0)));
             a = *q;
         }
-        HSignature::from_packed(*first, a, crossings)
+        (HSignature::from_packed(*first, a, crossings), tests)
     }
 
     /// The signature of the class whose sleeve is `sleeve`, for a path from `start` (in the
@@ -478,13 +486,15 @@ impl HSignature {
 
 /// Calls `crossed(obstacle, delta)` for every pole whose branch cut the segment from `a` to `q`
 /// crosses (module docs): `+1` downwards (counter-clockwise about the pole), `-1` upwards.
+/// Returns the number of poles tested (those in the segment's `y` band).
 fn cut_crossings(
     poles: &Poles,
     a: &Point2<f64>,
     q: &Point2<f64>,
     mut crossed: impl FnMut(ObstacleId, i64),
-) {
-    for (zeta, o) in poles.in_band(a, q) {
+) -> usize {
+    let band = poles.in_band(a, q);
+    for (zeta, o) in band {
         let (a_above, q_above) = (a.y >= zeta.y, q.y >= zeta.y);
         if a_above == q_above {
             continue;
@@ -496,6 +506,7 @@ fn cut_crossings(
             crossed(*o, -1);
         }
     }
+    band.len()
 }
 
 /// Where a point of the sleeve path lies, as far as the cuts' lines care: its `y`, or the exact

@@ -550,35 +550,42 @@ impl<'b> SptPlanner<'b> {
         sleeve: &Sleeve,
         crossings: &mut Vec<u64>,
     ) -> HSignature {
-        let winding = self.poles.band_work(&taut.points);
         let from_sleeve = SLEEVE_TESTS_PER_TRIANGLE.saturating_mul(sleeve.len());
-        if winding > from_sleeve {
-            let index = match self.cuts.get() {
-                Some(index) => index.as_ref(),
-                None => {
+        match self.cuts.get() {
+            Some(Some(index)) => {
+                if self.poles.band_work(&taut.points) > from_sleeve {
+                    HSignature::of_sleeve_reusing(
+                        self.btm,
+                        index,
+                        taut.start(),
+                        taut.goal(),
+                        sleeve,
+                        crossings,
+                    )
+                } else {
+                    HSignature::of_taut_path_reusing(&self.poles, taut, crossings).0
+                }
+            }
+            // No index on this map: the winding form, whatever it costs.
+            Some(None) => HSignature::of_taut_path_reusing(&self.poles, taut, crossings).0,
+            None => {
+                // No index yet: the winding form, its pole tests counted on the way (the same
+                // count as `band_work`, without its second pass of binary searches); the index
+                // is built once the excess has paid for it, and serves the next classes (both
+                // forms give the same signature).
+                let (h, winding) = HSignature::of_taut_path_reusing(&self.poles, taut, crossings);
+                if winding > from_sleeve {
                     let excess = self
                         .excess
                         .fetch_add(winding - from_sleeve, Ordering::Relaxed)
                         .saturating_add(winding - from_sleeve);
                     if excess >= self.index_cost {
-                        self.prepare_cut_index()
-                    } else {
-                        None
+                        self.prepare_cut_index();
                     }
                 }
-            };
-            if let Some(index) = index {
-                return HSignature::of_sleeve_reusing(
-                    self.btm,
-                    index,
-                    taut.start(),
-                    taut.goal(),
-                    sleeve,
-                    crossings,
-                );
+                h
             }
         }
-        HSignature::of_taut_path_reusing(&self.poles, taut, crossings)
     }
 
     /// `true` when the two free triangles are connected in free space.
