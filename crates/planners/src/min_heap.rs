@@ -173,12 +173,17 @@ impl<T: Rank + Copy> ArenaHeap<T> {
             }
         };
         let word = order_word(key, item.rank() as u32, index);
-        let mut at = self.len;
+        let at = self.len;
         if (at + 3) / ARITY == self.lines.len() {
             self.lines.push(Line([VACANT; ARITY]));
         }
         self.len += 1;
-        // Sift up from the new leaf.
+        self.sift_up(at, word);
+    }
+
+    /// Places `word` at the hole `at` or above it: its ancestors larger than it move down.
+    #[inline]
+    fn sift_up(&mut self, mut at: usize, word: u128) {
         while at > 0 {
             let parent = (at - 1) / ARITY;
             let above = self.get(parent);
@@ -216,16 +221,7 @@ impl<T: Rank + Copy> ArenaHeap<T> {
                 at = ARITY * at + 1 + i;
             }
             // ... and the last entry comes up from there.
-            while at > 0 {
-                let parent = (at - 1) / ARITY;
-                let above = self.get(parent);
-                if last >= above {
-                    break;
-                }
-                self.set(at, above);
-                at = parent;
-            }
-            self.set(at, last);
+            self.sift_up(at, last);
         }
         let index = top as u32;
         self.free.push(index);
