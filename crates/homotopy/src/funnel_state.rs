@@ -8,6 +8,14 @@
 //! in an append-only arena, the [`FunnelTree`]; a node also stores its path length
 //! `g(v) = g(pred(v)) + |v - pred(v)|` (the cost of thesis eq. 2.5).
 //!
+//! The arena keeps what the sector scans read (point, length, parent, jump pointer) in 32-byte
+//! records aligned to 32 bytes, two to a cache line and none across two, and the vertex id and
+//! depth in a second array: a first SHP on a 100,000-obstacle strip makes 16 million nodes,
+//! far beyond the cache, and the scans' cost is their cache misses. A node's id is larger than
+//! its parent's (a node is added after its parent, and only the last node is ever removed), so
+//! along a path to the root ids decrease, and a scan stops at the apex by comparing ids, without
+//! reading depths.
+//!
 //! # Funnel states
 //! A funnel (Fig. 2.12) is then four words, a [`FunnelState`]: the left tip node (on `alpha`),
 //! the right tip node (on `beta`), the apex node (the cusp `c`, their lowest common ancestor) and
@@ -51,9 +59,8 @@ impl NodeId {
     }
 }
 
-/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal). 40
-/// bytes: the vertex id is stored with a sentinel for "none" (an `Option<VertexId>` would pad
-/// the node to 48), which matters when a search on a large map makes millions of nodes.
+/// One node of the shortest path tree: a lift of a map vertex (or the root, or a goal), as
+/// [`FunnelTree::node`] returns it (the tree stores its parts in two arrays, module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FunnelNode {
     /// Position.
@@ -88,16 +95,38 @@ impl FunnelNode {
     }
 }
 
+/// What the sector scans read of a node: 32 bytes, aligned so that no record spans two cache
+/// lines (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(32))]
+struct Link {
+    point: Point2<f64>,
+    length: f64,
+    parent: u32,
+    jump: u32,
+}
+
+/// The rest of a node: its map vertex ([`NO_VERTEX`] for none) and depth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Extra {
+    vertex: u32,
+    depth: u32,
+}
+
 /// The arena of shortest-path-tree nodes shared by all funnels of one search.
 #[derive(Debug, Clone)]
 pub struct FunnelTree {
-    nodes: Vec<FunnelNode>,
+    links: Vec<Link>,
+    extra: Vec<Extra>,
 }
 
 impl FunnelTree {
     /// A tree holding only the root `start`.
     pub fn new(start: Point2<f64>) -> FunnelTree {
-        let mut tree = FunnelTree { nodes: Vec::new() };
+        let mut tree = FunnelTree {
+            links: Vec::new(),
+            extra: Vec::new(),
+        };
         tree.reset(start);
         tree
     }
@@ -105,21 +134,28 @@ impl FunnelTree {
     /// Empties the tree down to a new root `start`, keeping its storage: a search that reuses one
     /// tree across queries allocates only when a query grows it beyond every earlier one.
     pub fn reset(&mut self, start: Point2<f64>) {
-        self.nodes.clear();
-        self.nodes.push(FunnelNode {
+        self.links.clear();
+        self.extra.clear();
+        self.links.push(Link {
             point: start,
-            vertex: NO_VERTEX,
             length: 0.0,
             parent: 0,
             jump: 0,
+        });
+        self.extra.push(Extra {
+            vertex: NO_VERTEX,
             depth: 0,
         });
     }
 
     /// Bytes of node storage held (capacity, not length).
     pub fn capacity_bytes(&self) -> usize {
-        self.nodes.capacity() * std::mem::size_of::<FunnelNode>()
+        self.links.capacity() * std::mem::size_of::<Link>()
+            + self.extra.capacity() * std::mem::size_of::<Extra>()
     }
+
+    /// Bytes of storage per node (length, not capacity: multiply by [`FunnelTree::len`]).
+    pub const NODE_BYTES: usize = std::mem::size_of::<Link>() + std::mem::size_of::<Extra>();
 
     /// The root (the start point).
     pub fn root(&self) -> NodeId {
@@ -130,13 +166,50 @@ impl FunnelTree {
     ///
     /// # Panics
     /// When `id` did not come from this tree.
-    pub fn node(&self, id: NodeId) -> &FunnelNode {
-        &self.nodes[id.index()]
+    #[inline]
+    pub fn node(&self, id: NodeId) -> FunnelNode {
+        let (l, e) = (&self.links[id.index()], &self.extra[id.index()]);
+        FunnelNode {
+            point: l.point,
+            length: l.length,
+            vertex: e.vertex,
+            parent: l.parent,
+            jump: l.jump,
+            depth: e.depth,
+        }
+    }
+
+    /// A node's position (one array read, where [`FunnelTree::node`] reads two).
+    ///
+    /// # Panics
+    /// When `id` did not come from this tree.
+    #[inline]
+    pub fn point(&self, id: NodeId) -> Point2<f64> {
+        self.links[id.index()].point
+    }
+
+    /// A node's path length `g` from the root.
+    ///
+    /// # Panics
+    /// When `id` did not come from this tree.
+    #[inline]
+    pub fn length(&self, id: NodeId) -> f64 {
+        self.links[id.index()].length
+    }
+
+    /// The map vertex a node lifts (`None` for the root and goal points).
+    ///
+    /// # Panics
+    /// When `id` did not come from this tree.
+    #[inline]
+    pub fn vertex(&self, id: NodeId) -> Option<VertexId> {
+        let v = self.extra[id.index()].vertex;
+        (v != NO_VERTEX).then_some(VertexId(v))
     }
 
     /// Number of nodes.
     pub fn len(&self) -> usize {
-        self.nodes.len()
+        self.links.len()
     }
 
     /// Always `false`: the root is always there.
@@ -152,27 +225,34 @@ impl FunnelTree {
         point: Point2<f64>,
         vertex: Option<VertexId>,
     ) -> NodeId {
-        let p = self.nodes[parent.index()];
+        let p = self.links[parent.index()];
         if p.point == point {
             return parent;
         }
         // Myers' skew-binary jump pointers: level-ancestor and monotone searches in O(log n).
-        let j = self.nodes[p.jump as usize];
-        let jj = self.nodes[j.jump as usize];
-        let jump = if p.depth > 0 && p.depth - j.depth == j.depth - jj.depth {
-            j.jump
+        let j = p.jump as usize;
+        let jj = self.links[j].jump as usize;
+        let (dp, dj, djj) = (
+            self.extra[parent.index()].depth,
+            self.extra[j].depth,
+            self.extra[jj].depth,
+        );
+        let jump = if dp > 0 && dp - dj == dj - djj {
+            jj as u32
         } else {
             parent.0
         };
-        self.nodes.push(FunnelNode {
+        self.links.push(Link {
             point,
-            vertex: vertex.map_or(NO_VERTEX, |v| v.0),
             length: p.length + (point - p.point).norm(),
             parent: parent.0,
             jump,
-            depth: p.depth + 1,
         });
-        NodeId((self.nodes.len() - 1) as u32)
+        self.extra.push(Extra {
+            vertex: vertex.map_or(NO_VERTEX, |v| v.0),
+            depth: dp + 1,
+        });
+        NodeId((self.links.len() - 1) as u32)
     }
 
     /// Removes node `id` if it is the last node added and not the root, and returns whether it
@@ -180,23 +260,24 @@ impl FunnelTree {
     /// dropped): the arena then keeps only nodes a search may still need. The caller must hold
     /// no other reference to it (ids are reused by the next node added).
     pub fn discard_last(&mut self, id: NodeId) -> bool {
-        if id.0 == 0 || id.index() + 1 != self.nodes.len() {
+        if id.0 == 0 || id.index() + 1 != self.links.len() {
             return false;
         }
-        self.nodes.pop();
+        self.links.pop();
+        self.extra.pop();
         true
     }
 
     /// The nodes from the root to `id`.
     pub fn path(&self, id: NodeId) -> Vec<NodeId> {
-        let mut out = Vec::with_capacity(self.nodes[id.index()].depth as usize + 1);
+        let mut out = Vec::with_capacity(self.extra[id.index()].depth as usize + 1);
         let mut x = id;
         loop {
             out.push(x);
-            match self.nodes[x.index()].parent() {
-                Some(p) => x = p,
-                None => break,
+            if x.0 == 0 {
+                break;
             }
+            x = NodeId(self.links[x.index()].parent);
         }
         out.reverse();
         out
@@ -206,37 +287,35 @@ impl FunnelTree {
     pub fn taut_path(&self, btm: &Btm, id: NodeId) -> TautPath {
         TautPath::from_corners(
             btm,
-            self.path(id).into_iter().map(|n| {
-                let node = &self.nodes[n.index()];
-                (node.point, node.vertex())
-            }),
+            self.path(id)
+                .into_iter()
+                .map(|n| (self.point(n), self.vertex(n))),
         )
     }
 
     /// Scans the chain from `tip` up to (excluding) `apex` for the first node whose incoming ray
     /// has `p` strictly on `side`.
+    ///
+    /// The chain's nodes are the tip's ancestors-or-self with an id above the apex's (module
+    /// docs: ids decrease towards the root), so the bound is an id comparison.
     fn first_turn(&self, tip: NodeId, apex: NodeId, p: &Point2<f64>, side: Side) -> Option<NodeId> {
-        let apex_depth = self.nodes[apex.index()].depth;
+        let links = &self.links[..];
         let turns = |x: u32| {
-            let n = &self.nodes[x as usize];
-            let parent = &self.nodes[n.parent as usize].point;
+            let n = &links[x as usize];
+            let parent = &links[n.parent as usize].point;
             match side {
                 Side::Left => strictly_left(parent, &n.point, p),
                 Side::Right => strictly_right(parent, &n.point, p),
             }
         };
         let mut x = tip.0;
-        while self.nodes[x as usize].depth > apex_depth {
+        while x > apex.0 {
             if turns(x) {
                 return Some(NodeId(x));
             }
-            let n = &self.nodes[x as usize];
+            let n = &links[x as usize];
             let j = n.jump;
-            x = if self.nodes[j as usize].depth > apex_depth && !turns(j) {
-                j
-            } else {
-                n.parent
-            };
+            x = if j > apex.0 && !turns(j) { j } else { n.parent };
         }
         None
     }

@@ -226,30 +226,67 @@ impl HSignature {
 
     /// The signature of a path.
     pub fn of_path(poles: &Poles, path: &Path) -> HSignature {
-        HSignature::of_polyline(poles, path.points())
+        HSignature::of_polyline(poles, path.points(), &mut Vec::new()).0
     }
 
     /// The signature of a taut path's polyline, without copying it into a [`Path`] first.
     pub fn of_taut_path(poles: &Poles, taut: &TautPath) -> HSignature {
-        HSignature::of_polyline(poles, &taut.points)
+        HSignature::of_polyline(poles, &taut.points, &mut Vec::new()).0
+    }
+
+    /// [`HSignature::of_taut_path`] with a caller's buffer for the cut crossings (cleared
+    /// first; left holding them), so that a planner answering many queries allocates only the
+    /// signature itself; also returns the pole tests it made ([`Poles::band_work`] of the
+    /// path's points, counted on the way instead of by a second pass of binary searches).
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
+    /// use rappel_homotopy::{h_signature::{HSignature, Poles}, path::Path, shp::shortest_homotopic_path};
+    /// let p = |x, y| Point2::new(x, y);
+    /// let map = Map::new(
+    ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+    ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
+    /// );
+    /// let btm = Btm::build(&map).unwrap();
+    /// let poles = Poles::new(&btm);
+    /// let west = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
+    /// let taut = shortest_homotopic_path(&btm, &west).unwrap().taut;
+    /// let mut buffer = Vec::new();
+    /// let (h, tests) = HSignature::of_taut_path_reusing(&poles, &taut, &mut buffer);
+    /// assert_eq!(h, HSignature::of_taut_path(&poles, &taut));
+    /// assert_eq!(tests, poles.band_work(&taut.points));
+    /// ```
+    pub fn of_taut_path_reusing(
+        poles: &Poles,
+        taut: &TautPath,
+        crossings: &mut Vec<u64>,
+    ) -> (HSignature, usize) {
+        HSignature::of_polyline(poles, &taut.points, crossings)
     }
 
     /// The polyline through `points` (a taut path's or a path's, never empty: an empty slice
     /// gives the trivial signature at the origin). The crossings of all segments are collected
     /// first and summed per obstacle once, by one sort: `O(c log c)` for `c` cut crossings (a
     /// long path down a strip crosses the cuts of half its obstacles), where adding them one by
-    /// one into the sorted list would shift it on every new obstacle.
-    fn of_polyline(poles: &Poles, points: &[Point2<f64>]) -> HSignature {
+    /// one into the sorted list would shift it on every new obstacle. Also returns the pole
+    /// tests made ([`Poles::band_work`]).
+    fn of_polyline(
+        poles: &Poles,
+        points: &[Point2<f64>],
+        crossings: &mut Vec<u64>,
+    ) -> (HSignature, usize) {
         let Some((first, rest)) = points.split_first() else {
-            return HSignature::new(Point2::origin());
+            return (HSignature::new(Point2::origin()), 0);
         };
-        let mut crossings = Vec::new();
+        crossings.clear();
         let mut a = *first;
+        let mut tests = 0;
         for q in rest {
-            cut_crossings(poles, &a, q, |o, delta| crossings.push(pack(o, delta > 0)));
+            tests += cut_crossings(poles, &a, q, |o, delta| crossings.push(pack(o, delta > 0)));
             a = *q;
         }
-        HSignature::from_packed(*first, a, crossings)
+        (HSignature::from_packed(*first, a, crossings), tests)
     }
 
     /// The signature of the class whose sleeve is `sleeve`, for a path from `start` (in the
@@ -264,12 +301,25 @@ impl HSignature {
         goal: Point2<f64>,
         sleeve: &Sleeve,
     ) -> HSignature {
+        HSignature::of_sleeve_reusing(btm, index, start, goal, sleeve, &mut Vec::new())
+    }
+
+    /// [`HSignature::of_sleeve`] with a caller's buffer for the cut crossings (cleared first;
+    /// left holding them), as [`HSignature::of_taut_path_reusing`].
+    pub fn of_sleeve_reusing(
+        btm: &Btm,
+        index: &CutIndex,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+        sleeve: &Sleeve,
+        crossings: &mut Vec<u64>,
+    ) -> HSignature {
+        crossings.clear();
         let d = btm.dcel();
         let ends = |h: HalfEdgeId| {
             let (u, v) = (d.point(d.origin(h)), d.point(d.destination(h)));
             (u.y, v.y)
         };
-        let mut crossings = Vec::new();
         let mut entry = Side::Point(start.y);
         let portals = sleeve.portals();
         for (i, &t) in sleeve.triangles().iter().enumerate() {
@@ -296,10 +346,10 @@ impl HSignature {
 
     /// The signature from its endpoints and its cut crossings packed by [`pack`], in any order:
     /// one sort of machine words, summed per obstacle, zero sums dropped.
-    fn from_packed(start: Point2<f64>, end: Point2<f64>, mut crossings: Vec<u64>) -> HSignature {
+    fn from_packed(start: Point2<f64>, end: Point2<f64>, crossings: &mut [u64]) -> HSignature {
         crossings.sort_unstable();
         let mut windings: Vec<(ObstacleId, i64)> = Vec::with_capacity(crossings.len());
-        for c in crossings {
+        for &c in crossings.iter() {
             let (o, delta) = (ObstacleId((c >> 1) as u32), if c & 1 == 1 { 1 } else { -1 });
             match windings.last_mut() {
                 Some((last, n)) if *last == o => *n += delta,
@@ -436,13 +486,15 @@ impl HSignature {
 
 /// Calls `crossed(obstacle, delta)` for every pole whose branch cut the segment from `a` to `q`
 /// crosses (module docs): `+1` downwards (counter-clockwise about the pole), `-1` upwards.
+/// Returns the number of poles tested (those in the segment's `y` band).
 fn cut_crossings(
     poles: &Poles,
     a: &Point2<f64>,
     q: &Point2<f64>,
     mut crossed: impl FnMut(ObstacleId, i64),
-) {
-    for (zeta, o) in poles.in_band(a, q) {
+) -> usize {
+    let band = poles.in_band(a, q);
+    for (zeta, o) in band {
         let (a_above, q_above) = (a.y >= zeta.y, q.y >= zeta.y);
         if a_above == q_above {
             continue;
@@ -454,6 +506,7 @@ fn cut_crossings(
             crossed(*o, -1);
         }
     }
+    band.len()
 }
 
 /// Where a point of the sleeve path lies, as far as the cuts' lines care: its `y`, or the exact

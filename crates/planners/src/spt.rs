@@ -82,7 +82,14 @@
 //! per-vertex lifts are invalidated by a generation stamp, not refilled, so a query on a prepared
 //! map costs what the search touches, and allocates nothing once the pool is warm (beyond its
 //! answer). Searches on several threads each take their own space. [`SptPlanner::shortest_taut_path`]
-//! answers with the path alone, without the sleeve, crossings and H-signature of a class.
+//! answers with the path alone, without the sleeve, crossings and H-signature of a class. The
+//! class answer's simplicity lists and H-signature crossings are buffers of the scratch space too.
+//!
+//! The queue is a 4-ary heap of 16-byte order words (key, rank, arena index) with the funnels
+//! in an arena beside it (`min_heap::ArenaHeap`): on a 100,000-obstacle strip it holds up to
+//! 864k funnels, and a pop sifts through half the levels of a binary heap, one cache line each.
+//! Funnels of equal key and rank pop in the order of their arena index (a function of the
+//! search's operations, so the search stays deterministic).
 //!
 //! # H-signatures
 //! A class's H-signature is the same in its two forms ([`rappel_homotopy::h_signature`]): the
@@ -107,7 +114,7 @@
 //! chain's anchors are anchors of every SHP below), so only finitely many funnels are ever
 //! expanded and the search always ends.
 
-use crate::min_heap::{MinEntry, Rank};
+use crate::min_heap::{ArenaHeap, Rank};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::compact::Compact;
@@ -115,15 +122,12 @@ use rappel_geometry::dcel::{HalfEdgeId, ObstacleId, TriangleId, VertexId};
 use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::crossing::{CrossingSequence, Tracer};
 use rappel_homotopy::funnel::TautPath;
-use rappel_homotopy::funnel_state::{
-    FunnelNode, FunnelState, FunnelStateError, FunnelTree, NodeId,
-};
+use rappel_homotopy::funnel_state::{FunnelState, FunnelStateError, FunnelTree, NodeId};
 use rappel_homotopy::h_signature::{CutIndex, HSignature, Poles};
 use rappel_homotopy::path::PathError;
 use rappel_homotopy::shp::ShortestHomotopicPath;
 use rappel_homotopy::sleeve::{Sleeve, SleeveError};
 use serde::{Deserialize, Serialize};
-use std::collections::BinaryHeap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 
@@ -543,28 +547,52 @@ impl<'b> SptPlanner<'b> {
     /// cost (the ski-rental rule: never more than twice the cost of the better choice made in
     /// hindsight, up to the constants).
     pub fn h_signature(&self, taut: &TautPath, sleeve: &Sleeve) -> HSignature {
-        let winding = self.poles.band_work(&taut.points);
+        self.h_signature_reusing(taut, sleeve, &mut Vec::new())
+    }
+
+    /// [`SptPlanner::h_signature`] with a search's buffer for the cut crossings.
+    fn h_signature_reusing(
+        &self,
+        taut: &TautPath,
+        sleeve: &Sleeve,
+        crossings: &mut Vec<u64>,
+    ) -> HSignature {
         let from_sleeve = SLEEVE_TESTS_PER_TRIANGLE.saturating_mul(sleeve.len());
-        if winding > from_sleeve {
-            let index = match self.cuts.get() {
-                Some(index) => index.as_ref(),
-                None => {
+        match self.cuts.get() {
+            Some(Some(index)) => {
+                if self.poles.band_work(&taut.points) > from_sleeve {
+                    HSignature::of_sleeve_reusing(
+                        self.btm,
+                        index,
+                        taut.start(),
+                        taut.goal(),
+                        sleeve,
+                        crossings,
+                    )
+                } else {
+                    HSignature::of_taut_path_reusing(&self.poles, taut, crossings).0
+                }
+            }
+            // No index on this map: the winding form, whatever it costs.
+            Some(None) => HSignature::of_taut_path_reusing(&self.poles, taut, crossings).0,
+            None => {
+                // No index yet: the winding form, its pole tests counted on the way (the same
+                // count as `band_work`, without its second pass of binary searches); the index
+                // is built once the excess has paid for it, and serves the next classes (both
+                // forms give the same signature).
+                let (h, winding) = HSignature::of_taut_path_reusing(&self.poles, taut, crossings);
+                if winding > from_sleeve {
                     let excess = self
                         .excess
                         .fetch_add(winding - from_sleeve, Ordering::Relaxed)
                         .saturating_add(winding - from_sleeve);
                     if excess >= self.index_cost {
-                        self.prepare_cut_index()
-                    } else {
-                        None
+                        self.prepare_cut_index();
                     }
                 }
-            };
-            if let Some(index) = index {
-                return HSignature::of_sleeve(self.btm, index, taut.start(), taut.goal(), sleeve);
+                h
             }
         }
-        HSignature::of_taut_path(&self.poles, taut)
     }
 
     /// `true` when the two free triangles are connected in free space.
@@ -716,16 +744,31 @@ pub fn canonical_triangle(btm: &Btm, p: Point2<f64>) -> Result<TriangleId, PathE
 /// assert!(!is_simple_class(&shortest_homotopic_path(&btm, &wound).unwrap().taut));
 /// ```
 pub fn is_simple_class(taut: &TautPath) -> bool {
-    anchors_are_simple(taut.anchors.iter().map(|a| (a.vertex, a.obstacle)))
+    anchors_are_simple(
+        taut.anchors.iter().map(|a| (a.vertex, a.obstacle)),
+        &mut SimpleBuffers::default(),
+    )
+}
+
+/// The two lists of the simplicity test, kept by a search across its classes and queries.
+#[derive(Debug, Clone, Default)]
+struct SimpleBuffers {
+    vertices: Vec<VertexId>,
+    /// The obstacle of each run of consecutive anchors on one obstacle.
+    runs: Vec<ObstacleId>,
 }
 
 /// The simplicity test on a sequence of anchors `(vertex, obstacle)`: no vertex twice, and no
 /// obstacle in two separate runs of consecutive anchors (an obstacle left behind never comes
-/// back). Two sorted lists, no hashing: the lists are as short as the tether's anchors.
-fn anchors_are_simple(anchors: impl Iterator<Item = (VertexId, Option<ObstacleId>)>) -> bool {
-    let mut vertices = Vec::new();
-    // The obstacle of each run of consecutive anchors on one obstacle.
-    let mut runs = Vec::new();
+/// back). Two sorted lists (`buffers`, cleared first), no hashing: the lists are as short as the
+/// tether's anchors.
+fn anchors_are_simple(
+    anchors: impl Iterator<Item = (VertexId, Option<ObstacleId>)>,
+    buffers: &mut SimpleBuffers,
+) -> bool {
+    let SimpleBuffers { vertices, runs } = buffers;
+    vertices.clear();
+    runs.clear();
     let mut current: Option<ObstacleId> = None;
     for (v, o) in anchors {
         vertices.push(v);
@@ -738,9 +781,6 @@ fn anchors_are_simple(anchors: impl Iterator<Item = (VertexId, Option<ObstacleId
     runs.sort_unstable();
     vertices.windows(2).all(|w| w[0] != w[1]) && runs.windows(2).all(|w| w[0] != w[1])
 }
-
-/// A queued search state.
-type Entry = MinEntry<Kind>;
 
 #[derive(Debug, Clone, Copy)]
 enum Kind {
@@ -890,23 +930,29 @@ impl Lifts {
 #[derive(Debug, Clone)]
 struct Scratch {
     tree: FunnelTree,
-    queue: BinaryHeap<Entry>,
+    queue: ArenaHeap<Kind>,
     trail: Vec<(HalfEdgeId, u32)>,
     /// Whether this query's trail outgrew [`TRAIL_MAX_ENTRIES`] and was dropped.
     trail_dropped: bool,
     lifts: Lifts,
     simple_prefix: Vec<u8>,
+    /// The simplicity test's lists and the H-signature's cut crossings, reused by every class
+    /// answered (no allocation per class beyond the answer's own vectors).
+    simple_buffers: SimpleBuffers,
+    crossings: Vec<u64>,
 }
 
 impl Scratch {
     fn new() -> Scratch {
         Scratch {
             tree: FunnelTree::new(Point2::origin()),
-            queue: BinaryHeap::new(),
+            queue: ArenaHeap::new(),
             trail: Vec::new(),
             trail_dropped: false,
             lifts: Lifts::default(),
             simple_prefix: Vec::new(),
+            simple_buffers: SimpleBuffers::default(),
+            crossings: Vec::new(),
         }
     }
 
@@ -922,17 +968,20 @@ impl Scratch {
     /// Bytes held (capacities), for the pool's size limit.
     fn held_bytes(&self) -> usize {
         self.tree.capacity_bytes()
-            + self.queue.capacity() * std::mem::size_of::<Entry>()
+            + self.queue.held_bytes()
             + self.trail.capacity() * std::mem::size_of::<(HalfEdgeId, u32)>()
             + self.lifts.held_bytes()
             + self.simple_prefix.capacity()
+            + self.simple_buffers.vertices.capacity() * std::mem::size_of::<VertexId>()
+            + self.simple_buffers.runs.capacity() * std::mem::size_of::<ObstacleId>()
+            + self.crossings.capacity() * std::mem::size_of::<u64>()
     }
 
     /// Bytes the current query uses (lengths, not capacities: the same for the same query
     /// whatever earlier queries left in the pool).
     fn live_bytes(&self, pruning: bool) -> usize {
-        self.tree.len() * std::mem::size_of::<FunnelNode>()
-            + self.queue.len() * std::mem::size_of::<Entry>()
+        self.tree.len() * FunnelTree::NODE_BYTES
+            + self.queue.live_bytes()
             + self.trail.len() * std::mem::size_of::<(HalfEdgeId, u32)>()
             + if pruning { self.lifts.live_bytes() } else { 0 }
             + self.simple_prefix.len()
@@ -1100,15 +1149,15 @@ impl<'a> SptSearch<'a> {
             return Ok(None);
         }
         loop {
-            let Some(entry) = self.scratch.queue.pop() else {
+            let Some((key, item)) = self.scratch.queue.pop() else {
                 self.termination = Some(Termination::Exhausted);
                 return Ok(None);
             };
-            if self.length_limit().is_some_and(|limit| entry.key > limit) {
+            if self.length_limit().is_some_and(|limit| key > limit) {
                 self.termination = Some(Termination::LengthFactor);
                 return Ok(None);
             }
-            match entry.item {
+            match item {
                 Kind::Goal { node, trail } => {
                     if self.still_wanted().is_some() && !self.pending_goals.is_empty() {
                         // The smallest queued goal is the one popped.
@@ -1125,7 +1174,7 @@ impl<'a> SptSearch<'a> {
                         self.termination = Some(Termination::Expansions);
                         return Ok(None);
                     }
-                    self.expand(entry.key, funnel, trail)?;
+                    self.expand(key, funnel, trail)?;
                 }
             }
         }
@@ -1164,12 +1213,12 @@ impl<'a> SptSearch<'a> {
             })?;
             if next == self.goal_triangle {
                 let node = f.reach(&mut self.scratch.tree, self.goal);
-                let goal_key = self.scratch.tree.node(node).length.max(key);
+                let goal_key = self.scratch.tree.length(node).max(key);
                 self.push_goal(goal_key, node, trail);
             }
             let split = f.split(&mut self.scratch.tree, btm)?;
             if self.pruning {
-                let g = self.scratch.tree.node(split.node).length;
+                let g = self.scratch.tree.length(split.node);
                 self.scratch.lifts.record(split.vertex, g);
             }
             let mut kept = [None, None];
@@ -1296,7 +1345,7 @@ impl<'a> SptSearch<'a> {
     }
 
     fn push(&mut self, key: f64, kind: Kind) {
-        self.scratch.queue.push(Entry { key, item: kind });
+        self.scratch.queue.push(key, kind);
     }
 
     /// `f * L_1` once the first class is known.
@@ -1309,9 +1358,9 @@ impl<'a> SptSearch<'a> {
         if !self.pruning {
             return false;
         }
-        let apex = self.scratch.tree.node(f.apex());
-        apex.vertex()
-            .is_some_and(|v| self.scratch.lifts.dominates(v, apex.length))
+        let tree = &self.scratch.tree;
+        tree.vertex(f.apex())
+            .is_some_and(|v| self.scratch.lifts.dominates(v, tree.length(f.apex())))
     }
 
     /// The A* key of a funnel (module docs): eq. 2.5 at the goal, or at its mirror image across
@@ -1320,11 +1369,13 @@ impl<'a> SptSearch<'a> {
         let d = self.planner.btm.dcel();
         let m = f.mouth();
         let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
-        let apex = self.scratch.tree.node(f.apex());
+        let tree = &self.scratch.tree;
         // Every SHP through the funnel passes through its apex: g(apex) + h(apex) bounds it.
-        let through_apex = match (&self.to_goal, apex.vertex()) {
-            (Some(h), Some(v)) => apex.length + h[v.index()],
-            _ => 0.0,
+        let through_apex = match &self.to_goal {
+            Some(h) => tree
+                .vertex(f.apex())
+                .map_or(0.0, |v| tree.length(f.apex()) + h[v.index()]),
+            None => 0.0,
         };
         // The funnel's last triangle lies left of its mouth; beyond is the right side.
         let target = if orient2d(&a, &b, &self.goal) <= 0.0 {
@@ -1332,18 +1383,18 @@ impl<'a> SptSearch<'a> {
         } else {
             mirror(&self.goal, &a, &b)
         };
-        let t: &FunnelNode = self
-            .scratch
-            .tree
-            .node(f.predecessor(&self.scratch.tree, &target));
-        (t.length + (target - t.point).norm()).max(through_apex)
+        let t = f.predecessor(tree, &target);
+        (tree.length(t) + (target - tree.point(t)).norm()).max(through_apex)
     }
 
     /// Builds the class reached at goal node `node` through the funnel mouths of `trail`.
     fn emit(&mut self, node: NodeId, trail: u32) -> Result<Option<RankedShp>, SearchError> {
         let btm = self.planner.btm;
         let taut = self.scratch.tree.taut_path(btm, node);
-        let simple = is_simple_class(&taut);
+        let simple = anchors_are_simple(
+            taut.anchors.iter().map(|a| (a.vertex, a.obstacle)),
+            &mut self.scratch.simple_buffers,
+        );
         if self.options.simple_only && !simple {
             self.stats.skipped_not_simple += 1;
             return Ok(None);
@@ -1380,7 +1431,9 @@ impl<'a> SptSearch<'a> {
     /// The class answer from its SHP and sleeve.
     fn class(&mut self, taut: TautPath, sleeve: Sleeve, simple: bool) -> RankedShp {
         let crossings = sleeve.crossing_sequence();
-        let h_signature = self.planner.h_signature(&taut, &sleeve);
+        let h_signature =
+            self.planner
+                .h_signature_reusing(&taut, &sleeve, &mut self.scratch.crossings);
         self.emitted += 1;
         self.shortest.get_or_insert(taut.length);
         RankedShp {
@@ -1416,7 +1469,7 @@ impl<'a> SptSearch<'a> {
             let v = b.vertex()?;
             (orient2d(&a.point, &b.point, &c.point) != 0.0).then(|| (v, btm.obstacle_of_vertex(v)))
         });
-        let simple = anchors_are_simple(anchors);
+        let simple = anchors_are_simple(anchors, &mut self.scratch.simple_buffers);
         self.scratch.simple_prefix[apex.index()] = if simple { 1 } else { 2 };
         simple
     }
