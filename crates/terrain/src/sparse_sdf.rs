@@ -501,22 +501,6 @@ impl SparseSdf {
                 }
             }
         };
-        // The cell one step along `(axis, up)` from `c` in a grid of `n` cells per axis.
-        let step_cell = |c: [usize; 3], n: [usize; 3], axis: usize, up: bool| {
-            let mut c2 = c;
-            if up {
-                if c[axis] + 1 >= n[axis] {
-                    return None;
-                }
-                c2[axis] += 1;
-            } else {
-                if c[axis] == 0 {
-                    return None;
-                }
-                c2[axis] -= 1;
-            }
-            Some(c2)
-        };
         let neighbours = |index: &BlockIndex, n: Node, f: &mut dyn FnMut(Node)| {
             for axis in 0..3 {
                 for up in [false, true] {
@@ -729,6 +713,24 @@ impl SparseSdf {
     }
 }
 
+/// The cell one step along `axis` (`up`: in the positive direction) from `c` in a grid of `n`
+/// cells per axis; `None` past the grid's end.
+fn step_cell(c: [usize; 3], n: [usize; 3], axis: usize, up: bool) -> Option<[usize; 3]> {
+    let mut c2 = c;
+    if up {
+        if c[axis] + 1 >= n[axis] {
+            return None;
+        }
+        c2[axis] += 1;
+    } else {
+        if c[axis] == 0 {
+            return None;
+        }
+        c2[axis] -= 1;
+    }
+    Some(c2)
+}
+
 /// The block grid's geometry, for the wavefront.
 struct Grid {
     origin: Point3<f64>,
@@ -753,20 +755,7 @@ impl Grid {
     /// The block cell across face `f` (`2 axis + up`) of the cell at `cc`; `None` outside the
     /// grid's box.
     fn across(&self, cc: [u32; 3], f: usize) -> Option<usize> {
-        let (axis, up) = (f / 2, f % 2 == 1);
-        let mut c = cc.map(|x| x as usize);
-        if up {
-            if c[axis] + 1 >= self.cells[axis] {
-                return None;
-            }
-            c[axis] += 1;
-        } else {
-            if c[axis] == 0 {
-                return None;
-            }
-            c[axis] -= 1;
-        }
-        Some(self.cell_id(c))
+        step_cell(cc.map(|x| x as usize), self.cells, f / 2, f % 2 == 1).map(|c| self.cell_id(c))
     }
 }
 
@@ -805,6 +794,14 @@ impl Blocks {
     }
 }
 
+/// A grid point's state in the wavefront: its value and its site (an index into the sites,
+/// [`EXACT_SITE`] or [`NO_SITE`]).
+#[derive(Clone, Copy)]
+struct Pt {
+    value: f32,
+    site: u32,
+}
+
 /// A site offered to a grid point by a processed neighbour: the target (`block * 512 + local`
 /// for an allocated block; for an unallocated one, the source block, the face and the local
 /// position across it), the site and the signed exact distance to it.
@@ -835,7 +832,7 @@ fn propagate(
     grid: &Grid,
     index: &mut BlockIndex,
     block_cells: &mut Vec<usize>,
-    values: &mut Vec<f32>,
+    field: &mut Vec<f32>,
     best_tri: &[u32],
     d_max: f64,
     max_blocks: usize,
@@ -855,12 +852,14 @@ fn propagate(
             .collect()
     };
     let mut blocks = Blocks { coords, across };
-    let mut site = vec![NO_SITE; values.len()];
-    for (v, s) in site.iter_mut().zip(values.iter()) {
-        if !s.is_nan() {
-            *v = EXACT_SITE;
-        }
-    }
+    // Value and site side by side: the inner loop's reads of a point cost one cache line.
+    let mut pts: Vec<Pt> = field
+        .par_iter()
+        .map(|&value| Pt {
+            value,
+            site: if value.is_nan() { NO_SITE } else { EXACT_SITE },
+        })
+        .collect();
     // The grid point across face `f` of point `v`: `Ok(u)` in an allocated block, `Err(Some(l))`
     // at local position `l` of an unallocated block, `Err(None)` outside the box.
     let step = |blocks: &Blocks, v: usize, f: usize| -> Result<usize, Option<usize>> {
@@ -884,18 +883,18 @@ fn propagate(
     // Seeds: exact points with a neighbour that is NaN or unallocated; their closest point is
     // the site.
     let seeds: Vec<(u32, Point3<f32>)> = {
-        let (blocks, values) = (&blocks, &*values);
+        let (blocks, pts) = (&blocks, &pts);
         (0..blocks.coords.len())
             .into_par_iter()
             .flat_map_iter(|b| {
                 let mut out = Vec::new();
                 for l in 0..BLOCK_POINTS {
                     let v = b * BLOCK_POINTS + l;
-                    if values[v].is_nan() {
+                    if pts[v].value.is_nan() {
                         continue;
                     }
                     let open = (0..6).any(|f| match step(blocks, v, f) {
-                        Ok(u) => values[u].is_nan(),
+                        Ok(u) => pts[u].value.is_nan(),
                         Err(local) => local.is_some(),
                     });
                     if open {
@@ -914,18 +913,25 @@ fn propagate(
     // Queue entries: `point << 32 | site`.
     let mut buckets: Vec<Vec<u64>> = vec![Vec::new(); n_buckets];
     for (k, &(v, _)) in seeds.iter().enumerate() {
-        buckets[bucket(values[v as usize].abs() as f64)].push((v as u64) << 32 | k as u64);
+        buckets[bucket(pts[v as usize].value.abs() as f64)].push((v as u64) << 32 | k as u64);
     }
     let sites: Vec<Point3<f32>> = seeds.into_iter().map(|(_, s)| s).collect();
     let budget = MAX_RELAXATIONS_PER_POINT.saturating_mul(max_blocks * BLOCK_POINTS);
     // A new site must improve a point by more than this (so near-ties do not churn).
     let slack = RELAX_SLACK_VOXELS * h;
     let mut relaxations = 0usize;
-    // Whether `value` (a signed distance) improves on point `u`'s current state.
-    let improves = |site: &[u32], values: &[f32], u: usize, value: f64| {
-        site[u] == NO_SITE
-            || (site[u] != EXACT_SITE && value.abs() < values[u].abs() as f64 - slack)
+    // Whether the distance `d` improves on point `u`'s current state.
+    let improves = |pts: &[Pt], u: usize, d: f64| {
+        let p = pts[u];
+        p.site == NO_SITE || (p.site != EXACT_SITE && d < p.value.abs() as f64 - slack)
     };
+    // The same on squared distances (no square root for the offers it rejects).
+    let improves_sq = |pts: &[Pt], u: usize, d2: f64| {
+        let p = pts[u];
+        let lim = p.value.abs() as f64 - slack;
+        p.site == NO_SITE || (p.site != EXACT_SITE && lim > 0.0 && d2 < lim * lim)
+    };
+    let d_max2 = d_max * d_max;
     for cur in 0..n_buckets {
         // Rounds: each round's entries are pushed by relaxations of the previous round, so the
         // rounds are bounded by the relaxation budget.
@@ -938,7 +944,7 @@ fn propagate(
             entries.par_sort_unstable();
             entries.dedup();
             let offers: Vec<Vec<Offer>> = {
-                let (blocks, values, site, sites) = (&blocks, &*values, &site, &sites);
+                let (blocks, pts, sites) = (&blocks, &pts, &sites);
                 entries
                     .par_chunks(ROUND_CHUNK)
                     .map(|chunk| {
@@ -947,31 +953,31 @@ fn propagate(
                             let (v, s) = ((e >> 32) as usize, e as u32);
                             // Stale: the point has taken a better site since (that entry is
                             // processed in its own right).
-                            if site[v] != EXACT_SITE && site[v] != s {
+                            let pv = pts[v];
+                            if pv.site != EXACT_SITE && pv.site != s {
                                 continue;
                             }
                             let sp = sites[s as usize].cast::<f64>();
-                            let sign = if values[v] >= 0.0 { 1.0 } else { -1.0 };
+                            let sign = if pv.value >= 0.0 { 1.0 } else { -1.0 };
                             let b = v / BLOCK_POINTS;
                             let qv = grid.point(blocks.coords[b], v % BLOCK_POINTS);
                             for f in 0..6 {
                                 let (axis, up) = (f / 2, f % 2 == 1);
                                 let mut q = qv;
                                 q[axis] += if up { h } else { -h };
-                                let d = (q - sp).norm();
-                                if d > d_max {
+                                let d2 = (q - sp).norm_squared();
+                                if d2 > d_max2 {
                                     continue;
                                 }
-                                let value = sign * d;
                                 match step(blocks, v, f) {
                                     Ok(u) => {
-                                        if improves(site, values, u, value) {
+                                        if improves_sq(pts, u, d2) {
                                             out.push(Offer {
                                                 target: u as u32,
                                                 face: u8::MAX,
                                                 local: 0,
                                                 site: s,
-                                                value,
+                                                value: sign * d2.sqrt(),
                                             });
                                         }
                                     }
@@ -980,7 +986,7 @@ fn propagate(
                                         face: f as u8,
                                         local: local as u16,
                                         site: s,
-                                        value,
+                                        value: sign * d2.sqrt(),
                                     }),
                                     Err(None) => {}
                                 }
@@ -1001,27 +1007,35 @@ fn propagate(
                         if nb == OUTSIDE {
                             continue;
                         }
-                        values.resize(blocks.coords.len() * BLOCK_POINTS, f32::NAN);
-                        site.resize(blocks.coords.len() * BLOCK_POINTS, NO_SITE);
+                        pts.resize(
+                            blocks.coords.len() * BLOCK_POINTS,
+                            Pt {
+                                value: f32::NAN,
+                                site: NO_SITE,
+                            },
+                        );
                     }
                     nb as usize * BLOCK_POINTS + o.local as usize
                 };
-                if !improves(&site, values, u, o.value) {
+                if !improves(&pts, u, o.value.abs()) {
                     continue;
                 }
                 relaxations += 1;
                 if relaxations > budget {
                     return Err(SdfError::PropagationBudget {
                         relaxations,
-                        points: values.len(),
+                        points: pts.len(),
                     });
                 }
-                values[u] = o.value as f32;
-                site[u] = o.site;
+                pts[u] = Pt {
+                    value: o.value as f32,
+                    site: o.site,
+                };
                 buckets[bucket(o.value.abs()).max(cur)].push((u as u64) << 32 | o.site as u64);
             }
         }
     }
+    *field = pts.par_iter().map(|p| p.value).collect();
     Ok(())
 }
 
