@@ -12,6 +12,7 @@
 //! [`plane_class`] (tether-free or tether-demand), [`ingest`] (the whole pipeline, DEM to scenario
 //! ingredients) and [`synthetic`] (DEMs with known answers).
 
+mod block_index;
 pub mod dem;
 pub mod esri_ascii;
 pub mod frame;

@@ -83,12 +83,13 @@ pub enum SdfError {
         /// The cap.
         cap: usize,
     },
-    /// A sparse field's dense block index over the box would exceed its cap.
+    /// A sparse field's block index over the box would exceed its cap (the counts are the
+    /// index's top-level cells, pages of 8³ blocks).
     #[error(
-        "SDF block index of {nx} x {ny} x {nz} blocks exceeds the cap of {cap} (coarsen the resolution or crop the mesh)"
+        "SDF block index of {nx} x {ny} x {nz} pages of 8^3 blocks exceeds the cap of {cap} (coarsen the resolution or crop the mesh)"
     )]
     TooManyBlockCells {
-        /// Blocks along x.
+        /// Pages along x.
         nx: usize,
         /// Along y.
         ny: usize,

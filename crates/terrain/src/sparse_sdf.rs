@@ -25,8 +25,12 @@
 //!    own by more than [`RELAX_SLACK_VOXELS`] `h`, with the exact distance to that site and the
 //!    processed point's sign. Blocks are allocated on demand where a point within `D` is reached
 //!    (same block cap). Sign: two 6-adjacent points one of which is beyond `T >= 2 h` lie on one
-//!    side of the surface, so the carried sign is exact. Single-threaded (the queue is
-//!    sequential); at most [`MAX_RELAXATIONS_PER_POINT`] relaxations per grid point.
+//!    side of the surface, so the carried sign is exact. Each bucket is processed in rounds:
+//!    the round's points compute their offers in parallel against the state at the round's
+//!    start, then the offers are applied in a fixed order (ascending grid points), so the field
+//!    is bit-identical whatever the thread count; every block keeps a table of the blocks across
+//!    its six faces, so the inner loop reads no block index. At most
+//!    [`MAX_RELAXATIONS_PER_POINT`] relaxations per grid point.
 //! 3. **Sign beyond the reach**: first inside each block in parallel (a point still unknown
 //!    takes the sign of a 6-neighbour in its block; a block with no known point lies wholly
 //!    beyond the reach and is released), then across blocks: the remaining points and the
@@ -65,8 +69,10 @@
 //! the interior.
 //!
 //! # Bounds
-//! The block index is dense over the grid's box (4 bytes per block cell, at most
-//! `max_block_cells`); allocated blocks (2 KiB each, the band's and the wavefront's together) at
+//! The block index is a two-level page table (`block_index`): dense over pages of 8³ block
+//! cells (4 bytes per page cell, at most `max_block_cells` of them: with the default 2^25, a box
+//! of up to 2^34 block cells, about 1 km on each side at 5 cm), a page of 8³ entries (2 KiB)
+//! only where a block is allocated; allocated blocks (2 KiB each, the band's and the wavefront's together) at
 //! most `max_blocks`; candidate pairs at most [`MAX_CANDIDATES_PER_BLOCK`] per allowed block;
 //! wavefront relaxations at most [`MAX_RELAXATIONS_PER_POINT`] per grid point. Each is a typed
 //! [`SdfError`]. Build memory with propagation: 4 bytes of value, 4 of site index and 4 of
@@ -77,8 +83,11 @@ use std::collections::VecDeque;
 use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
+use crate::block_index::{AIR, BlockIndex, GROUND, TopId, UNKNOWN};
 use crate::mesh::{TriMesh, closest_point_triangle};
-use crate::sdf::{INTERPOLATION_BOUND, SdfError, interpolate, padded_grid, saturating_count};
+use crate::sdf::{
+    INTERPOLATION_BOUND, SdfError, grid_cell, interpolate, padded_grid, saturating_count, trilinear,
+};
 use crate::surface::SignedDistance;
 
 /// Grid points per block side.
@@ -115,8 +124,8 @@ pub const MAX_RELAXATIONS_PER_POINT: usize = 16;
 /// Default cap on allocated blocks (2 KiB each: 512 MiB at the cap).
 pub const DEFAULT_MAX_BLOCKS: usize = 262_144;
 
-/// Default cap on block cells of the dense block index over the grid's box (4 bytes each:
-/// 128 MiB at the cap).
+/// Default cap on the top-level cells of the block index (each a page of 8³ block cells, 4 bytes
+/// each: 128 MiB at the cap, a box of up to 2^34 block cells).
 pub const DEFAULT_MAX_BLOCK_CELLS: usize = 1 << 25;
 
 /// Cap on (block, candidate triangle) pairs per allowed block: at most
@@ -125,10 +134,6 @@ pub const MAX_CANDIDATES_PER_BLOCK: usize = 64;
 
 /// `2^-24`: the relative rounding of a stored `f32` value.
 pub const F32_ROUNDING: f64 = 5.960_464_477_539_063e-8;
-
-const AIR: u32 = u32::MAX;
-const GROUND: u32 = u32::MAX - 1;
-const UNKNOWN: u32 = u32::MAX - 2;
 
 /// How to build a [`SparseSdf`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -146,7 +151,8 @@ pub struct SparseSdfParams {
     pub margin: f64,
     /// Cap on allocated blocks.
     pub max_blocks: usize,
-    /// Cap on cells of the dense block index.
+    /// Cap on the top-level cells of the block index (pages of 8³ block cells over the grid's
+    /// box, 4 bytes each): the only cap on the box's size.
     pub max_block_cells: usize,
 }
 
@@ -175,17 +181,17 @@ impl SparseSdfParams {
     }
 }
 
-/// A sparse truncated signed distance field on the grid `origin + (i, j, k) h`.
-#[derive(Debug, Clone)]
+/// A sparse truncated signed distance field on the grid `origin + (i, j, k) h`. Two fields are
+/// equal when their grids, block layouts and every stored value are bit-identical.
+#[derive(Debug, Clone, PartialEq)]
 pub struct SparseSdf {
     origin: Point3<f64>,
     h: f64,
     truncation: f64,
     max_distance: f64,
     dims: [usize; 3],
-    cells: [usize; 3],
-    /// Per block cell: the allocated block's index, or [`AIR`] / [`GROUND`].
-    index: Vec<u32>,
+    /// Per block cell: the allocated block's number, or [`AIR`] / [`GROUND`].
+    index: BlockIndex,
     /// [`BLOCK_POINTS`] values per allocated block, `x` fastest.
     values: Vec<f32>,
 }
@@ -194,12 +200,13 @@ fn bad(name: &'static str, value: f64, why: &'static str) -> SdfError {
     SdfError::BadParameter { name, value, why }
 }
 
-/// A node of the sign flood: a grid point of an allocated block (`block * 512 + local`) or an
-/// unallocated block cell.
+/// A node of the sign flood: a grid point of an allocated block (`block * 512 + local`), an
+/// unallocated block cell of a page, or a uniform top-level cell of the block index.
 #[derive(Clone, Copy)]
 enum Node {
     Point(usize),
     Cell(usize),
+    Top(TopId),
 }
 
 impl SparseSdf {
@@ -257,12 +264,18 @@ impl SparseSdf {
         }
         let (origin, ext, fp) = padded_grid(mesh, h, p.margin);
         let fc = fp.map(|n| (n / BLOCK as f64).ceil());
-        let total = fc[0] * fc[1] * fc[2];
-        if !(total.is_finite() && total <= p.max_block_cells as f64) {
+        // The cap is on the index's top level (pages of 8^3 block cells); block coordinates are
+        // `u32` (at most 2^32 - 1 block cells per axis, far beyond any top level that fits).
+        let ft = BlockIndex::top_counts(fc);
+        let total = ft[0] * ft[1] * ft[2];
+        if !(total.is_finite()
+            && total <= p.max_block_cells as f64
+            && fc.iter().all(|&n| n < u32::MAX as f64))
+        {
             return Err(SdfError::TooManyBlockCells {
-                nx: saturating_count(fc[0]),
-                ny: saturating_count(fc[1]),
-                nz: saturating_count(fc[2]),
+                nx: saturating_count(ft[0]),
+                ny: saturating_count(ft[1]),
+                nz: saturating_count(ft[2]),
                 cap: p.max_block_cells,
             });
         }
@@ -278,7 +291,7 @@ impl SparseSdf {
             |c: [usize; 3]| origin + Vector3::from(c.map(|v| v as f64 * b + half)).scale(h);
 
         // 1. Candidate (block cell, triangle) pairs.
-        let mut pairs: Vec<(u32, u32)> = (0..mesh.triangles().len())
+        let mut pairs: Vec<(usize, u32)> = (0..mesh.triangles().len())
             .into_par_iter()
             .flat_map_iter(|t| {
                 let [a, bb, c] = mesh.corners(t);
@@ -305,7 +318,7 @@ impl SparseSdf {
                             let q = centre([i, j, k]);
                             let (cp, _) = closest_point_triangle(&q, &a, &bb, &c);
                             if (q - cp).norm() <= reach {
-                                out.push((cell_id([i, j, k]) as u32, t as u32));
+                                out.push((cell_id([i, j, k]), t as u32));
                             }
                         }
                     }
@@ -319,7 +332,7 @@ impl SparseSdf {
         for (k, &(c, _)) in pairs.iter().enumerate() {
             if k == 0 || pairs[k - 1].0 != c {
                 starts.push(k);
-                block_cells.push(c as usize);
+                block_cells.push(c);
             }
         }
         starts.push(pairs.len());
@@ -336,10 +349,6 @@ impl SparseSdf {
                 cap: p.max_blocks,
             });
         }
-        let mut index = vec![UNKNOWN; cells[0] * cells[1] * cells[2]];
-        for (k, &c) in block_cells.iter().enumerate() {
-            index[c] = k as u32;
-        }
         let split = |c: usize| {
             [
                 c % cells[0],
@@ -347,6 +356,10 @@ impl SparseSdf {
                 c / (cells[0] * cells[1]),
             ]
         };
+        let mut index = BlockIndex::new(cells, UNKNOWN);
+        for (k, &c) in block_cells.iter().enumerate() {
+            index.set(split(c), k as u32);
+        }
 
         // 2. Exact values up to T; NaN marks "farther than T, sign unknown". The plane test's
         // slack covers the rounding of the unit normal (relative to the scene's size).
@@ -363,20 +376,27 @@ impl SparseSdf {
                 // Each candidate with a point and the unit normal of its plane: the distance to
                 // the plane is a lower bound on the distance to the triangle, so a candidate
                 // whose plane is farther than the best so far (or than T) is skipped.
-                let cand: Vec<(usize, Point3<f64>, Vector3<f64>)> = pairs[starts[k]..starts[k + 1]]
+                // Nearest to the block's centre first (ties by triangle): the first candidate
+                // is then usually a point's closest, and the plane test skips most others.
+                let c0 = centre(cc);
+                let mut cand: Vec<(f64, usize, Point3<f64>, Vector3<f64>)> = pairs
+                    [starts[k]..starts[k + 1]]
                     .iter()
                     .map(|&(_, t)| {
                         let t = t as usize;
-                        (t, mesh.corners(t)[0], mesh.face_normal(t))
+                        let [a, b, c] = mesh.corners(t);
+                        let (cp, _) = closest_point_triangle(&c0, &a, &b, &c);
+                        ((c0 - cp).norm(), t, a, mesh.face_normal(t))
                     })
                     .collect();
+                cand.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
                 for (l, (slot, tri_slot)) in out.iter_mut().zip(tri_out.iter_mut()).enumerate() {
                     let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
                     let q = origin
                         + Vector3::from([0, 1, 2].map(|a| (cc[a] * BLOCK + g[a]) as f64)).scale(h);
                     let mut best = f64::INFINITY;
                     let mut best_t = u32::MAX;
-                    for &(t, a, n) in &cand {
+                    for &(_, t, a, n) in &cand {
                         if (q - a).dot(&n).abs() > best.abs().min(t_max) + plane_slack {
                             continue;
                         }
@@ -426,12 +446,12 @@ impl SparseSdf {
             for (k, &keep) in exact.iter().enumerate() {
                 let c = block_cells[k];
                 if keep {
-                    index[c] = kept_cells.len() as u32;
+                    index.set(split(c), kept_cells.len() as u32);
                     kept_cells.push(c);
                     kept_values
                         .extend_from_slice(&values[k * BLOCK_POINTS..(k + 1) * BLOCK_POINTS]);
                 } else {
-                    index[c] = UNKNOWN;
+                    index.set(split(c), UNKNOWN);
                 }
             }
             values = kept_values;
@@ -441,67 +461,81 @@ impl SparseSdf {
 
         // 3. The sign flood across blocks: the points step 2b did not reach (a region of a block
         // cut off from its exact points inside the block) and the unallocated cells.
-        let neighbours = |index: &[u32], n: Node, f: &mut dyn FnMut(Node)| {
-            let (cc, local) = match n {
-                Node::Point(i) => {
-                    let l = i % BLOCK_POINTS;
-                    (
-                        split(block_cells[i / BLOCK_POINTS]),
-                        Some([l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)]),
-                    )
+        // The nodes behind block cell `c2` seen across face `(axis, up)`: the facing point of a
+        // point at local position `local`, or all facing points for a whole cell's face, when
+        // `c2` holds a block; else `c2` itself, or its uniform top-level cell.
+        let behind = |index: &BlockIndex,
+                      c2: [usize; 3],
+                      axis: usize,
+                      up: bool,
+                      local: Option<[usize; 3]>,
+                      f: &mut dyn FnMut(Node)| {
+            let blk = index.get(c2);
+            if blk >= UNKNOWN {
+                let t = index.top_id(c2);
+                if index.uniform(t).is_some() {
+                    f(Node::Top(t));
+                } else {
+                    f(Node::Cell(cell_id(c2)));
                 }
-                Node::Cell(c) => (split(c), None),
-            };
-            for axis in 0..3 {
-                for up in [false, true] {
-                    if let Some(g) = local {
-                        let inside = if up { g[axis] + 1 < BLOCK } else { g[axis] > 0 };
-                        if inside {
-                            let mut g2 = g;
-                            g2[axis] = if up { g[axis] + 1 } else { g[axis] - 1 };
-                            let l2 = (g2[2] * BLOCK + g2[1]) * BLOCK + g2[0];
-                            if let Node::Point(i) = n {
-                                f(Node::Point(i - i % BLOCK_POINTS + l2));
-                            }
-                            continue;
-                        }
-                    }
-                    let mut c2 = cc;
-                    if up {
-                        if cc[axis] + 1 >= cells[axis] {
-                            continue;
-                        }
-                        c2[axis] += 1;
-                    } else {
-                        if cc[axis] == 0 {
-                            continue;
-                        }
-                        c2[axis] -= 1;
-                    }
-                    let id = cell_id(c2);
-                    let blk = index[id];
-                    if blk >= UNKNOWN {
-                        // Unallocated (unknown, air or ground).
-                        f(Node::Cell(id));
-                        continue;
-                    }
-                    let base = blk as usize * BLOCK_POINTS;
-                    let face = if up { 0 } else { BLOCK - 1 };
-                    match local {
-                        Some(g) => {
-                            let mut g2 = g;
+                return;
+            }
+            let base = blk as usize * BLOCK_POINTS;
+            let face = if up { 0 } else { BLOCK - 1 };
+            match local {
+                Some(g) => {
+                    let mut g2 = g;
+                    g2[axis] = face;
+                    f(Node::Point(base + (g2[2] * BLOCK + g2[1]) * BLOCK + g2[0]));
+                }
+                None => {
+                    for u in 0..BLOCK {
+                        for v in 0..BLOCK {
+                            let mut g2 = [0; 3];
                             g2[axis] = face;
+                            g2[(axis + 1) % 3] = u;
+                            g2[(axis + 2) % 3] = v;
                             f(Node::Point(base + (g2[2] * BLOCK + g2[1]) * BLOCK + g2[0]));
                         }
-                        None => {
-                            for u in 0..BLOCK {
-                                for v in 0..BLOCK {
-                                    let mut g2 = [0; 3];
-                                    g2[axis] = face;
-                                    g2[(axis + 1) % 3] = u;
-                                    g2[(axis + 2) % 3] = v;
-                                    f(Node::Point(base + (g2[2] * BLOCK + g2[1]) * BLOCK + g2[0]));
-                                }
+                    }
+                }
+            }
+        };
+        let neighbours = |index: &BlockIndex, n: Node, f: &mut dyn FnMut(Node)| {
+            for axis in 0..3 {
+                for up in [false, true] {
+                    match n {
+                        Node::Point(i) => {
+                            let l = i % BLOCK_POINTS;
+                            let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
+                            if let Some(g2) = step_cell(g, [BLOCK; 3], axis, up) {
+                                let l2 = (g2[2] * BLOCK + g2[1]) * BLOCK + g2[0];
+                                f(Node::Point(i - l + l2));
+                            } else if let Some(c2) =
+                                step_cell(split(block_cells[i / BLOCK_POINTS]), cells, axis, up)
+                            {
+                                behind(index, c2, axis, up, Some(g), f);
+                            }
+                        }
+                        Node::Cell(c) => {
+                            if let Some(c2) = step_cell(split(c), cells, axis, up) {
+                                behind(index, c2, axis, up, None, f);
+                            }
+                        }
+                        Node::Top(t) => {
+                            let Some(t2) = step_cell(index.top_coords(t), index.tops(), axis, up)
+                            else {
+                                continue;
+                            };
+                            let t2 = (t2[2] * index.tops()[1] + t2[1]) * index.tops()[0] + t2[0];
+                            if index.uniform(t2).is_some() {
+                                f(Node::Top(t2));
+                                continue;
+                            }
+                            // The cells of page `t2` facing `t`, and what lies behind them.
+                            let face = 2 * axis + usize::from(!up);
+                            for c2 in index.face_cells(t2, face) {
+                                behind(index, c2, axis, up, None, f);
                             }
                         }
                     }
@@ -509,20 +543,28 @@ impl SparseSdf {
             }
         };
         // `Some(true)` air, `Some(false)` ground, `None` unknown.
-        let sign = |index: &[u32], values: &[f32], n: Node| match n {
-            Node::Point(i) => {
-                let v = values[i];
-                (!v.is_nan()).then_some(v >= 0.0)
-            }
-            Node::Cell(c) => match index[c] {
+        let sign = |index: &BlockIndex, values: &[f32], n: Node| {
+            let e = match n {
+                Node::Point(i) => {
+                    let v = values[i];
+                    return (!v.is_nan()).then_some(v >= 0.0);
+                }
+                Node::Cell(c) => index.get(split(c)),
+                Node::Top(t) => index.uniform(t).unwrap_or(UNKNOWN),
+            };
+            match e {
                 AIR => Some(true),
                 GROUND => Some(false),
                 _ => None,
-            },
+            }
         };
-        let set = |index: &mut [u32], values: &mut [f32], n: Node, air: bool| match n {
-            Node::Point(i) => values[i] = if air { tf } else { -tf },
-            Node::Cell(c) => index[c] = if air { AIR } else { GROUND },
+        let set = |index: &mut BlockIndex, values: &mut [f32], n: Node, air: bool| {
+            let e = if air { AIR } else { GROUND };
+            match n {
+                Node::Point(i) => values[i] = if air { tf } else { -tf },
+                Node::Cell(c) => index.set(split(c), e),
+                Node::Top(t) => index.set_uniform(t, e),
+            }
         };
         // Seeds: unknown nodes with a known neighbour in the initial state (assigned after the
         // scan, so that the fronts advance evenly from every exact point).
@@ -532,13 +574,9 @@ impl SparseSdf {
             .enumerate()
             .filter(|(_, v)| v.is_nan())
             .map(|(i, _)| Node::Point(i))
-            .chain(
-                index
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, b)| **b == UNKNOWN)
-                    .map(|(c, _)| Node::Cell(c)),
-            );
+            .chain(index.paged_cells(UNKNOWN).map(|c| Node::Cell(cell_id(c))))
+            .chain(index.uniform_tops(UNKNOWN).map(Node::Top))
+            .collect::<Vec<_>>();
         for n in unknown_nodes {
             let mut found = None;
             neighbours(&index, n, &mut |m| {
@@ -576,16 +614,13 @@ impl SparseSdf {
         for v in values.iter_mut().filter(|v| v.is_nan()) {
             *v = tf;
         }
-        for b in index.iter_mut().filter(|b| **b == UNKNOWN) {
-            *b = AIR;
-        }
+        index.replace_unknown(AIR);
         Ok(SparseSdf {
             origin,
             h,
             truncation: t_max as f32 as f64,
             max_distance: tf as f64,
             dims,
-            cells,
             index,
             values,
         })
@@ -638,8 +673,7 @@ impl SparseSdf {
     }
 
     fn value(&self, i: usize, j: usize, k: usize) -> f64 {
-        let c = (k / BLOCK * self.cells[1] + j / BLOCK) * self.cells[0] + i / BLOCK;
-        match self.index[c] {
+        match self.index.get([i / BLOCK, j / BLOCK, k / BLOCK]) {
             AIR => self.max_distance,
             GROUND => -self.max_distance,
             b => {
@@ -658,10 +692,43 @@ impl SparseSdf {
     /// Distance and gradient of the trilinear interpolant at `q` (zero gradient where every
     /// corner reads `±T`); `None` outside the grid.
     pub fn distance_and_gradient(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
+        let ([i, j, k], t) = grid_cell(&self.origin, self.h, self.dims, q)?;
+        if i % BLOCK + 1 < BLOCK && j % BLOCK + 1 < BLOCK && k % BLOCK + 1 < BLOCK {
+            // The cell's 8 corners lie in one block: one index lookup.
+            let c = match self.index.get([i / BLOCK, j / BLOCK, k / BLOCK]) {
+                AIR => [self.max_distance; 8],
+                GROUND => [-self.max_distance; 8],
+                b => {
+                    let l = ((k % BLOCK) * BLOCK + j % BLOCK) * BLOCK + i % BLOCK;
+                    let v = &self.values[b as usize * BLOCK_POINTS + l..];
+                    let (y, z) = (BLOCK, BLOCK * BLOCK);
+                    [0, 1, y, y + 1, z, z + 1, z + y, z + y + 1].map(|o| v[o] as f64)
+                }
+            };
+            return Some(trilinear(c, t, self.h));
+        }
         interpolate(&self.origin, self.h, self.dims, q, |i, j, k| {
             self.value(i, j, k)
         })
     }
+}
+
+/// The cell one step along `axis` (`up`: in the positive direction) from `c` in a grid of `n`
+/// cells per axis; `None` past the grid's end.
+fn step_cell(c: [usize; 3], n: [usize; 3], axis: usize, up: bool) -> Option<[usize; 3]> {
+    let mut c2 = c;
+    if up {
+        if c[axis] + 1 >= n[axis] {
+            return None;
+        }
+        c2[axis] += 1;
+    } else {
+        if c[axis] == 0 {
+            return None;
+        }
+        c2[axis] -= 1;
+    }
+    Some(c2)
 }
 
 /// The block grid's geometry, for the wavefront.
@@ -670,18 +737,6 @@ struct Grid {
     h: f64,
     cells: [usize; 3],
 }
-
-/// A grid point's 6-neighbour across one face.
-enum Neighbour {
-    /// A point of an allocated block (`block * 512 + local`).
-    Point(usize),
-    /// The neighbour lies in the unallocated block cell `cell` at local position `local`.
-    Unallocated { cell: usize, local: usize },
-    /// Outside the grid's box.
-    Outside,
-}
-
-const STEP: [usize; 3] = [1, BLOCK, BLOCK * BLOCK];
 
 impl Grid {
     fn split(&self, c: usize) -> [usize; 3] {
@@ -697,105 +752,153 @@ impl Grid {
         let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
         self.origin + Vector3::from([0, 1, 2].map(|a| (cc[a] * BLOCK + g[a]) as f64)).scale(self.h)
     }
-    /// The neighbour of grid point `v` (`block * 512 + local`) one step along `axis` (`up`: in
-    /// the positive direction).
-    fn neighbour(
-        &self,
-        index: &[u32],
-        coords: &[[u32; 3]],
-        v: usize,
-        axis: usize,
-        up: bool,
-    ) -> Neighbour {
-        let (b, l) = (v / BLOCK_POINTS, v % BLOCK_POINTS);
-        let g = (l / STEP[axis]) % BLOCK;
-        if up && g + 1 < BLOCK {
-            return Neighbour::Point(v + STEP[axis]);
-        }
-        if !up && g > 0 {
-            return Neighbour::Point(v - STEP[axis]);
-        }
-        let mut cc = coords[b].map(|c| c as usize);
-        if up {
-            if cc[axis] + 1 >= self.cells[axis] {
-                return Neighbour::Outside;
-            }
-            cc[axis] += 1;
-        } else {
-            if cc[axis] == 0 {
-                return Neighbour::Outside;
-            }
-            cc[axis] -= 1;
-        }
-        let face = if up { 0 } else { BLOCK - 1 };
-        let local = l - g * STEP[axis] + face * STEP[axis];
-        let cell = self.cell_id(cc);
-        match index[cell] {
-            nb if nb < UNKNOWN => Neighbour::Point(nb as usize * BLOCK_POINTS + local),
-            _ => Neighbour::Unallocated { cell, local },
-        }
+    /// The block cell across face `f` (`2 axis + up`) of the cell at `cc`; `None` outside the
+    /// grid's box.
+    fn across(&self, cc: [u32; 3], f: usize) -> Option<usize> {
+        step_cell(cc.map(|x| x as usize), self.cells, f / 2, f % 2 == 1).map(|c| self.cell_id(c))
     }
 }
+
+const STEP: [usize; 3] = [1, BLOCK, BLOCK * BLOCK];
 
 /// Site marker of an exact point (its value stays).
 const EXACT_SITE: u32 = u32::MAX;
 /// Site marker of a point no site has reached yet.
 const NO_SITE: u32 = u32::MAX - 1;
+/// Face-table marker: the block cell across the face is unallocated.
+const NO_BLOCK: u32 = u32::MAX;
+/// Face-table marker: across the face lies the grid box's boundary.
+const OUTSIDE: u32 = u32::MAX - 1;
+/// Queue entries per parallel work item of a wavefront round (fixed, so that the rounds' output
+/// order does not depend on the thread count).
+const ROUND_CHUNK: usize = 2048;
+
+/// The allocated blocks as the wavefront sees them: block coordinates and, per block and face
+/// (`2 axis + up`), the block across it ([`NO_BLOCK`], [`OUTSIDE`]), kept current as blocks are
+/// allocated, so that the inner loop never consults the block index.
+struct Blocks {
+    coords: Vec<[u32; 3]>,
+    across: Vec<[u32; 6]>,
+}
+
+impl Blocks {
+    /// The face table of the block at `cc` from the block index.
+    fn faces(grid: &Grid, index: &BlockIndex, cc: [u32; 3]) -> [u32; 6] {
+        std::array::from_fn(
+            |f| match grid.across(cc, f).map(|c| index.get(grid.split(c))) {
+                None => OUTSIDE,
+                Some(b) if b < UNKNOWN => b,
+                Some(_) => NO_BLOCK,
+            },
+        )
+    }
+}
+
+/// A grid point's state in the wavefront: its value and its site (an index into the sites,
+/// [`EXACT_SITE`] or [`NO_SITE`]).
+#[derive(Clone, Copy)]
+struct Pt {
+    value: f32,
+    site: u32,
+}
+
+/// A site offered to a grid point by a processed neighbour: the target (`block * 512 + local`
+/// for an allocated block; for an unallocated one, the source block, the face and the local
+/// position across it), the site and the signed exact distance to it.
+#[derive(Clone, Copy)]
+struct Offer {
+    target: u32,
+    face: u8,
+    local: u16,
+    site: u32,
+    value: f64,
+}
 
 /// Step 2a (module doc): carries the closest surface points outward from the exact band. Each
 /// point beyond `T` takes the exact distance to the site (the closest surface point of an exact
-/// boundary point) of the neighbour that reached it with the smallest distance, and that
-/// neighbour's sign; a bucketed queue (buckets `h / 4` wide, Voxblox's bucketed priority
-/// queue) processes points in increasing distance. A block cell is allocated when the wavefront
-/// first reaches one of its points within `D` (at most `max_blocks` blocks in all). Points no
-/// site reaches within `D` stay NaN (the sign floods set them to `±D`).
+/// boundary point) of a neighbour that offers it a smaller distance (by more than the slack),
+/// and that neighbour's sign; a bucketed queue (buckets `h / 4` wide, Voxblox's bucketed
+/// priority queue) processes points in increasing distance. A bucket is processed in
+/// **rounds**: every entry of the round computes its offers in parallel against the state at
+/// the round's start (offers that cannot improve are dropped there), then the offers are applied
+/// in the entries' order (sorted grid points), each re-checked against the current state;
+/// improved points join their bucket (the current one at the earliest) for a later round. The
+/// result is therefore independent of the thread count. A block cell is allocated when an offer
+/// within `D` reaches one of its points (at most `max_blocks` blocks in all). Points no site
+/// reaches within `D` stay NaN (the sign floods set them to `±D`).
 #[allow(clippy::too_many_arguments)]
 fn propagate(
     mesh: &TriMesh,
     grid: &Grid,
-    index: &mut [u32],
+    index: &mut BlockIndex,
     block_cells: &mut Vec<usize>,
-    values: &mut Vec<f32>,
+    field: &mut Vec<f32>,
     best_tri: &[u32],
     d_max: f64,
     max_blocks: usize,
 ) -> Result<(), SdfError> {
     let h = grid.h;
-    // Queue entries are grid point indices below `SEED_FLAG`.
-    let max_blocks = max_blocks.min((SEED_FLAG as usize - 1) / BLOCK_POINTS);
-    let mut coords: Vec<[u32; 3]> = block_cells
+    // Grid point indices are u32.
+    let max_blocks = max_blocks.min(NO_SITE as usize / BLOCK_POINTS);
+    let coords: Vec<[u32; 3]> = block_cells
         .iter()
         .map(|&c| grid.split(c).map(|x| x as u32))
         .collect();
-    let mut site = vec![NO_SITE; values.len()];
-    for (v, s) in site.iter_mut().zip(values.iter()) {
-        if !s.is_nan() {
-            *v = EXACT_SITE;
+    let across: Vec<[u32; 6]> = {
+        let index = &*index;
+        coords
+            .par_iter()
+            .map(|&cc| Blocks::faces(grid, index, cc))
+            .collect()
+    };
+    let mut blocks = Blocks { coords, across };
+    // Value and site side by side: the inner loop's reads of a point cost one cache line.
+    let mut pts: Vec<Pt> = field
+        .par_iter()
+        .map(|&value| Pt {
+            value,
+            site: if value.is_nan() { NO_SITE } else { EXACT_SITE },
+        })
+        .collect();
+    // The grid point across face `f` of point `v`: `Ok(u)` in an allocated block, `Err(Some(l))`
+    // at local position `l` of an unallocated block, `Err(None)` outside the box.
+    let step = |blocks: &Blocks, v: usize, f: usize| -> Result<usize, Option<usize>> {
+        let (axis, up) = (f / 2, f % 2 == 1);
+        let l = v % BLOCK_POINTS;
+        let g = (l / STEP[axis]) % BLOCK;
+        if up && g + 1 < BLOCK {
+            return Ok(v + STEP[axis]);
         }
-    }
+        if !up && g > 0 {
+            return Ok(v - STEP[axis]);
+        }
+        let face = if up { 0 } else { BLOCK - 1 };
+        let local = l - g * STEP[axis] + face * STEP[axis];
+        match blocks.across[v / BLOCK_POINTS][f] {
+            OUTSIDE => Err(None),
+            NO_BLOCK => Err(Some(local)),
+            nb => Ok(nb as usize * BLOCK_POINTS + local),
+        }
+    };
     // Seeds: exact points with a neighbour that is NaN or unallocated; their closest point is
     // the site.
     let seeds: Vec<(u32, Point3<f32>)> = {
-        let (index, coords, values) = (&*index, &coords, &*values);
-        (0..coords.len())
+        let (blocks, pts) = (&blocks, &pts);
+        (0..blocks.coords.len())
             .into_par_iter()
             .flat_map_iter(|b| {
                 let mut out = Vec::new();
                 for l in 0..BLOCK_POINTS {
                     let v = b * BLOCK_POINTS + l;
-                    if values[v].is_nan() {
+                    if pts[v].value.is_nan() {
                         continue;
                     }
-                    let open =
-                        (0..6).any(
-                            |k| match grid.neighbour(index, coords, v, k / 2, k % 2 == 1) {
-                                Neighbour::Point(u) => values[u].is_nan(),
-                                Neighbour::Unallocated { .. } => true,
-                                Neighbour::Outside => false,
-                            },
-                        );
+                    let open = (0..6).any(|f| match step(blocks, v, f) {
+                        Ok(u) => pts[u].value.is_nan(),
+                        Err(local) => local.is_some(),
+                    });
                     if open {
-                        let q = grid.point(coords[b], l);
+                        let q = grid.point(blocks.coords[b], l);
                         let cp = mesh.closest_on_triangle(best_tri[v] as usize, &q).point;
                         out.push((v as u32, cp.cast::<f32>()));
                     }
@@ -807,84 +910,171 @@ fn propagate(
     let width = 0.25 * h;
     let n_buckets = (d_max / width).ceil() as usize + 2;
     let bucket = |d: f64| ((d / width) as usize).min(n_buckets - 1);
-    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); n_buckets];
+    // Queue entries: `point << 32 | site`.
+    let mut buckets: Vec<Vec<u64>> = vec![Vec::new(); n_buckets];
     for (k, &(v, _)) in seeds.iter().enumerate() {
-        buckets[bucket(values[v as usize].abs() as f64)].push(k as u32 | SEED_FLAG);
+        buckets[bucket(pts[v as usize].value.abs() as f64)].push((v as u64) << 32 | k as u64);
     }
-    let (seed_points, sites): (Vec<u32>, Vec<Point3<f32>>) = seeds.into_iter().unzip();
+    let sites: Vec<Point3<f32>> = seeds.into_iter().map(|(_, s)| s).collect();
     let budget = MAX_RELAXATIONS_PER_POINT.saturating_mul(max_blocks * BLOCK_POINTS);
     // A new site must improve a point by more than this (so near-ties do not churn).
     let slack = RELAX_SLACK_VOXELS * h;
     let mut relaxations = 0usize;
-    let mut cur = 0;
-    // Each bucket is sorted when it is reached (descending, popped from the end: ascending grid
-    // point order, for memory locality); entries pushed into the current bucket are popped next.
-    buckets[0].par_sort_unstable_by(|a, b| b.cmp(a));
-    while cur < n_buckets {
-        let Some(e) = buckets[cur].pop() else {
-            cur += 1;
-            if cur < n_buckets {
-                buckets[cur].par_sort_unstable_by(|a, b| b.cmp(a));
+    // Whether the distance `d` improves on point `u`'s current state.
+    let improves = |pts: &[Pt], u: usize, d: f64| {
+        let p = pts[u];
+        p.site == NO_SITE || (p.site != EXACT_SITE && d < p.value.abs() as f64 - slack)
+    };
+    // The same on squared distances (no square root for the offers it rejects).
+    let improves_sq = |pts: &[Pt], u: usize, d2: f64| {
+        let p = pts[u];
+        let lim = p.value.abs() as f64 - slack;
+        p.site == NO_SITE || (p.site != EXACT_SITE && lim > 0.0 && d2 < lim * lim)
+    };
+    let d_max2 = d_max * d_max;
+    for cur in 0..n_buckets {
+        // Rounds: each round's entries are pushed by relaxations of the previous round, so the
+        // rounds are bounded by the relaxation budget.
+        loop {
+            let mut entries = std::mem::take(&mut buckets[cur]);
+            if entries.is_empty() {
+                break;
             }
-            continue;
-        };
-        let (v, s) = if e & SEED_FLAG != 0 {
-            let k = e & !SEED_FLAG;
-            (seed_points[k as usize] as usize, k)
-        } else {
-            (e as usize, site[e as usize])
-        };
-        let sp = sites[s as usize].cast::<f64>();
-        let air = values[v] >= 0.0;
-        let qv = grid.point(coords[v / BLOCK_POINTS], v % BLOCK_POINTS);
-        for k in 0..6 {
-            let (axis, up) = (k / 2, k % 2 == 1);
-            let mut q = qv;
-            q[axis] += if up { h } else { -h };
-            let d = (q - sp).norm();
-            if d > d_max {
-                continue;
-            }
-            let u = match grid.neighbour(index, &coords, v, axis, up) {
-                Neighbour::Point(u) => u,
-                Neighbour::Outside => continue,
-                Neighbour::Unallocated { cell, local } => {
-                    let nb = block_cells.len();
-                    if nb >= max_blocks {
-                        return Err(SdfError::TooManyBlocks {
-                            blocks: nb + 1,
-                            cap: max_blocks,
-                        });
-                    }
-                    index[cell] = nb as u32;
-                    block_cells.push(cell);
-                    coords.push(grid.split(cell).map(|x| x as u32));
-                    values.resize((nb + 1) * BLOCK_POINTS, f32::NAN);
-                    site.resize((nb + 1) * BLOCK_POINTS, NO_SITE);
-                    nb * BLOCK_POINTS + local
-                }
+            // Ascending grid points (memory locality); equal entries are one.
+            entries.par_sort_unstable();
+            entries.dedup();
+            let offers: Vec<Vec<Offer>> = {
+                let (blocks, pts, sites) = (&blocks, &pts, &sites);
+                entries
+                    .par_chunks(ROUND_CHUNK)
+                    .map(|chunk| {
+                        let mut out = Vec::new();
+                        for &e in chunk {
+                            let (v, s) = ((e >> 32) as usize, e as u32);
+                            // Stale: the point has taken a better site since (that entry is
+                            // processed in its own right).
+                            let pv = pts[v];
+                            if pv.site != EXACT_SITE && pv.site != s {
+                                continue;
+                            }
+                            let sp = sites[s as usize].cast::<f64>();
+                            let sign = if pv.value >= 0.0 { 1.0 } else { -1.0 };
+                            let b = v / BLOCK_POINTS;
+                            let qv = grid.point(blocks.coords[b], v % BLOCK_POINTS);
+                            for f in 0..6 {
+                                let (axis, up) = (f / 2, f % 2 == 1);
+                                let mut q = qv;
+                                q[axis] += if up { h } else { -h };
+                                let d2 = (q - sp).norm_squared();
+                                if d2 > d_max2 {
+                                    continue;
+                                }
+                                match step(blocks, v, f) {
+                                    Ok(u) => {
+                                        if improves_sq(pts, u, d2) {
+                                            out.push(Offer {
+                                                target: u as u32,
+                                                face: u8::MAX,
+                                                local: 0,
+                                                site: s,
+                                                value: sign * d2.sqrt(),
+                                            });
+                                        }
+                                    }
+                                    Err(Some(local)) => out.push(Offer {
+                                        target: b as u32,
+                                        face: f as u8,
+                                        local: local as u16,
+                                        site: s,
+                                        value: sign * d2.sqrt(),
+                                    }),
+                                    Err(None) => {}
+                                }
+                            }
+                        }
+                        out
+                    })
+                    .collect()
             };
-            if site[u] == EXACT_SITE || (site[u] != NO_SITE && d >= values[u].abs() as f64 - slack)
-            {
-                continue;
+            for o in offers.iter().flatten() {
+                let u = if o.face == u8::MAX {
+                    o.target as usize
+                } else {
+                    let (b, f) = (o.target as usize, o.face as usize);
+                    let mut nb = blocks.across[b][f];
+                    if nb == NO_BLOCK {
+                        nb = allocate(grid, index, block_cells, &mut blocks, b, f, max_blocks)?;
+                        if nb == OUTSIDE {
+                            continue;
+                        }
+                        pts.resize(
+                            blocks.coords.len() * BLOCK_POINTS,
+                            Pt {
+                                value: f32::NAN,
+                                site: NO_SITE,
+                            },
+                        );
+                    }
+                    nb as usize * BLOCK_POINTS + o.local as usize
+                };
+                if !improves(&pts, u, o.value.abs()) {
+                    continue;
+                }
+                relaxations += 1;
+                if relaxations > budget {
+                    return Err(SdfError::PropagationBudget {
+                        relaxations,
+                        points: pts.len(),
+                    });
+                }
+                pts[u] = Pt {
+                    value: o.value as f32,
+                    site: o.site,
+                };
+                buckets[bucket(o.value.abs()).max(cur)].push((u as u64) << 32 | o.site as u64);
             }
-            relaxations += 1;
-            if relaxations > budget {
-                return Err(SdfError::PropagationBudget {
-                    relaxations,
-                    points: values.len(),
-                });
-            }
-            values[u] = if air { d as f32 } else { -(d as f32) };
-            site[u] = s;
-            buckets[bucket(d).max(cur)].push(u as u32);
         }
     }
+    *field = pts.par_iter().map(|p| p.value).collect();
     Ok(())
 }
 
-/// Marks a queue entry as a seed (its value is the seed's index, not a grid point's).
-const SEED_FLAG: u32 = 1 << 31;
+/// Allocates the block cell across face `f` of block `b` for the wavefront (its index entry,
+/// its face table and its neighbours' entries towards it); returns the new block's number.
+fn allocate(
+    grid: &Grid,
+    index: &mut BlockIndex,
+    block_cells: &mut Vec<usize>,
+    blocks: &mut Blocks,
+    b: usize,
+    f: usize,
+    max_blocks: usize,
+) -> Result<u32, SdfError> {
+    let nb = blocks.coords.len();
+    if nb >= max_blocks {
+        return Err(SdfError::TooManyBlocks {
+            blocks: nb + 1,
+            cap: max_blocks,
+        });
+    }
+    // Block `b`'s face table marks the cell across `f` unallocated, not outside: it exists.
+    let Some(cell) = grid.across(blocks.coords[b], f) else {
+        return Ok(OUTSIDE);
+    };
+    index.set(grid.split(cell), nb as u32);
+    block_cells.push(cell);
+    let cc = grid.split(cell).map(|x| x as u32);
+    let faces = Blocks::faces(grid, index, cc);
+    for (g, &m) in faces.iter().enumerate() {
+        if m < OUTSIDE {
+            // The neighbour across face `g` sees the new block across the opposite face.
+            blocks.across[m as usize][g ^ 1] = nb as u32;
+        }
+    }
+    blocks.coords.push(cc);
+    blocks.across.push(faces);
+    Ok(nb as u32)
+}
 
 /// Step 2b for one block's values: every NaN point 6-connected inside the block to an exact
 /// point takes that point's sign as `±tf`. `false` when the block has no exact point.

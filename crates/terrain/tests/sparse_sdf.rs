@@ -402,3 +402,91 @@ fn propagated_field_against_closed_forms() {
     );
     assert!(near > 1000 && far < 2000, "{near} near, {far} far");
 }
+
+/// The field is the same whatever the thread count: built in a 1-thread and a 3-thread rayon
+/// pool, every stored value (and the block layout) is bit-identical (`SparseSdf: PartialEq`
+/// compares the index and the `f32` values, which hold no NaN). Fails if the parallel wavefront's
+/// rounds, the band or the floods depend on how rayon splits the work.
+#[test]
+fn same_field_whatever_the_thread_count() {
+    let build = |threads: usize, pole: bool, params: &SparseSdfParams| {
+        let m = PatonScene::paper(pole).mesh().expect("meshes");
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a pool")
+            .install(|| SparseSdf::from_mesh(&m, params).expect("fits"))
+    };
+    for (pole, h) in [(false, 0.1), (true, 0.1), (false, 0.2)] {
+        let p = SparseSdfParams::new(h);
+        let one = build(1, pole, &p);
+        let three = build(3, pole, &p);
+        assert!(one.block_count() > 0);
+        assert_eq!(one.block_count(), three.block_count(), "pole {pole}, h {h}");
+        assert!(one == three, "pole {pole}, h {h}: stored values differ");
+    }
+}
+
+/// Two closed boxes 300 m apart on each axis at 5 cm: a dense block index over the box would
+/// need about 757^3 = 434 M cells, over the old cap of 2^25 (computed below from the grid, so the
+/// test fails if the scene stops exceeding it); the two-level index builds it. Fails if the
+/// field's grid values near either box (in the band and propagated out to `D`) leave
+/// `[|d|, |d| + excess_bound]` against the closed form or take the wrong sign, if the air
+/// between the boxes reads other than `+D`, or if interpolated queries
+/// near the boxes leave `error_bound`.
+#[test]
+fn far_apart_boxes_exceed_the_old_dense_cap() {
+    let e = Vector3::new(0.5, 0.4, 0.3);
+    let centres = [Point3::new(0.0, 0.0, 0.0), Point3::new(300.0, 300.0, 300.0)];
+    let (a, b) = (closed_box(centres[0], e), closed_box(centres[1], e));
+    let nv = a.vertices().len();
+    let mut v = a.vertices().to_vec();
+    v.extend_from_slice(b.vertices());
+    let mut t = a.triangles().to_vec();
+    t.extend(b.triangles().iter().map(|tr| tr.map(|i| i + nv)));
+    let m = TriMesh::new(v, t).expect("two closed boxes");
+    let h = 0.05;
+    let p = SparseSdfParams::new(h);
+    let f = SparseSdf::from_mesh(&m, &p).expect("fits in the two-level index");
+    let (lo, hi) = f.bounds();
+    let dense_cells: f64 = (0..3)
+        .map(|k| (((hi[k] - lo[k]) / h).round() + 1.0) / 8.0)
+        .map(f64::ceil)
+        .product();
+    assert!(dense_cells > (1u64 << 25) as f64, "{dense_cells} cells");
+    let closed_form = |q: &Point3<f64>| {
+        centres
+            .iter()
+            .map(|c| {
+                let a = (q - c).abs() - e;
+                a.sup(&Vector3::zeros()).norm() + a.x.max(a.y).max(a.z).min(0.0)
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(14);
+    let mut far = 0;
+    for k in 0..4000 {
+        let c = centres[k % 2];
+        // Grid points within 1.25 m of a box's centre on each axis (the box holds 1.3 m).
+        let q = lo + ((c - lo) / h).map(|x| x.round() + rng.random_range(-25..=25) as f64) * h;
+        far += usize::from(check_grid_point(&f, &q, closed_form(&q)));
+    }
+    assert!(far > 800, "{far} far");
+    let dm = f.max_distance();
+    assert_eq!(f.distance(&Point3::new(150.0, 150.0, 150.0)), Some(dm));
+    assert_eq!(f.distance(&Point3::new(10.0, 290.0, 5.0)), Some(dm));
+    let (near, _) = check_bound(
+        &f,
+        2000,
+        || {
+            let c = centres[usize::from(rng.random_bool(0.5))];
+            c + Vector3::new(
+                rng.random_range(-1.25..1.25),
+                rng.random_range(-1.25..1.25),
+                rng.random_range(-1.25..1.25),
+            )
+        },
+        closed_form,
+    );
+    assert!(near > 200, "{near} near");
+}
