@@ -101,5 +101,8 @@ fn field_option_shades_the_slope_and_refuses_bad_resolutions() {
     }
     let mut bad = base.to_vec();
     bad.extend(["--field", "0"]);
-    check_error(&bad, "--field 0: the resolution must be a positive, finite number");
+    check_error(
+        &bad,
+        "--field 0: the resolution must be a positive, finite number",
+    );
 }
