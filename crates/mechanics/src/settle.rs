@@ -303,7 +303,7 @@ pub(crate) fn drop_vertically<D: SignedDistance + ?Sized>(
     tolerance: f64,
 ) -> Result<Point3<f64>, SettleError> {
     ground.ground_below(&q, tolerance).map_err(|e| match e {
-        DropError::Undefined(p) => SettleError::NoGround {
+        DropError::Undefined(p) | DropError::Missed(p) => SettleError::NoGround {
             x: p.x,
             y: p.y,
             z: p.z,

@@ -403,7 +403,7 @@ impl crate::surface::SignedDistance for TriMesh {
         let down = TriMesh::signed_distance(self, q) >= 0.0;
         vertical_hit(q, down, 0..self.triangles.len(), |t| self.corners(t))
             .map(|z| Point3::new(q.x, q.y, z))
-            .ok_or(crate::surface::DropError::NotReached)
+            .ok_or(crate::surface::DropError::Missed(*q))
     }
 }
 

@@ -141,6 +141,6 @@ impl SignedDistance for ParryMesh {
             idx[t].map(|i| from_parry(v[i as usize]))
         })
         .map(|z| Point3::new(q.x, q.y, z))
-        .ok_or(crate::surface::DropError::NotReached)
+        .ok_or(crate::surface::DropError::Missed(*q))
     }
 }

@@ -194,9 +194,10 @@ pub const MAX_DROP_STEPS: usize = 200;
 pub enum DropError {
     /// The model has no distance at this point (off the terrain, outside a field's grid).
     Undefined(Point3<f64>),
-    /// No ground within the search's bound ([`MAX_DROP_STEPS`] sphere-tracing steps, or none of
-    /// the mesh's triangles along the vertical).
+    /// No ground within the default search's bound ([`MAX_DROP_STEPS`] sphere-tracing steps).
     NotReached,
+    /// The vertical through this point meets no ground at all (a mesh with no triangle over it).
+    Missed(Point3<f64>),
 }
 
 /// Signed distance to the ground (Paton §IV's distance queries, answered analytically for
