@@ -404,7 +404,7 @@ impl crate::surface::SignedDistance for Sdf {
     fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
         self.gradient(q)
     }
-    /// The interpolant's exact first zero along the vertical ([`ground_below_on_grid`]).
+    /// The interpolant's exact first zero along the vertical (`ground_below_on_grid`).
     fn ground_below(&self, q: &Point3<f64>, _tolerance: f64) -> Result<Point3<f64>, DropError> {
         ground_below_on_grid(self.origin.z, self.h, self.dims[2], q, |p| self.distance(p))
     }
