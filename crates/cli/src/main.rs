@@ -6,6 +6,7 @@
 
 mod btm;
 mod dem;
+mod field_arg;
 mod friction_out;
 mod gen_map;
 mod navigate;

@@ -1,10 +1,13 @@
-//! `rappel navigate SCENE --seed S [--test N] [--iterations N] [--time T] [--held] [--shadow] [--json]
-//! [--svg OUT] [--html OUT]`: plans the tethered rover's path on a Paton scene with ABIT*
+//! `rappel navigate SCENE --seed S [--test N] [--iterations N] [--time T] [--held] [--shadow]
+//! [--field RES] [--json] [--svg OUT] [--html OUT]`: plans the tethered rover's path on a Paton scene with ABIT*
 //! ([`rappel::navigate`]): the start on the ledge, the goal on the ground beyond the slope, the
 //! root anchor of the scene's test N. Prints the path, its anchor history, the stability margin
-//! along it and the search statistics. Exit 0 when a re-validated path was found, 1 when none
+//! along it and the search statistics. `--field RES`: the planner's motion checks settle and
+//! predict anchors through the sparse distance field ([`crate::field_arg`]); the reported path is
+//! re-validated on the exact mesh either way. Exit 0 when a re-validated path was found, 1 when none
 //! was found within the budget (or the planner's path failed re-validation), 2 on errors.
 
+use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
 use rappel::navigate::{DEFAULT_TIME, PATON_ITERATIONS, RoverProblem, navigate, navigate_svg};
 use rappel::planners::sampler::Termination;
@@ -38,6 +41,8 @@ pub struct Args {
     /// (`rappel::tether_shadow`; off: Paton's uniform sampling).
     #[arg(long)]
     shadow: bool,
+    #[command(flatten)]
+    field: FieldArg,
     #[command(flatten)]
     picture: PictureArgs,
     /// Print the report as JSON.
@@ -77,6 +82,11 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         }
     };
     let mut problem = RoverProblem::paton(&scene, anchor).map_err(at)?;
+    if args.field.field.is_some() {
+        problem
+            .use_distances(args.field.source())
+            .map_err(|e| args.field.error(e))?;
+    }
     problem.held_within_boom_reach = args.held;
     if args.shadow {
         problem.shadow_sample_fraction = rappel::navigate::SHADOW_SAMPLE_FRACTION;

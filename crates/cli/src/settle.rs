@@ -1,11 +1,13 @@
-//! `rappel settle GROUND --at X,Y --yaw DEG [--anchor X,Y,Z] [--json] [--svg OUT]`: settles Axel
-//! on 3D ground (Paton §IV-A; a Paton scene `.ron`, an elevation model `.asc` / `.tif` or a mesh
-//! `.obj` / `.ply` / `.stl`) and prints the pose; with `--anchor`, the stability QP's verdict for
-//! both boom configurations (exit 1 when neither is stable); with `--svg`, an axonometric picture
-//! of the settled pose.
+//! `rappel settle GROUND --at X,Y --yaw DEG [--anchor X,Y,Z] [--field RES] [--json] [--svg OUT]`:
+//! settles Axel on 3D ground (Paton §IV-A; a Paton scene `.ron`, an elevation model `.asc` /
+//! `.tif` or a mesh `.obj` / `.ply` / `.stl`) and prints the pose; with `--anchor`, the stability
+//! QP's verdict for both boom configurations (exit 1 when neither is stable); with `--field`,
+//! settling reads the sparse distance field ([`crate::field_arg`]); with `--svg`, an axonometric
+//! picture of the settled pose.
 
+use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, print_report, refuse_clashing_outputs, write_file};
-use rappel::settle::{load_ground, settle_report, settled_pose_picture};
+use rappel::settle::{load_ground, settle_report_with, settled_pose_picture};
 use std::path::PathBuf;
 
 /// Arguments of `rappel settle`.
@@ -23,6 +25,8 @@ pub struct Args {
     /// The tether's last anchor `X,Y,Z` (world): adds the stability verdict.
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     anchor: Option<String>,
+    #[command(flatten)]
+    field: FieldArg,
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
@@ -47,16 +51,18 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         }
         None => None,
     };
-    let (pose, report) = match settle_report(&ground, at[0], at[1], args.yaw, anchor) {
-        Ok(r) => r,
-        Err(e) if matches!(e, rappel::mechanics::settle::SettleError::Parameter(_)) => {
-            return Err(CliError(e.to_string()));
-        }
-        Err(e) => {
-            crate::outln!("not settled: {e}");
-            return Ok(Answer::No);
-        }
-    };
+    let distances = args.field.distances(&ground)?;
+    let (pose, report) =
+        match settle_report_with(&ground, &distances, at[0], at[1], args.yaw, anchor) {
+            Ok(r) => r,
+            Err(e) if matches!(e, rappel::mechanics::settle::SettleError::Parameter(_)) => {
+                return Err(CliError(e.to_string()));
+            }
+            Err(e) => {
+                crate::outln!("not settled: {e}");
+                return Ok(Answer::No);
+            }
+        };
     if let Some(out) = &args.svg {
         let title = format!(
             "rappel settle {} at {:.2},{:.2} yaw {:.1}°",

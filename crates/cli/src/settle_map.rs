@@ -4,11 +4,12 @@
 //! predicted from the start outward (Paton Alg. 1, [`rappel::mesh_stability`]) and the stability
 //! QP is solved with the tether from the last predicted anchor (boom inline or in contact).
 //! `--field RES`: settling and anchor prediction read the sparse distance field at `RES` metres
-//! instead of parry's exact distances (Paton's use of the field).
+//! instead of parry's exact distances (Paton's use of the field, [`crate::field_arg`]).
 //! Exit 0 when the map was computed; bad input exits 2.
 
+use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
-use rappel::mesh_stability::{MapSpec, map_svg, stability_map, stability_map_through_field};
+use rappel::mesh_stability::{MapSpec, map_svg, stability_map_with};
 use rappel::nalgebra::Point3;
 use rappel::planners::anchor_prediction::AnchorHistory;
 use rappel::settle::{load_ground, load_scene};
@@ -51,11 +52,8 @@ pub struct Args {
     /// The root anchor of a scene's test N (1: behind the start, 2: in front).
     #[arg(long, value_name = "N")]
     test: Option<usize>,
-    /// Settle and predict anchors through the sparse distance field at this resolution, metres
-    /// (Paton §IV: the tether's swept triangle and the body points sampled in the field; default:
-    /// parry's exact mesh distances). The boom sweep and the stability QP stay on the mesh.
-    #[arg(long, value_name = "RES")]
-    field: Option<f64>,
+    #[command(flatten)]
+    field: FieldArg,
     #[command(flatten)]
     picture: PictureArgs,
     /// Print the map as JSON.
@@ -137,11 +135,9 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     // Thousands of settled poses take seconds: say so on a terminal.
     let progress = rappel::progress::Progress::spinner("settle-map");
     progress.message("settling poses and predicting their anchors");
-    let map = match args.field {
-        Some(res) => stability_map_through_field(&ground, &root, &spec, res),
-        None => stability_map(&ground, &root, &spec),
-    }
-    .map_err(|e| CliError(e.to_string()));
+    let map = args.field.distances(&ground).and_then(|d| {
+        stability_map_with(&ground, &d, &root, &spec).map_err(|e| CliError(e.to_string()))
+    });
     progress.finish();
     let map = map?;
     if args.picture.wanted() {

@@ -53,3 +53,39 @@ fn settle_reads_a_ply_mesh() {
     let out = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(out.contains("roll 10.00°, pitch 0.00°"), "{out}");
 }
+
+/// Issue 14's bad meshes and typed settling failures through the CLI: a mesh file with a NaN
+/// vertex or three triangles on one edge exits 2 with one `error:` line naming the file (and for
+/// the edge, its vertices); a pose off the ground is a clean "not settled" (exit 1) naming the failure.
+#[test]
+fn bad_meshes_exit_2_and_poses_off_the_ground_exit_1() {
+    let dir = temp_dir("settle-bad");
+    let nan = dir.join("nan.obj");
+    std::fs::write(&nan, "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n").unwrap();
+    let nan = nan.to_str().unwrap();
+    check_error(&["settle", nan, "--at", "0,0", "--yaw", "0"], "nan.obj");
+    let fan = dir.join("fan.obj");
+    std::fs::write(
+        &fan,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    for expected in ["fan.obj", "non-manifold edge (0, 1)"] {
+        check_error(
+            &["settle", fan.to_str().unwrap(), "--at", "0,0", "--yaw", "0"],
+            expected,
+        );
+    }
+    let ledge = fixture("paton/ledge.ron");
+    for field in [None, Some("0.2")] {
+        let mut args = vec!["settle", ledge.as_str(), "--at", "500,0", "--yaw", "0"];
+        args.extend(field.map(|f| ["--field", f]).into_iter().flatten());
+        let o = rappel(&args);
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        let out = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(
+            out.starts_with("not settled: no ground under the footprint"),
+            "{out}"
+        );
+    }
+}

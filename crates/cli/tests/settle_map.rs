@@ -72,7 +72,7 @@ fn bad_settle_map_input_exits_2() {
 
 /// `--field RES`: settling and anchor prediction through the sparse distance field shade the
 /// slope like the exact path (test-1 root: every slope cell stable, anchored on the lip); a bad
-/// resolution exits 2 naming the field.
+/// resolution exits 2 naming the flag and the value (more in `tests/field.rs`).
 #[test]
 fn field_option_shades_the_slope_and_refuses_bad_resolutions() {
     let ledge = fixture("paton/ledge.ron");
@@ -101,7 +101,8 @@ fn field_option_shades_the_slope_and_refuses_bad_resolutions() {
     }
     let mut bad = base.to_vec();
     bad.extend(["--field", "0"]);
-    let o = rappel(&bad);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("distance field"), "{}", stderr(&o));
+    check_error(
+        &bad,
+        "--field 0: the resolution must be a positive, finite number",
+    );
 }

@@ -14,7 +14,7 @@
 //! [`MAX_ROLL_STEPS`]; the footprint normal samples a fixed 3 x 3 grid.
 
 use nalgebra::{Point3, Rotation3, Unit, Vector3};
-use rappel_terrain::surface::SignedDistance;
+use rappel_terrain::surface::{DropError, SignedDistance};
 
 use crate::axel::AxelParams;
 use crate::robot::{ContactFrame, PlacedRobot, RobotError, RobotModel, TetherLine};
@@ -22,8 +22,9 @@ use crate::robot::{ContactFrame, PlacedRobot, RobotError, RobotModel, TetherLine
 /// Contact points per wheel circle (Paton: 12).
 pub const WHEEL_POINTS: usize = 12;
 /// Steps of a drop (sphere tracing along the normal; each step moves by the smallest contact
-/// distance, so it never passes through the ground).
-pub const MAX_DROP_STEPS: usize = 200;
+/// distance, so it never passes through the ground); also the default vertical search's budget
+/// ([`SignedDistance::ground_below`]).
+pub use rappel_terrain::surface::MAX_DROP_STEPS;
 /// Bisection steps of the roll search (`2 max_roll / 2^60` is far below any tolerance).
 pub const MAX_ROLL_STEPS: usize = 60;
 
@@ -294,22 +295,21 @@ pub(crate) struct Footprint {
     pub base: Rotation3<f64>,
 }
 
-/// The ground point straight below `q` by sphere tracing (at most [`MAX_DROP_STEPS`] steps).
+/// The ground point straight below `q` ([`SignedDistance::ground_below`]: sphere tracing by
+/// default, an exact vertical ray on meshes, the interpolant's exact zero on grid fields).
 pub(crate) fn drop_vertically<D: SignedDistance + ?Sized>(
     ground: &D,
     q: Point3<f64>,
     tolerance: f64,
 ) -> Result<Point3<f64>, SettleError> {
-    let reach = q.z.abs() + 1.0;
-    let mut q = q;
-    for _ in 0..MAX_DROP_STEPS {
-        let d = dist(ground, &q)?;
-        if d.abs() < tolerance {
-            return Ok(q);
-        }
-        q.z -= d;
-    }
-    Err(SettleError::NoContact(reach))
+    ground.ground_below(&q, tolerance).map_err(|e| match e {
+        DropError::Undefined(p) | DropError::Missed(p) => SettleError::NoGround {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        },
+        DropError::NotReached => SettleError::NoContact(q.z.abs() + 1.0),
+    })
 }
 
 /// Paton §IV-A's first step for a footprint of half-lengths `half = [forward, sideways]` at

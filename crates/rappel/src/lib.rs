@@ -36,6 +36,7 @@ pub mod axonometric;
 pub mod btm_summary;
 pub mod dem;
 pub mod dem_ptfo;
+pub mod distance_source;
 pub mod export;
 pub mod friction_plan;
 pub mod generated;

@@ -28,9 +28,9 @@ use rappel_planners::anchor_prediction::{
     AnchorError, AnchorHistory, PredictParams, predict, predict_path,
 };
 use rappel_terrain::mesh::TriMesh;
-use rappel_terrain::parry_mesh::ParryMesh;
 use rappel_terrain::surface::SignedDistance;
 
+use crate::distance_source::{DistanceReport, DistanceSource, GroundDistances};
 use crate::settle::{BoomVerdict, boom_verdicts};
 use crate::svg::{Layer, Marker, Picture};
 
@@ -88,13 +88,16 @@ pub fn tether_end(pose: &SettledPose, axel: &AxelParams) -> Point3<f64> {
     pose.origin + pose.rotation * Vector3::z() * axel.wheel_radius
 }
 
-/// Axel settled at ground point `(x, y)` heading `yaw_deg` on `ground` (found from 1 m above the
-/// mesh's top; distances through the mesh's parry BVH, built for this call), with the default [`AxelParams`] and [`SettleParams`]; the error is the
+/// Axel settled at ground point `(x, y)` heading `yaw_deg` on `ground` (found from
+/// [`crate::distance_source::SETTLE_START_HEIGHT`] above the mesh's top; distances through the
+/// mesh's parry BVH, built for this call: [`GroundDistances::settle`]), with the default
+/// [`AxelParams`] and [`SettleParams`]; the error is the
 /// [`rappel_mechanics::settle::SettleError`]'s message.
 pub fn settle(ground: &TriMesh, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, String> {
-    let (_, hi) = ground.bounds();
-    let bvh = ParryMesh::new(ground).map_err(|e| e.to_string())?;
-    settle_from(&bvh, hi.z + 1.0, x, y, yaw_deg)
+    GroundDistances::new(ground, DistanceSource::Exact)
+        .map_err(|e| e.to_string())?
+        .settle(x, y, yaw_deg)
+        .map_err(|e| e.to_string())
 }
 
 /// [`settle`] on any [`SignedDistance`] ground (e.g. the same mesh behind parry's BVH), found
@@ -165,13 +168,17 @@ pub fn drive_and_check(
     let axel = AxelParams::default();
     // Settling, prediction and the boom sweep's candidate triangles through parry's BVH (as
     // `stability_map`).
-    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
-    let z_top = ground.bounds().1.z + 1.0;
+    let distances = GroundDistances::new(ground, DistanceSource::Exact)
+        .map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
+    let bvh = &**distances.bvh();
     let mut tips = Vec::with_capacity(n + 1);
     let mut last = None;
     for k in 0..=n {
         let q = s + (t - s) * (k as f64 / n as f64);
-        match settle_from(&bvh, z_top, q.x, q.y, yaw_deg) {
+        match distances
+            .settle(q.x, q.y, yaw_deg)
+            .map_err(|e| e.to_string())
+        {
             Ok(p) => {
                 tips.push(tether_end(&p, &axel));
                 last = Some(p);
@@ -187,12 +194,9 @@ pub fn drive_and_check(
         }
     }
     let pose = last.expect("the target settled");
-    let out = predict_path(&bvh, &PredictParams::new(PREDICT_RESOLUTION), root, &tips)?;
+    let out = predict_path(bvh, &PredictParams::new(PREDICT_RESOLUTION), root, &tips)?;
     Ok(pose_stability(
-        &IndexedGround {
-            mesh: ground,
-            bvh: &bvh,
-        },
+        &IndexedGround { mesh: ground, bvh },
         &pose,
         &out.history,
     ))
@@ -270,59 +274,63 @@ pub struct StabilityMap {
     pub unstable: usize,
     /// Not settled or no history.
     pub failed: usize,
+    /// Where settling and anchor prediction read their distances.
+    pub distance_source: DistanceReport,
 }
-
-/// Margin of the distance field around the mesh for [`stability_map_through_field`], metres:
-/// settling starts 1 m above the mesh's top and its footprint probes reach a little higher.
-pub const FIELD_MARGIN: f64 = 2.0;
 
 /// As [`stability_map`], with settling and anchor prediction (the tether's swept triangle and the
 /// body-collision points along the axle) reading the sparse distance field of `ground` at
-/// `resolution` metres ([`rappel_terrain::sparse_sdf`], propagated to its default
-/// `max_distance`; prediction's `h` the field's resolution) instead of parry's exact BVH
-/// distances; the boom sweep and the stability placement stay on the mesh. The field's
-/// interpolation error (`SparseSdf::error_bound`, about 0.11 m at 10 cm, `docs/mesh.md`) moves
-/// settled heights and contacts by up to that much, so verdicts may differ from the exact path
-/// on poses near a threshold (measured on the Fig. 8 map: `tests`).
+/// `resolution` metres ([`DistanceSource::Field`]: propagated to its default `max_distance`;
+/// prediction's `h` the field's resolution) instead of parry's exact BVH distances; the boom
+/// sweep and the stability placement stay on the mesh. The field's interpolation error
+/// (`SparseSdf::error_bound`, about 0.11 m at 10 cm, `docs/mesh.md`) moves settled heights and
+/// contacts by up to that much, so verdicts may differ from the exact path on poses near a
+/// threshold (measured on the Fig. 8 map: `tests`).
 pub fn stability_map_through_field(
     ground: &TriMesh,
     root: &AnchorHistory,
     spec: &MapSpec,
     resolution: f64,
 ) -> Result<StabilityMap, MeshStabilityError> {
-    let mut params = rappel_terrain::sparse_sdf::SparseSdfParams::new(resolution);
-    // Settling starts 1 m above the mesh (`settle_from`'s `z_top`) and samples a little above
-    // that: the box must reach it.
-    params.margin = params.margin.max(FIELD_MARGIN);
-    let field = rappel_terrain::sparse_sdf::SparseSdf::from_mesh(ground, &params)
-        .map_err(|e| MeshStabilityError::Parameter(format!("distance field: {e}")))?;
-    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
-    stability_map_on(ground, &bvh, &field, resolution, root, spec)
+    let distances = GroundDistances::new(
+        ground,
+        DistanceSource::Field {
+            resolution_m: resolution,
+        },
+    )
+    .map_err(|e| MeshStabilityError::Parameter(format!("distance field: {e}")))?;
+    stability_map_with(ground, &distances, root, spec)
 }
 
-/// The stability map of `spec` under root anchor `root` (see the module doc).
+/// The stability map of `spec` under root anchor `root` (see the module doc), settling and
+/// predicting through parry's exact BVH distances ([`DistanceSource::Exact`]: they agree with the
+/// brute-force mesh distance to 1e-9, `terrain::parry_mesh`; the sweep finds the brute force's
+/// contacts, `boom_contact`).
 pub fn stability_map(
     ground: &TriMesh,
     root: &AnchorHistory,
     spec: &MapSpec,
 ) -> Result<StabilityMap, MeshStabilityError> {
-    // Settling, prediction, the boom sweep's candidate triangles and the stability placement's
-    // contact frames through parry's BVH (agrees with the brute-force mesh distance to 1e-9,
-    // `terrain::parry_mesh`; the sweep finds the brute force's contacts, `boom_contact`).
-    let bvh = ParryMesh::new(ground).map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
-    stability_map_on(ground, &bvh, &bvh, PREDICT_RESOLUTION, root, spec)
+    let distances = GroundDistances::new(ground, DistanceSource::Exact)
+        .map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
+    stability_map_with(ground, &distances, root, spec)
 }
 
-/// The stability map with settling and prediction through `distance` (prediction at `h`), the
-/// boom and the placement through `bvh`.
-fn stability_map_on<D: SignedDistance + Sync>(
+/// The stability map of `spec` under root anchor `root` on `ground` (see the module doc), with
+/// settling and anchor prediction through `distances` (built from `ground`: exact or through the
+/// field, [`GroundDistances`]); the boom sweep and the placement through its BVH. The map states
+/// its distance source.
+pub fn stability_map_with(
     ground: &TriMesh,
-    bvh: &ParryMesh,
-    distance: &D,
-    h: f64,
+    distances: &GroundDistances,
     root: &AnchorHistory,
     spec: &MapSpec,
 ) -> Result<StabilityMap, MeshStabilityError> {
+    let (bvh, distance, h) = (
+        &**distances.bvh(),
+        distances.distance(),
+        distances.predict_resolution(),
+    );
     let ok = [
         spec.x.0,
         spec.x.1,
@@ -371,7 +379,9 @@ fn stability_map_on<D: SignedDistance + Sync>(
         .into_par_iter()
         .map(|c| {
             let (x, y) = at(c % nx, c / nx);
-            settle_from(distance, ground.bounds().1.z + 1.0, x, y, spec.yaw_deg)
+            distances
+                .settle(x, y, spec.yaw_deg)
+                .map_err(|e| e.to_string())
         })
         .collect();
     let mut histories: Vec<Option<Result<AnchorHistory, String>>> = vec![None; nx * ny];
@@ -488,6 +498,7 @@ fn stability_map_on<D: SignedDistance + Sync>(
         stable,
         cells,
         root: [r.x, r.y, r.z],
+        distance_source: distances.report(),
     })
 }
 

@@ -45,10 +45,12 @@ use rappel_planners::sampler::{
     Abit, AbitSettings, Informed, MotionValidator, StateSpace, Stop, Termination,
 };
 use rappel_terrain::mesh::TriMesh;
-use rappel_terrain::parry_mesh::ParryMesh;
 use rappel_terrain::paton_scene::PatonScene;
 use rappel_terrain::surface::SignedDistance;
 
+use crate::distance_source::{
+    DistanceReport, DistanceSource, DistanceSourceError, GroundDistances,
+};
 use crate::mesh_stability::{PREDICT_RESOLUTION, pose_stability, settle_from, tether_end};
 use crate::tether_shadow::TetherShadow;
 
@@ -288,11 +290,13 @@ pub struct RoverProblem {
     /// resting on the lip; with the mesh contact search those poses are stable in the faithful
     /// model (tested), so it is kept only as a comparison. Off by default (the faithful model).
     pub held_within_boom_reach: bool,
-    /// The same mesh behind parry's BVH: the planner's motion checks (settling, anchor
-    /// prediction; the boom sweeps of the stability verdict need the triangles) query it instead of `ground`'s brute-force exact
-    /// distances (same triangles, same pseudo-normal sign; only floating-point rounding
-    /// differs), and [`RoverProblem::revalidate`] re-checks every reported path on `ground`.
-    fast: Arc<ParryMesh>,
+    /// The planner's distances ([`GroundDistances`]): its motion checks (settling, anchor
+    /// prediction; the boom sweeps of the stability verdict need the triangles) query them
+    /// instead of `ground`'s brute-force exact distances: by default the same mesh behind
+    /// parry's BVH (same triangles, same pseudo-normal sign; only floating-point rounding
+    /// differs), with [`RoverProblem::use_distances`] the sparse distance field.
+    /// [`RoverProblem::revalidate`] re-checks every reported path on `ground`, whatever these are.
+    fast: Arc<GroundDistances>,
     /// Fraction of the planner's samples drawn from the root anchor's shadow
     /// ([`TetherShadow`], ABIT*'s `biased_sample_fraction`). 0 (the default of
     /// [`RoverProblem::paton`]) is Paton's uniform sampling; [`SHADOW_SAMPLE_FRACTION`] is ours,
@@ -318,16 +322,18 @@ impl RoverProblem {
         let s = scene.start();
         let foot = scene.slope_foot_x();
         let half = (0.5 * scene.length - 0.5).clamp(0.5, 3.0);
-        let fast = Arc::new(ParryMesh::new(&ground).map_err(|e| e.to_string())?);
+        let fast = Arc::new(
+            GroundDistances::new(&ground, DistanceSource::Exact).map_err(|e| e.to_string())?,
+        );
         let (bottom, top) = ground.bounds();
-        let z_top = top.z + 1.0;
+        let z_top = fast.z_top();
         let (lo, hi) = ([-scene.width + 0.5, -half], [foot + 3.0, half]);
         Ok(RoverProblem {
             space: RoverSpace {
                 lo,
                 hi,
                 shadow: Some(TetherShadow::new(
-                    fast.clone(),
+                    fast.bvh().clone(),
                     root,
                     lo,
                     hi,
@@ -359,9 +365,24 @@ impl RoverProblem {
         settle_from(&self.ground, self.z_top, s.x, s.y, s.yaw.to_degrees())
     }
 
-    /// The settled pose of a state on the planner's BVH ground.
+    /// The settled pose of a state on the planner's distances.
     fn settle_fast(&self, s: &RoverState) -> Result<SettledPose, String> {
-        settle_from(&*self.fast, self.z_top, s.x, s.y, s.yaw.to_degrees())
+        self.fast
+            .settle(s.x, s.y, s.yaw.to_degrees())
+            .map_err(|e| e.to_string())
+    }
+
+    /// Makes the planner's motion checks read `source`'s distances of the ground (the sparse
+    /// field: `rappel navigate --field RES`; by default parry's exact BVH distances). Anchor
+    /// prediction then samples at the field's resolution. Re-validation stays on the exact mesh.
+    pub fn use_distances(&mut self, source: DistanceSource) -> Result<(), DistanceSourceError> {
+        self.fast = Arc::new(GroundDistances::new(&self.ground, source)?);
+        Ok(())
+    }
+
+    /// Where the planner's motion checks read their distances.
+    pub fn distance_report(&self) -> DistanceReport {
+        self.fast.report()
     }
 
     /// Walks `poses` (each with the drive length since the previous one) from `history` at the
@@ -373,18 +394,20 @@ impl RoverProblem {
         history: &AnchorHistory,
         poses: &[(RoverState, f64)],
     ) -> Result<Walk, String> {
-        self.walk_on(&self.ground, history, poses)
+        self.walk_on(&self.ground, PREDICT_RESOLUTION, history, poses)
     }
 
-    /// [`RoverProblem::walk`] on `ground` (the exact mesh, or the planner's BVH form of it).
+    /// [`RoverProblem::walk`] on `ground` (the exact mesh, or the planner's distances), anchor
+    /// prediction sampling at `h`.
     fn walk_on<D: SignedDistance + ?Sized>(
         &self,
         ground: &D,
+        h: f64,
         history: &AnchorHistory,
         poses: &[(RoverState, f64)],
     ) -> Result<Walk, String> {
         let axel = AxelParams::default();
-        let params = PredictParams::new(PREDICT_RESOLUTION);
+        let params = PredictParams::new(h);
         let mut h = history.clone();
         let mut cost = 0.0;
         let mut prev: Option<SettledPose> = None;
@@ -470,7 +493,12 @@ impl RoverProblem {
     ) -> Result<Walk, String> {
         let poses = motion_poses(from, to)
             .ok_or_else(|| format!("the motion needs more than {MAX_MOTION_POSES} poses"))?;
-        self.walk_on(&*self.fast, history, &poses)
+        self.walk_on(
+            self.fast.distance(),
+            self.fast.predict_resolution(),
+            history,
+            &poses,
+        )
     }
 }
 
@@ -575,6 +603,9 @@ pub struct NavigateReport {
     pub stopped_by: String,
     /// Every settled pose along the re-validated path: origin and margin.
     pub poses: Vec<NavigatePose>,
+    /// Where the planner's motion checks read their distances (re-validation reads the exact
+    /// mesh whatever this says).
+    pub distance_source: DistanceReport,
 }
 
 /// One pose along a re-validated path.
@@ -642,6 +673,7 @@ pub fn navigate(
         }
         .into(),
         poses: Vec::new(),
+        distance_source: problem.distance_report(),
     };
     let Some(sol) = status.solution else {
         return Ok(report);

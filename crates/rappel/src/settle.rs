@@ -3,8 +3,8 @@
 //! centre to cell centre; the answer is a serialisable [`SettleReport`], optionally with the
 //! stability QP's verdict for a tether to a given last anchor (both boom configurations).
 //!
-//! Distances are exact mesh distances (`O(triangles)` per query; the scene meshes have a few
-//! hundred triangles, an elevation model two per cell).
+//! Distances are parry's exact mesh distances through its BVH, or with [`settle_report_with`]
+//! any [`crate::distance_source`] (the sparse distance field: `rappel settle --field RES`).
 
 use std::path::Path;
 
@@ -12,13 +12,14 @@ use nalgebra::Point3;
 
 use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::boom_contact::{IndexedGround, place_boom_in_contact, place_boom_inline};
-use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
+use rappel_mechanics::settle::SettledPose;
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_planners::anchor_prediction::{AnchorHistory, detach_height};
 use rappel_terrain::mesh::TriMesh;
-use rappel_terrain::parry_mesh::ParryMesh;
 use rappel_terrain::paton_scene::PatonScene;
 use serde::{Deserialize, Serialize};
+
+use crate::distance_source::{DistanceReport, DistanceSource, GroundDistances};
 
 /// Wheel-ground friction used for the stability verdict (the scenes carry none; Paton's
 /// simulations do not state one). Assumed.
@@ -105,6 +106,8 @@ pub struct SettleReport {
     pub body_clearance: f64,
     /// The verdict per boom configuration when an anchor was given.
     pub stability: Vec<BoomVerdict>,
+    /// Where settling read its distances.
+    pub distance_source: DistanceReport,
 }
 
 /// The stability QP's verdict for `pose` with the tether from the anchor history `history`, in
@@ -409,7 +412,8 @@ impl crate::report::Report for SettleReport {
 }
 
 /// Settle Axel (default parameters) at `(x, y)` with yaw `yaw_deg` (degrees from `+x`,
-/// counter-clockwise); with `anchor`, check stability for both boom configurations.
+/// counter-clockwise); with `anchor`, check stability for both boom configurations. Settling
+/// through parry's exact BVH distances ([`settle_report_with`] and [`DistanceSource::Exact`]).
 pub fn settle_report(
     ground: &TriMesh,
     x: f64,
@@ -417,31 +421,32 @@ pub fn settle_report(
     yaw_deg: f64,
     anchor: Option<[f64; 3]>,
 ) -> Result<(SettledPose, SettleReport), rappel_mechanics::settle::SettleError> {
-    let (_, hi) = ground.bounds();
-    let params = AxelParams::default();
-    // Settling asks hundreds of distances: through parry's BVH (agrees with the brute-force
-    // mesh distance to 1e-9, `terrain::parry_mesh`); the boom sweep takes its candidate
-    // triangles from the same BVH (`boom_contact::IndexedGround`).
-    let bvh = ParryMesh::new(ground).map_err(|_| {
+    let distances = GroundDistances::new(ground, DistanceSource::Exact).map_err(|_| {
         rappel_mechanics::settle::SettleError::Parameter(
             "parry's BVH refused the mesh (more vertices than u32 indices)",
         )
     })?;
-    let pose = settle_axel(
-        &bvh,
-        &params,
-        x,
-        y,
-        hi.z + 1.0,
-        yaw_deg.to_radians(),
-        &SettleParams::default(),
-    )?;
+    settle_report_with(ground, &distances, x, y, yaw_deg, anchor)
+}
+
+/// [`settle_report`] with settling (the footprint, the drop, the body points along the axle)
+/// through `distances` (built from `ground`: exact or through the sparse field); the boom sweep
+/// and the stability placement read the mesh's triangles through its BVH. The report states the
+/// distance source.
+pub fn settle_report_with(
+    ground: &TriMesh,
+    distances: &GroundDistances,
+    x: f64,
+    y: f64,
+    yaw_deg: f64,
+    anchor: Option<[f64; 3]>,
+) -> Result<(SettledPose, SettleReport), rappel_mechanics::settle::SettleError> {
+    let params = AxelParams::default();
+    let bvh = &**distances.bvh();
+    let pose = distances.settle(x, y, yaw_deg)?;
     let stability = match anchor.map(|a| AnchorHistory::new(Point3::new(a[0], a[1], a[2]))) {
         Some(Ok(history)) => boom_verdicts(
-            &IndexedGround {
-                mesh: ground,
-                bvh: &bvh,
-            },
+            &IndexedGround { mesh: ground, bvh },
             &pose,
             &params,
             &history,
@@ -464,6 +469,7 @@ pub fn settle_report(
         contacts: [p(&pose.contacts[0]), p(&pose.contacts[1])],
         body_clearance: pose.body_clearance,
         stability,
+        distance_source: distances.report(),
     };
     Ok((pose, report))
 }

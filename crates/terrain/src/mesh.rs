@@ -394,6 +394,59 @@ impl crate::surface::SignedDistance for TriMesh {
             self.face_normal(c.triangle)
         })
     }
+    /// The exact vertical ray against every triangle ([`vertical_hit`]), `O(triangles)`.
+    fn ground_below(
+        &self,
+        q: &Point3<f64>,
+        _tolerance: f64,
+    ) -> Result<Point3<f64>, crate::surface::DropError> {
+        let down = TriMesh::signed_distance(self, q) >= 0.0;
+        vertical_hit(q, down, 0..self.triangles.len(), |t| self.corners(t))
+            .map(|z| Point3::new(q.x, q.y, z))
+            .ok_or(crate::surface::DropError::Missed(*q))
+    }
+}
+
+/// The height of the first mesh point on the vertical through `q` among triangles `candidates`
+/// (corners from `corners`): the highest at or below `q` when `down`, else the lowest at or
+/// above it. A triangle holds the vertical when its plan projection contains `(q.x, q.y)`,
+/// edges and corners included, decided by exact orientation tests (`orient2d`), so a vertical
+/// through a shared edge or vertex always meets the triangles around it; vertical triangles
+/// (zero plan area) are skipped (the vertical meets them only on edges they share with
+/// non-vertical triangles, or runs inside their plane). The height is the plane's, by the plan
+/// barycentric weights.
+pub fn vertical_hit(
+    q: &Point3<f64>,
+    down: bool,
+    candidates: impl IntoIterator<Item = usize>,
+    corners: impl Fn(usize) -> [Point3<f64>; 3],
+) -> Option<f64> {
+    use rappel_geometry::predicates::orient2d;
+    let p = nalgebra::Point2::new(q.x, q.y);
+    let mut best: Option<f64> = None;
+    for t in candidates {
+        let [a, b, c] = corners(t);
+        let (a2, b2, c2) = (a.xy(), b.xy(), c.xy());
+        let area = orient2d(&a2, &b2, &c2);
+        if area == 0.0 {
+            continue;
+        }
+        // Sub-areas opposite a, b and c: all of the area's sign (or zero) inside.
+        let w = [
+            orient2d(&b2, &c2, &p),
+            orient2d(&c2, &a2, &p),
+            orient2d(&a2, &b2, &p),
+        ];
+        if w.iter().any(|x| *x != 0.0 && x.signum() != area.signum()) {
+            continue;
+        }
+        let z = (w[0] * a.z + w[1] * b.z + w[2] * c.z) / (w[0] + w[1] + w[2]);
+        let beyond = if down { z <= q.z } else { z >= q.z };
+        if beyond && best.is_none_or(|bz| if down { z > bz } else { z < bz }) {
+            best = Some(z);
+        }
+    }
+    best
 }
 
 fn bounds(vertices: &[Point3<f64>]) -> (Point3<f64>, Point3<f64>) {

@@ -116,4 +116,31 @@ impl SignedDistance for ParryMesh {
     fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
         self.closest(q).map(|(_, g)| g)
     }
+    /// The exact vertical ray ([`crate::mesh::vertical_hit`], the same test as [`TriMesh`]'s)
+    /// against the triangles whose boxes meet the vertical (the BVH's candidates), so the answer
+    /// is the brute force's.
+    fn ground_below(
+        &self,
+        q: &Point3<f64>,
+        _tolerance: f64,
+    ) -> Result<Point3<f64>, crate::surface::DropError> {
+        let (d, _) = self
+            .closest(q)
+            .ok_or(crate::surface::DropError::Undefined(*q))?;
+        let aabb = self.mesh.local_aabb();
+        let (lo, hi) = (from_parry(aabb.mins), from_parry(aabb.maxs));
+        let mut tris = Vec::new();
+        self.triangles_in_box(
+            &Point3::new(q.x, q.y, lo.z),
+            &Point3::new(q.x, q.y, hi.z),
+            &mut tris,
+        );
+        let v = self.mesh.vertices();
+        let idx = self.mesh.indices();
+        crate::mesh::vertical_hit(q, d >= 0.0, tris, |t| {
+            idx[t].map(|i| from_parry(v[i as usize]))
+        })
+        .map(|z| Point3::new(q.x, q.y, z))
+        .ok_or(crate::surface::DropError::Missed(*q))
+    }
 }

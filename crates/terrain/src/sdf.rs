@@ -23,6 +23,7 @@ use std::collections::BinaryHeap;
 use nalgebra::{Point3, Vector3};
 
 use crate::mesh::TriMesh;
+use crate::surface::DropError;
 
 /// `sqrt(3) / 2`: the trilinear interpolation error of a 1-Lipschitz function, in voxels.
 pub const INTERPOLATION_BOUND: f64 = 0.866_025_403_784_438_6;
@@ -404,6 +405,55 @@ impl crate::surface::SignedDistance for Sdf {
     fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
         self.gradient(q)
     }
+    /// The interpolant's exact first zero along the vertical (`ground_below_on_grid`).
+    fn ground_below(&self, q: &Point3<f64>, _tolerance: f64) -> Result<Point3<f64>, DropError> {
+        ground_below_on_grid(self.origin.z, self.h, self.dims[2], q, |p| self.distance(p))
+    }
+}
+
+/// The first zero along the vertical through `q` (down from `q` in the air, up from it below
+/// the ground) of the trilinear field `f` on grid planes `z = z0 + k h`, `k < nz`: within one
+/// cell the interpolant is linear along a vertical line (trilinear in `z` at fixed `x, y`), so
+/// walking from grid plane to grid plane and solving the linear piece where the sign changes
+/// gives the interpolant's exact first zero (no sphere-tracing convergence, no tolerance). At
+/// most `nz + 1` evaluations. [`DropError::Undefined`] where `f` has no value (outside the grid,
+/// including leaving it without a zero).
+pub(crate) fn ground_below_on_grid(
+    z0: f64,
+    h: f64,
+    nz: usize,
+    q: &Point3<f64>,
+    f: impl Fn(&Point3<f64>) -> Option<f64>,
+) -> Result<Point3<f64>, DropError> {
+    let at = |z: f64| Point3::new(q.x, q.y, z);
+    let value = |z: f64| f(&at(z)).ok_or(DropError::Undefined(at(z)));
+    let mut fz = value(q.z)?;
+    if fz == 0.0 {
+        return Ok(*q);
+    }
+    let down = fz > 0.0;
+    let u = (q.z - z0) / h;
+    // The next grid plane in the direction of the search.
+    let mut k = if down {
+        u.ceil() - 1.0
+    } else {
+        u.floor() + 1.0
+    };
+    let mut z = q.z;
+    for _ in 0..=nz {
+        if !(k >= 0.0 && k <= (nz - 1) as f64) {
+            break;
+        }
+        let zn = z0 + k * h;
+        let fnext = value(zn)?;
+        if (down && fnext <= 0.0) || (!down && fnext >= 0.0) {
+            // The linear piece between `z` and `zn` crosses zero (`fz` is non-zero).
+            return Ok(at(z + (zn - z) * fz / (fz - fnext)));
+        }
+        (z, fz) = (zn, fnext);
+        k += if down { -1.0 } else { 1.0 };
+    }
+    Err(DropError::Undefined(at(z)))
 }
 
 /// The grid box of a field over `mesh`: the mesh's bounds grown by `margin` on every side, as its

@@ -1112,4 +1112,14 @@ impl SignedDistance for SparseSdf {
     fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
         self.distance_and_gradient(q).map(|(_, g)| g)
     }
+    /// The interpolant's exact first zero along the vertical (`sdf::ground_below_on_grid`).
+    fn ground_below(
+        &self,
+        q: &Point3<f64>,
+        _tolerance: f64,
+    ) -> Result<Point3<f64>, crate::surface::DropError> {
+        crate::sdf::ground_below_on_grid(self.origin.z, self.h, self.dims[2], q, |p| {
+            self.distance(p)
+        })
+    }
 }

@@ -185,6 +185,21 @@ fn closest_on_terrain<T: Terrain + ?Sized>(t: &T, q: &Point3<f64>) -> Option<(f6
     best
 }
 
+/// Most sphere-tracing steps of the default [`SignedDistance::ground_below`] (and of the
+/// settlers' drops along a normal, `rappel_mechanics::settle`).
+pub const MAX_DROP_STEPS: usize = 200;
+
+/// Why [`SignedDistance::ground_below`] found no ground point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DropError {
+    /// The model has no distance at this point (off the terrain, outside a field's grid).
+    Undefined(Point3<f64>),
+    /// No ground within the default search's bound ([`MAX_DROP_STEPS`] sphere-tracing steps).
+    NotReached,
+    /// The vertical through this point meets no ground at all (a mesh with no triangle over it).
+    Missed(Point3<f64>),
+}
+
 /// Signed distance to the ground (Paton §IV's distance queries, answered analytically for
 /// planar-surface terrains): implemented for every [`Terrain`] and by the mesh distance field.
 pub trait SignedDistance {
@@ -194,6 +209,28 @@ pub trait SignedDistance {
     /// The gradient of the signed distance at `q` (a unit vector pointing away from the ground
     /// for exact distances); `None` where [`SignedDistance::signed_distance`] is.
     fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>>;
+    /// The ground point on the vertical through `q`: the first zero of the signed distance
+    /// straight below `q` when `q` is in the air, straight above when it is below the ground.
+    ///
+    /// The default is sphere tracing (each step moves by the distance, so it never passes
+    /// through the ground), stopping within `tolerance` of the ground, at most [`MAX_DROP_STEPS`]
+    /// steps. It converges only at the rate `1 - s`, `s` the distance's slope along the
+    /// vertical: slowly where the vertical runs beside a wall (exact distances) or where an
+    /// interpolated field is nearly flat along it (a wall's top edge smeared over a cell), and
+    /// the budget then runs out on ground that is there. Meshes (an exact vertical ray against
+    /// the triangles) and the grid fields (the interpolant is linear along the vertical within a
+    /// cell: its exact first zero, cell by cell) override it.
+    fn ground_below(&self, q: &Point3<f64>, tolerance: f64) -> Result<Point3<f64>, DropError> {
+        let mut q = *q;
+        for _ in 0..MAX_DROP_STEPS {
+            let d = self.signed_distance(&q).ok_or(DropError::Undefined(q))?;
+            if d.abs() < tolerance {
+                return Ok(q);
+            }
+            q.z -= d;
+        }
+        Err(DropError::NotReached)
+    }
 }
 
 /// Analytic distances of a chain of planar surfaces: the nearest of (a) each surface's plane where

@@ -1,0 +1,186 @@
+//! Where settling and anchor prediction read their distances to a mesh ground (Paton §IV):
+//! parry's exact BVH distances ([`rappel_terrain::parry_mesh`]), or the sparse signed distance
+//! field at a resolution ([`rappel_terrain::sparse_sdf`], Paton's use of a Voxblox-style field:
+//! the tether's swept triangle and the body points along the axle sampled in it). One choice,
+//! [`DistanceSource`], built once per ground into [`GroundDistances`] and shared by
+//! `rappel settle`, `rappel settle-map` and `rappel navigate` (their `--field RES`).
+//!
+//! The boom sweep and the stability placement always read the mesh's triangles (through the
+//! same BVH), whatever the source: the boom's contact is exact (`mechanics::boom_contact`).
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::settle::{SettleError, SettleParams, SettledPose, settle_axel};
+use rappel_terrain::mesh::TriMesh;
+use rappel_terrain::parry_mesh::{ParryMesh, ParryMeshError};
+use rappel_terrain::sdf::SdfError;
+use rappel_terrain::sparse_sdf::{SparseSdf, SparseSdfParams};
+use rappel_terrain::surface::SignedDistance;
+
+use crate::mesh_stability::PREDICT_RESOLUTION;
+
+/// Height above the mesh's top from which settling drops to the ground, metres.
+pub const SETTLE_START_HEIGHT: f64 = 1.0;
+
+/// Margin of the distance field around the mesh's bounding box, metres: settling starts
+/// [`SETTLE_START_HEIGHT`] above the mesh's top, and its footprint probes and the wheels' circles
+/// reach a little beyond the mesh's sides and top; the box must hold them.
+pub const FIELD_MARGIN: f64 = 2.0;
+
+/// Which distances settling and anchor prediction read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DistanceSource {
+    /// Parry's exact distances to the mesh (BVH point projection).
+    Exact,
+    /// The sparse signed distance field of the mesh at `resolution_m` metres, propagated to its
+    /// default `max_distance` (`SparseSdfParams::new`), margin [`FIELD_MARGIN`].
+    Field {
+        /// Grid spacing, metres (`> 0`, finite).
+        resolution_m: f64,
+    },
+}
+
+/// Why a ground's distances cannot be built (the caller's input).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DistanceSourceError {
+    /// The field's resolution is zero, negative, infinite or NaN.
+    #[error("the resolution must be a positive, finite number of metres")]
+    BadResolution(f64),
+    /// The field could not be built at this resolution (over one of its caps: too fine for the
+    /// scene's size).
+    #[error("{0}")]
+    Field(SdfError),
+    /// Parry refused the mesh.
+    #[error("{0}")]
+    Bvh(ParryMeshError),
+}
+
+/// What a report states about its distances: the source, and through the field its resolution
+/// and error bound.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct DistanceReport {
+    /// `exact` (parry's BVH distances to the mesh) or `field` (the sparse distance field).
+    pub source: String,
+    /// The field's grid spacing, metres (`None` for exact distances).
+    pub resolution_m: Option<f64>,
+    /// The field's bound on `|field - exact distance|` within its propagation distance
+    /// (`SparseSdf::error_bound`; its propagation term empirical), metres (`None` for exact
+    /// distances).
+    pub error_bound_m: Option<f64>,
+}
+
+/// A mesh ground's distances for settling and prediction: the mesh's BVH (always: the boom
+/// sweep's candidate triangles and the stability placement) and, for [`DistanceSource::Field`],
+/// the sparse field.
+#[derive(Debug, Clone)]
+pub struct GroundDistances {
+    bvh: Arc<ParryMesh>,
+    field: Option<SparseSdf>,
+    z_top: f64,
+}
+
+impl GroundDistances {
+    /// The distances of `mesh` from `source`: the BVH, and the field when asked for. The field's
+    /// work and memory are bounded by its caps (`SparseSdfParams`); a resolution too fine for
+    /// the mesh's size is [`DistanceSourceError::Field`].
+    ///
+    /// ```
+    /// use nalgebra::Point3;
+    /// use rappel::distance_source::{DistanceSource, GroundDistances};
+    /// use rappel::terrain::mesh::TriMesh;
+    /// let v = vec![
+    ///     Point3::new(-5.0, -5.0, 0.0),
+    ///     Point3::new(5.0, -5.0, 0.0),
+    ///     Point3::new(5.0, 5.0, 0.0),
+    ///     Point3::new(-5.0, 5.0, 0.0),
+    /// ];
+    /// let ground = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
+    /// let d = GroundDistances::new(&ground, DistanceSource::Field { resolution_m: 0.2 }).unwrap();
+    /// let pose = d.settle(0.0, 0.0, 30.0).unwrap();
+    /// assert!(pose.origin.z.abs() <= d.report().error_bound_m.unwrap());
+    /// assert!(GroundDistances::new(&ground, DistanceSource::Field { resolution_m: 0.0 }).is_err());
+    /// ```
+    pub fn new(mesh: &TriMesh, source: DistanceSource) -> Result<Self, DistanceSourceError> {
+        let field = match source {
+            DistanceSource::Exact => None,
+            DistanceSource::Field { resolution_m: h } => {
+                if !(h > 0.0 && h.is_finite()) {
+                    return Err(DistanceSourceError::BadResolution(h));
+                }
+                let mut params = SparseSdfParams::new(h);
+                params.margin = params.margin.max(FIELD_MARGIN);
+                Some(SparseSdf::from_mesh(mesh, &params).map_err(DistanceSourceError::Field)?)
+            }
+        };
+        let bvh = Arc::new(ParryMesh::new(mesh).map_err(DistanceSourceError::Bvh)?);
+        Ok(GroundDistances {
+            bvh,
+            field,
+            z_top: mesh.bounds().1.z + SETTLE_START_HEIGHT,
+        })
+    }
+
+    /// The mesh behind parry's BVH (exact distances, the boom sweep's candidate triangles).
+    pub fn bvh(&self) -> &Arc<ParryMesh> {
+        &self.bvh
+    }
+
+    /// The field, for [`DistanceSource::Field`].
+    pub fn field(&self) -> Option<&SparseSdf> {
+        self.field.as_ref()
+    }
+
+    /// The distances settling and prediction read: the field when built, else the BVH.
+    pub fn distance(&self) -> &(dyn SignedDistance + Sync) {
+        match &self.field {
+            Some(f) => f,
+            None => &*self.bvh,
+        }
+    }
+
+    /// Anchor prediction's sampling resolution: [`PREDICT_RESOLUTION`] on exact distances, the
+    /// field's resolution through it (finer sampling cannot resolve more than the grid).
+    pub fn predict_resolution(&self) -> f64 {
+        self.field
+            .as_ref()
+            .map_or(PREDICT_RESOLUTION, SparseSdf::resolution)
+    }
+
+    /// The height settling starts from: [`SETTLE_START_HEIGHT`] above the mesh's top.
+    pub fn z_top(&self) -> f64 {
+        self.z_top
+    }
+
+    /// Axel (default [`AxelParams`] and [`SettleParams`]) settled at ground point `(x, y)`
+    /// heading `yaw_deg` (degrees counter-clockwise from `+x`) on [`GroundDistances::distance`].
+    pub fn settle(&self, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, SettleError> {
+        settle_axel(
+            self.distance(),
+            &AxelParams::default(),
+            x,
+            y,
+            self.z_top,
+            yaw_deg.to_radians(),
+            &SettleParams::default(),
+        )
+    }
+
+    /// What a report states about these distances.
+    pub fn report(&self) -> DistanceReport {
+        match &self.field {
+            None => DistanceReport {
+                source: "exact".into(),
+                resolution_m: None,
+                error_bound_m: None,
+            },
+            Some(f) => DistanceReport {
+                source: "field".into(),
+                resolution_m: Some(f.resolution()),
+                error_bound_m: Some(f.error_bound()),
+            },
+        }
+    }
+}
