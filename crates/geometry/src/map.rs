@@ -57,6 +57,18 @@ pub struct Map {
 /// let valid = map.validate().unwrap();
 /// assert_eq!(valid.map().obstacles.len(), 1);
 /// assert_eq!(valid.vertex_count(), 7); // it dereferences to the map
+/// // A map with a defect gives no proof.
+/// let bad = Map::new(map.boundary.clone(), vec![Polygon::new(vec![p(4., 4.), p(6., 6.), p(6., 4.), p(4., 6.)])]);
+/// assert!(bad.validate().is_err());
+/// ```
+///
+/// Nothing outside validation can make one (the field is private):
+///
+/// ```compile_fail
+/// use rappel_geometry::map::{Map, ValidMap};
+/// use rappel_geometry::polygon::Polygon;
+/// let map = Map::new(Polygon::new(vec![]), vec![]);
+/// let forged = ValidMap { map: &map };
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ValidMap<'a> {

@@ -306,6 +306,15 @@ impl Format {
 /// assert_eq!(valid.name, "star-6"); // it dereferences to the scenario
 /// assert_eq!(valid.map().obstacles[0].len(), 6);
 /// ```
+///
+/// Nothing outside validation can make one (the fields are private):
+///
+/// ```compile_fail
+/// use rappel::scenario::ValidScenario;
+/// let s = rappel::generated::star_scenario(6).unwrap();
+/// let valid = s.validate().unwrap();
+/// let forged = ValidScenario { scenario: &s, map: valid.map() };
+/// ```
 #[derive(Debug, Clone, Copy)]
 pub struct ValidScenario<'a> {
     scenario: &'a Scenario,
