@@ -371,7 +371,7 @@ pub fn plan_streamed(
 /// [`plan_streamed`] keeping nothing of a class once `on_class` has seen it: neither its
 /// geometry nor its report, only their count. The memory held is one class's (its geometry and
 /// report) plus the search's, whatever K; the summary is the one of [`plan`]'s report
-/// ([`PlanSummary::from`]). This is `rappel plan` without `--json`, `--export` or a picture.
+/// (`PlanSummary::from` of it). This is `rappel plan` without `--json`, `--export` or a picture.
 ///
 /// ```
 /// use rappel::plan::{plan, plan_summary, PlanOptions};
