@@ -376,16 +376,13 @@ pub fn plan_streamed(
 /// ```
 /// use rappel::plan::{plan, plan_summary, PlanOptions};
 /// use rappel::plan_stream::PlanSummary;
-/// use rappel::scenario::Scenario;
-/// let s = Scenario::from_ron_str(r#"(
-///     map: (boundary: [(0.0, 0.0), (40.0, 0.0), (40.0, 100.0), (0.0, 100.0)],
-///           obstacles: [[(18.0, 50.0), (22.0, 50.0), (22.0, 54.0), (18.0, 54.0)]]),
-///     start: (21.0, 95.0), goal: (20.0, 5.0),
-///     terrain: (planes: [(y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]))"#).unwrap();
-/// let options = PlanOptions { classes: 3, ..Default::default() };
-/// let mut seen = Vec::new();
-/// let summary = plan_summary(&s.validate().unwrap(), &options, &mut |c| seen.push(c.rank)).unwrap();
-/// assert_eq!(seen, vec![1, 2, 3]);
+/// let s = rappel::generated::star_scenario(40).unwrap();
+/// let options = PlanOptions { classes: 4, ..Default::default() };
+/// let mut anchors = Vec::new();
+/// let valid = s.validate().unwrap();
+/// let summary = plan_summary(&valid, &options, &mut |c| anchors.push(c.anchors.len())).unwrap();
+/// assert_eq!(summary.class_count, 4);
+/// assert!(anchors[2] > anchors[0]); // the third class winds once more round the star
 /// assert_eq!(summary, PlanSummary::from(&plan(&s, &options).unwrap()));
 /// ```
 pub fn plan_summary(
