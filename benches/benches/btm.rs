@@ -43,7 +43,7 @@ fn build_group(c: &mut Criterion, n: usize, samples: usize) {
     let mut g = c.benchmark_group(format!("btm_build_{n}_obstacles"));
     g.sample_size(samples);
     g.bench_function("rappel/build", |b| {
-        b.iter(|| Btm::build(black_box(&map)).map(|btm| btm.triangle_count()))
+        b.iter(|| Btm::from_map(black_box(&map)).map(|btm| btm.triangle_count()))
     });
     g.bench_function("rappel/validate", |b| {
         b.iter(|| black_box(&map).validate().is_ok())
@@ -65,7 +65,7 @@ fn update(c: &mut Criterion) {
     let mut map = big_map();
     // Take one obstacle out of the middle of the strip: it is the one inserted and removed.
     let obstacle = map.obstacles.remove(5_000);
-    let mut btm = Btm::build(&map).expect("valid map");
+    let mut btm = Btm::from_map(&map).expect("valid map");
     let mut g = c.benchmark_group("btm_update_10000_obstacles");
     // Each iteration inserts the obstacle and removes it again, timing one half: the BTM returns
     // to the same triangulation (new ids) so every iteration does the same work, and no clone or
@@ -101,14 +101,14 @@ fn update(c: &mut Criterion) {
     map.obstacles.push(obstacle.clone());
     let full = map;
     g.bench_function("rebuild", |b| {
-        b.iter(|| Btm::build(black_box(&full)).map(|btm| btm.triangle_count()))
+        b.iter(|| Btm::from_map(black_box(&full)).map(|btm| btm.triangle_count()))
     });
     g.finish();
 }
 
 fn locate(c: &mut Criterion) {
     let g = crater_strip(&CraterStripOptions::new(10_000, 1)).expect("valid options");
-    let btm = Btm::build(&g.map).expect("valid map");
+    let btm = Btm::from_map(&g.map).expect("valid map");
     let b = g.map.aabb();
     let queries: Vec<_> = (0..1000)
         .map(|i| {

@@ -21,7 +21,7 @@ const STAR_VERTICES: usize = 10_000;
 
 fn feasibility(c: &mut Criterion) {
     let star = star_scenario(STAR_VERTICES).expect("star");
-    let btm = Btm::build(&star.map).expect("star map");
+    let btm = Btm::from_map(&star.map).expect("star map");
     let terrain = PlaneSeries::new(&star.terrain.planes, &TetherFrictionCone).expect("planes");
     let best = SptPlanner::new(&btm)
         .shortest_path(star.start, star.goal)
@@ -60,7 +60,7 @@ fn feasibility(c: &mut Criterion) {
     )
     .expect("strip scenario");
     // The strip's K = 10 classes, searched once; the benchmark is Alg. 5 on all ten.
-    let strip_btm = Btm::build(&strip.map).expect("strip map");
+    let strip_btm = Btm::from_map(&strip.map).expect("strip map");
     let strip_terrain =
         PlaneSeries::new(&strip.terrain.planes, &TetherFrictionCone).expect("strip planes");
     let classes = SptPlanner::new(&strip_btm)

@@ -21,7 +21,8 @@ fn friction(c: &mut Criterion) {
     let plain = crater_strip_scenario(1_000, 1, width).expect("valid options");
     // 20 % of the obstacles are PTFOs: every obstacle the frictionless shortest tether wraps (so
     // that Alg. 8 has friction anchors to decide), then seeded random ones up to 200.
-    let first = plan_detailed(&plain, &PlanOptions::default()).expect("plans");
+    let first =
+        plan_detailed(&plain.validate().expect("valid"), &PlanOptions::default()).expect("plans");
     let mut chosen: Vec<usize> = first.report.classes[0]
         .anchors
         .iter()
@@ -72,8 +73,13 @@ fn friction(c: &mut Criterion) {
         }
     }
     let options = PlanOptions::default();
-    let slid = plan_detailed(&sliding, &options).expect("plans");
-    let fs = slid.report.friction.as_ref().expect("friction report");
+    let slid = plan_detailed(&sliding.validate().expect("valid"), &options).expect("plans");
+    let fs = slid
+        .report
+        .outcome
+        .friction
+        .as_ref()
+        .expect("friction report");
     eprintln!(
         "friction bench (sliding): {} anchors in class 1 ({} on PTFOs), {} slips; {}",
         fs.classes[0].anchors.len() + fs.classes[0].slips.len(),
@@ -86,8 +92,13 @@ fn friction(c: &mut Criterion) {
         fs.classes.iter().map(|c| c.slips.len()).sum::<usize>(),
         fs.verdict
     );
-    let report = plan_detailed(&frictional, &options).expect("plans");
-    let f = report.report.friction.as_ref().expect("friction report");
+    let report = plan_detailed(&frictional.validate().expect("valid"), &options).expect("plans");
+    let f = report
+        .report
+        .outcome
+        .friction
+        .as_ref()
+        .expect("friction report");
     let slips: usize = f.classes.iter().map(|c| c.slips.len()).sum();
     eprintln!(
         "friction bench: {count} PTFOs of {}; {} classes examined, {slips} slips; {}",
@@ -98,13 +109,21 @@ fn friction(c: &mut Criterion) {
     let mut g = c.benchmark_group("plan_1000_obstacles_20pct_ptfos");
     g.sample_size(10);
     g.bench_function("frictionless", |b| {
-        b.iter(|| black_box(plan_detailed(&plain, &options).expect("plans")))
+        b.iter(|| {
+            black_box(plan_detailed(&plain.validate().expect("valid"), &options).expect("plans"))
+        })
     });
     g.bench_function("frictional", |b| {
-        b.iter(|| black_box(plan_detailed(&frictional, &options).expect("plans")))
+        b.iter(|| {
+            black_box(
+                plan_detailed(&frictional.validate().expect("valid"), &options).expect("plans"),
+            )
+        })
     });
     g.bench_function("frictional_all_sliding", |b| {
-        b.iter(|| black_box(plan_detailed(&sliding, &options).expect("plans")))
+        b.iter(|| {
+            black_box(plan_detailed(&sliding.validate().expect("valid"), &options).expect("plans"))
+        })
     });
     g.finish();
 }

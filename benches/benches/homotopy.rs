@@ -61,7 +61,7 @@ fn advance_along(btm: &Btm, sleeve: &Sleeve, s: Point2<f64>, g: Point2<f64>) -> 
 
 fn funnel(c: &mut Criterion) {
     let gen_map = crater_strip(&CraterStripOptions::new(10_000, 1)).expect("valid options");
-    let btm = Btm::build(&gen_map.map).expect("valid map");
+    let btm = Btm::from_map(&gen_map.map).expect("valid map");
     // A meandering walk down the strip gives a long, realistic sleeve.
     let walk = random_walk(&btm, gen_map.start, 4_000, 0.8, 7);
     let chi = CrossingSequence::reduced_of_path(&btm, &walk).expect("free walk");
@@ -98,7 +98,7 @@ fn funnel(c: &mut Criterion) {
 
 fn long_walk(c: &mut Criterion) {
     let gen_map = crater_strip(&CraterStripOptions::new(10_000, 1)).expect("valid options");
-    let btm = Btm::build(&gen_map.map).expect("valid map");
+    let btm = Btm::from_map(&gen_map.map).expect("valid map");
     let mid = Point2::new(gen_map.start.x, (gen_map.start.y + gen_map.goal.y) / 2.0);
     let start = match btm.locate(&mid) {
         rappel_geometry::btm::Location::Triangle(_) => mid,

@@ -111,7 +111,7 @@ struct Strip {
 impl Strip {
     fn new(n: usize) -> Strip {
         let generated = crater_strip(&CraterStripOptions::new(n, 1)).expect("valid options");
-        let btm = Btm::build(&generated.map).expect("valid map");
+        let btm = Btm::from_map(&generated.map).expect("valid map");
         let mid = Point2::new(
             0.5 * (generated.start.x + generated.goal.x),
             0.5 * (generated.start.y + generated.goal.y),
@@ -301,7 +301,7 @@ fn planner(c: &mut Criterion) {
         .try_into()
         .expect("polyanya reads its own mesh");
     let arena_map = map_from_polyanya_v2(&arena_text);
-    let arena_btm = Btm::build(&arena_map).expect("the arena is a valid map");
+    let arena_btm = Btm::from_map(&arena_map).expect("the arena is a valid map");
     let arena_spt = SptPlanner::new(&arena_btm);
     let pairs =
         scenario_pairs(&std::fs::read_to_string(format!("{data}arena.scen")).expect("scenario"));

@@ -24,7 +24,7 @@ const STEP: f64 = 5.0;
 
 fn shortest_path_map(c: &mut Criterion) {
     let s = rappel::generated::crater_strip_scenario(1_000, 1, 200.0).expect("valid options");
-    let btm = Btm::build(&s.map).expect("valid map");
+    let btm = Btm::from_map(&s.map).expect("valid map");
     let b = s.map.aabb();
     let points: Vec<Point2<f64>> = (0..=((b.max.x - b.min.x) / STEP) as usize)
         .flat_map(|i| {

@@ -49,7 +49,7 @@ fn main() {
             for side in [round % 2, 1 - round % 2] {
                 if side == 0 {
                     let t = Instant::now();
-                    let r = Btm::build(black_box(&map)).map(|b| b.triangle_count());
+                    let r = Btm::from_map(black_box(&map)).map(|b| b.triangle_count());
                     ours.push(t.elapsed());
                     if let Err(e) = r {
                         eprintln!("error: rappel: {e}");

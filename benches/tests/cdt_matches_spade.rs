@@ -20,7 +20,7 @@ fn canonical(mut t: Tri) -> Tri {
 }
 
 fn rappel_triangles(map: &Map) -> Vec<Tri> {
-    let btm = Btm::build(map).expect("valid map");
+    let btm = Btm::from_map(map).expect("valid map");
     let mut out: Vec<Tri> = btm
         .triangles()
         .map(|t| canonical(btm.dcel().triangle_points(t).map(|p| key((p.x, p.y)))))

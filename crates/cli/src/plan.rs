@@ -24,7 +24,10 @@ use crate::output::{
     Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_file,
 };
 use rappel::export::{ExportFormat, export_plan};
-use rappel::plan::{ClassReport, PlanOptions, PlanReport, plan_detailed_each, plan_streamed};
+use rappel::plan::{
+    ClassReport, PlanOptions, PlanOutcome, PlanReport, PlanSetting, plan_detailed_each,
+    plan_streamed, plan_summary,
+};
 use rappel::plan_stream::{PlanStreamLine, PlanSummary};
 use rappel::progress::{Progress, Show};
 use rappel::scenario::Scenario;
@@ -138,7 +141,9 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
             "--max-length-factor {f}: must be a number >= 1"
         )));
     }
-    let s = Scenario::load(&args.file)?;
+    // Read, then validated once: the proof carries the valid map to the BTM build.
+    let s = Scenario::read(&args.file)?;
+    let s = s.validate_at(&args.file)?;
     let options = PlanOptions {
         classes: args.classes,
         max_length_factor: args.max_length_factor,
@@ -155,56 +160,74 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
         Show::Auto
     };
     let progress = Progress::with(options.classes as u64, "classes", show);
-    let report = if streamed {
-        let (json, jsonl) = (args.json, args.jsonl);
-        let r = plan_streamed(&s, &options, &mut |c| {
-            progress.inc(1);
-            if jsonl {
-                *began = true;
-                crate::outln!("{}", PlanStreamLine::Class(c.clone()).to_line());
-            } else if !json {
-                *began = true;
-                print_class(c);
-            }
-        });
-        progress.finish();
-        r.map_err(|e| CliError(format!("{}: {e}", args.file.display())))?
-    } else {
-        let plan = plan_detailed_each(&s, &options, &mut |_| progress.inc(1));
-        progress.finish();
-        let plan = plan.map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
-        let title = match &plan.outcome.pair {
-            Some(p) => format!("{}: class {} (ascent/descent pair)", s.name, p.rank),
-            None => format!("{}: no feasible class", s.name),
-        };
-        args.picture
-            .write(&plan.picture_in(&s, window.as_ref()), &title)?;
-        plan.report
+    let fail = |e: rappel::plan::PlanError| CliError(format!("{}: {e}", args.file.display()));
+    // `--json` and `--export` need every class's report at the end; otherwise nothing of a class
+    // is kept once it is printed (`plan_summary`).
+    let keep_reports = args.json || export.is_some();
+    let (json, jsonl) = (args.json, args.jsonl);
+    let mut print = |c: &ClassReport| {
+        progress.inc(1);
+        if jsonl {
+            *began = true;
+            crate::outln!("{}", PlanStreamLine::Class(c.clone()).to_line());
+        } else if !json {
+            *began = true;
+            print_class(c);
+        }
     };
-    if let Some((out, format)) = export {
-        write_file(out, &export_plan(&report, s.georeference.as_ref(), format))?;
-    }
+    let summary = if streamed && !keep_reports {
+        let r = plan_summary(&s, &options, &mut print);
+        progress.finish();
+        r.map_err(fail)?
+    } else {
+        let report = if streamed {
+            let r = plan_streamed(&s, &options, &mut print);
+            progress.finish();
+            r.map_err(fail)?
+        } else {
+            let plan = plan_detailed_each(&s, &options, &mut |_| progress.inc(1));
+            progress.finish();
+            let plan = plan.map_err(fail)?;
+            let title = match &plan.outcome.pair {
+                Some(p) => format!("{}: class {} (ascent/descent pair)", s.name, p.rank),
+                None => format!("{}: no feasible class", s.name),
+            };
+            args.picture
+                .write(&plan.picture_in(&s, window.as_ref()), &title)?;
+            plan.report
+        };
+        if let Some((out, format)) = export {
+            write_file(out, &export_plan(&report, s.georeference.as_ref(), format))?;
+        }
+        if args.json {
+            crate::output::print_report(&report)?;
+        } else if !streamed {
+            print_text(&args.file.display().to_string(), &report);
+        }
+        PlanSummary::from(&report)
+    };
     // With PTFOs (a `friction` section) the frictional planner's choice is the answer
     // (docs/friction.md); otherwise the Chapter-2 planner's.
-    let feasible = match &report.friction {
+    let feasible = match &summary.outcome.friction {
         Some(f) => f.chosen.is_some(),
-        None => report.chosen.is_some(),
+        None => summary.outcome.chosen.is_some(),
     };
     let answer = if feasible { Answer::Yes } else { Answer::No };
     if args.jsonl {
-        let summary = PlanStreamLine::Summary(Box::new(PlanSummary::from(&report)));
-        crate::outln!("{}", summary.to_line());
-    } else if args.json {
-        crate::output::print_report(&report)?;
-    } else {
-        let file = args.file.display().to_string();
+        let line = PlanStreamLine::Summary(Box::new(summary));
+        crate::outln!("{}", line.to_line());
+    } else if !args.json {
         if streamed {
-            print_head(&file, &report);
-            print_verdict(&report);
-        } else {
-            print_text(&file, &report);
+            let file = args.file.display().to_string();
+            print_head(
+                &file,
+                &summary.setting,
+                summary.class_count,
+                &summary.outcome,
+            );
+            print_verdict(&summary.setting, &summary.outcome);
         }
-        if let Some(f) = &report.friction {
+        if let Some(f) = &summary.outcome.friction {
             crate::friction_out::print_friction(f);
         }
         for (_, out) in args.picture.outputs() {
@@ -220,15 +243,15 @@ fn degrees(v: Option<f64>) -> String {
 
 /// The whole text report: summary head, every class, verdict.
 fn print_text(file: &str, r: &PlanReport) {
-    print_head(file, r);
+    print_head(file, &r.setting, r.classes.len(), &r.outcome);
     for c in &r.classes {
         print_class(c);
     }
-    print_verdict(r);
+    print_verdict(&r.setting, &r.outcome);
 }
 
 /// The scenario, model, planes, warnings and class count.
-fn print_head(file: &str, r: &PlanReport) {
+fn print_head(file: &str, r: &PlanSetting, class_count: usize, o: &PlanOutcome) {
     crate::outln!("scenario     {file}");
     crate::outln!("model        {}", r.traversability);
     if r.planes.is_empty() {
@@ -249,14 +272,14 @@ fn print_head(file: &str, r: &PlanReport) {
             }
         );
     }
-    for w in &r.warnings {
+    for w in &o.warnings {
         crate::outln!("warning      {w}");
     }
     crate::outln!(
         "classes      {} ({}; {} expansions)",
-        r.classes.len(),
-        r.termination.describe(),
-        r.stats.expansions
+        class_count,
+        o.termination.describe(),
+        o.stats.expansions
     );
 }
 
@@ -302,9 +325,9 @@ fn print_class(c: &ClassReport) {
 }
 
 /// The verdict and the chosen pair.
-fn print_verdict(r: &PlanReport) {
-    crate::outln!("verdict      {}", r.verdict);
-    if let Some(p) = &r.chosen {
+fn print_verdict(r: &PlanSetting, o: &PlanOutcome) {
+    crate::outln!("verdict      {}", o.verdict);
+    if let Some(p) = &o.chosen {
         let fmt = |pts: &[rappel::nalgebra::Point2<f64>]| {
             pts.iter()
                 .map(|q| format!("({:.3}, {:.3})", q.x, q.y))

@@ -48,7 +48,7 @@ pub struct HomotopicArgs {
 
 fn load_btm(file: &std::path::Path) -> Result<(Scenario, Btm), CliError> {
     let s = Scenario::load(file)?;
-    let btm = Btm::build(&s.map).map_err(|e| CliError(format!("{}: {e}", file.display())))?;
+    let btm = Btm::from_map(&s.map).map_err(|e| CliError(format!("{}: {e}", file.display())))?;
     Ok((s, btm))
 }
 

@@ -187,8 +187,8 @@ fn jsonl_lines_parse_match_the_schema_and_agree_with_json() {
     match lines.last() {
         Some(PlanStreamLine::Summary(s)) => {
             assert_eq!(s.class_count, report.classes.len());
-            assert_eq!(s.verdict, report.verdict);
-            assert_eq!(s.chosen, report.chosen);
+            assert_eq!(s.outcome.verdict, report.outcome.verdict);
+            assert_eq!(s.outcome.chosen, report.outcome.chosen);
         }
         other => panic!("the last line is not the summary: {other:?}"),
     }

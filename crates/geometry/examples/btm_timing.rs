@@ -28,7 +28,7 @@ fn main() {
     let mut built = None;
     for _ in 0..repeat {
         let t = Instant::now();
-        let btm = match Btm::build(&g.map) {
+        let btm = match Btm::from_map(&g.map) {
             Ok(b) => b,
             Err(e) => {
                 eprintln!("error: {e}");

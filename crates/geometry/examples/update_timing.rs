@@ -11,7 +11,7 @@ fn main() {
     };
     let mut map = generated.map;
     let obstacle = map.obstacles.remove(5_000);
-    let Ok(mut btm) = Btm::build(&map) else {
+    let Ok(mut btm) = Btm::from_map(&map) else {
         return;
     };
     let rounds = 200;

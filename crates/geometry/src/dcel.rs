@@ -192,7 +192,7 @@ impl Dcel {
     /// # use rappel_geometry::{map::Map, polygon::Polygon};
     /// # use nalgebra::Point2;
     /// # let sq = Polygon::new(vec![Point2::new(0.,0.), Point2::new(4.,0.), Point2::new(4.,4.), Point2::new(0.,4.)]);
-    /// let btm = Btm::build(&Map::new(sq, vec![])).unwrap();
+    /// let btm = Btm::from_map(&Map::new(sq, vec![])).unwrap();
     /// let t = btm.triangles().next().unwrap();
     /// let [a, b, c] = btm.dcel().triangle_vertices(t);
     /// assert!(btm.dcel().point(a).x >= 0.0);

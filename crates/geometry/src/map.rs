@@ -40,6 +40,56 @@ pub struct Map {
     pub obstacles: Vec<Polygon>,
 }
 
+/// A map that passed [`Map::validate`]: the proof that every condition for building a BTM holds,
+/// so that whoever holds one (e.g. [`crate::btm::Btm::build`]) need not validate again. Only
+/// [`Map::validate`] makes one (the field is private), and it borrows the map, which therefore
+/// cannot change while the proof lives.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_geometry::map::Map;
+/// use rappel_geometry::polygon::Polygon;
+/// let p = |x, y| Point2::new(x, y);
+/// let map = Map::new(
+///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(5., 6.)])],
+/// );
+/// let valid = map.validate().unwrap();
+/// assert_eq!(valid.map().obstacles.len(), 1);
+/// assert_eq!(valid.vertex_count(), 7); // it dereferences to the map
+/// // A map with a defect gives no proof.
+/// let bad = Map::new(map.boundary.clone(), vec![Polygon::new(vec![p(4., 4.), p(6., 6.), p(6., 4.), p(4., 6.)])]);
+/// assert!(bad.validate().is_err());
+/// ```
+///
+/// Nothing outside validation can make one (the field is private):
+///
+/// ```compile_fail
+/// use rappel_geometry::map::{Map, ValidMap};
+/// use rappel_geometry::polygon::Polygon;
+/// let map = Map::new(Polygon::new(vec![]), vec![]);
+/// let forged = ValidMap { map: &map };
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ValidMap<'a> {
+    map: &'a Map,
+}
+
+impl<'a> ValidMap<'a> {
+    /// The validated map.
+    pub fn map(self) -> &'a Map {
+        self.map
+    }
+}
+
+impl std::ops::Deref for ValidMap<'_> {
+    type Target = Map;
+
+    fn deref(&self) -> &Map {
+        self.map
+    }
+}
+
 /// A contact found by [`Map::edge_contacts`]: the key `(ring, edge, ring, edge)` (rings numbered
 /// boundary first) and the defect it is.
 pub(crate) type EdgeContact = ((u32, u32, u32, u32), MapError);
@@ -326,10 +376,11 @@ impl Map {
         self.boundary.aabb()
     }
 
-    /// Checks every condition for building a BTM; returns the first defect found. Every
-    /// coordinate must lie in the domain of [`crate::domain`] (checked first, before any
-    /// predicate could overflow).
-    pub fn validate(&self) -> Result<(), MapError> {
+    /// Checks every condition for building a BTM; returns the first defect found, or the map's
+    /// [`ValidMap`] proof, which [`crate::btm::Btm::build`] takes so that it need not check
+    /// again. Every coordinate must lie in the domain of [`crate::domain`] (checked first,
+    /// before any predicate could overflow).
+    pub fn validate(&self) -> Result<ValidMap<'_>, MapError> {
         for (id, ring) in self.rings() {
             for (vertex, p) in ring.vertices.iter().enumerate() {
                 if p.x.is_finite() && p.y.is_finite() && !(in_domain(p.x) && in_domain(p.y)) {
@@ -345,7 +396,8 @@ impl Map {
             validate_ring_alone(id, ring)?;
         }
         self.check_edge_contacts()?;
-        self.check_containment()
+        self.check_containment()?;
+        Ok(ValidMap { map: self })
     }
 
     /// Where `p` lies with respect to free space (the map must be valid).
@@ -715,7 +767,7 @@ mod tests {
     /// One `check`: the map's validation result, as the error variant's name.
     fn check(m: &Map, expected: &str) {
         let got = match m.validate() {
-            Ok(()) => "ok".to_string(),
+            Ok(_) => "ok".to_string(),
             Err(e) => format!("{e:?}")
                 .split([' ', '{', '('])
                 .next()

@@ -46,7 +46,7 @@ proptest! {
     #[test]
     fn fresh_build_satisfies_invariants(n in 0usize..120, seed in any::<u64>()) {
         let map = strip(n, seed);
-        let btm = Btm::build(&map).unwrap();
+        let btm = Btm::from_map(&map).unwrap();
         let r = btm.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(r.triangles, map.vertex_count() + 2 * map.obstacles.len() - 2);
         prop_assert_eq!(r.holes, map.obstacles.len());
@@ -58,7 +58,7 @@ proptest! {
         // Keep the last 8 obstacles aside as the ones that appear during descent.
         let mut map = generated.clone();
         let mut pending: Vec<Polygon> = map.obstacles.split_off(n);
-        let mut btm = Btm::build(&map).unwrap();
+        let mut btm = Btm::from_map(&map).unwrap();
         for (insert, pick) in ops {
             let before: Vec<_> = btm.triangles().map(|t| (t, btm.dcel().triangle_vertices(t))).collect();
             let report = if insert && !pending.is_empty() {
@@ -83,7 +83,7 @@ proptest! {
                 prop_assert!(!before.iter().any(|(b, _)| b == t));
             }
             // The BTM matches a fresh build of the same map in size.
-            let fresh = Btm::build(&btm.map()).unwrap();
+            let fresh = Btm::from_map(&btm.map()).unwrap();
             prop_assert_eq!(fresh.triangle_count(), btm.triangle_count());
         }
     }
@@ -91,7 +91,7 @@ proptest! {
     #[test]
     fn point_location_agrees_with_brute_force(n in 1usize..40, seed in any::<u64>(), qs in proptest::collection::vec((0.0f64..1.0, 0.0f64..1.0), 1..40)) {
         let map = strip(n, seed);
-        let btm = Btm::build(&map).unwrap();
+        let btm = Btm::from_map(&map).unwrap();
         let b = map.aabb();
         for (u, v) in qs {
             let p = Point2::new(b.min.x - 5.0 + u * (b.max.x - b.min.x + 10.0), b.min.y - 5.0 + v * (b.max.y - b.min.y + 10.0));
@@ -118,7 +118,7 @@ proptest! {
 fn cocircular_grid_is_constrained_delaunay() {
     for k in [1, 2, 5, 12] {
         let map = grid_of_squares(k);
-        let btm = Btm::build(&map).unwrap();
+        let btm = Btm::from_map(&map).unwrap();
         let r = btm.check_invariants().unwrap();
         assert_eq!(r.triangles, 4 + 4 * k * k + 2 * k * k - 2);
     }
@@ -127,7 +127,7 @@ fn cocircular_grid_is_constrained_delaunay() {
 #[test]
 fn points_on_edges_and_vertices_are_reported_as_such() {
     let map = grid_of_squares(1);
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     // A boundary vertex, the middle of a boundary edge, the middle of an obstacle edge.
     assert!(matches!(
         btm.locate(&Point2::new(0.0, 0.0)),
@@ -153,7 +153,7 @@ fn points_on_edges_and_vertices_are_reported_as_such() {
 #[test]
 fn refused_updates_leave_the_btm_untouched() {
     let map = grid_of_squares(2);
-    let mut btm = Btm::build(&map).unwrap();
+    let mut btm = Btm::from_map(&map).unwrap();
     let before: Vec<_> = btm.triangles().collect();
     let sq = |x: f64, y: f64, s: f64| {
         Polygon::new(vec![
@@ -181,7 +181,7 @@ fn refused_updates_leave_the_btm_untouched() {
 #[test]
 fn navigation_walks_around_vertices_and_faces() {
     let map = strip(20, 3);
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let d = btm.dcel();
     for t in btm.triangles() {
         for h in t.half_edges() {
@@ -213,7 +213,7 @@ fn compaction_after_many_updates_keeps_every_triangle() {
     let generated = strip(60, 11);
     let mut map = generated.clone();
     let pending: Vec<Polygon> = map.obstacles.split_off(40);
-    let mut btm = Btm::build(&map).unwrap();
+    let mut btm = Btm::from_map(&map).unwrap();
     for poly in &pending {
         let (id, _) = btm.insert_obstacle(poly).unwrap();
         btm.remove_obstacle(id).unwrap();
@@ -266,7 +266,7 @@ fn free_triangles_by_points(btm: &Btm) -> Vec<[(u64, u64); 3]> {
 fn vertex_ids_follow_the_map_and_the_triangles_not_its_listing_order() {
     for seed in [1, 2, 3] {
         let map = strip(150, seed);
-        let btm = Btm::build(&map).expect("valid strip");
+        let btm = Btm::from_map(&map).expect("valid strip");
         let d = btm.dcel();
         let mut next_id = 3usize;
         let rings = std::iter::once(btm.boundary_vertices()).chain(
@@ -304,7 +304,7 @@ fn vertex_ids_follow_the_map_and_the_triangles_not_its_listing_order() {
         assert_eq!(next_id, 3 + map.vertex_count());
         let mut reversed = map.clone();
         reversed.obstacles.reverse();
-        let other = Btm::build(&reversed).expect("valid strip");
+        let other = Btm::from_map(&reversed).expect("valid strip");
         assert_eq!(
             free_triangles_by_points(&btm),
             free_triangles_by_points(&other),

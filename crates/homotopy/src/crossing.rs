@@ -64,7 +64,7 @@ use serde::{Deserialize, Serialize};
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// // A loop beside the obstacle: it crosses diagonals, but reduces to nothing.
 /// let there_and_back = Path::new(vec![p(7., 1.), p(9., 1.), p(9., 9.), p(7., 9.), p(7., 1.)]).unwrap();
 /// let chi = CrossingSequence::of_path(&btm, &there_and_back).unwrap();
@@ -232,7 +232,7 @@ enum Leave {
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let mut tracer = Tracer::new(&btm, p(1., 5.)).unwrap();
 /// assert!(tracer.push(p(9., 5.)).is_err()); // through the obstacle: refused, nothing changes
 /// tracer.push(p(1., 9.)).unwrap();

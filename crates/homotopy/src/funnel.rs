@@ -269,7 +269,7 @@ impl Deque {
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let (s, g) = (p(5., 9.), p(5., 1.));
 /// let walk = Path::new(vec![s, p(1., 5.), g]).unwrap(); // passes left of the obstacle
 /// let chi = CrossingSequence::reduced_of_path(&btm, &walk).unwrap();

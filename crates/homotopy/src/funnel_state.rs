@@ -385,7 +385,7 @@ impl FunnelState {
     ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
     ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
     /// );
-    /// let btm = Btm::build(&map).unwrap();
+    /// let btm = Btm::from_map(&map).unwrap();
     /// let start = p(5., 9.);
     /// let Location::Triangle(t) = btm.locate(&start) else { unreachable!() };
     /// let mut tree = FunnelTree::new(start);

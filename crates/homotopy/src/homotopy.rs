@@ -59,7 +59,7 @@ pub enum HomotopyError {
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let west = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
 /// let west2 = Path::new(vec![p(5., 9.), p(3., 8.), p(2., 2.), p(5., 1.)]).unwrap();
 /// let east = Path::new(vec![p(5., 9.), p(9., 5.), p(5., 1.)]).unwrap();
@@ -92,7 +92,7 @@ pub fn are_homotopic(btm: &Btm, first: &Path, second: &Path) -> Result<bool, Hom
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let around = Path::new(vec![p(1., 1.), p(9., 1.), p(9., 9.), p(1., 9.), p(1., 1.)]).unwrap();
 /// let beside = Path::new(vec![p(1., 1.), p(3., 1.), p(3., 9.), p(1., 9.), p(1., 1.)]).unwrap();
 /// assert!(!is_contractible(&btm, &around).unwrap());

@@ -24,7 +24,7 @@
 //!     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 //!     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 //! );
-//! let btm = Btm::build(&map).unwrap();
+//! let btm = Btm::from_map(&map).unwrap();
 //! // A slack tether that went down the east side of the obstacle.
 //! let slack = Path::new(vec![p(5., 9.), p(9., 8.), p(8., 2.), p(5., 1.)]).unwrap();
 //! let shp = shortest_homotopic_path(&btm, &slack).unwrap();

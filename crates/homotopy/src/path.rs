@@ -182,7 +182,7 @@ impl Path {
     ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
     ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
     /// );
-    /// let btm = Btm::build(&map).unwrap();
+    /// let btm = Btm::from_map(&map).unwrap();
     /// assert!(Path::new(vec![p(1., 1.), p(9., 1.), p(9., 9.)]).unwrap().validate(&btm).is_ok());
     /// // Along the obstacle's bottom edge: touching is allowed.
     /// assert!(Path::new(vec![p(1., 4.), p(9., 4.)]).unwrap().validate(&btm).is_ok());

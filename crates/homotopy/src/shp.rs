@@ -37,7 +37,7 @@ pub struct ShortestHomotopicPath {
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(5., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let slack = Path::new(vec![p(1., 9.), p(3., 9.), p(3., 7.), p(1., 7.), p(2., 9.5), p(1., 1.)]).unwrap();
 /// let shp = shortest_homotopic_path(&btm, &slack).unwrap();
 /// assert_eq!(shp.taut.points, vec![p(1., 9.), p(1., 1.)]);

@@ -38,7 +38,7 @@ fn two_squares() -> Btm {
         Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
         vec![sq(2., 4.), sq(6., 4.)],
     );
-    Btm::build(&map).unwrap()
+    Btm::from_map(&map).unwrap()
 }
 
 /// The angle `arg(z - zeta)` sweeps along a polyline, summed segment by segment (each segment
@@ -293,7 +293,7 @@ fn tie_map() -> (Map, Btm) {
         Polygon::new(vec![p(0., 0.), p(20., 0.), p(20., 20.), p(0., 20.)]),
         obstacles,
     );
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     (map, btm)
 }
 
@@ -342,7 +342,7 @@ fn the_index_refuses_poles_in_free_space_and_maps_long_across_the_cuts() {
         Polygon::new(vec![p(0., 0.), p(903., 0.), p(903., 10.), p(0., 10.)]),
         row,
     );
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     assert_eq!(CutIndex::new(&btm, &Poles::new(&btm)), None);
     // The tie map itself is indexed.
     let (_, btm) = tie_map();

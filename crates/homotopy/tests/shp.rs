@@ -54,7 +54,7 @@ fn hexagon_map() -> (Map, Btm, Vec<Point2<f64>>) {
         Polygon::new(vec![p(0., 0.), p(40., 0.), p(40., 40.), p(0., 40.)]),
         vec![Polygon::new(hex.clone())],
     );
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     (map, btm, hex)
 }
 
@@ -309,7 +309,7 @@ fn a_reflex_corner_of_the_map_boundary_is_an_anchor_without_obstacle() {
         ]),
         vec![],
     );
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let s = shp(&btm, vec![p(8., 2.), p(2., 2.), p(2., 8.)]);
     assert_eq!(s.taut.points, vec![p(8., 2.), p(4., 4.), p(2., 8.)]);
     let a = s.taut.anchors[0];
@@ -335,7 +335,7 @@ fn a_path_into_a_pocket_of_a_non_convex_obstacle_pulls_out_of_it() {
         Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
         vec![u],
     );
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let s = shp(
         &btm,
         vec![p(2., 9.), p(5., 8.), p(5., 5.), p(5.5, 8.), p(8., 9.)],

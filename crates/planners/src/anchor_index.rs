@@ -31,21 +31,63 @@ pub enum Evaluation {
     Direct,
 }
 
-/// The anchors `a_1 .. a_n` of one taut tether (ids `1 ..= n`), in a grid.
+/// The anchors `a_1 .. a_n` of one taut tether (ids `1 ..= n`), in a grid of their distinct
+/// points ("sites").
+///
+/// A class that winds `w` times round an obstacle touches each of its hull vertices `w` times:
+/// `w` anchors at one point. A grid of the anchors would hold `w` entries per point, and every
+/// query near the obstacle would visit `w` times as many, so a class's queries would cost its
+/// anchors times its windings (the star's K = 100 classes, up to fifty windings, spent most of
+/// their time there). The grid holds each point once, with the ids of the anchors at it
+/// (ascending), so a query costs the points near it; [`AnchorIndex::visit_sites_near`] hands a
+/// point over once with its ids, for callers whose predicate depends on the point and at most on
+/// the smallest id. With [`Evaluation::Direct`] every anchor is its own site (no grid, no
+/// merging): the earlier form.
 #[derive(Debug, Clone)]
 pub struct AnchorIndex {
     /// `a_1 .. a_n`.
     points: Vec<Point2<f64>>,
-    /// `None` for [`Evaluation::Direct`] or no anchors.
+    /// The sites' points.
+    sites: Vec<Point2<f64>>,
+    /// The ids at site `s`: `ids[starts[s] .. starts[s + 1]]`, ascending.
+    starts: Vec<u32>,
+    ids: Vec<u32>,
+    /// Over the sites; `None` for [`Evaluation::Direct`] or no anchors.
     grid: Option<SpatialGrid>,
 }
 
 impl AnchorIndex {
     /// The index of `anchors` (`a_1 .. a_n`). `pad` (m, the largest margin the queries will use)
     /// pads the grid's box, which keeps its cells square-ish when the anchors are collinear.
+    /// Anchors with bit-identical coordinates share a site.
     pub fn new(anchors: &[Point2<f64>], pad: f64, evaluation: Evaluation) -> AnchorIndex {
-        let grid = (evaluation == Evaluation::Indexed && !anchors.is_empty()).then(|| {
-            let b = Aabb::of_points(anchors.iter());
+        let indexed = evaluation == Evaluation::Indexed && !anchors.is_empty();
+        // Anchor ids (from 0) grouped by point: sorted by the coordinates' bits, then by id.
+        let mut order: Vec<u32> = (0..anchors.len() as u32).collect();
+        if indexed {
+            let key = |i: u32| {
+                let p = anchors[i as usize];
+                (p.x.to_bits(), p.y.to_bits(), i)
+            };
+            order.sort_unstable_by_key(|&i| key(i));
+        }
+        let (mut sites, mut starts, mut ids) =
+            (Vec::new(), Vec::new(), Vec::with_capacity(order.len()));
+        for &i in &order {
+            let p = anchors[i as usize];
+            let same = indexed
+                && sites.last().is_some_and(|q: &Point2<f64>| {
+                    q.x.to_bits() == p.x.to_bits() && q.y.to_bits() == p.y.to_bits()
+                });
+            if !same {
+                starts.push(ids.len() as u32);
+                sites.push(p);
+            }
+            ids.push(i + 1);
+        }
+        starts.push(ids.len() as u32);
+        let grid = indexed.then(|| {
+            let b = Aabb::of_points(sites.iter());
             let (w, h) = b.size();
             // At least a thousandth of the anchors' extent, so that a zero pad still gives a
             // grid of bounded size.
@@ -54,11 +96,14 @@ impl AnchorIndex {
                 min: Point2::new(b.min.x - pad, b.min.y - pad),
                 max: Point2::new(b.max.x + pad, b.max.y + pad),
             };
-            let boxes: Vec<Aabb> = anchors.iter().map(|p| Aabb { min: *p, max: *p }).collect();
-            SpatialGrid::packed(bounds, anchors.len(), &boxes)
+            let boxes: Vec<Aabb> = sites.iter().map(|p| Aabb { min: *p, max: *p }).collect();
+            SpatialGrid::packed(bounds, sites.len(), &boxes)
         });
         AnchorIndex {
             points: anchors.to_vec(),
+            sites,
+            starts,
+            ids,
             grid,
         }
     }
@@ -73,6 +118,11 @@ impl AnchorIndex {
         self.points.len()
     }
 
+    /// The number of distinct anchor points (sites); `n` with [`Evaluation::Direct`].
+    pub fn site_count(&self) -> usize {
+        self.sites.len()
+    }
+
     /// `true` without anchors.
     pub fn is_empty(&self) -> bool {
         self.points.is_empty()
@@ -83,15 +133,35 @@ impl AnchorIndex {
         Aabb::of_points(self.points.iter())
     }
 
+    /// Calls `f(p, ids)` for every site `p` that lies within `margin` of the convex hull of
+    /// `corners`, and possibly for others (each at most once, in no particular order), with the
+    /// ids `j` of the anchors `a_j = p` (ascending, at least one); with [`Evaluation::Direct`] for
+    /// every anchor, in order, each alone. Callers decide each site with their own predicate, so
+    /// the answer never depends on which superset this is.
+    pub fn visit_sites_near(
+        &self,
+        corners: &[Point2<f64>],
+        margin: f64,
+        mut f: impl FnMut(&Point2<f64>, &[u32]),
+    ) {
+        let mut site = |s: usize| {
+            let ids = &self.ids[self.starts[s] as usize..self.starts[s + 1] as usize];
+            f(&self.sites[s], ids);
+        };
+        match &self.grid {
+            Some(grid) => grid.visit_near_convex(corners, margin, |id| site(id as usize)),
+            None => (0..self.sites.len()).for_each(site),
+        }
+    }
+
     /// Calls `f(j)` for every anchor `a_j` that lies within `margin` of the convex hull of
     /// `corners`, and possibly for others (each at most once, in no particular order); with
     /// [`Evaluation::Direct`] for every anchor, in order. Callers decide each anchor with their
     /// own predicate, so the answer never depends on which superset this is.
     pub fn visit_near(&self, corners: &[Point2<f64>], margin: f64, mut f: impl FnMut(usize)) {
-        match &self.grid {
-            Some(grid) => grid.visit_near_convex(corners, margin, |id| f(id as usize + 1)),
-            None => (1..=self.points.len()).for_each(f),
-        }
+        self.visit_sites_near(corners, margin, |_, ids| {
+            ids.iter().for_each(|&j| f(j as usize));
+        });
     }
 
     /// The anchors of [`AnchorIndex::visit_near`], sorted by index.

@@ -348,7 +348,7 @@ struct Climb<'c, 'a> {
 ///     Polygon::new(vec![p(0., 0.), p(40., 0.), p(40., 100.), p(0., 100.)]),
 ///     vec![Polygon::new(vec![p(18., 50.), p(22., 50.), p(22., 54.), p(18., 54.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let plane = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
 /// let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
 /// let best = SptPlanner::new(&btm).shortest_path(p(21., 95.), p(20., 5.)).unwrap().unwrap();
@@ -430,7 +430,7 @@ pub fn check_feasibility_evaluated(
 ///     Polygon::new(vec![p(0., 0.), p(40., 0.), p(40., 100.), p(0., 100.)]),
 ///     vec![Polygon::new(vec![p(18., 50.), p(22., 50.), p(22., 54.), p(18., 54.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let plane = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
 /// let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
 /// let best = SptPlanner::new(&btm).shortest_path(p(21., 95.), p(20., 5.)).unwrap().unwrap();
@@ -656,10 +656,12 @@ impl Climb<'_, '_> {
         let c = self.ctx.clearance * (1.0 - CLEARANCE_TOLERANCE);
         let (lo, hi) = (q.x.min(w.x) - c, q.x.max(w.x) + c);
         let mut clear = true;
-        self.index.visit_near(&[*q, *w], 2.0 * c, |i| {
-            let a = &self.points[i];
+        // Per site: the anchors at one point pass or fail together, except for the released
+        // test `i > j`, which the smallest of their ids decides.
+        self.index.visit_sites_near(&[*q, *w], 2.0 * c, |a, ids| {
             if clear && lo <= a.x && a.x <= hi {
-                clear = (i > j || distance_to_segment(a, q, w) >= c) && (a - w).norm() >= c;
+                let first = ids[0] as usize;
+                clear = (first > j || distance_to_segment(a, q, w) >= c) && (a - w).norm() >= c;
             }
         });
         clear

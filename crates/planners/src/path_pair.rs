@@ -327,12 +327,17 @@ impl Near<'_> {
     /// Calls `f(k, d)` with `d` the distance from `a_k` to the leg `p -> q` for every anchor
     /// `a_k` closer than its clearance (less [`CLEARANCE_TOLERANCE`]), in no particular order.
     fn too_close(&self, p: &Point2<f64>, q: &Point2<f64>, mut f: impl FnMut(usize, f64)) {
-        self.index.visit_near(&[*p, *q], self.margin, |k| {
-            let d = distance_to_segment(&self.anchors[k - 1], p, q);
-            if d < self.clearances[k - 1] * (1.0 - CLEARANCE_TOLERANCE) {
-                f(k, d);
-            }
-        });
+        // Per site: the distance is the point's, computed once for the anchors at it.
+        self.index
+            .visit_sites_near(&[*p, *q], self.margin, |a, ids| {
+                let d = distance_to_segment(a, p, q);
+                for &k in ids {
+                    let k = k as usize;
+                    if d < self.clearances[k - 1] * (1.0 - CLEARANCE_TOLERANCE) {
+                        f(k, d);
+                    }
+                }
+            });
     }
 }
 
@@ -600,7 +605,7 @@ pub struct PairPlan {
 ///     Polygon::new(vec![p(0., 0.), p(40., 0.), p(40., 100.), p(0., 100.)]),
 ///     vec![Polygon::new(vec![p(18., 50.), p(22., 50.), p(22., 54.), p(18., 54.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let plane = TerrainPlane { y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4 };
 /// let terrain = PlaneSeries::new(&[plane], &TetherFrictionCone).unwrap();
 /// let ctx = FeasibilityContext { btm: &btm, terrain: &terrain, clearance: 0.5, tether_length: None };

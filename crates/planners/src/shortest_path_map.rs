@@ -102,7 +102,7 @@ pub struct MapStats {
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let spm = ShortestPathMap::build(&btm, p(5., 9.)).unwrap();
 /// // Behind the box: around one of its top corners, then straight down.
 /// let g = spm.query(p(5., 1.)).unwrap().unwrap();

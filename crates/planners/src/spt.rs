@@ -399,7 +399,7 @@ pub struct SearchOutcome {
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let planner = SptPlanner::new(&btm);
 /// // The classic single query: the globally shortest path.
 /// let best = planner.shortest_path(p(5., 9.), p(5., 1.)).unwrap().unwrap();
@@ -736,7 +736,7 @@ pub fn canonical_triangle(btm: &Btm, p: Point2<f64>) -> Result<TriangleId, PathE
 ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
 ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
 /// );
-/// let btm = Btm::build(&map).unwrap();
+/// let btm = Btm::from_map(&map).unwrap();
 /// let west = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
 /// assert!(is_simple_class(&shortest_homotopic_path(&btm, &west).unwrap().taut));
 /// // Once around the obstacle before going down: the tether wraps it a full turn.

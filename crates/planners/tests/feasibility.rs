@@ -54,7 +54,7 @@ fn triangle_map() -> Map {
 
 #[test]
 fn the_verdict_flips_where_the_friction_cone_says() {
-    let btm = Btm::build(&triangle_map()).unwrap();
+    let btm = Btm::from_map(&triangle_map()).unwrap();
     let planner = SptPlanner::new(&btm);
     let best = planner
         .shortest_path(p(50., 100.), p(50., 0.))
@@ -82,7 +82,7 @@ fn the_verdict_flips_where_the_friction_cone_says() {
 fn condition_two_uses_the_previous_anchors_plane() {
     // A concave series: steep above (narrow cone at the start), shallow below (wide cone at the
     // anchor). psi_1 = 33.69 degrees fits the lower cone but not the upper one.
-    let btm = Btm::build(&triangle_map()).unwrap();
+    let btm = Btm::from_map(&triangle_map()).unwrap();
     let best = SptPlanner::new(&btm)
         .shortest_path(p(50., 100.), p(50., 0.))
         .unwrap()
@@ -116,7 +116,7 @@ fn the_goal_must_be_held_by_the_last_anchor() {
         Polygon::new(vec![p(0., 0.), p(100., 0.), p(100., 100.), p(0., 100.)]),
         vec![],
     );
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let best = SptPlanner::new(&btm)
         .shortest_path(p(20., 90.), p(50., 30.))
         .unwrap()
@@ -157,7 +157,7 @@ fn waypoints_and_pairs_on_random_maps() {
         let Some(m) = random_map(5_000 + seed, 7) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let ctx = FeasibilityContext {
             btm: &btm,
             terrain: &terrain,
@@ -238,7 +238,7 @@ fn reachable_sets_cut_to_free_space_lose_exactly_the_obstacles() {
     // and the difference is the part of the pieces covered by obstacles (computed independently
     // by sampling a grid of points inside each piece).
     let map = triangle_map();
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let best = SptPlanner::new(&btm)
         .shortest_path(p(50., 100.), p(50., 0.))
         .unwrap()
@@ -344,7 +344,7 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
         // rounding, never jump).
         type Verdict = (usize, bool, Vec<(bool, f64)>);
         let verdicts = |map: &Map| -> Option<Vec<Verdict>> {
-            let btm = Btm::build(map).ok()?;
+            let btm = Btm::from_map(map).ok()?;
             let ctx = FeasibilityContext {
                 btm: &btm,
                 terrain: &terrain,
@@ -459,7 +459,7 @@ fn a_reachable_sliver_narrower_than_any_ladder_is_found() {
     // the isosceles sweep triangle (A, A + t e, A + t d) reaching the tip on its axis.
     let h = 0.035;
     let (map, start, goal, tip) = sliver_map(h);
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let best = SptPlanner::new(&btm)
         .shortest_path(start, goal)
         .unwrap()
@@ -518,7 +518,7 @@ fn a_reachable_sliver_narrower_than_any_ladder_is_found() {
                 .collect(),
         );
         let nudged = Map::new(map.boundary.clone(), vec![map.obstacles[0].clone(), moved]);
-        let btm = Btm::build(&nudged).unwrap();
+        let btm = Btm::from_map(&nudged).unwrap();
         let ctx = FeasibilityContext {
             btm: &btm,
             terrain: &terrain,
@@ -540,7 +540,7 @@ fn a_reachable_sliver_narrower_than_any_ladder_is_found() {
     // proportion: the verdict follows the geometry, not a sample spacing.
     for h in [0.001, 0.01, 0.2] {
         let (map, start, goal, tip) = sliver_map(h);
-        let btm = Btm::build(&map).unwrap();
+        let btm = Btm::from_map(&map).unwrap();
         let best = SptPlanner::new(&btm)
             .shortest_path(start, goal)
             .unwrap()
@@ -792,7 +792,7 @@ fn reachable_parts_agree_with_brute_force_sampling() {
         let Some(m) = random_map(7_000 + seed, 7) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let ctx = FeasibilityContext {
             btm: &btm,
             terrain: &terrain,
@@ -826,7 +826,7 @@ fn reachable_parts_agree_with_brute_force_sampling() {
         }
     }
     let (map, start, goal, _) = sliver_map(0.035);
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let flat_cone = PlaneSeries::new(
         &[TerrainPlane::new(100., 0., 45., 0.6)],
         &TetherFrictionCone,
@@ -860,7 +860,7 @@ fn reachable_areas_stay_within_the_tether_left() {
     // half-side "tether left at its anchor" around it, and is no larger than without a tether
     // length.
     let map = triangle_map();
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let best = SptPlanner::new(&btm)
         .shortest_path(p(50., 100.), p(50., 0.))
         .unwrap()

@@ -91,7 +91,7 @@ fn two_obstacle_map() -> (Map, Polygon, Polygon) {
 #[test]
 fn slip_path_equals_the_frictionless_shp_on_the_clipped_map() {
     let (map, diamond, block) = two_obstacle_map();
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let (start, goal) = (p(30.0, 95.0), p(22.0, 5.0));
     let options = SearchOptions::default().with_max_classes(Some(4)).unwrap();
     let t = terrain();
@@ -114,7 +114,7 @@ fn slip_path_equals_the_frictionless_shp_on_the_clipped_map() {
         map.boundary.clone(),
         vec![Polygon::new(clipped), block.clone()],
     );
-    let reference_btm = Btm::build(&reference_map).unwrap();
+    let reference_btm = Btm::from_map(&reference_map).unwrap();
     let search = SptPlanner::new(&reference_btm)
         .search(start, goal, &options)
         .unwrap()
@@ -139,7 +139,7 @@ fn every_slip_matches_a_scratch_rebuild() {
     // Both diamond vertices the tether can wrap slip in turn; each intermediate SHP is checked
     // against a from-scratch frictionless search on the map with the same clips.
     let (map, diamond, block) = two_obstacle_map();
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let options = SearchOptions::default().with_max_classes(Some(6)).unwrap();
     let t = terrain();
     let mut local = 0;
@@ -157,7 +157,7 @@ fn every_slip_matches_a_scratch_rebuild() {
                 obstacles.push(Polygon::new(ring));
             }
             let reference_map = Map::new(map.boundary.clone(), obstacles);
-            let reference_btm = Btm::build(&reference_map).unwrap();
+            let reference_btm = Btm::from_map(&reference_map).unwrap();
             let search = SptPlanner::new(&reference_btm)
                 .search(
                     start,
@@ -212,7 +212,7 @@ fn capstan_anchor_classes_follow_exp_mu_theta() {
         p(15.0, 55.0),
     ]);
     let map = Map::new(Polygon::rectangle(0.0, 0.0, 40.0, 100.0), vec![square]);
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let (start, goal) = (p(26.0, 56.0), p(14.0, 44.0));
     let options = SearchOptions::default().with_max_classes(Some(1)).unwrap();
     let t = terrain();
@@ -277,7 +277,7 @@ fn a_friction_class_gets_a_pair_driving_over_its_solid_anchor() {
         Polygon::rectangle(0.0, 0.0, 40.0, 100.0),
         vec![square, block],
     );
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let (start, goal) = (p(26.0, 56.0), p(8.0, 20.0));
     let options = SearchOptions::default().with_max_classes(Some(5)).unwrap();
     let t = terrain();

@@ -41,7 +41,7 @@ fn check_against_scratch(session: &OnlineSession, what: &str) {
     btm.check_invariants()
         .unwrap_or_else(|e| panic!("{what}: invariant: {e}"));
     let map = btm.map();
-    let scratch = Btm::build(&map).expect("the session's map builds");
+    let scratch = Btm::from_map(&map).expect("the session's map builds");
     assert_eq!(btm.triangle_count(), scratch.triangle_count(), "{what}");
     let (a, b) = (free_area(btm), free_area(&scratch));
     assert!(
@@ -156,7 +156,7 @@ fn sessions_agree_with_from_scratch_after_any_changes() {
                 session.ascent_descent_homotopic().expect("paths"),
                 "seed {seed}"
             );
-            let scratch = Btm::build(&session.btm().map()).expect("build");
+            let scratch = Btm::from_map(&session.btm().map()).expect("build");
             let class = session.class().expect("a class at the goal");
             let descent = Path::new(session.travelled().to_vec()).expect("path");
             let shp = Path::new(class.shp.taut.points.clone()).expect("path");

@@ -58,7 +58,7 @@ fn lengths_and_last_anchors_match_the_visibility_graph_oracle_on_random_maps() {
         let Some(m) = random_map(seed, 5 + (seed % 9) as usize) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let spm = ShortestPathMap::build(&btm, m.start).unwrap();
         for q in free_points(&m.map, seed, 25, false) {
             let oracle = visibility_graph::shortest_path(&m.map, m.start, q).expect("reachable");
@@ -114,7 +114,7 @@ fn the_map_agrees_with_one_spt_search_per_point() {
         let Some(m) = random_map(seed, obstacles) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let spm = ShortestPathMap::build(&btm, m.start).unwrap();
         let planner = SptPlanner::new(&btm);
         for q in free_points(&m.map, seed, 40, true) {
@@ -137,7 +137,7 @@ fn the_map_agrees_with_one_spt_search_per_point() {
 
 #[test]
 fn the_start_sees_its_own_triangle_and_the_open_ground() {
-    let btm = Btm::build(&one_box(4.0, 6.0, 4.0, 6.0)).unwrap();
+    let btm = Btm::from_map(&one_box(4.0, 6.0, 4.0, 6.0)).unwrap();
     let start = Point2::new(5.0, 9.0);
     let spm = ShortestPathMap::build(&btm, start).unwrap();
     let here = spm.query(start).unwrap().unwrap();
@@ -153,7 +153,7 @@ fn the_start_sees_its_own_triangle_and_the_open_ground() {
 
 #[test]
 fn bad_points_and_small_budgets_are_typed_errors() {
-    let btm = Btm::build(&one_box(4.0, 6.0, 4.0, 6.0)).unwrap();
+    let btm = Btm::from_map(&one_box(4.0, 6.0, 4.0, 6.0)).unwrap();
     let start = Point2::new(5.0, 9.0);
     assert!(matches!(
         ShortestPathMap::build(&btm, Point2::new(5.0, 5.0)),

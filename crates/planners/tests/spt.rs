@@ -58,7 +58,7 @@ fn the_first_class_is_the_visibility_graph_shortest_path_on_random_maps() {
         let Some(m) = random_map(seed, 6 + (seed % 10) as usize) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let planner = SptPlanner::new(&btm);
         let best = planner
             .shortest_path(m.start, m.goal)
@@ -89,7 +89,7 @@ fn the_first_class_is_the_visibility_graph_shortest_path_on_random_maps() {
 #[test]
 fn around_one_convex_obstacle_the_first_two_classes_are_the_two_ways_around() {
     // Box [3, 6] x [4, 6]; start above, goal below: east round 2 sqrt(10) + 2, west 2 sqrt(13) + 2.
-    let btm = Btm::build(&one_box(3.0, 6.0, 4.0, 6.0)).unwrap();
+    let btm = Btm::from_map(&one_box(3.0, 6.0, 4.0, 6.0)).unwrap();
     let planner = SptPlanner::new(&btm);
     let mut search = planner
         .search(p(5., 9.), p(5., 1.), &options(Some(4)))
@@ -127,7 +127,7 @@ fn k_classes_are_pairwise_non_homotopic_and_non_decreasing() {
         let Some(m) = random_map(1_000 + seed, 6) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let planner = SptPlanner::new(&btm);
         let out = planner
             .search(m.start, m.goal, &options(Some(12)))
@@ -158,7 +158,7 @@ fn dominance_pruning_keeps_exactly_the_k_shortest_classes() {
         let Some(m) = random_map(2_000 + seed, 5) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let planner = SptPlanner::new(&btm);
         let k = 8;
         let pruned = planner
@@ -188,7 +188,7 @@ fn dominance_pruning_keeps_exactly_the_k_shortest_classes() {
 #[test]
 fn the_length_factor_bounds_every_class_and_ends_the_search() {
     let m = random_map(77, 6).expect("valid map");
-    let btm = Btm::build(&m.map).unwrap();
+    let btm = Btm::from_map(&m.map).unwrap();
     let planner = SptPlanner::new(&btm);
     let o = options(None).with_max_length_factor(Some(1.3)).unwrap();
     let out = planner.search(m.start, m.goal, &o).unwrap().run().unwrap();
@@ -211,7 +211,7 @@ fn the_length_factor_bounds_every_class_and_ends_the_search() {
 #[test]
 fn the_expansion_budget_stops_the_search() {
     let m = random_map(78, 8).expect("valid map");
-    let btm = Btm::build(&m.map).unwrap();
+    let btm = Btm::from_map(&m.map).unwrap();
     let planner = SptPlanner::new(&btm);
     let o = options(None).with_max_expansions(50).unwrap();
     let mut search = planner.search(m.start, m.goal, &o).unwrap();
@@ -223,7 +223,7 @@ fn the_expansion_budget_stops_the_search() {
 #[test]
 fn the_simple_classes_mode_is_finite() {
     // One box: exactly the two ways around are simple.
-    let btm = Btm::build(&one_box(3.0, 6.0, 4.0, 6.0)).unwrap();
+    let btm = Btm::from_map(&one_box(3.0, 6.0, 4.0, 6.0)).unwrap();
     let planner = SptPlanner::new(&btm);
     let o = options(None).with_simple_only(true);
     let out = planner
@@ -238,7 +238,7 @@ fn the_simple_classes_mode_is_finite() {
         let Some(m) = random_map(3_000 + seed, 3) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let planner = SptPlanner::new(&btm);
         let out = planner.search(m.start, m.goal, &o).unwrap().run().unwrap();
         assert_eq!(out.termination, Termination::Exhausted, "seed {seed}");
@@ -256,7 +256,7 @@ fn the_simple_classes_mode_is_finite() {
 
 #[test]
 fn start_and_goal_in_one_triangle_and_on_vertices() {
-    let btm = Btm::build(&one_box(3.0, 6.0, 4.0, 6.0)).unwrap();
+    let btm = Btm::from_map(&one_box(3.0, 6.0, 4.0, 6.0)).unwrap();
     let planner = SptPlanner::new(&btm);
     // Same point: the trivial class of length zero comes first.
     let best = planner
@@ -291,7 +291,7 @@ fn the_goal_distance_bounds_never_exceed_the_geodesic_distance() {
         let Some(m) = random_map(4_000 + seed, 6) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let planner = SptPlanner::new(&btm);
         let h = planner
             .goal_distances(m.start, m.goal)
@@ -335,7 +335,7 @@ fn a_planner_reused_across_queries_answers_like_a_fresh_one() {
         let Some(m) = random_map(7_000 + seed, 6 + (seed % 7) as usize) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let reused = SptPlanner::new(&btm);
         let oracle = visibility_graph::shortest_path(&m.map, m.start, m.goal).expect("reachable");
         let queries = [
@@ -396,7 +396,7 @@ fn the_cut_index_is_built_once_it_pays_and_never_on_short_strip_queries() {
         Polygon::new(vec![p(0., 0.), p(181., 0.), p(181., 26.), p(0., 26.)]),
         squares,
     );
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     let planner = SptPlanner::new(&btm);
     let mut built_after = None;
     for i in 0..2_000 {
@@ -427,7 +427,7 @@ fn the_cut_index_is_built_once_it_pays_and_never_on_short_strip_queries() {
     let Some(m) = random_map(3, 8) else {
         panic!("random map 3 exists");
     };
-    let btm = Btm::build(&m.map).unwrap();
+    let btm = Btm::from_map(&m.map).unwrap();
     let planner = SptPlanner::new(&btm);
     for _ in 0..50 {
         planner.shortest_path(m.start, m.goal).unwrap().unwrap();
@@ -444,7 +444,7 @@ fn sleeves_traced_from_the_shps_equal_the_trails() {
         let Some(m) = random_map(seed, 6 + (seed % 6) as usize) else {
             continue;
         };
-        let btm = Btm::build(&m.map).unwrap();
+        let btm = Btm::from_map(&m.map).unwrap();
         let planner = SptPlanner::new(&btm);
         let run = |o: SearchOptions| planner.search(m.start, m.goal, &o).unwrap().run().unwrap();
         let with_trail = run(options(Some(6)));

@@ -72,7 +72,7 @@ fn check_walk(seed: u64, planes: &[TerrainPlane], steps: usize) {
     let obstacles = random_obstacles(&mut rng);
     let terrain = PlaneSeriesTerrain::new(planes, (0.0, SIZE), prisms(&obstacles)).unwrap();
     let map = Map::new(Polygon::rectangle(0.0, 0.0, SIZE, SIZE), obstacles);
-    let btm = Btm::build(&map).unwrap();
+    let btm = Btm::from_map(&map).unwrap();
     // Base and start: cell corners are free of obstacles.
     let base = p(10.0, 30.0);
     let mut tracker = TetherTracker::new(&terrain, base, base).unwrap();
@@ -238,7 +238,7 @@ fn winding_twice_around_an_obstacle_matches_the_shp() {
     walk.push(p(5.0, 2.0));
     let mut tr = TetherTracker::new(&t, base, base).unwrap();
     tr.follow(&walk).unwrap();
-    let btm = Btm::build(&Map::new(
+    let btm = Btm::from_map(&Map::new(
         Polygon::rectangle(0.0, 0.0, 20.0, 20.0),
         obstacles.to_vec(),
     ))

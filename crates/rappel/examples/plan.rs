@@ -13,9 +13,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("../../fixtures/plan/golden-queen-two-anchors.ron")
     });
-    let scenario = Scenario::load(&file)?;
+    let scenario = Scenario::read(&file)?;
     let plan = plan_detailed(
-        &scenario,
+        &scenario.validate_at(&file)?,
         &PlanOptions {
             classes: 3,
             ..Default::default()
@@ -30,7 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             c.verdict
         );
     }
-    println!("{}", plan.report.verdict);
+    println!("{}", plan.report.outcome.verdict);
     if let Some(out) = args.next() {
         rappel::io::write_atomically(
             std::path::Path::new(&out),

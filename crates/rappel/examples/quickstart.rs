@@ -14,7 +14,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             class.rank, class.length, class.feasible
         );
     }
-    let pair = report.chosen.ok_or("no feasible class")?;
+    let pair = report.outcome.chosen.ok_or("no feasible class")?;
     println!(
         "descend through {} points of class {}",
         pair.descent.len(),

@@ -47,7 +47,7 @@ impl crate::report::Report for BtmSummary {
 /// ```
 pub fn summarize_btm(map: &Map) -> Result<(Btm, BtmSummary), BtmError> {
     let t = Instant::now();
-    let btm = Btm::build(map)?;
+    let btm = Btm::from_map(map)?;
     let build_us = crate::report::micros(t.elapsed());
     let check = btm.check_invariants();
     let vertices = btm.vertex_count();

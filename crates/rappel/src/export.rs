@@ -89,7 +89,7 @@ pub fn plan_features(report: &PlanReport) -> Vec<Feature> {
         .iter()
         .map(|c| line("tether", Some(c.rank), &c.points))
         .collect();
-    if let Some(pair) = &report.chosen {
+    if let Some(pair) = &report.outcome.chosen {
         if let Some(c) = report.classes.iter().find(|c| c.rank == pair.rank) {
             out.push(Feature {
                 layer: "anchor",
@@ -119,7 +119,10 @@ pub fn plan_features(report: &PlanReport) -> Vec<Feature> {
         out.push(line("ascent", Some(pair.rank), &pair.ascent));
         out.push(line("descent", Some(pair.rank), &pair.descent));
     }
-    for (layer, p) in [("start", report.start), ("goal", report.goal)] {
+    for (layer, p) in [
+        ("start", report.setting.start),
+        ("goal", report.setting.goal),
+    ] {
         out.push(Feature {
             layer,
             class: None,

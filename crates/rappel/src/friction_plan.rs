@@ -122,7 +122,7 @@ fn verdict_word(v: AnchorVerdict) -> &'static str {
     }
 }
 
-/// Runs Alg. 7 on the scenario's map (`btm = Btm::build(&scenario.map)`).
+/// Runs Alg. 7 on the scenario's map (`btm = Btm::from_map(&scenario.map)`).
 pub fn plan_friction(
     scenario: &Scenario,
     resolved: &ResolvedFriction,

@@ -29,7 +29,7 @@
 //!     terrain: (planes: [(y_top: 20.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]))"#).unwrap();
 //! let report = rappel::plan(&s, &PlanOptions::default()).unwrap();
 //! assert_eq!(report.classes[0].rank, 1);
-//! assert!(report.chosen.is_some(), "{}", report.verdict);
+//! assert!(report.outcome.chosen.is_some(), "{}", report.outcome.verdict);
 //! ```
 
 pub mod axonometric;

@@ -11,11 +11,13 @@
 //! [`rappel_mechanics::wheeled_tether_cone`]).
 //! [`PlanReport`] is plain data (serde); [`Plan::picture`] draws it like thesis Figs. 2.31-2.44.
 
-use crate::scenario::Scenario;
+use crate::plan_stream::PlanSummary;
+use crate::scenario::{Scenario, ValidScenario};
 use crate::svg::{Layer, Marker, Picture};
 use crate::tether::HSignatureReport;
 use nalgebra::Point2;
 use rappel_geometry::btm::{Btm, BtmError};
+use rappel_geometry::map::ValidMap;
 use rappel_homotopy::funnel::Side;
 use rappel_mechanics::anchor_traversability::{AnchorTraversability, TetherLimit};
 use rappel_mechanics::friction_cone::TetherFrictionCone;
@@ -222,9 +224,11 @@ impl From<&PathPair> for PairReport {
     }
 }
 
-/// What `rappel plan` reports.
+/// What a plan's report says before its classes: the scenario, the model and the planes.
+/// Shared (serde-flattened, so the JSON is one flat object) by [`PlanReport`] and the streamed
+/// summary [`crate::plan_stream::PlanSummary`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-pub struct PlanReport {
+pub struct PlanSetting {
     /// The scenario's name.
     pub scenario: String,
     /// Start.
@@ -239,8 +243,13 @@ pub struct PlanReport {
     pub clearance_m: f64,
     /// The planes (empty: flat, tether-free ground).
     pub planes: Vec<PlaneReport>,
-    /// The classes, shortest first.
-    pub classes: Vec<ClassReport>,
+}
+
+/// What a plan's report says after its classes: the chosen pair, the verdict, the search's end
+/// and counters, warnings and the frictional plan. Shared (serde-flattened) by [`PlanReport`] and
+/// [`crate::plan_stream::PlanSummary`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct PlanOutcome {
     /// The chosen pair (the shortest feasible class with a valid pair).
     pub chosen: Option<PairReport>,
     /// One line: which class was chosen, or why none was.
@@ -257,6 +266,20 @@ pub struct PlanReport {
     /// Frictional planning (Alg. 7), when the scenario has PTFOs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<crate::friction_plan::FrictionReport>,
+}
+
+/// What `rappel plan` reports: its [`PlanSetting`], the classes and its [`PlanOutcome`], in one
+/// flat JSON object.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct PlanReport {
+    /// Scenario, model and planes.
+    #[serde(flatten)]
+    pub setting: PlanSetting,
+    /// The classes, shortest first.
+    pub classes: Vec<ClassReport>,
+    /// Chosen pair, verdict, search counters, warnings, frictional plan.
+    #[serde(flatten)]
+    pub outcome: PlanOutcome,
 }
 
 impl crate::report::Report for PlanReport {
@@ -276,7 +299,8 @@ pub struct Plan {
     pub friction: Option<rappel_planners::frictional::search::FrictionalPlan>,
 }
 
-/// Plans `scenario` (module docs).
+/// Plans `scenario` (module docs), validating its map first (once: the BTM is built from the
+/// proof, [`rappel_geometry::map::ValidMap`]).
 ///
 /// ```
 /// use rappel::plan::PlanOptions;
@@ -289,33 +313,38 @@ pub struct Plan {
 /// let report = rappel::plan(&s, &PlanOptions { classes: 3, ..Default::default() }).unwrap();
 /// assert_eq!(report.classes.len(), 3);
 /// assert!(report.classes[0].length <= report.classes[1].length);
-/// let pair = report.chosen.expect("the shortest class is feasible");
+/// let pair = report.outcome.chosen.expect("the shortest class is feasible");
 /// assert_eq!(pair.rank, 1);
 /// ```
 pub fn plan(scenario: &Scenario, options: &PlanOptions) -> Result<PlanReport, PlanError> {
-    Ok(plan_detailed(scenario, options)?.report)
+    let map = scenario.map.validate().map_err(BtmError::from)?;
+    let core = plan_core(scenario, map, options, Keep::Reports, &mut |_| {})?;
+    Ok(core.report())
 }
 
-/// Plans `scenario` and keeps the BTM and the planner's outcome for pictures.
-pub fn plan_detailed(scenario: &Scenario, options: &PlanOptions) -> Result<Plan, PlanError> {
-    plan_core(scenario, options, true, &mut |_| {})
+/// Plans the validated `scenario` and keeps the BTM and the planner's outcome for pictures.
+pub fn plan_detailed(
+    scenario: &ValidScenario<'_>,
+    options: &PlanOptions,
+) -> Result<Plan, PlanError> {
+    plan_detailed_each(scenario, options, &mut |_| {})
 }
 
 /// [`plan_detailed`], handing each class's report to `on_class` as soon as the class is decided
 /// (for progress; the classes' geometry is kept, unlike [`plan_streamed`]).
 pub fn plan_detailed_each(
-    scenario: &Scenario,
+    scenario: &ValidScenario<'_>,
     options: &PlanOptions,
     on_class: &mut dyn FnMut(&ClassReport),
 ) -> Result<Plan, PlanError> {
-    plan_core(scenario, options, true, on_class)
+    Ok(plan_core(scenario, scenario.map(), options, Keep::Outcomes, on_class)?.plan())
 }
 
-/// Plans `scenario` handing each class's report to `on_class` as soon as the class is decided
-/// (searched, checked by Alg. 5, its pair built if it is the first feasible one), shortest first,
-/// and drops the class's geometry (sleeve, funnel, anchor reachable sets) right after: the memory
-/// held is one class's geometry plus the small per-class reports, whatever K. The returned report
-/// is the one [`plan`] returns (the same classes, in the same order).
+/// Plans the validated `scenario` handing each class's report to `on_class` as soon as the class
+/// is decided (searched, checked by Alg. 5, its pair built if it is the first feasible one),
+/// shortest first, and drops the class's geometry (sleeve, funnel, anchor reachable sets) right
+/// after; the class reports are kept for the returned report, which is the one [`plan`] returns
+/// (the same classes, in the same order). [`plan_summary`] keeps no class at all.
 ///
 /// ```
 /// use rappel::plan::{plan, plan_streamed, PlanOptions};
@@ -327,32 +356,108 @@ pub fn plan_detailed_each(
 ///     terrain: (planes: [(y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]))"#).unwrap();
 /// let options = PlanOptions { classes: 3, ..Default::default() };
 /// let mut seen = Vec::new();
-/// let streamed = plan_streamed(&s, &options, &mut |c| seen.push(c.rank)).unwrap();
+/// let streamed = plan_streamed(&s.validate().unwrap(), &options, &mut |c| seen.push(c.rank)).unwrap();
 /// assert_eq!(seen, vec![1, 2, 3]);
 /// assert_eq!(streamed, plan(&s, &options).unwrap());
 /// ```
 pub fn plan_streamed(
-    scenario: &Scenario,
+    scenario: &ValidScenario<'_>,
     options: &PlanOptions,
     on_class: &mut dyn FnMut(&ClassReport),
 ) -> Result<PlanReport, PlanError> {
-    Ok(plan_core(scenario, options, false, on_class)?.report)
+    Ok(plan_core(scenario, scenario.map(), options, Keep::Reports, on_class)?.report())
 }
 
-/// [`plan_detailed`] (`keep`: the classes' outcomes kept for pictures) and [`plan_streamed`]
-/// (not kept).
+/// [`plan_streamed`] keeping nothing of a class once `on_class` has seen it: neither its
+/// geometry nor its report, only their count. The memory held is one class's (its geometry and
+/// report) plus the search's, whatever K; the summary is the one of [`plan`]'s report
+/// (`PlanSummary::from` of it). This is `rappel plan` without `--json`, `--export` or a picture.
+///
+/// ```
+/// use rappel::plan::{plan, plan_summary, PlanOptions};
+/// use rappel::plan_stream::PlanSummary;
+/// let s = rappel::generated::star_scenario(40).unwrap();
+/// let options = PlanOptions { classes: 4, ..Default::default() };
+/// let mut anchors = Vec::new();
+/// let valid = s.validate().unwrap();
+/// let summary = plan_summary(&valid, &options, &mut |c| anchors.push(c.anchors.len())).unwrap();
+/// assert_eq!(summary.class_count, 4);
+/// assert!(anchors[2] > anchors[0]); // the third class winds once more round the star
+/// assert_eq!(summary, PlanSummary::from(&plan(&s, &options).unwrap()));
+/// ```
+pub fn plan_summary(
+    scenario: &ValidScenario<'_>,
+    options: &PlanOptions,
+    on_class: &mut dyn FnMut(&ClassReport),
+) -> Result<PlanSummary, PlanError> {
+    let core = plan_core(scenario, scenario.map(), options, Keep::Nothing, on_class)?;
+    Ok(PlanSummary {
+        setting: core.setting,
+        class_count: core.class_count,
+        outcome: core.outcome,
+    })
+}
+
+/// What [`plan_core`] keeps of each class once `on_class` has seen its report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Keep {
+    /// Its report and its whole outcome (sleeve, funnel, reachable sets): for pictures.
+    Outcomes,
+    /// Its report only.
+    Reports,
+    /// Nothing (the count).
+    Nothing,
+}
+
+/// What [`plan_core`] made.
+struct Core {
+    setting: PlanSetting,
+    classes: Vec<ClassReport>,
+    class_count: usize,
+    outcome: PlanOutcome,
+    btm: Btm,
+    pair_plan: PairPlan,
+    friction: Option<rappel_planners::frictional::search::FrictionalPlan>,
+}
+
+impl Core {
+    fn report(self) -> PlanReport {
+        PlanReport {
+            setting: self.setting,
+            classes: self.classes,
+            outcome: self.outcome,
+        }
+    }
+
+    fn plan(self) -> Plan {
+        Plan {
+            report: PlanReport {
+                setting: self.setting,
+                classes: self.classes,
+                outcome: self.outcome,
+            },
+            btm: self.btm,
+            outcome: self.pair_plan,
+            friction: self.friction,
+        }
+    }
+}
+
+/// The planner behind every entry point: `map` is `scenario.map`'s proof; `keep` says what stays
+/// of each class after `on_class`.
 fn plan_core(
     scenario: &Scenario,
+    map: ValidMap<'_>,
     options: &PlanOptions,
-    keep: bool,
+    keep: Keep,
     on_class: &mut dyn FnMut(&ClassReport),
-) -> Result<Plan, PlanError> {
+) -> Result<Core, PlanError> {
     if options.classes > MAX_CLASSES {
         return Err(PlanError::TooManyClasses {
             asked: options.classes,
         });
     }
-    let btm = Btm::build(&scenario.map)?;
+    let btm = Btm::build(map)?;
     // The point robot uses the thesis' friction cone (eq. 2.7); a wheeled robot the cone its own
     // stability QP allows (Paton §IV-C), through the same trait.
     let wheeled = crate::robot::wheeled_model(&scenario.robot).map_err(PlanError::Robot)?;
@@ -378,7 +483,8 @@ fn plan_core(
     };
     let planner = SptPlanner::new(&btm);
     let (mut kept, mut reports) = (Vec::new(), Vec::new());
-    let mut outcome = plan_path_pair_each(
+    let (mut class_count, mut first_failure) = (0, None);
+    let mut pair_plan = plan_path_pair_each(
         &planner,
         scenario.start,
         scenario.goal,
@@ -391,27 +497,37 @@ fn plan_core(
             }
             let r = class_report(&c, options.reachable_areas);
             on_class(&r);
-            reports.push(r);
-            if keep {
+            class_count += 1;
+            if first_failure.is_none() {
+                first_failure = Some(r.pair_failure.clone().unwrap_or_else(|| r.verdict.clone()));
+            }
+            if keep != Keep::Nothing {
+                reports.push(r);
+            }
+            if keep == Keep::Outcomes {
                 kept.push(c);
             }
         },
     )?;
-    outcome.classes = kept;
-    let mut report = report_of(scenario, model, &terrain, &outcome, reports);
+    pair_plan.classes = kept;
+    let setting = setting_of(scenario, model, &terrain);
+    let mut outcome = outcome_of(&terrain, &pair_plan, class_count, first_failure);
     let mut friction = None;
     if let Some(spec) = &scenario.friction {
         let resolved = spec.resolve(scenario).map_err(PlanError::Friction)?;
         let (r, p) =
             crate::friction_plan::plan_friction(scenario, &resolved, &btm, &terrain, &search)
                 .map_err(|e| PlanError::Friction(format!("frictional planning: {e}")))?;
-        report.friction = Some(r);
+        outcome.friction = Some(r);
         friction = Some(p);
     }
-    Ok(Plan {
-        report,
-        btm,
+    Ok(Core {
+        setting,
+        classes: reports,
+        class_count,
         outcome,
+        btm,
+        pair_plan,
         friction,
     })
 }
@@ -472,13 +588,12 @@ fn class_report(c: &ClassOutcome, areas: bool) -> ClassReport {
     }
 }
 
-fn report_of(
+/// The report's [`PlanSetting`].
+fn setting_of(
     scenario: &Scenario,
     model: &dyn AnchorTraversability,
     terrain: &PlaneSeries,
-    outcome: &PairPlan,
-    classes: Vec<ClassReport>,
-) -> PlanReport {
+) -> PlanSetting {
     let planes = terrain
         .planes()
         .iter()
@@ -494,27 +609,40 @@ fn report_of(
             max_tether_angle_deg: degrees(*l),
         })
         .collect();
-    let chosen = outcome.pair.as_ref().map(PairReport::from);
-    let verdict = match (&chosen, classes.first()) {
+    PlanSetting {
+        scenario: scenario.name.clone(),
+        start: scenario.start,
+        goal: scenario.goal,
+        traversability: model.name().to_string(),
+        clearance_m: scenario.robot.clearance_m,
+        planes,
+    }
+}
+
+/// The report's [`PlanOutcome`] (without the frictional plan): `class_count` classes were found,
+/// and `first_failure` is the first one's pair failure or verdict.
+fn outcome_of(
+    terrain: &PlaneSeries,
+    pair_plan: &PairPlan,
+    class_count: usize,
+    first_failure: Option<String>,
+) -> PlanOutcome {
+    let chosen = pair_plan.pair.as_ref().map(PairReport::from);
+    let verdict = match (&chosen, first_failure) {
         (Some(p), _) => format!(
             "class {} is the shortest feasible class: ascent {:.2} m, descent {:.2} m",
             p.rank, p.ascent_length, p.descent_length
         ),
-        (None, None) => match outcome.termination {
+        (None, None) => match pair_plan.termination {
             Termination::Expansions => format!(
                 "no class found: the search budget was exhausted after {} expansions before any class was found (raise --max-expansions); this does not mean start and goal are disconnected",
-                outcome.stats.expansions
+                pair_plan.stats.expansions
             ),
             t => format!("no class found: {}", t.describe()),
         },
         (None, Some(first)) => format!(
-            "no feasible class among the {} found ({}); class 1: {}",
-            classes.len(),
-            outcome.termination.describe(),
-            first
-                .pair_failure
-                .clone()
-                .unwrap_or_else(|| first.verdict.clone())
+            "no feasible class among the {class_count} found ({}); class 1: {first}",
+            pair_plan.termination.describe(),
         ),
     };
     let mut warnings = Vec::new();
@@ -529,18 +657,11 @@ fn report_of(
             "no terrain planes: planned as flat, tether-free ground (thesis §2.2.4)".to_string(),
         );
     }
-    PlanReport {
-        scenario: scenario.name.clone(),
-        start: scenario.start,
-        goal: scenario.goal,
-        traversability: model.name().to_string(),
-        clearance_m: scenario.robot.clearance_m,
-        planes,
-        classes,
+    PlanOutcome {
         chosen,
         verdict,
-        termination: outcome.termination,
-        stats: outcome.stats,
+        termination: pair_plan.termination,
+        stats: pair_plan.stats,
         warnings,
         friction: None,
     }
@@ -635,7 +756,7 @@ impl Plan {
             }
             pic.set_tag(None);
         }
-        if let Some(f) = &self.report.friction {
+        if let Some(f) = &self.report.outcome.friction {
             crate::friction_plan::draw_friction(&mut pic, scenario, f);
         }
         pic.start_goal(scenario.start, scenario.goal);

@@ -12,65 +12,29 @@
 //! code 2) or in neither (the process was killed) is not. The schema is
 //! `docs/schemas/plan_stream.json` (`docs/output-format.md`).
 
-use crate::plan::{ClassReport, PairReport, PlanReport, PlaneReport};
+use crate::plan::{ClassReport, PlanOutcome, PlanReport, PlanSetting};
 use crate::report::{Envelope, Report};
-use nalgebra::Point2;
-use rappel_planners::spt::{SearchStats, Termination};
 use serde::{Deserialize, Serialize};
 
 /// A plan's report without its classes: the last line of a complete stream.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PlanSummary {
-    /// The scenario's name.
-    pub scenario: String,
-    /// Start.
-    #[schemars(with = "[f64; 2]")]
-    pub start: Point2<f64>,
-    /// Goal.
-    #[schemars(with = "[f64; 2]")]
-    pub goal: Point2<f64>,
-    /// The traversability model.
-    pub traversability: String,
-    /// Clearance around anchors, m.
-    pub clearance_m: f64,
-    /// The planes (empty: flat, tether-free ground).
-    pub planes: Vec<PlaneReport>,
+    /// Scenario, model and planes.
+    #[serde(flatten)]
+    pub setting: PlanSetting,
     /// How many `class` lines came before (the classes found).
     pub class_count: usize,
-    /// The chosen pair (the shortest feasible class with a valid pair).
-    pub chosen: Option<PairReport>,
-    /// One line: which class was chosen, or why none was.
-    pub verdict: String,
-    /// Why the search stopped.
-    #[serde(with = "rappel_planners::search_report::termination_serde")]
-    #[schemars(with = "rappel_planners::search_report::TerminationName")]
-    pub termination: Termination,
-    /// The search's counters.
-    #[schemars(with = "rappel_planners::search_report::SearchStatsReport")]
-    pub stats: SearchStats,
-    /// Warnings (concave plane edges, approximated robot models).
-    pub warnings: Vec<String>,
-    /// Frictional planning (Alg. 7), when the scenario has PTFOs.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub friction: Option<crate::friction_plan::FrictionReport>,
+    /// Chosen pair, verdict, search counters, warnings, frictional plan.
+    #[serde(flatten)]
+    pub outcome: PlanOutcome,
 }
 
 impl From<&PlanReport> for PlanSummary {
     fn from(r: &PlanReport) -> Self {
         PlanSummary {
-            scenario: r.scenario.clone(),
-            start: r.start,
-            goal: r.goal,
-            traversability: r.traversability.clone(),
-            clearance_m: r.clearance_m,
-            planes: r.planes.clone(),
+            setting: r.setting.clone(),
             class_count: r.classes.len(),
-            chosen: r.chosen.clone(),
-            verdict: r.verdict.clone(),
-            termination: r.termination,
-            stats: r.stats,
-            warnings: r.warnings.clone(),
-            friction: r.friction.clone(),
+            outcome: r.outcome.clone(),
         }
     }
 }

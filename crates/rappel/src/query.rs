@@ -159,7 +159,7 @@ pub fn answer_with_progress(
             "--repeat {repeat}: between 1 and {MAX_REPEATS}"
         )));
     }
-    let btm = Btm::build(map).map_err(|e| QueryError::Option(e.to_string()))?;
+    let btm = Btm::from_map(map).map_err(|e| QueryError::Option(e.to_string()))?;
     let planner = SptPlanner::new(&btm);
     let options = SearchOptions::default()
         .with_max_classes(Some(classes))

@@ -6,7 +6,7 @@
 use nalgebra::Point2;
 use rappel_geometry::compact::Compact;
 use rappel_geometry::domain::{DOMAIN_TEXT, in_domain};
-use rappel_geometry::map::{Map, MapError};
+use rappel_geometry::map::{Map, MapError, ValidMap};
 use rappel_terrain::plane_series::{PlaneSeriesError, TerrainPlane, validate_planes};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -294,6 +294,53 @@ impl Format {
     }
 }
 
+/// A scenario that passed [`Scenario::validate`], with its map's [`ValidMap`] proof: what the
+/// planners that build a BTM take, so that the map is validated once. Only
+/// [`Scenario::validate`] makes one (the fields are private); it borrows the scenario, which
+/// therefore cannot change while the proof lives.
+///
+/// ```
+/// use rappel::scenario::Scenario;
+/// let s = rappel::generated::star_scenario(6).unwrap();
+/// let valid = s.validate().unwrap();
+/// assert_eq!(valid.name, "star-6"); // it dereferences to the scenario
+/// assert_eq!(valid.map().obstacles[0].len(), 6);
+/// ```
+///
+/// Nothing outside validation can make one (the fields are private):
+///
+/// ```compile_fail
+/// use rappel::scenario::ValidScenario;
+/// let s = rappel::generated::star_scenario(6).unwrap();
+/// let valid = s.validate().unwrap();
+/// let forged = ValidScenario { scenario: &s, map: valid.map() };
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct ValidScenario<'a> {
+    scenario: &'a Scenario,
+    map: ValidMap<'a>,
+}
+
+impl<'a> ValidScenario<'a> {
+    /// The validated scenario.
+    pub fn scenario(&self) -> &'a Scenario {
+        self.scenario
+    }
+
+    /// Its validated map.
+    pub fn map(&self) -> ValidMap<'a> {
+        self.map
+    }
+}
+
+impl std::ops::Deref for ValidScenario<'_> {
+    type Target = Scenario;
+
+    fn deref(&self) -> &Scenario {
+        self.scenario
+    }
+}
+
 impl Scenario {
     /// Parses RON text (not validated).
     pub fn from_ron_str(text: &str) -> Result<Scenario, ScenarioError> {
@@ -320,6 +367,24 @@ impl Scenario {
     /// Reads, parses and validates a scenario file.
     pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
         let path = path.as_ref();
+        let scenario = Scenario::read(path)?;
+        scenario.validate_at(path)?;
+        Ok(scenario)
+    }
+
+    /// Reads and parses a scenario file, not validated: for a caller that keeps the
+    /// [`ValidScenario`] of [`Scenario::validate_at`] ([`Scenario::load`] is the two, the proof
+    /// dropped).
+    ///
+    /// ```
+    /// use rappel::scenario::Scenario;
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/thesis-fig-2-7.ron");
+    /// let s = Scenario::read(path).unwrap();
+    /// let valid = s.validate_at(path).unwrap();
+    /// assert_eq!(valid.map().obstacles.len(), s.map.obstacles.len());
+    /// ```
+    pub fn read(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
+        let path = path.as_ref();
         let format = Format::of_path(path).ok_or_else(|| ScenarioError::UnknownFormat {
             path: path.to_path_buf(),
         })?;
@@ -331,19 +396,25 @@ impl Scenario {
             Format::Ron => Scenario::from_ron_str(&text),
             Format::Json => Scenario::from_json_str(&text),
         };
-        let scenario = parsed.map_err(|e| e.at(path))?;
-        scenario.validate().map_err(|e| e.at(path))?;
-        Ok(scenario)
+        parsed.map_err(|e| e.at(path))
     }
 
-    /// Checks the map, the start and goal, the planes and the robot.
-    pub fn validate(&self) -> Result<(), ScenarioError> {
+    /// [`Scenario::validate`], its error located in the file `path` that the scenario was read
+    /// from.
+    pub fn validate_at(&self, path: impl AsRef<Path>) -> Result<ValidScenario<'_>, ScenarioError> {
+        self.validate().map_err(|e| e.at(path.as_ref()))
+    }
+
+    /// Checks the map, the start and goal, the planes and the robot; returns the
+    /// [`ValidScenario`] proof, which carries the map's [`ValidMap`] (so that a BTM is built
+    /// without validating the map again).
+    pub fn validate(&self) -> Result<ValidScenario<'_>, ScenarioError> {
         let path = PathBuf::new();
         let map_err = |source| ScenarioError::Map {
             path: PathBuf::new(),
             source,
         };
-        self.map.validate().map_err(map_err)?;
+        let map = self.map.validate().map_err(map_err)?;
         self.map
             .validate_point("start", &self.start)
             .map_err(map_err)?;
@@ -429,7 +500,10 @@ impl Scenario {
                     message,
                 })?;
         }
-        Ok(())
+        Ok(ValidScenario {
+            scenario: self,
+            map,
+        })
     }
 
     /// The scenario as text in `format`.

@@ -312,7 +312,7 @@ pub fn stability_over_scenario(
         .map_err(|e| StabilityError::Setting(e.to_string()))?
         .tether_exit
         .z;
-    let btm = Btm::build(&scenario.map).map_err(|e| StabilityError::Setting(e.to_string()))?;
+    let btm = Btm::from_map(&scenario.map).map_err(|e| StabilityError::Setting(e.to_string()))?;
     let grid = GridSpec::new(options.grid_step, Heading::AwayFromAnchor)?;
     let positions = grid_positions(&planes, &grid)?;
     let poses = positions.len();

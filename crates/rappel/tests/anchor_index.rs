@@ -25,7 +25,7 @@ struct Covered {
 
 /// Compares both evaluations on the first `k` classes of `scenario`.
 fn compare(scenario: &Scenario, k: usize) -> Covered {
-    let btm = Btm::build(&scenario.map).expect("btm");
+    let btm = Btm::from_map(&scenario.map).expect("btm");
     let terrain = PlaneSeries::new(&scenario.terrain.planes, &TetherFrictionCone).expect("planes");
     let ctx = FeasibilityContext {
         btm: &btm,

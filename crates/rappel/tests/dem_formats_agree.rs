@@ -52,5 +52,5 @@ fn mars_asc_and_tif_agree_class_by_class() {
     }
     // Before the fix the .tif lost two of them (issue 10): both must keep them.
     assert!(feasible >= 5, "{feasible} feasible classes");
-    assert_eq!(asc.chosen.is_some(), tif.chosen.is_some());
+    assert_eq!(asc.outcome.chosen.is_some(), tif.outcome.chosen.is_some());
 }

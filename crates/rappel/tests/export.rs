@@ -28,7 +28,7 @@ fn exported_points_fall_on_the_dem_cells_they_came_from() {
     assert_eq!(json["type"], "FeatureCollection");
     let g = d.grid.geometry();
     let frame = &d.ingested.frame;
-    let chosen = report.chosen.as_ref().expect("a feasible class");
+    let chosen = report.outcome.chosen.as_ref().expect("a feasible class");
     let class = report
         .classes
         .iter()
@@ -40,8 +40,8 @@ fn exported_points_fall_on_the_dem_cells_they_came_from() {
         let expected: Vec<Point2<f64>> = match layer {
             "waypoint" => class.waypoints.clone(),
             "anchor" => class.anchors.iter().map(|a| a.point).collect(),
-            "start" => vec![report.start],
-            "goal" => vec![report.goal],
+            "start" => vec![report.setting.start],
+            "goal" => vec![report.setting.goal],
             _ => continue,
         };
         let c = &f["geometry"]["coordinates"];

@@ -203,7 +203,7 @@ proptest! {
     #[test]
     fn mutated_path_files_are_read_cleanly(m in mutation()) {
         let s = Scenario::from_ron_str(RON).expect("fixture");
-        let btm = rappel::geometry::btm::Btm::build(&s.map).expect("btm");
+        let btm = rappel::geometry::btm::Btm::from_map(&s.map).expect("btm");
         let dir = temp_dir("path");
         let file = dir.join("p.json");
         std::fs::write(&file, apply("[[21.0, 58.0], [30.0, 32.0], [20.0, 2.0]]", &m)).expect("write");
@@ -243,7 +243,7 @@ proptest! {
             prop_assert!((x.length * f - y.length).abs() <= 1e-9 * y.length, "{} vs {}", x.length * f, y.length);
             prop_assert_eq!(x.feasible, y.feasible, "class {}: {} vs {}", x.rank, &x.verdict, &y.verdict);
         }
-        prop_assert_eq!(a.chosen.is_some(), b.chosen.is_some());
+        prop_assert_eq!(a.outcome.chosen.is_some(), b.outcome.chosen.is_some());
     }
 }
 
@@ -302,7 +302,7 @@ fn the_issue_reproducers_give_named_outcomes() {
         },
     )
     .expect("plan");
-    assert!(r.chosen.is_none());
+    assert!(r.outcome.chosen.is_none());
     assert!(
         r.classes
             .iter()

@@ -39,7 +39,7 @@ fn terrain(s: &Scenario) -> PlaneSeries {
 
 /// Alg. 7 from scratch: the first feasible class's SHP after its slips (length, anchor points).
 fn offline(s: &Scenario, m: &FrictionModel) -> (f64, Vec<(f64, f64)>) {
-    let btm = Btm::build(&s.map).expect("btm");
+    let btm = Btm::from_map(&s.map).expect("btm");
     let options = SearchOptions::default();
     let t = terrain(s);
     let query = FrictionalQuery {
@@ -189,7 +189,7 @@ fn a_solid_friction_anchor_is_passed_at_the_anchor_itself() {
     use rappel::planners::feasibility::Passability;
     let s = fixture("capstan_holds.ron");
     let m = model(&s);
-    let btm = Btm::build(&s.map).expect("btm");
+    let btm = Btm::from_map(&s.map).expect("btm");
     let options = SearchOptions::default();
     let t = terrain(&s);
     // A clearance far larger than the pillar: no geometric waypoint could keep it.

@@ -13,10 +13,10 @@ fn cone_deg(model: RobotModel) -> (f64, bool) {
     let mut s = Scenario::load(path).expect("fixture loads");
     s.robot.model = model;
     let r = plan(&s, &PlanOptions::default()).expect("plans");
-    let cone = r.planes[0]
+    let cone = r.setting.planes[0]
         .max_tether_angle_deg
         .expect("45 degrees at mu 0.4 needs the tether");
-    (cone, r.chosen.is_some())
+    (cone, r.outcome.chosen.is_some())
 }
 
 #[test]

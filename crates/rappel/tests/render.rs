@@ -106,7 +106,7 @@ impl Rendered {
 #[test]
 fn plan_pictures_show_obstacles_the_tether_and_the_blocking_anchor() {
     let s = fixture("plan/shortest-infeasible.ron");
-    let plan = plan_detailed(&s, &PlanOptions::default()).expect("plan");
+    let plan = plan_detailed(&s.validate().expect("valid"), &PlanOptions::default()).expect("plan");
     let svg = plan.picture(&s);
     let r = render(&svg, "plan-shortest-infeasible");
     // The obstacle's centroid is grey, whatever lies under it (sleeve, cones, BTM edges).
@@ -117,7 +117,7 @@ fn plan_pictures_show_obstacles_the_tether_and_the_blocking_anchor() {
     );
     // The chosen class (rank 2) passes east of the obstacle: its first tether segment, start to
     // the anchor (65, 40), is drawn in the tether's colour at its middle.
-    let chosen = plan.report.chosen.as_ref().expect("a pair");
+    let chosen = plan.report.outcome.chosen.as_ref().expect("a pair");
     assert_eq!(chosen.rank, 2);
     let c2 = &plan.report.classes[1];
     let mid = Point2::from((c2.points[0].coords + c2.points[1].coords) / 2.0);

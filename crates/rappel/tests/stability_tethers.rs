@@ -24,7 +24,7 @@ fn every_pose_has_the_tether_of_its_own_spt_search() {
         tension_limit: None,
     };
     let r = stability_over_scenario(&s, &options).expect("map");
-    let btm = Btm::build(&s.map).unwrap();
+    let btm = Btm::from_map(&s.map).unwrap();
     let planner = SptPlanner::new(&btm);
     let (mut behind, mut ties) = (0, 0);
     for d in &r.dots {

@@ -106,7 +106,7 @@ fn invariant_cases(name: &str, s: &Scenario, cases: &mut Vec<Case>) -> Result<()
 /// Removes 200 obstacles from the big map one by one, then puts them back, checking the
 /// invariants every 20 updates and at the end, and that unreported triangles never change.
 fn update_cases(s: &Scenario, cases: &mut Vec<Case>) -> Result<(), String> {
-    let mut btm = Btm::build(&s.map).map_err(|e| e.to_string())?;
+    let mut btm = Btm::from_map(&s.map).map_err(|e| e.to_string())?;
     let original = btm.triangle_count();
     let ids: Vec<_> = btm.obstacle_ids().step_by(50).take(200).collect();
     let mut removed = Vec::new();

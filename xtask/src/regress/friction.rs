@@ -245,16 +245,21 @@ fn slip_paths() -> Result<Vec<Case>, String> {
     let mut cases = Vec::new();
     for name in ["slip_then_wrap", "capstan_holds"] {
         let path = workspace_root().join(format!("fixtures/friction/{name}.ron"));
-        let scenario = Scenario::load(&path).map_err(err)?;
+        let scenario = Scenario::read(&path).map_err(err)?;
         let plan = plan_detailed(
-            &scenario,
+            &scenario.validate_at(&path).map_err(err)?,
             &PlanOptions {
                 classes: 4,
                 ..Default::default()
             },
         )
         .map_err(err)?;
-        let f = plan.report.friction.as_ref().ok_or("no friction report")?;
+        let f = plan
+            .report
+            .outcome
+            .friction
+            .as_ref()
+            .ok_or("no friction report")?;
         for c in &f.classes {
             let mut obstacles = Vec::new();
             for (i, o) in scenario.map.obstacles.iter().enumerate() {
@@ -269,7 +274,7 @@ fn slip_paths() -> Result<Vec<Case>, String> {
                 }
             }
             let map = Map::new(scenario.map.boundary.clone(), obstacles);
-            let btm = Btm::build(&map).map_err(err)?;
+            let btm = Btm::from_map(&map).map_err(err)?;
             let options = SearchOptions::default()
                 .with_max_classes(Some(12))
                 .map_err(err)?;

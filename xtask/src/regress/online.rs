@@ -45,7 +45,7 @@ fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
         slipped,
     ));
     let offline = plan(&truth, &PlanOptions::default()).map_err(|e| format!("{name}: {e}"))?;
-    let reference = offline.friction.as_ref().and_then(|f| {
+    let reference = offline.outcome.friction.as_ref().and_then(|f| {
         let rank = f.chosen?;
         f.classes.iter().find(|c| c.rank == rank).map(|c| c.length)
     });

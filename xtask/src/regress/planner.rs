@@ -194,7 +194,7 @@ fn golden_queen(cases: &mut Vec<Case>) -> Result<(), String> {
 
 /// The chosen pair: its class, and its clearance against the scenario's.
 fn pair_case(file: &str, r: &PlanReport, rank: usize, clearance: f64, cases: &mut Vec<Case>) {
-    let chosen = r.chosen.as_ref().map(|p| p.rank);
+    let chosen = r.outcome.chosen.as_ref().map(|p| p.rank);
     cases.push(Case::new(
         SUITE,
         format!("{file}: chosen class"),
@@ -203,6 +203,7 @@ fn pair_case(file: &str, r: &PlanReport, rank: usize, clearance: f64, cases: &mu
         chosen == Some(rank),
     ));
     let d = r
+        .outcome
         .chosen
         .as_ref()
         .and_then(|p| p.min_anchor_distance)
@@ -276,9 +277,10 @@ fn none_feasible(cases: &mut Vec<Case>) -> Result<(), String> {
     cases.push(Case::new(
         SUITE,
         format!("{file}: simple classes"),
-        format!("{} ({:?})", r.classes.len(), r.termination),
+        format!("{} ({:?})", r.classes.len(), r.outcome.termination),
         "2 (west and east of the bar; search exhausted)",
-        r.classes.len() == 2 && r.termination == rappel::planners::spt::Termination::Exhausted,
+        r.classes.len() == 2
+            && r.outcome.termination == rappel::planners::spt::Termination::Exhausted,
     ));
     let cone = cone_deg(60.0, 0.3);
     let (st, g) = ((50.0, 100.0), (25.0, 5.0));
@@ -305,11 +307,12 @@ fn none_feasible(cases: &mut Vec<Case>) -> Result<(), String> {
     cases.push(Case::new(
         SUITE,
         format!("{file}: chosen pair"),
-        r.chosen
+        r.outcome
+            .chosen
             .as_ref()
             .map_or("none".into(), |p| format!("class {}", p.rank)),
         "none: no class is feasible",
-        r.chosen.is_none() && r.verdict.starts_with("no feasible class"),
+        r.outcome.chosen.is_none() && r.outcome.verdict.starts_with("no feasible class"),
     ));
     Ok(())
 }
@@ -356,6 +359,7 @@ fn multi_plane(cases: &mut Vec<Case>) -> Result<(), String> {
     let psi1 = psi_deg(st, a1);
     let measured_psi = c1.anchors[0].psi_deg;
     let measured_lower = r
+        .setting
         .planes
         .get(1)
         .and_then(|p| p.max_tether_angle_deg)
@@ -398,11 +402,11 @@ fn paper_case(file: &str, feasible: Option<bool>, cases: &mut Vec<Case>) -> Resu
         distinct,
     ));
     if let Some(expected) = feasible {
-        let found = r.chosen.is_some();
+        let found = r.outcome.chosen.is_some();
         cases.push(Case::new(
             SUITE,
             format!("{file}: a feasible ascent/descent pair"),
-            r.verdict.clone(),
+            r.outcome.verdict.clone(),
             "a feasible path exists (online paper §IV)",
             found == expected,
         ));

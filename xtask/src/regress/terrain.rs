@@ -58,7 +58,7 @@ fn run_pipeline(grid: &str) -> Result<(Golden, Scenario), String> {
         ingest: d.summary(),
         classes: report.classes.len(),
         feasible_classes: report.classes.iter().filter(|c| c.feasible).count(),
-        chosen_rank: report.chosen.as_ref().map(|c| c.rank),
+        chosen_rank: report.outcome.chosen.as_ref().map(|c| c.rank),
         shortest_mm: report
             .classes
             .first()

@@ -140,7 +140,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
         Polygon::rectangle(-8.0, -4.0, 16.0, 34.0),
         kumar_obstacles(),
     );
-    let btm = Btm::build(&map).map_err(|e| e.to_string())?;
+    let btm = Btm::from_map(&map).map_err(|e| e.to_string())?;
     let start2 = p(ROBOT2_START.0, ROBOT2_START.1);
     let mut cases = Vec::new();
     let s1 = grid(8.0, 16.0);

@@ -28,7 +28,7 @@
 use super::{Btm, BtmError, ObstacleRecord};
 use crate::btm::locate::{Locator, RawLocation, WalkRng};
 use crate::dcel::{Dcel, EdgeKind, FaceKind, HalfEdgeId, NONE, ObstacleId, RingLink};
-use crate::map::Map;
+use crate::map::{Map, ValidMap};
 use crate::polygon::{Aabb, Polygon};
 use crate::predicates::{incircle, orient2d};
 use nalgebra::Point2;
@@ -38,7 +38,8 @@ use nalgebra::Point2;
 const SCAFFOLD_SCALE: f64 = 64.0;
 
 impl Btm {
-    /// Builds the BTM of a map (validated first).
+    /// Builds the BTM of a validated map ([`Map::validate`] makes the [`ValidMap`] proof;
+    /// [`Btm::from_map`] validates and builds in one call).
     ///
     /// ```
     /// use nalgebra::Point2;
@@ -49,13 +50,36 @@ impl Btm {
     ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
     ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(5., 6.)])],
     /// );
-    /// let btm = Btm::build(&map).unwrap();
+    /// let btm = Btm::build(map.validate().unwrap()).unwrap();
     /// // n + 2h - 2 triangles: 7 vertices, 1 hole.
     /// assert_eq!(btm.triangle_count(), 7);
     /// assert!(btm.is_constrained_delaunay());
     /// ```
-    pub fn build(map: &Map) -> Result<Btm, BtmError> {
-        map.validate()?;
+    pub fn build(map: ValidMap<'_>) -> Result<Btm, BtmError> {
+        Btm::build_valid(map.map())
+    }
+
+    /// Validates `map` ([`Map::validate`]) and builds its BTM: [`Btm::build`] for a map not
+    /// validated before.
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::btm::{Btm, BtmError};
+    /// use rappel_geometry::{map::Map, polygon::Polygon};
+    /// let p = |x, y| Point2::new(x, y);
+    /// let square = |x: f64, y: f64| Polygon::new(vec![p(x, y), p(x + 2., y), p(x + 2., y + 2.), p(x, y + 2.)]);
+    /// let boundary = Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]);
+    /// assert!(Btm::from_map(&Map::new(boundary.clone(), vec![square(2., 2.)])).is_ok());
+    /// // Overlapping obstacles: refused by validation.
+    /// let bad = Map::new(boundary, vec![square(2., 2.), square(3., 3.)]);
+    /// assert!(matches!(Btm::from_map(&bad), Err(BtmError::Map(_))));
+    /// ```
+    pub fn from_map(map: &Map) -> Result<Btm, BtmError> {
+        Btm::build(map.validate()?)
+    }
+
+    /// [`Btm::build`] on the map inside the proof.
+    fn build_valid(map: &Map) -> Result<Btm, BtmError> {
         let n = map.vertex_count();
         let mut dcel = Dcel::with_capacity(n);
         add_scaffold(&mut dcel, &map.aabb());

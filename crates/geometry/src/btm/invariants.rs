@@ -87,7 +87,7 @@ impl Btm {
     /// use rappel_geometry::{map::Map, polygon::Polygon};
     /// let p = |x, y| Point2::new(x, y);
     /// let map = Map::new(Polygon::new(vec![p(0., 0.), p(9., 0.), p(9., 9.), p(0., 9.)]), vec![]);
-    /// let report = Btm::build(&map).unwrap().check_invariants().unwrap();
+    /// let report = Btm::from_map(&map).unwrap().check_invariants().unwrap();
     /// assert_eq!((report.triangles, report.expected_triangles), (2, 2));
     /// ```
     pub fn check_invariants(&self) -> Result<InvariantReport, InvariantViolation> {

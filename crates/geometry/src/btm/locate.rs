@@ -190,7 +190,7 @@ impl Btm {
     ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
     ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(5., 6.)])],
     /// );
-    /// let btm = Btm::build(&map).unwrap();
+    /// let btm = Btm::from_map(&map).unwrap();
     /// assert!(matches!(btm.locate(&p(1., 2.)), Location::Triangle(_) | Location::Edge(_)));
     /// assert!(matches!(btm.locate(&p(5., 5.)), Location::Obstacle(_)));
     /// assert!(matches!(btm.locate(&p(0., 0.)), Location::Vertex(_)));

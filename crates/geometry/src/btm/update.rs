@@ -42,7 +42,7 @@ impl Btm {
     /// use rappel_geometry::{map::Map, polygon::Polygon};
     /// let p = |x, y| Point2::new(x, y);
     /// let map = Map::new(Polygon::new(vec![p(0., 0.), p(20., 0.), p(20., 20.), p(0., 20.)]), vec![]);
-    /// let mut btm = Btm::build(&map).unwrap();
+    /// let mut btm = Btm::from_map(&map).unwrap();
     /// let before: Vec<_> = btm.triangles().collect();
     /// let (id, report) = btm.insert_obstacle(&Polygon::new(vec![p(5., 5.), p(8., 5.), p(6., 8.)])).unwrap();
     /// btm.check_invariants().unwrap();
@@ -397,7 +397,7 @@ impl Btm {
     /// use rappel_geometry::{map::Map, polygon::Polygon};
     /// let p = |x, y| Point2::new(x, y);
     /// let map = Map::new(Polygon::new(vec![p(0., 0.), p(20., 0.), p(20., 20.), p(0., 20.)]), vec![]);
-    /// let mut btm = Btm::build(&map).unwrap();
+    /// let mut btm = Btm::from_map(&map).unwrap();
     /// btm.reserve_for_updates(64);
     /// btm.insert_obstacle(&Polygon::new(vec![p(5., 5.), p(8., 5.), p(6., 8.)])).unwrap();
     /// btm.check_invariants().unwrap();
@@ -419,7 +419,7 @@ impl Btm {
     /// use rappel_geometry::{map::Map, polygon::Polygon};
     /// let p = |x, y| Point2::new(x, y);
     /// let map = Map::new(Polygon::new(vec![p(0., 0.), p(20., 0.), p(20., 20.), p(0., 20.)]), vec![]);
-    /// let mut btm = Btm::build(&map).unwrap();
+    /// let mut btm = Btm::from_map(&map).unwrap();
     /// let (id, _) = btm.insert_obstacle(&Polygon::new(vec![p(5., 5.), p(8., 5.), p(6., 8.)])).unwrap();
     /// btm.remove_obstacle(id).unwrap();
     /// let renumbered = btm.compact();

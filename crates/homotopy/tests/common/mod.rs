@@ -30,7 +30,7 @@ pub fn square_map() -> (Map, Btm) {
             p(4., 6.),
         ])],
     );
-    let btm = Btm::build(&map).expect("valid map");
+    let btm = Btm::from_map(&map).expect("valid map");
     (map, btm)
 }
 
@@ -46,7 +46,7 @@ pub fn small_strip(n: usize, seed: u64) -> (GeneratedMap, Btm) {
         clearance: 0.5,
     };
     let g = crater_strip(&options).expect("valid options");
-    let btm = Btm::build(&g.map).expect("generated maps are valid");
+    let btm = Btm::from_map(&g.map).expect("generated maps are valid");
     (g, btm)
 }
 

@@ -674,8 +674,10 @@ impl Climb<'_, '_> {
         let dir = self.direction(j);
         let (w_lo, w_hi) = (apex + dir * lo, apex + dir * hi);
         let margin = CANDIDATE_MARGIN_CLEARANCES * c;
-        self.index.visit_near(&[w_lo, w_hi], margin, |i| {
-            let rel = self.points[i] - apex;
+        // Per site: the values are the point's, the same for every anchor at it (the cuts are
+        // a set: sorted and deduplicated).
+        self.index.visit_sites_near(&[w_lo, w_hi], margin, |a, _| {
+            let rel = a - apex;
             // |w(t) - a| = c.
             cuts.extend(roots([
                 rel.norm_squared() - c * c,
@@ -683,31 +685,32 @@ impl Climb<'_, '_> {
                 1.0,
             ]));
         });
-        self.index.visit_near(&[*q, w_lo, w_hi], margin, |i| {
-            if i > j {
-                return;
-            }
-            let a = self.points[i];
-            // Distance from a to the line through q and w(t) equal to c:
-            // cross(w - q, a - q)^2 = c^2 |w - q|^2, with w - q = d0 + t dir; kept where the
-            // foot of the perpendicular lies strictly inside the segment q -> w(t).
-            let (d0, aq) = (apex - q, a - q);
-            let m = Lin(d0.x * aq.y - d0.y * aq.x, dir.x * aq.y - dir.y * aq.x);
-            let sq = m.times(m);
-            let n = [d0.norm_squared(), 2.0 * d0.dot(&dir), dir.norm_squared()];
-            let inside = |t: &f64| {
-                let wq = d0 + dir * *t;
-                let foot = aq.dot(&wq);
-                0.0 < foot && foot < wq.norm_squared()
-            };
-            cuts.extend(
-                roots([
-                    sq[0] - c * c * n[0],
-                    sq[1] - c * c * n[1],
-                    sq[2] - c * c * n[2],
-                ])
-                .filter(inside),
-            );
-        });
+        self.index
+            .visit_sites_near(&[*q, w_lo, w_hi], margin, |&a, ids| {
+                // Some anchor at this point not yet released (the smallest id decides).
+                if ids[0] as usize > j {
+                    return;
+                }
+                // Distance from a to the line through q and w(t) equal to c:
+                // cross(w - q, a - q)^2 = c^2 |w - q|^2, with w - q = d0 + t dir; kept where the
+                // foot of the perpendicular lies strictly inside the segment q -> w(t).
+                let (d0, aq) = (apex - q, a - q);
+                let m = Lin(d0.x * aq.y - d0.y * aq.x, dir.x * aq.y - dir.y * aq.x);
+                let sq = m.times(m);
+                let n = [d0.norm_squared(), 2.0 * d0.dot(&dir), dir.norm_squared()];
+                let inside = |t: &f64| {
+                    let wq = d0 + dir * *t;
+                    let foot = aq.dot(&wq);
+                    0.0 < foot && foot < wq.norm_squared()
+                };
+                cuts.extend(
+                    roots([
+                        sq[0] - c * c * n[0],
+                        sq[1] - c * c * n[1],
+                        sq[2] - c * c * n[2],
+                    ])
+                    .filter(inside),
+                );
+            });
     }
 }

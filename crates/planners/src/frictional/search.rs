@@ -154,7 +154,7 @@ pub fn pair_for_class(
     ))
 }
 
-/// Alg. 7 on `btm = Btm::build(map)` (module docs).
+/// Alg. 7 on `btm = Btm::from_map(map)` (module docs).
 pub fn plan_frictional(
     btm: &Btm,
     map: &Map,

@@ -99,7 +99,7 @@ pub struct SlipState<'a> {
 }
 
 impl<'a> SlipState<'a> {
-    /// The state before any slip: `btm` must be `Btm::build(map)`.
+    /// The state before any slip: `btm` must be `Btm::from_map(map)`.
     pub fn new(base: &'a Btm, map: &'a Map) -> Self {
         SlipState {
             base,

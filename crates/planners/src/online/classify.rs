@@ -175,7 +175,7 @@ mod tests {
             Polygon::new(vec![p(0., 0.), p(20., 0.), p(20., 20.), p(0., 20.)]),
             vec![Polygon::new(vec![p(8., 8.), p(12., 8.), p(10., 12.)])],
         );
-        let btm = Btm::build(&map).unwrap();
+        let btm = Btm::from_map(&map).unwrap();
         let path = Path::new(vec![p(10., 19.), p(3., 10.), p(10., 1.)]).unwrap();
         let shp = shortest_homotopic_path(&btm, &path).unwrap();
         let sides = SleeveSides::of(&btm, &shp.sleeve);

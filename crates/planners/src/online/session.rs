@@ -225,7 +225,7 @@ impl OnlineSession {
         map.validate()?;
         map.validate_point("start", &start)?;
         map.validate_point("goal", &goal)?;
-        let btm = Btm::build(map)?;
+        let btm = Btm::from_map(map)?;
         let mut poles = Vec::new();
         for id in btm.obstacle_ids() {
             let polygon = btm
@@ -692,7 +692,7 @@ impl OnlineSession {
         let mut map = self.btm.map();
         map.boundary = boundary.clone();
         map.validate()?;
-        let btm = Btm::build(&map)?;
+        let btm = Btm::from_map(&map)?;
         let before = self.class.as_ref().map(|c| c.shp.taut.length);
         let report = UpdateReport::default();
         self.btm = btm;
