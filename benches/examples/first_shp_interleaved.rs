@@ -57,7 +57,7 @@ fn main() {
     for n in sizes {
         let strip = crater_strip(&CraterStripOptions::new(n, 1))
             .unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
-        let btm = Btm::build(&strip.map).unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
+        let btm = Btm::from_map(&strip.map).unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
         let (a, b) = (strip.start, strip.goal);
         let mid = Point2::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
         let mesh = polyanya_mesh(&btm, mid);

@@ -248,7 +248,7 @@ impl HSignature {
     ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
     ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
     /// );
-    /// let btm = Btm::build(&map).unwrap();
+    /// let btm = Btm::from_map(&map).unwrap();
     /// let poles = Poles::new(&btm);
     /// let west = Path::new(vec![p(5., 9.), p(1., 5.), p(5., 1.)]).unwrap();
     /// let taut = shortest_homotopic_path(&btm, &west).unwrap().taut;
