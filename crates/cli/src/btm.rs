@@ -26,9 +26,10 @@ pub struct Args {
 /// Runs `rappel btm`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
-    let s = Scenario::load(&args.file)?;
-    let (btm, summary) =
-        summarize_btm(&s.map).map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
+    // Read, then validated once: the proof carries the valid map to the BTM build.
+    let s = Scenario::read(&args.file)?;
+    let (btm, summary) = summarize_btm(s.validate_at(&args.file)?.map())
+        .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
     if args.picture.wanted() {
         let mut pic = Picture::of_map_in(&s.map, args.window.aabb()?.as_ref());
         pic.btm(&btm);

@@ -7,7 +7,7 @@
 
 use crate::output::{Answer, CliError, print_report};
 use rappel::progress::Show;
-use rappel::query::{answer_with_progress, load_map, load_pairs};
+use rappel::query::{answer_with_progress, load_pairs, read_map};
 use std::path::PathBuf;
 
 /// Arguments of `rappel query`.
@@ -36,7 +36,9 @@ pub struct Args {
 /// Runs `rappel query`.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
     let err = |e: rappel::query::QueryError| CliError(e.to_string());
-    let map = load_map(&args.map).map_err(err)?;
+    // Read, then validated once: the proof carries the valid map to the BTM build.
+    let file = read_map(&args.map).map_err(err)?;
+    let map = file.validate().map_err(err)?;
     let pairs = load_pairs(&args.pairs).map_err(err)?;
     let show = if args.progress {
         Show::Always
@@ -44,7 +46,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         Show::Auto
     };
     let answers =
-        answer_with_progress(&map, &pairs, args.classes, args.repeat, show).map_err(err)?;
+        answer_with_progress(map, &pairs, args.classes, args.repeat, show).map_err(err)?;
     if args.json {
         print_report(&rappel::query::QueryReport {
             answers: answers.clone(),

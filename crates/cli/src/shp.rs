@@ -47,8 +47,10 @@ pub struct HomotopicArgs {
 }
 
 fn load_btm(file: &std::path::Path) -> Result<(Scenario, Btm), CliError> {
-    let s = Scenario::load(file)?;
-    let btm = Btm::from_map(&s.map).map_err(|e| CliError(format!("{}: {e}", file.display())))?;
+    // Read, then validated once: the proof carries the valid map to the BTM build.
+    let s = Scenario::read(file)?;
+    let btm = Btm::build(s.validate_at(file)?.map())
+        .map_err(|e| CliError(format!("{}: {e}", file.display())))?;
     Ok((s, btm))
 }
 

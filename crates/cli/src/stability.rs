@@ -34,12 +34,14 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<(), CliError> {
     refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
     let window = args.window.aabb()?;
-    let s = Scenario::load(&args.file)?;
+    // Read, then validated once: the proof carries the valid map to the BTM build.
+    let s = Scenario::read(&args.file)?;
+    let valid = s.validate_at(&args.file)?;
     let options = StabilityOptions {
         grid_step: args.grid,
         tension_limit: args.tension_limit,
     };
-    let report = stability_over_scenario(&s, &options)
+    let report = stability_over_scenario(valid, &options)
         .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
     if args.picture.wanted() {
         let title = format!(

@@ -2,7 +2,7 @@
 //! invariants (including whether the triangulation is constrained Delaunay) and the build time.
 
 use rappel_geometry::btm::{Btm, BtmError};
-use rappel_geometry::map::Map;
+use rappel_geometry::map::ValidMap;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -25,7 +25,8 @@ pub struct BtmSummary {
     pub constrained_delaunay: bool,
     /// Free-space area, m².
     pub free_area_m2: f64,
-    /// Wall-clock time of the build, whole microseconds.
+    /// Wall-clock time of the build (triangulation and labelling; the map was validated before,
+    /// by the caller that holds its `ValidMap` proof), whole microseconds.
     pub build_us: u64,
 }
 
@@ -33,7 +34,7 @@ impl crate::report::Report for BtmSummary {
     const KIND: &'static str = "btm";
 }
 
-/// Builds the BTM of `map`, timing it, and checks it.
+/// Builds the BTM of the validated `map`, timing the build, and checks it.
 ///
 /// ```
 /// use nalgebra::Point2;
@@ -41,13 +42,13 @@ impl crate::report::Report for BtmSummary {
 /// use rappel::geometry::{map::Map, polygon::Polygon};
 /// let p = |x, y| Point2::new(x, y);
 /// let map = Map::new(Polygon::new(vec![p(0., 0.), p(4., 0.), p(4., 4.), p(0., 4.)]), vec![]);
-/// let (_, s) = summarize_btm(&map).unwrap();
+/// let (_, s) = summarize_btm(map.validate().unwrap()).unwrap();
 /// assert!(s.constrained_delaunay && s.invariants_hold);
 /// assert_eq!(s.triangles, 2);
 /// ```
-pub fn summarize_btm(map: &Map) -> Result<(Btm, BtmSummary), BtmError> {
+pub fn summarize_btm(map: ValidMap<'_>) -> Result<(Btm, BtmSummary), BtmError> {
     let t = Instant::now();
-    let btm = Btm::from_map(map)?;
+    let btm = Btm::build(map)?;
     let build_us = crate::report::micros(t.elapsed());
     let check = btm.check_invariants();
     let vertices = btm.vertex_count();

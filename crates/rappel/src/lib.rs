@@ -8,7 +8,7 @@
 //!     map: (boundary: [(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)],
 //!           obstacles: [[(4.0, 8.0), (6.0, 8.0), (5.0, 10.0)]]),
 //!     start: (5.0, 19.0), goal: (5.0, 1.0))"#).unwrap();
-//! let (btm, summary) = summarize_btm(&s.map).unwrap();
+//! let (btm, summary) = summarize_btm(s.validate().unwrap().map()).unwrap();
 //! assert_eq!(summary.triangles, 7);
 //! let mut pic = rappel::svg::Picture::of_map(&s.map);
 //! pic.btm(&btm);

@@ -10,7 +10,7 @@ use crate::progress::Show;
 use crate::scenario::Scenario;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
-use rappel_geometry::map::Map;
+use rappel_geometry::map::{Map, ValidMap};
 use rappel_planners::spt::{SearchError, SearchOptions, SptPlanner, Termination};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -79,14 +79,59 @@ pub enum QueryError {
     Option(String),
 }
 
-/// The map of a scenario file, or of a map-only file (the `map` section's form).
-pub fn load_map(path: &Path) -> Result<Map, QueryError> {
+/// A map file as read, not yet validated: a whole scenario file, or a map-only file (the `map`
+/// section's form). [`MapFile::validate`] checks it once and hands out the [`ValidMap`] proof
+/// that [`answer`] builds its BTM from.
+#[derive(Debug, Clone)]
+pub struct MapFile {
+    path: std::path::PathBuf,
+    contents: MapFileContents,
+}
+
+/// What a [`MapFile`] holds.
+#[derive(Debug, Clone)]
+enum MapFileContents {
+    /// A scenario file: validated as a whole (map, start, goal, planes, robot).
+    Scenario(Box<Scenario>),
+    /// A map-only file: its map validated.
+    Map(Map),
+}
+
+impl MapFile {
+    /// The map (not validated until [`MapFile::validate`]).
+    pub fn map(&self) -> &Map {
+        match &self.contents {
+            MapFileContents::Scenario(s) => &s.map,
+            MapFileContents::Map(m) => m,
+        }
+    }
+
+    /// Validates the file once (a scenario as a whole, a map-only file's map) and returns the
+    /// proof that its map is valid, for [`answer`].
+    pub fn validate(&self) -> Result<ValidMap<'_>, QueryError> {
+        let bad = |message: String| QueryError::File {
+            path: self.path.display().to_string(),
+            message,
+        };
+        match &self.contents {
+            MapFileContents::Scenario(s) => s
+                .validate_at(&self.path)
+                .map(|v| v.map())
+                .map_err(|e| bad(e.to_string())),
+            MapFileContents::Map(m) => m.validate().map_err(|e| bad(e.to_string())),
+        }
+    }
+}
+
+/// Reads the map of a scenario file, or of a map-only file (the `map` section's form), without
+/// validating it ([`MapFile::validate`] does, once).
+pub fn read_map(path: &Path) -> Result<MapFile, QueryError> {
     let bad = |message: String| QueryError::File {
         path: path.display().to_string(),
         message,
     };
-    match Scenario::load(path) {
-        Ok(s) => Ok(s.map),
+    let contents = match Scenario::read(path) {
+        Ok(s) => MapFileContents::Scenario(Box::new(s)),
         Err(scenario_error) => {
             let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
             let map: Map = match path.extension().and_then(|e| e.to_str()) {
@@ -95,10 +140,13 @@ pub fn load_map(path: &Path) -> Result<Map, QueryError> {
                 }
                 _ => ron::from_str(&text).map_err(|_| bad(scenario_error.to_string()))?,
             };
-            map.validate().map_err(|e| bad(e.to_string()))?;
-            Ok(map)
+            MapFileContents::Map(map)
         }
-    }
+    };
+    Ok(MapFile {
+        path: path.to_path_buf(),
+        contents,
+    })
 }
 
 /// Reads a pairs file (module docs).
@@ -127,12 +175,12 @@ pub fn load_pairs(path: &Path) -> Result<Vec<QueryPair>, QueryError> {
 /// let p = |x, y| Point2::new(x, y);
 /// let map = Map::new(Polygon::rectangle(0.0, 0.0, 10.0, 10.0), vec![]);
 /// let pairs = [QueryPair { start: p(1.0, 1.0), goal: p(4.0, 5.0) }, QueryPair { start: p(1.0, 1.0), goal: p(20.0, 5.0) }];
-/// let out = answer(&map, &pairs, 1, 3).unwrap();
+/// let out = answer(map.validate().unwrap(), &pairs, 1, 3).unwrap();
 /// assert!((out[0].lengths_m[0] - 5.0).abs() < 1e-12);
 /// assert!(out[1].error.as_ref().unwrap().contains("goal"));
 /// ```
 pub fn answer(
-    map: &Map,
+    map: ValidMap<'_>,
     pairs: &[QueryPair],
     classes: usize,
     repeat: usize,
@@ -143,7 +191,7 @@ pub fn answer(
 /// [`answer`], with progress over the pairs on stderr as `show` says
 /// ([`crate::progress`]: a bar on a terminal; `Show::Always` writes plain lines otherwise).
 pub fn answer_with_progress(
-    map: &Map,
+    map: ValidMap<'_>,
     pairs: &[QueryPair],
     classes: usize,
     repeat: usize,
@@ -159,7 +207,7 @@ pub fn answer_with_progress(
             "--repeat {repeat}: between 1 and {MAX_REPEATS}"
         )));
     }
-    let btm = Btm::from_map(map).map_err(|e| QueryError::Option(e.to_string()))?;
+    let btm = Btm::build(map).map_err(|e| QueryError::Option(e.to_string()))?;
     let planner = SptPlanner::new(&btm);
     let options = SearchOptions::default()
         .with_max_classes(Some(classes))

@@ -21,7 +21,7 @@
 //! same mass stands in for it, and the report says so. The grid holds at most
 //! [`MAX_SCENARIO_POSES`] poses.
 
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, ValidScenario};
 use nalgebra::{Point2, Point3};
 use rappel_geometry::btm::{Btm, Location};
 use rappel_mechanics::robot::{SlopePlane, TetherSpec};
@@ -255,7 +255,8 @@ impl AnchorSource for TetherTable {
     }
 }
 
-/// The stability map of `scenario` (see the module docs).
+/// The stability map of `scenario` (see the module docs). It takes the [`ValidScenario`] proof,
+/// so the map is validated once by the caller and its BTM built without validating it again.
 ///
 /// ```
 /// use rappel::scenario::Scenario;
@@ -264,13 +265,15 @@ impl AnchorSource for TetherTable {
 ///     map: (boundary: [(0.0, 0.0), (4.0, 0.0), (4.0, 20.0), (0.0, 20.0)]),
 ///     start: (2.0, 19.5), goal: (2.0, 0.5),
 ///     terrain: (planes: [(y_top: 20.0, y_bottom: 0.0, slope_deg: 30.0, friction: 0.6)]))"#).unwrap();
-/// let r = stability_over_scenario(&s, &StabilityOptions { grid_step: 2.0, tension_limit: None }).unwrap();
+/// let valid = s.validate().unwrap();
+/// let r = stability_over_scenario(valid, &StabilityOptions { grid_step: 2.0, tension_limit: None }).unwrap();
 /// assert!(r.assessed > 0 && r.stable > 0);
 /// ```
 pub fn stability_over_scenario(
-    scenario: &Scenario,
+    valid: ValidScenario<'_>,
     options: &StabilityOptions,
 ) -> Result<StabilityReport, StabilityError> {
+    let scenario = valid.scenario();
     if scenario.terrain.planes.is_empty() {
         return Err(StabilityError::NoPlanes);
     }
@@ -312,7 +315,7 @@ pub fn stability_over_scenario(
         .map_err(|e| StabilityError::Setting(e.to_string()))?
         .tether_exit
         .z;
-    let btm = Btm::from_map(&scenario.map).map_err(|e| StabilityError::Setting(e.to_string()))?;
+    let btm = Btm::build(valid.map()).map_err(|e| StabilityError::Setting(e.to_string()))?;
     let grid = GridSpec::new(options.grid_step, Heading::AwayFromAnchor)?;
     let positions = grid_positions(&planes, &grid)?;
     let poses = positions.len();

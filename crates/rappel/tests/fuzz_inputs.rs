@@ -321,7 +321,7 @@ fn stability_maps_name_their_robot_honour_the_tether_and_cap_their_poses() {
         grid_step: 5.0,
         tension_limit: None,
     };
-    let r = stability_over_scenario(&s, &options).expect("map");
+    let r = stability_over_scenario(s.validate().expect("valid scenario"), &options).expect("map");
     assert!(
         r.stand_in_for.is_some(),
         "a point robot is judged by a stand-in, said so"
@@ -351,7 +351,7 @@ fn stability_maps_name_their_robot_honour_the_tether_and_cap_their_poses() {
         grid_step: 0.05,
         tension_limit: None,
     };
-    let e = stability_over_scenario(&s, &fine)
+    let e = stability_over_scenario(s.validate().expect("valid scenario"), &fine)
         .expect_err("capped")
         .to_string();
     assert!(e.contains(&MAX_SCENARIO_POSES.to_string()), "{e}");

@@ -39,7 +39,7 @@ fn query_lengths_match_the_visibility_graph() {
             goal: free(),
         })
         .collect();
-    let answers = answer(map, &pairs, 2, 1).expect("answers");
+    let answers = answer(map.validate().expect("valid map"), &pairs, 2, 1).expect("answers");
     for (pair, a) in pairs.iter().zip(&answers) {
         assert!(a.error.is_none(), "{a:?}");
         let oracle = shortest_path(map, pair.start, pair.goal).expect("connected");

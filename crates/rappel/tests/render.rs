@@ -154,7 +154,8 @@ fn stability_dots_are_coloured_by_margin_and_leave_obstacles_visible() {
         grid_step: 4.0,
         tension_limit: Some(300.0),
     };
-    let report = stability_over_scenario(&s, &options).expect("stability map");
+    let report = stability_over_scenario(s.validate().expect("valid scenario"), &options)
+        .expect("stability map");
     let r = render(
         &report.picture(&s, None, "stability"),
         "stability-online-example",

@@ -23,7 +23,7 @@ fn every_pose_has_the_tether_of_its_own_spt_search() {
         grid_step: 5.0,
         tension_limit: None,
     };
-    let r = stability_over_scenario(&s, &options).expect("map");
+    let r = stability_over_scenario(s.validate().expect("valid scenario"), &options).expect("map");
     let btm = Btm::from_map(&s.map).unwrap();
     let planner = SptPlanner::new(&btm);
     let (mut behind, mut ties) = (0, 0);

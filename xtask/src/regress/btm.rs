@@ -25,7 +25,8 @@ pub fn suite() -> Result<Vec<Case>, String> {
             .unwrap_or(&file)
             .display()
             .to_string();
-        let scenario = Scenario::load(&file).map_err(|e| e.to_string())?;
+        // Read here, validated once in `invariant_cases` (its proof goes to the BTM build).
+        let scenario = Scenario::read(&file).map_err(|e| e.to_string())?;
         invariant_cases(&name, &scenario, &mut cases)?;
     }
     for &(n, seed) in GENERATED {
@@ -79,7 +80,8 @@ fn scenario_files(dir: &Path) -> Vec<PathBuf> {
 }
 
 fn invariant_cases(name: &str, s: &Scenario, cases: &mut Vec<Case>) -> Result<(), String> {
-    let (_, summary) = summarize_btm(&s.map).map_err(|e| format!("{name}: {e}"))?;
+    let (_, summary) = summarize_btm(s.validate().map_err(|e| format!("{name}: {e}"))?.map())
+        .map_err(|e| format!("{name}: {e}"))?;
     // n and h counted from the input map, not from the BTM under test.
     let (n, h) = (s.map.vertex_count(), s.map.obstacles.len());
     let expected = n + 2 * h - 2;

@@ -162,7 +162,8 @@ pub fn suite() -> Result<Vec<Case>, String> {
                 pass,
             ));
         }
-        let (_, btm) = summarize_btm(&scenario.map).map_err(|e| format!("{g}: {e}"))?;
+        let (_, btm) = summarize_btm(scenario.validate().map_err(|e| format!("{g}: {e}"))?.map())
+            .map_err(|e| format!("{g}: {e}"))?;
         cases.push(Case::new(
             SUITE,
             format!("{g}: BTM of the ingested map"),

@@ -222,10 +222,10 @@ impl OnlineSession {
         options: OnlineOptions,
     ) -> Result<OnlineSession, OnlineError> {
         options.validate()?;
-        map.validate()?;
+        let valid = map.validate()?;
         map.validate_point("start", &start)?;
         map.validate_point("goal", &goal)?;
-        let btm = Btm::from_map(map)?;
+        let btm = Btm::build(valid)?;
         let mut poles = Vec::new();
         for id in btm.obstacle_ids() {
             let polygon = btm
@@ -691,8 +691,7 @@ impl OnlineSession {
         }
         let mut map = self.btm.map();
         map.boundary = boundary.clone();
-        map.validate()?;
-        let btm = Btm::from_map(&map)?;
+        let btm = Btm::build(map.validate()?)?;
         let before = self.class.as_ref().map(|c| c.shp.taut.length);
         let report = UpdateReport::default();
         self.btm = btm;
