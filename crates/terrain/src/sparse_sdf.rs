@@ -93,6 +93,9 @@ use crate::surface::SignedDistance;
 /// Grid points per block side.
 pub const BLOCK: usize = 8;
 const BLOCK_POINTS: usize = BLOCK * BLOCK * BLOCK;
+/// `log2 BLOCK`: the wavefront steps between points with shifts.
+const BLOCK_BITS: usize = 3;
+const _: () = assert!(BLOCK == 1 << BLOCK_BITS);
 
 /// Default truncation distance `T`, metres: Axel's body clearance (0.25 m) plus the interpolation
 /// bound at 10 cm and a margin. [`SparseSdfParams::new`] takes at least `3 h`.
@@ -759,8 +762,6 @@ impl Grid {
     }
 }
 
-const STEP: [usize; 3] = [1, BLOCK, BLOCK * BLOCK];
-
 /// Site marker of an exact point (its value stays).
 const EXACT_SITE: u32 = u32::MAX;
 /// Site marker of a point no site has reached yet.
@@ -865,15 +866,18 @@ fn propagate(
     let step = |blocks: &Blocks, v: usize, f: usize| -> Result<usize, Option<usize>> {
         let (axis, up) = (f / 2, f % 2 == 1);
         let l = v % BLOCK_POINTS;
-        let g = (l / STEP[axis]) % BLOCK;
+        // Shifts, not divisions by the axis's stride (the axis is known only at run time).
+        let shift = BLOCK_BITS * axis;
+        let stride = 1 << shift;
+        let g = (l >> shift) & (BLOCK - 1);
         if up && g + 1 < BLOCK {
-            return Ok(v + STEP[axis]);
+            return Ok(v + stride);
         }
         if !up && g > 0 {
-            return Ok(v - STEP[axis]);
+            return Ok(v - stride);
         }
         let face = if up { 0 } else { BLOCK - 1 };
-        let local = l - g * STEP[axis] + face * STEP[axis];
+        let local = l - g * stride + face * stride;
         match blocks.across[v / BLOCK_POINTS][f] {
             OUTSIDE => Err(None),
             NO_BLOCK => Err(Some(local)),
@@ -1079,6 +1083,10 @@ fn allocate(
 /// Step 2b for one block's values: every NaN point 6-connected inside the block to an exact
 /// point takes that point's sign as `±tf`. `false` when the block has no exact point.
 fn local_flood(v: &mut [f32], tf: f32) -> bool {
+    // A block with no NaN point has nothing to flood (with propagation, most blocks).
+    if !v.iter().any(|x| x.is_nan()) {
+        return true;
+    }
     let mut stack: Vec<usize> = (0..BLOCK_POINTS).filter(|&l| !v[l].is_nan()).collect();
     if stack.is_empty() {
         return false;
