@@ -85,6 +85,15 @@
 //! answers with the path alone, without the sleeve, crossings and H-signature of a class. The
 //! class answer's simplicity lists and H-signature crossings are buffers of the scratch space too.
 //!
+//! What lies across a funnel's mouth (Alg. 3 line 11: the vertex `v`, its point and the exits
+//! `d_alpha`, `d_beta`) is read from the planner's [`KiteTable`], one 32-byte record per
+//! half-edge, instead of eight scattered loads from the DCEL (the twins, faces, origin and
+//! vertex point), and the key reads the mouth's ends from the funnel's tips in the tree: on a
+//! 100,000-obstacle strip the DCEL is far beyond the cache and its vertex points are in the map's
+//! order, so those loads missed. The table costs 32 bytes per half-edge slot of the DCEL (the
+//! scaffolded triangulation of `n` vertices has `2n + 1` triangles: about 192 bytes per map
+//! vertex), built with the planner.
+//!
 //! The queue is a 4-ary heap of 16-byte order words (key, rank, arena index) with the funnels
 //! in an arena beside it (`min_heap::ArenaHeap`): on a 100,000-obstacle strip it holds up to
 //! 864k funnels, and a pop sifts through half the levels of a binary heap, one cache line each.
