@@ -43,6 +43,7 @@
 
 use crate::funnel::{Side, TautPath};
 use crate::geom::{in_closed_triangle, strictly_left, strictly_right};
+use crate::kite::Kite;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::dcel::{HalfEdgeId, TriangleId, VertexId};
@@ -485,26 +486,33 @@ impl FunnelState {
     /// Splits the funnel at the vertex `v` opposite the mouth (Alg. 2): adds `v`'s node and
     /// returns the two child funnels.
     pub fn split(&self, tree: &mut FunnelTree, btm: &Btm) -> Result<Split, FunnelStateError> {
-        let d = btm.dcel();
-        let g = d
-            .twin(self.mouth)
+        self.split_across(tree, &Kite::across(btm, self.mouth))
+    }
+
+    /// [`FunnelState::split`] with what lies across the mouth already known: `kite` must be the
+    /// mouth's record ([`Kite::across`], or a [`crate::kite::KiteTable`] of the same BTM). The
+    /// same split, read from one record instead of the DCEL.
+    pub fn split_across(
+        &self,
+        tree: &mut FunnelTree,
+        kite: &Kite,
+    ) -> Result<Split, FunnelStateError> {
+        let (vertex, vp) = kite
+            .vertex()
             .ok_or(FunnelStateError::ClosedMouth(self.mouth))?;
-        // g runs alpha -> beta in the next triangle (alpha, beta, v).
-        let vertex = d.origin(g.prev());
-        let vp = d.point(vertex);
         let (t, found) = self.locate(tree, &vp);
         let node = tree.extend(t, vp, Some(vertex));
-        let left = d.twin(g.prev()).map(|_| FunnelState {
+        let left = kite.left_exit().map(|mouth| FunnelState {
             left: self.left,
             right: node,
             apex: if found == Found::Left { t } else { self.apex },
-            mouth: g.prev(),
+            mouth,
         });
-        let right = d.twin(g.next()).map(|_| FunnelState {
+        let right = kite.right_exit().map(|mouth| FunnelState {
             left: node,
             right: self.right,
             apex: if found == Found::Right { t } else { self.apex },
-            mouth: g.next(),
+            mouth,
         });
         Ok(Split {
             vertex,

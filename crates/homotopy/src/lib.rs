@@ -39,6 +39,7 @@ pub mod funnel;
 pub mod funnel_state;
 pub mod h_signature;
 pub mod homotopy;
+pub mod kite;
 pub mod path;
 pub mod shp;
 pub mod sleeve;

@@ -16,6 +16,7 @@ use rappel_homotopy::crossing::CrossingSequence;
 use rappel_homotopy::funnel::{Side, TautPath};
 use rappel_homotopy::funnel_state::{FunnelState, FunnelTree};
 use rappel_homotopy::h_signature::{HSignature, Poles};
+use rappel_homotopy::kite::KiteTable;
 use rappel_homotopy::path::Path;
 use rappel_homotopy::shp::{ShortestHomotopicPath, shortest_homotopic_path};
 use rappel_homotopy::sleeve::{Sleeve, SleeveError};
@@ -252,11 +253,20 @@ proptest! {
         };
         let mut tree = FunnelTree::new(g.start);
         let mut f = FunnelState::initial(&mut tree, &btm, t).unwrap()[0];
+        let kites = KiteTable::new(&btm);
         for go_left in choices {
             let d = btm.dcel();
+            // The tips lie on the mouth's ends (the search's key reads them from the tree).
+            prop_assert_eq!(tree.point(f.right()), d.point(d.origin(f.mouth())));
+            prop_assert_eq!(tree.point(f.left()), d.point(d.destination(f.mouth())));
             let v = d.origin(d.twin(f.mouth()).unwrap().prev());
             let expected = linear_predecessor(&tree, &f, &d.point(v));
+            // The split read from the kite table is the split read from the DCEL.
+            let mut copy = tree.clone();
+            let across = f.split_across(&mut copy, &kites.get(f.mouth())).unwrap();
             let split = f.split(&mut tree, &btm).unwrap();
+            prop_assert_eq!(across, split);
+            prop_assert_eq!(copy.node(across.node), tree.node(split.node));
             prop_assert_eq!(split.predecessor, expected);
             prop_assert_eq!(split.vertex, v);
             let node = tree.node(split.node);
