@@ -8,10 +8,15 @@ use rappel_terrain::mesh::TriMesh;
 
 /// A mesh extruded along x over `[-20, 20]` from a `(y, z)` profile (vertical steps allowed).
 fn profile(points: &[(f64, f64)]) -> TriMesh {
+    profile_over(points, 20.0)
+}
+
+/// A mesh extruded along x over `[-half_x, half_x]` from a `(y, z)` profile.
+fn profile_over(points: &[(f64, f64)], half_x: f64) -> TriMesh {
     let mut v = Vec::new();
     for &(y, z) in points {
-        v.push(Point3::new(-20.0, y, z));
-        v.push(Point3::new(20.0, y, z));
+        v.push(Point3::new(-half_x, y, z));
+        v.push(Point3::new(half_x, y, z));
     }
     let mut t = Vec::new();
     for i in 0..points.len() - 1 {
@@ -376,7 +381,16 @@ fn beside_a_wall_the_field_s_drop_never_fails_to_find_the_ground() {
     let half = 0.5 * axel.track;
     for gap in [0.01, 0.001] {
         for height in [1.0, 0.05] {
-            let m = wall_beside(half + gap, height);
+            // A 4 m x 4 m patch: the field stays small.
+            let m = profile_over(
+                &[
+                    (-2.0, 0.0),
+                    (half + gap, 0.0),
+                    (half + gap, height),
+                    (2.0, height),
+                ],
+                2.0,
+            );
             let mut fp = SparseSdfParams::new(0.05);
             fp.margin = 2.0;
             let f = SparseSdf::from_mesh(&m, &fp).unwrap();

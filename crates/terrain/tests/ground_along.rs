@@ -15,9 +15,9 @@ use rappel_terrain::paton_scene::PatonScene;
 use rappel_terrain::sparse_sdf::{SparseSdf, SparseSdfParams};
 use rappel_terrain::surface::SignedDistance;
 
-/// The plane `z = a x + b y` over `[-20, 20]^2`.
+/// The plane `z = a x + b y` over `[-7, 7]^2` (the lines below stay more than 1 m inside).
 fn plane(a: f64, b: f64) -> TriMesh {
-    let c = [(-20.0, -20.0), (20.0, -20.0), (20.0, 20.0), (-20.0, 20.0)];
+    let c = [(-7.0, -7.0), (7.0, -7.0), (7.0, 7.0), (-7.0, 7.0)];
     let v = c
         .iter()
         .map(|&(x, y)| Point3::new(x, y, a * x + b * y))
