@@ -1,5 +1,6 @@
 //! Mesh-terrain benchmarks (issue 14, Paton §IV): settling one Axel pose on the distance field of
-//! Paton's ledge (target < 50 us), and building that distance field (target < 2 s at 5 cm). The
+//! Paton's ledge (target < 50 us; also through parry's exact BVH and the sparse field, the two
+//! sources of `rappel settle`, on the top, mid-slope and beside the side wall), and building that distance field (target < 2 s at 5 cm). The
 //! build is timed at 20 cm only: measured once at 1.9 s (20 cm) and 26 s (10 cm, 15 M grid
 //! points, the Dijkstra propagation dominates), 5 cm would take minutes per sample; the fast
 //! field (`terrain::sparse_sdf`, the 5 cm target) is benchmarked beside it in `benches/sdf.rs`.
@@ -48,6 +49,30 @@ fn mesh(c: &mut Criterion) {
     g.bench_function("settle_axel_slope_sdf_10cm", |b| {
         b.iter(|| settle_axel(&field, &axel, black_box(x), 0.0, 5.9, 0.0, &p).expect("settles"))
     });
+    // The two distance sources `rappel settle` uses (`rappel::distance_source`): parry's exact
+    // BVH distances and the sparse 10 cm field; on the top, mid-slope, and with the left wheel
+    // 1 cm beside the ledge's side wall (heading +x on the ground at y = 5.46).
+    let bvh_ground = rappel_terrain::parry_mesh::ParryMesh::new(&m).expect("parry builds");
+    let mut sp = rappel_terrain::sparse_sdf::SparseSdfParams::new(0.1);
+    sp.margin = 2.0;
+    let sparse = rappel_terrain::sparse_sdf::SparseSdf::from_mesh(&m, &sp).expect("field builds");
+    let wall_y = 0.5 * scene.length + 0.5 * axel.track + 0.01;
+    for (name, ground) in [
+        ("parry_bvh", &bvh_ground as &dyn SignedDistance),
+        ("sparse_sdf_10cm", &sparse as &dyn SignedDistance),
+    ] {
+        for (place, px, py) in [
+            ("top", s.x, s.y),
+            ("slope", x, 0.0),
+            ("beside_wall", -2.0, -wall_y),
+        ] {
+            g.bench_function(format!("settle_axel_{place}_{name}"), |b| {
+                b.iter(|| {
+                    let _ = black_box(settle_axel(ground, &axel, black_box(px), py, 5.9, 0.0, &p));
+                })
+            });
+        }
+    }
     // One 0.5 m step of the boom pivot from the top over the lip onto the slope: one attach.
     let a = scene.slope_deg.to_radians();
     let pivot = |x: f64| {

@@ -1,14 +1,28 @@
-//! `rappel settle GROUND --at X,Y --yaw DEG [--anchor X,Y,Z] [--field RES] [--json] [--svg OUT]`:
-//! settles Axel on 3D ground (Paton §IV-A; a Paton scene `.ron`, an elevation model `.asc` /
-//! `.tif` or a mesh `.obj` / `.ply` / `.stl`) and prints the pose; with `--anchor`, the stability
-//! QP's verdict for both boom configurations (exit 1 when neither is stable); with `--field`,
-//! settling reads the sparse distance field ([`crate::field_arg`]); with `--svg`, an axonometric
-//! picture of the settled pose.
+//! `rappel settle GROUND --at X,Y --yaw DEG [--robot axel|four-wheel] [--anchor X,Y,Z]
+//! [--field RES] [--json] [--svg OUT]`: settles Axel (or the four-wheel rover) on 3D ground
+//! (Paton §IV-A; a Paton scene `.ron`, an elevation model `.asc` / `.tif` or a mesh `.obj` /
+//! `.ply` / `.stl`) and prints the pose; with `--anchor`, the stability QP's verdict (Axel: both
+//! boom configurations; the four-wheel rover: the tether to its body; exit 1 when none is
+//! stable); with `--field`, settling reads the sparse distance field ([`crate::field_arg`]);
+//! with `--svg`, an axonometric picture of the settled pose (Axel only).
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, print_report, refuse_clashing_outputs, write_file};
-use rappel::settle::{load_ground, settle_report_with, settled_pose_picture};
+use rappel::settle::{
+    SettleRobot, four_wheel_report_with, load_ground, settle_report_with, settled_pose_picture,
+};
 use std::path::PathBuf;
+
+/// `--robot NAME` as given: `axel` or `four-wheel`; anything else is an error naming the flag.
+pub(crate) fn robot(name: &str) -> Result<SettleRobot, CliError> {
+    match name {
+        "axel" => Ok(SettleRobot::Axel),
+        "four-wheel" => Ok(SettleRobot::FourWheel),
+        other => Err(CliError(format!(
+            "--robot {other}: expected axel or four-wheel"
+        ))),
+    }
+}
 
 /// Arguments of `rappel settle`.
 #[derive(clap::Args)]
@@ -22,6 +36,11 @@ pub struct Args {
     /// Heading: the forward axis' azimuth, degrees counter-clockwise from +x.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     yaw: f64,
+    /// The robot: `axel` (two wheels of 12 contact points, body along the axle, boom) or
+    /// `four-wheel` (the rigid four-wheel rover: point wheels, no body geometry, the tether fixed
+    /// to its body; `--svg` draws Axel only).
+    #[arg(long, value_name = "NAME", default_value = "axel")]
+    robot: String,
     /// The tether's last anchor `X,Y,Z` (world): adds the stability verdict.
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     anchor: Option<String>,
@@ -39,7 +58,13 @@ pub struct Args {
 /// Runs `rappel settle`: `Yes` when settled (and stable in some boom configuration when an
 /// anchor is given), `No` otherwise; bad input is an error.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
+    let robot = robot(&args.robot)?;
     if let Some(out) = &args.svg {
+        if robot != SettleRobot::Axel {
+            return Err(CliError(
+                "--svg with --robot four-wheel: the settled-pose picture draws Axel only".into(),
+            ));
+        }
         refuse_clashing_outputs(&[("--svg", out.as_path())], &[&args.file])?;
     }
     let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
@@ -52,18 +77,27 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         None => None,
     };
     let distances = args.field.distances(&ground)?;
-    let (pose, report) =
-        match settle_report_with(&ground, &distances, at[0], at[1], args.yaw, anchor) {
-            Ok(r) => r,
-            Err(e) if matches!(e, rappel::mechanics::settle::SettleError::Parameter(_)) => {
-                return Err(CliError(e.to_string()));
-            }
-            Err(e) => {
-                crate::outln!("not settled: {e}");
-                return Ok(Answer::No);
-            }
-        };
-    if let Some(out) = &args.svg {
+    let settled = match robot {
+        SettleRobot::Axel => {
+            settle_report_with(&ground, &distances, at[0], at[1], args.yaw, anchor)
+                .map(|(pose, report)| (Some(pose), report))
+        }
+        SettleRobot::FourWheel => {
+            four_wheel_report_with(&distances, at[0], at[1], args.yaw, anchor)
+                .map(|(_, report)| (None, report))
+        }
+    };
+    let (pose, report) = match settled {
+        Ok(r) => r,
+        Err(e) if matches!(e, rappel::mechanics::settle::SettleError::Parameter(_)) => {
+            return Err(CliError(e.to_string()));
+        }
+        Err(e) => {
+            crate::outln!("not settled: {e}");
+            return Ok(Answer::No);
+        }
+    };
+    if let (Some(out), Some(pose)) = (&args.svg, &pose) {
         let title = format!(
             "rappel settle {} at {:.2},{:.2} yaw {:.1}°",
             args.file.display(),
@@ -71,25 +105,36 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             at[1],
             args.yaw
         );
-        let svg = settled_pose_picture(&ground, &pose, &Default::default(), anchor, &title);
+        let svg = settled_pose_picture(&ground, pose, &Default::default(), anchor, &title);
         write_file(out, &svg)?;
     }
     if args.json {
         print_report(&report)?;
     } else {
         let o = report.origin;
+        let clearance = report
+            .body_clearance
+            .map(|c| format!(", body clearance {c:.3} m"))
+            .unwrap_or_default();
         crate::outln!(
-            "settled      origin ({:.3}, {:.3}, {:.3}), roll {:.2}°, pitch {:.2}°, body clearance {:.3} m",
+            "settled      origin ({:.3}, {:.3}, {:.3}), roll {:.2}°, pitch {:.2}°{clearance}",
             o[0],
             o[1],
             o[2],
             report.roll_deg,
             report.pitch_deg,
-            report.body_clearance
         );
-        for (name, c) in ["right", "left"].iter().zip(report.contacts) {
+        const WHEELS: [&str; 4] = ["front-left", "front-right", "rear-left", "rear-right"];
+        let names: Vec<&str> = match &report.support {
+            None => vec!["right", "left"],
+            Some(support) => support
+                .iter()
+                .map(|&w| WHEELS.get(w).copied().unwrap_or("wheel"))
+                .collect(),
+        };
+        for (name, c) in names.iter().zip(&report.contacts) {
             crate::outln!(
-                "  {name:<5}      contact ({:.3}, {:.3}, {:.3})",
+                "  {name:<11} contact ({:.3}, {:.3}, {:.3})",
                 c[0],
                 c[1],
                 c[2]

@@ -1,7 +1,8 @@
 //! `rappel settle-map GROUND [--x MIN,MAX] [--y MIN,MAX] [--step M] [--yaw DEG] [--start X,Y]
-//! (--root X,Y,Z | --test N) [--field RES] [--svg OUT] [--html OUT] [--json]`: a stability map of settled Axel
-//! poses on 3D ground like Paton's Fig. 8. Every grid cell is settled, its anchor history is
-//! predicted from the start outward (Paton Alg. 1, [`rappel::mesh_stability`]) and the stability
+//! (--root X,Y,Z | --test N) [--robot axel] [--field RES] [--svg OUT] [--html OUT] [--json]`: a
+//! stability map of settled Axel poses on 3D ground like Paton's Fig. 8 (`--robot four-wheel`
+//! exits 2: the map is Axel's). Every grid cell is settled, its anchor history is predicted from
+//! the start outward (Paton Alg. 1, [`rappel::mesh_stability`]) and the stability
 //! QP is solved with the tether from the last predicted anchor (boom inline or in contact).
 //! `--field RES`: settling and anchor prediction read the sparse distance field at `RES` metres
 //! instead of parry's exact distances (Paton's use of the field, [`crate::field_arg`]).
@@ -52,6 +53,12 @@ pub struct Args {
     /// The root anchor of a scene's test N (1: behind the start, 2: in front).
     #[arg(long, value_name = "N")]
     test: Option<usize>,
+    /// The robot: `axel` only. The map's verdicts are Axel's (both boom configurations, the
+    /// boom pivot as the tether end of anchor prediction); the library settles the four-wheel
+    /// rover and checks one pose's stability with a tether (`rappel settle --robot four-wheel
+    /// --anchor X,Y,Z`) but builds no map for it, so `four-wheel` exits 2.
+    #[arg(long, value_name = "NAME", default_value = "axel")]
+    robot: String,
     #[command(flatten)]
     field: FieldArg,
     #[command(flatten)]
@@ -63,6 +70,12 @@ pub struct Args {
 
 /// Runs `rappel settle-map`.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
+    if crate::settle::robot(&args.robot)? != rappel::settle::SettleRobot::Axel {
+        return Err(CliError(format!(
+            "--robot {}: settle-map builds Axel's stability map only (its boom configurations and boom pivot); settle one four-wheel pose with `rappel settle --robot four-wheel --anchor X,Y,Z`",
+            args.robot
+        )));
+    }
     refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
     let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
     let is_scene = args

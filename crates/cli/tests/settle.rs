@@ -89,3 +89,121 @@ fn bad_meshes_exit_2_and_poses_off_the_ground_exit_1() {
         );
     }
 }
+
+/// `rappel settle --robot four-wheel` on the plane `z = y tan 10°` (an OBJ), heading 30°: all
+/// four wheels down, the origin on the plane under the start, the pitch the plane's slope along
+/// the heading and the roll its slope along the left axis (closed forms, as for Axel in
+/// `crates/mechanics/tests/settle.rs`), every contact on the plane; the JSON names the robot.
+/// With an anchor, one verdict for the tether fixed to the body (boom `none`).
+#[test]
+fn four_wheel_settles_on_a_plane_at_the_closed_form_pose() {
+    let dir = temp_dir("settle-four-wheel");
+    let obj = dir.join("plane.obj");
+    let b = 10f64.to_radians().tan();
+    std::fs::write(
+        &obj,
+        format!(
+            "v -20 -20 {lo}\nv 20 -20 {lo}\nv 20 20 {hi}\nv -20 20 {hi}\nf 1 2 3\nf 1 3 4\n",
+            lo = -20.0 * b,
+            hi = 20.0 * b
+        ),
+    )
+    .unwrap();
+    let obj = obj.to_str().unwrap();
+    let (x, y, yaw_deg) = (1.0, 0.5, 30.0f64);
+    let o = rappel(&[
+        "settle",
+        obj,
+        "--at",
+        "1,0.5",
+        "--yaw",
+        "30",
+        "--robot",
+        "four-wheel",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&String::from_utf8_lossy(&o.stdout)).unwrap();
+    assert_eq!(v["robot"], "four_wheel");
+    assert_eq!(v["support"], serde_json::json!([0, 1, 2, 3]));
+    assert!(v["body_clearance_m"].is_null());
+    let num = |k: &str| v[k].as_f64().unwrap();
+    let origin: Vec<f64> = (0..3).map(|k| v["origin"][k].as_f64().unwrap()).collect();
+    assert!((origin[0] - x).abs() < 1e-6 && (origin[1] - y).abs() < 1e-6);
+    assert!((origin[2] - b * y).abs() < 1e-6, "{origin:?}");
+    let yaw = yaw_deg.to_radians();
+    let pitch = (b * yaw.sin()).atan().to_degrees();
+    let roll = (b * yaw.cos() / ((1.0 + b * b).sqrt() * (1.0 + (b * yaw.sin()).powi(2)).sqrt()))
+        .asin()
+        .to_degrees();
+    assert!(
+        (num("pitch_deg") - pitch).abs() < 1e-6,
+        "{} vs {pitch}",
+        num("pitch_deg")
+    );
+    assert!(
+        (num("roll_deg") - roll).abs() < 1e-6,
+        "{} vs {roll}",
+        num("roll_deg")
+    );
+    let contacts = v["contacts"].as_array().unwrap();
+    assert_eq!(contacts.len(), 4);
+    for c in contacts {
+        let c: Vec<f64> = (0..3).map(|k| c[k].as_f64().unwrap()).collect();
+        assert!((c[2] - b * c[1]).abs() < 1e-6, "{c:?}");
+    }
+    let o = rappel(&[
+        "settle",
+        obj,
+        "--at",
+        "1,0.5",
+        "--yaw",
+        "30",
+        "--robot",
+        "four-wheel",
+        "--anchor",
+        "1,8,3",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&String::from_utf8_lossy(&o.stdout)).unwrap();
+    let verdicts = v["stability"].as_array().unwrap();
+    assert_eq!(verdicts.len(), 1, "{verdicts:?}");
+    assert_eq!(verdicts[0]["boom"], "none");
+    assert_eq!(verdicts[0]["stable"], true, "{verdicts:?}");
+}
+
+/// Bad `--robot` values exit 2 with one `error:` line naming the flag: an unknown robot on
+/// `settle` and `settle-map`, the four-wheel rover on `settle-map` (the map is Axel's) and with
+/// `settle --svg` (the picture draws Axel).
+#[test]
+fn bad_robots_exit_2_naming_why() {
+    let ledge = fixture("paton/ledge.ron");
+    let base = ["settle", ledge.as_str(), "--at", "-1,0", "--yaw", "0"];
+    let with = |extra: &[&str]| -> Vec<String> {
+        base.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    let run = |args: Vec<String>, expected: &str| {
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        check_error(&a, expected);
+    };
+    run(
+        with(&["--robot", "tank"]),
+        "--robot tank: expected axel or four-wheel",
+    );
+    let dir = temp_dir("settle-robot-svg");
+    let svg = dir.join("x.svg");
+    run(
+        with(&["--robot", "four-wheel", "--svg", svg.to_str().unwrap()]),
+        "draws Axel only",
+    );
+    assert!(!svg.exists());
+    check_error(
+        &["settle-map", &ledge, "--test", "1", "--robot", "four-wheel"],
+        "settle-map builds Axel's stability map only",
+    );
+    check_error(
+        &["settle-map", &ledge, "--test", "1", "--robot", "Axel"],
+        "--robot Axel: expected axel or four-wheel",
+    );
+}

@@ -5,7 +5,8 @@
 //! ground point and a yaw ([`crate::settle`]'s footprint step gives the first normal), the
 //! settler repeats:
 //! 1. each wheel's ground point: the wheel's position on the current chassis plane, dropped along
-//!    the plane's normal onto the ground (sphere tracing);
+//!    the plane's normal onto the ground ([`SignedDistance::ground_along`]: exact on meshes and
+//!    grid fields);
 //! 2. the **support**: when the four ground points are coplanar (within the contact tolerance)
 //!    the chassis rests on all four; otherwise the tetrahedron they span has two upper faces
 //!    (planes through three points with the fourth below), split by one diagonal, and the
@@ -29,7 +30,7 @@ use rappel_terrain::surface::SignedDistance;
 use crate::four_wheel::{FourWheelParams, FourWheelRover};
 use crate::robot::{PlacedRobot, RobotError};
 use crate::settle::{
-    GroundContacts, MAX_DROP_STEPS, SettleError, SettleParams, dist, footprint, frame_on_plane,
+    GroundContacts, SettleError, SettleParams, drop_along_normal, footprint, frame_on_plane,
     place_on_ground,
 };
 
@@ -108,7 +109,9 @@ fn wheels(r: &FourWheelParams) -> [Vector3<f64>; 4] {
     ]
 }
 
-/// The ground point below `q` along `-n` (sphere tracing, at most [`MAX_DROP_STEPS`] steps).
+/// The ground point on the line through `q` along the unit normal `n`: down from `q` in the air,
+/// up from it below the ground ([`SignedDistance::ground_along`]: exact on meshes and grid
+/// fields), within `reach`.
 fn drop_along<D: SignedDistance + ?Sized>(
     ground: &D,
     q: Point3<f64>,
@@ -116,20 +119,9 @@ fn drop_along<D: SignedDistance + ?Sized>(
     tolerance: f64,
     reach: f64,
 ) -> Result<Point3<f64>, SettleError> {
-    let mut q = q;
-    let mut fallen = 0.0;
-    for _ in 0..MAX_DROP_STEPS {
-        let d = dist(ground, &q)?;
-        if d.abs() < tolerance {
-            return Ok(q);
-        }
-        fallen += d.abs();
-        if fallen > reach {
-            break;
-        }
-        q -= n * d;
-    }
-    Err(SettleError::NoContact(reach))
+    drop_along_normal(ground, &q, n, reach, tolerance)?
+        .map(|t| q - n * t)
+        .ok_or(SettleError::NoContact(reach))
 }
 
 /// The upward unit normal of the plane through `a, b, c`, `None` when they are collinear.

@@ -10,8 +10,16 @@
 //! Frames: the settled pose maps the robot frame of [`crate::robot`] (`x` forward, `y` left along
 //! the axle, `z` up from the ground; origin on the ground under the axle centre) to the world.
 //!
-//! Bounds: the drop takes at most [`MAX_DROP_STEPS`] steps, the roll bisection
-//! [`MAX_ROLL_STEPS`]; the footprint normal samples a fixed 3 x 3 grid.
+//! The drops are exact where the ground can answer exactly: the vertical drop to the footprint
+//! is [`SignedDistance::ground_below`], the drop along the normal casts each of the 24 contact
+//! points along it with [`SignedDistance::ground_along`] (an exact segment-triangle test on
+//! meshes, the interpolant's exact first zero on grid fields; sphere tracing only on analytic
+//! grounds), so the wheel that touches first is the first contact point hit along the drop,
+//! however close a wall runs beside it.
+//!
+//! Bounds: each drop casts the 24 contact points once (sphere tracing, where a ground has no
+//! exact answer, at most [`MAX_DROP_STEPS`] steps each), the roll bisection at most
+//! [`MAX_ROLL_STEPS`] drops; the footprint normal samples a fixed 3 x 3 grid.
 
 use nalgebra::{Point3, Rotation3, Unit, Vector3};
 use rappel_terrain::surface::{DropError, SignedDistance};
@@ -21,9 +29,8 @@ use crate::robot::{ContactFrame, PlacedRobot, RobotError, RobotModel, TetherLine
 
 /// Contact points per wheel circle (Paton: 12).
 pub const WHEEL_POINTS: usize = 12;
-/// Steps of a drop (sphere tracing along the normal; each step moves by the smallest contact
-/// distance, so it never passes through the ground); also the default vertical search's budget
-/// ([`SignedDistance::ground_below`]).
+/// Sphere-tracing steps of the default drops ([`SignedDistance::ground_below`],
+/// [`SignedDistance::ground_along`]) on grounds without an exact answer.
 pub use rappel_terrain::surface::MAX_DROP_STEPS;
 /// Bisection steps of the roll search (`2 max_roll / 2^60` is far below any tolerance).
 pub const MAX_ROLL_STEPS: usize = 60;
@@ -78,8 +85,8 @@ pub enum SettleError {
         /// z.
         z: f64,
     },
-    /// The drop did not reach the ground within [`MAX_DROP_STEPS`] steps or fell further than
-    /// the footprint allows.
+    /// No contact point meets the ground within the drop's reach along the normal (the start
+    /// height plus the rover's size), or a sphere-traced drop ran out of its [`MAX_DROP_STEPS`].
     #[error("the wheels found no ground within {0} m of the start")]
     NoContact(f64),
     /// The ground is steeper than `max_slope`, or no roll within `max_roll` puts both wheels down.
@@ -295,6 +302,20 @@ pub(crate) struct Footprint {
     pub base: Rotation3<f64>,
 }
 
+/// A drop's failure as a settling error: no distance or no ground on the line is
+/// [`SettleError::NoGround`] there, an exhausted sphere trace [`SettleError::NoContact`] within
+/// `reach`.
+pub(crate) fn drop_error(e: DropError, reach: f64) -> SettleError {
+    match e {
+        DropError::Undefined(p) | DropError::Missed(p) => SettleError::NoGround {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        },
+        DropError::NotReached => SettleError::NoContact(reach),
+    }
+}
+
 /// The ground point straight below `q` ([`SignedDistance::ground_below`]: sphere tracing by
 /// default, an exact vertical ray on meshes, the interpolant's exact zero on grid fields).
 pub(crate) fn drop_vertically<D: SignedDistance + ?Sized>(
@@ -302,14 +323,24 @@ pub(crate) fn drop_vertically<D: SignedDistance + ?Sized>(
     q: Point3<f64>,
     tolerance: f64,
 ) -> Result<Point3<f64>, SettleError> {
-    ground.ground_below(&q, tolerance).map_err(|e| match e {
-        DropError::Undefined(p) | DropError::Missed(p) => SettleError::NoGround {
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        },
-        DropError::NotReached => SettleError::NoContact(q.z.abs() + 1.0),
-    })
+    ground
+        .ground_below(&q, tolerance)
+        .map_err(|e| drop_error(e, q.z.abs() + 1.0))
+}
+
+/// How far `q` moves along `-n` (`n` a unit vector) to its first ground contact
+/// ([`SignedDistance::ground_along`]): positive from the air, negative from below the ground,
+/// `None` beyond `reach`.
+pub(crate) fn drop_along_normal<D: SignedDistance + ?Sized>(
+    ground: &D,
+    q: &Point3<f64>,
+    n: &Vector3<f64>,
+    reach: f64,
+    tolerance: f64,
+) -> Result<Option<f64>, SettleError> {
+    ground
+        .ground_along(q, &Unit::new_unchecked(-n), reach, tolerance)
+        .map_err(|e| drop_error(e, reach))
 }
 
 /// Paton §IV-A's first step for a footprint of half-lengths `half = [forward, sideways]` at
@@ -406,36 +437,42 @@ pub fn settle_axel<D: SignedDistance + ?Sized>(
         [axel.wheel_radius, 0.5 * axel.track],
         p,
     )?;
-    let wheels = wheel_points(axel);
+    let mut wheels = wheel_points(axel);
+    // Lowest first: the first hit bounds the later casts' reach.
+    for w in &mut wheels {
+        w.sort_by(|a, b| a.z.total_cmp(&b.z));
+    }
     let max_fall = p.delta + 2.0 * axel.wheel_radius + axel.track;
-    // Drop at roll `phi` (about the robot x axis through the origin): the origin and the lowest
-    // distance of each wheel.
+    // Drop at roll `phi` (about the robot x axis through the origin) from `delta` above the
+    // footprint: every contact point cast along `-n`, the pose moved by the first hit (a point
+    // starting on or below the ground touches at once: 0), then the origin and the lowest
+    // distance of each wheel there (Paton's "two minimum contact points").
     let drop = |phi: f64| -> Result<Dropped, SettleError> {
         let rot = base * Rotation3::from_axis_angle(&Unit::new_unchecked(Vector3::x()), phi);
-        let mut o = pm + n * p.delta;
-        let mut fallen = 0.0;
-        for _ in 0..MAX_DROP_STEPS {
-            let mut lows = [(f64::INFINITY, Point3::origin()); 2];
-            for (w, pts) in wheels.iter().enumerate() {
-                for c in pts {
-                    let q = o + rot * c.coords;
-                    let d = dist(ground, &q)?;
-                    if d < lows[w].0 {
-                        lows[w] = (d, q);
-                    }
+        let start = pm + n * p.delta;
+        let mut first = f64::INFINITY;
+        for c in wheels.iter().flatten() {
+            let q = start + rot * c.coords;
+            let reach = first.min(max_fall);
+            if let Some(t) = drop_along_normal(ground, &q, &n, reach, p.contact_tolerance)? {
+                first = first.min(t.max(0.0));
+            }
+        }
+        if !first.is_finite() {
+            return Err(SettleError::NoContact(max_fall));
+        }
+        let o = start - n * first;
+        let mut lows = [(f64::INFINITY, Point3::origin()); 2];
+        for (w, pts) in wheels.iter().enumerate() {
+            for c in pts {
+                let q = o + rot * c.coords;
+                let d = dist(ground, &q)?;
+                if d < lows[w].0 {
+                    lows[w] = (d, q);
                 }
             }
-            let m = lows[0].0.min(lows[1].0);
-            if m < p.contact_tolerance {
-                return Ok((o, rot, lows));
-            }
-            fallen += m;
-            if fallen > max_fall {
-                break;
-            }
-            o -= n * m;
         }
-        Err(SettleError::NoContact(max_fall))
+        Ok((o, rot, lows))
     };
     // Roll: bisection on (left lowest - right lowest) after a drop.
     let gap = |phi: f64| drop(phi).map(|(_, _, l)| l[1].0 - l[0].0);

@@ -8,10 +8,15 @@ use rappel_terrain::mesh::TriMesh;
 
 /// A mesh extruded along x over `[-20, 20]` from a `(y, z)` profile (vertical steps allowed).
 fn profile(points: &[(f64, f64)]) -> TriMesh {
+    profile_over(points, 20.0)
+}
+
+/// A mesh extruded along x over `[-half_x, half_x]` from a `(y, z)` profile.
+fn profile_over(points: &[(f64, f64)], half_x: f64) -> TriMesh {
     let mut v = Vec::new();
     for &(y, z) in points {
-        v.push(Point3::new(-20.0, y, z));
-        v.push(Point3::new(20.0, y, z));
+        v.push(Point3::new(-half_x, y, z));
+        v.push(Point3::new(half_x, y, z));
     }
     let mut t = Vec::new();
     for i in 0..points.len() - 1 {
@@ -284,5 +289,118 @@ fn on_a_cylinder_the_wheels_touch_where_geometry_puts_them() {
         }
         assert!(pose.roll().abs() < 1e-9 && pose.pitch().abs() < 1e-9);
         assert!((pose.origin.z - h).abs() < 1e-6);
+    }
+}
+
+/// Ground `z = 0` for `y < w` and a wall at `y = w` rising to `height` (its top flat beyond):
+/// extruded along x.
+fn wall_beside(w: f64, height: f64) -> TriMesh {
+    profile(&[(-20.0, 0.0), (w, 0.0), (w, height), (20.0, height)])
+}
+
+/// A wheel 1 cm and 1 mm beside a wall (Axel heading along it, the wall `gap` left of the left
+/// wheel's plane), on the exact mesh and behind parry's BVH: the drop along the normal reaches
+/// the ground (the old sphere tracing stepped by the wall's distance and ran out of steps at
+/// 1 mm), and the pose is what geometry makes it. A tall wall: the axle's left end (body point
+/// `body_points - 1`, `wheel_radius` above the ground in the left wheel's plane) is `gap` from
+/// the wall, a body collision of clearance `gap - body_radius`. A low curb of height `c`: the
+/// pose settles level on the ground, its clearance the distance from the axle's end to the
+/// curb's top edge, `sqrt(gap² + (wheel_radius - c)²) - body_radius`.
+#[test]
+fn a_wheel_beside_a_wall_settles_or_collides_where_geometry_puts_it() {
+    use rappel_terrain::parry_mesh::ParryMesh;
+    let axel = AxelParams::default();
+    let p = SettleParams::default();
+    let half = 0.5 * axel.track;
+    for gap in [0.01, 0.001] {
+        let tall = wall_beside(half + gap, 1.0);
+        let tall_bvh = ParryMesh::new(&tall).unwrap();
+        for (name, r) in [
+            ("mesh", settle_axel(&tall, &axel, 0.0, 0.0, 5.0, 0.0, &p)),
+            ("bvh", settle_axel(&tall_bvh, &axel, 0.0, 0.0, 5.0, 0.0, &p)),
+        ] {
+            match r {
+                Err(SettleError::BodyCollision {
+                    index,
+                    x,
+                    y,
+                    z,
+                    clearance,
+                }) => {
+                    assert_eq!(index, p.body_points - 1, "{name} gap {gap}");
+                    assert!(
+                        (Point3::new(x, y, z) - Point3::new(0.0, half, axel.wheel_radius)).norm()
+                            < 1e-9,
+                        "{name} gap {gap}: ({x}, {y}, {z})"
+                    );
+                    assert!(
+                        (clearance - (gap - p.body_radius)).abs() < 1e-9,
+                        "{name} gap {gap}: {clearance}"
+                    );
+                }
+                other => panic!("{name} gap {gap}: expected a body collision, got {other:?}"),
+            }
+        }
+        let c = 0.05;
+        let curb = wall_beside(half + gap, c);
+        let curb_bvh = ParryMesh::new(&curb).unwrap();
+        for (name, r) in [
+            ("mesh", settle_axel(&curb, &axel, 0.0, 0.0, 5.0, 0.0, &p)),
+            ("bvh", settle_axel(&curb_bvh, &axel, 0.0, 0.0, 5.0, 0.0, &p)),
+        ] {
+            let pose = r.unwrap_or_else(|e| panic!("{name} gap {gap}: {e}"));
+            assert!(
+                pose.origin.coords.norm() < 1e-9,
+                "{name} gap {gap}: {pose:?}"
+            );
+            assert!(pose.roll().abs() < 1e-9 && pose.pitch().abs() < 1e-9);
+            for (q, side) in pose.contacts.iter().zip([-1.0, 1.0]) {
+                assert!(
+                    (q - Point3::new(0.0, side * half, 0.0)).norm() < 1e-9,
+                    "{name} gap {gap}: {q}"
+                );
+            }
+            let want = (gap * gap + (axel.wheel_radius - c).powi(2)).sqrt() - p.body_radius;
+            assert!(
+                (pose.body_clearance - want).abs() < 1e-9,
+                "{name} gap {gap}: {} vs {want}",
+                pose.body_clearance
+            );
+        }
+    }
+}
+
+/// The same walls through the sparse 5 cm field: the field smears the wall over a cell, so the
+/// verdict is the field's (within its error bound of the wall), but the drop never fails to
+/// find the ground: a settled pose or a body collision, never `NoContact`.
+#[test]
+fn beside_a_wall_the_field_s_drop_never_fails_to_find_the_ground() {
+    use rappel_terrain::sparse_sdf::{SparseSdf, SparseSdfParams};
+    let axel = AxelParams::default();
+    let p = SettleParams::default();
+    let half = 0.5 * axel.track;
+    for gap in [0.01, 0.001] {
+        for height in [1.0, 0.05] {
+            // A 4 m x 4 m patch: the field stays small.
+            let m = profile_over(
+                &[
+                    (-2.0, 0.0),
+                    (half + gap, 0.0),
+                    (half + gap, height),
+                    (2.0, height),
+                ],
+                2.0,
+            );
+            let mut fp = SparseSdfParams::new(0.05);
+            fp.margin = 2.0;
+            let f = SparseSdf::from_mesh(&m, &fp).unwrap();
+            match settle_axel(&f, &axel, 0.0, 0.0, 2.0, 0.0, &p) {
+                Ok(pose) => assert!(pose.origin.z.abs() <= f.error_bound(), "{pose:?}"),
+                Err(SettleError::BodyCollision { index, .. }) => {
+                    assert_eq!(index, p.body_points - 1, "gap {gap} height {height}")
+                }
+                Err(e) => panic!("gap {gap} height {height}: {e}"),
+            }
+        }
     }
 }

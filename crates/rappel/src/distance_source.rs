@@ -13,6 +13,8 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::four_wheel::FourWheelParams;
+use rappel_mechanics::four_wheel_settle::{FourWheelPose, settle_four_wheel};
 use rappel_mechanics::settle::{SettleError, SettleParams, SettledPose, settle_axel};
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::parry_mesh::{ParryMesh, ParryMeshError};
@@ -160,6 +162,26 @@ impl GroundDistances {
         settle_axel(
             self.distance(),
             &AxelParams::default(),
+            x,
+            y,
+            self.z_top,
+            yaw_deg.to_radians(),
+            &SettleParams::default(),
+        )
+    }
+
+    /// The four-wheel rover (default [`FourWheelParams`] and [`SettleParams`]) settled at ground
+    /// point `(x, y)` heading `yaw_deg` (degrees counter-clockwise from `+x`) on
+    /// [`GroundDistances::distance`].
+    pub fn settle_four_wheel(
+        &self,
+        x: f64,
+        y: f64,
+        yaw_deg: f64,
+    ) -> Result<FourWheelPose, SettleError> {
+        settle_four_wheel(
+            self.distance(),
+            &FourWheelParams::default(),
             x,
             y,
             self.z_top,

@@ -148,7 +148,8 @@ pub fn pose_stability<G: BoomGround + ?Sized>(
 /// Axel drives straight (seen from above) from ground point `start` to `target`, heading
 /// `yaw_deg`, under the root anchor of `root`: settled every [`PATH_STEP`] (intermediate poses
 /// that do not settle are skipped; the ends must settle), the anchor history predicted along the
-/// pivots, and the target's stability with it.
+/// pivots, and the target's stability with it. Settling and prediction through parry's exact
+/// BVH distances ([`drive_and_check_with`] and [`DistanceSource::Exact`]).
 pub fn drive_and_check(
     ground: &TriMesh,
     root: &AnchorHistory,
@@ -156,6 +157,33 @@ pub fn drive_and_check(
     target: [f64; 2],
     yaw_deg: f64,
 ) -> Result<PoseStability, MeshStabilityError> {
+    let distances = GroundDistances::new(ground, DistanceSource::Exact)
+        .map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
+    drive_and_check_with(ground, &distances, root, start, target, yaw_deg).map(|d| d.stability)
+}
+
+/// A drive's verdict ([`drive_and_check_with`]): the target's stability with its predicted
+/// anchor history, and where settling and prediction read their distances.
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct DriveCheck {
+    /// The target pose's stability.
+    pub stability: PoseStability,
+    /// The distance source of settling and anchor prediction.
+    pub distance_source: DistanceReport,
+}
+
+/// [`drive_and_check`] with settling and anchor prediction through `distances` (built from
+/// `ground`: exact or through the sparse field, [`GroundDistances`], the same path as
+/// [`stability_map_with`]; prediction's `h` is [`GroundDistances::predict_resolution`]); the
+/// boom sweep and the placement through its BVH. The answer states its distance source.
+pub fn drive_and_check_with(
+    ground: &TriMesh,
+    distances: &GroundDistances,
+    root: &AnchorHistory,
+    start: [f64; 2],
+    target: [f64; 2],
+    yaw_deg: f64,
+) -> Result<DriveCheck, MeshStabilityError> {
     let (s, t) = (Point2::from(start), Point2::from(target));
     let n = ((t - s).norm() / PATH_STEP).ceil();
     if !(n.is_finite() && n < MAX_PATH_POSES as f64) {
@@ -166,10 +194,6 @@ pub fn drive_and_check(
     }
     let n = (n as usize).max(1);
     let axel = AxelParams::default();
-    // Settling, prediction and the boom sweep's candidate triangles through parry's BVH (as
-    // `stability_map`).
-    let distances = GroundDistances::new(ground, DistanceSource::Exact)
-        .map_err(|e| MeshStabilityError::Parameter(e.to_string()))?;
     let bvh = &**distances.bvh();
     let mut tips = Vec::with_capacity(n + 1);
     let mut last = None;
@@ -193,13 +217,18 @@ pub fn drive_and_check(
             Err(_) => {}
         }
     }
-    let pose = last.expect("the target settled");
-    let out = predict_path(bvh, &PredictParams::new(PREDICT_RESOLUTION), root, &tips)?;
-    Ok(pose_stability(
-        &IndexedGround { mesh: ground, bvh },
-        &pose,
-        &out.history,
-    ))
+    let pose =
+        last.ok_or_else(|| MeshStabilityError::Parameter("the drive has no settled pose".into()))?;
+    let out = predict_path(
+        distances.distance(),
+        &PredictParams::new(distances.predict_resolution()),
+        root,
+        &tips,
+    )?;
+    Ok(DriveCheck {
+        stability: pose_stability(&IndexedGround { mesh: ground, bvh }, &pose, &out.history),
+        distance_source: distances.report(),
+    })
 }
 
 /// A map's grid: ground points `(x0 + i step, y0 + j step)` within the bounds, every pose

@@ -1,7 +1,9 @@
-//! Settling Axel on 3D ground (Paton §IV-A) from files: the ground is a Paton scene (`.ron`,
+//! Settling a rover on 3D ground (Paton §IV-A) from files: the ground is a Paton scene (`.ron`,
 //! [`rappel_terrain::paton_scene::PatonScene`]) or an elevation model (`.asc`, `.tif`) meshed cell
-//! centre to cell centre; the answer is a serialisable [`SettleReport`], optionally with the
-//! stability QP's verdict for a tether to a given last anchor (both boom configurations).
+//! centre to cell centre; the robot is Axel or the four-wheel rover ([`SettleRobot`]); the answer
+//! is a serialisable [`SettleReport`], optionally with the stability QP's verdict for a tether to
+//! a given last anchor (Axel: both boom configurations; the four-wheel rover: its tether exit on
+//! the body, [`four_wheel_report_with`]).
 //!
 //! Distances are parry's exact mesh distances through its BVH, or with [`settle_report_with`]
 //! any [`crate::distance_source`] (the sparse distance field: `rappel settle --field RES`).
@@ -12,6 +14,8 @@ use nalgebra::Point3;
 
 use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::boom_contact::{IndexedGround, place_boom_in_contact, place_boom_inline};
+use rappel_mechanics::four_wheel::{FourWheelParams, FourWheelRover};
+use rappel_mechanics::four_wheel_settle::FourWheelPose;
 use rappel_mechanics::settle::SettledPose;
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_planners::anchor_prediction::{AnchorHistory, detach_height};
@@ -80,7 +84,7 @@ pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
 /// The stability verdict of one boom configuration.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct BoomVerdict {
-    /// `inline` or `in-contact`.
+    /// `inline` or `in-contact` (Axel), `none` (a robot without a boom).
     pub boom: String,
     /// A static equilibrium exists (`None`: not checked, `error` says why).
     pub stable: Option<bool>,
@@ -90,21 +94,47 @@ pub struct BoomVerdict {
     pub margin: f64,
 }
 
+/// Which robot a settle request places (`rappel settle --robot`).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum SettleRobot {
+    /// Axel (default `AxelParams`): two wheels of 12 contact points, the body along the axle,
+    /// the boom.
+    #[default]
+    Axel,
+    /// The rigid four-wheel rover (default `FourWheelParams`, `mechanics::four_wheel`): four
+    /// point wheels, no body geometry, the tether fixed to the body.
+    FourWheel,
+}
+
+/// The boom label of the one verdict of a robot without a boom ([`BoomVerdict::boom`]).
+pub const NO_BOOM: &str = "none";
+
 /// A settled pose, for printing.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SettleReport {
-    /// Robot origin (ground under the axle centre), world.
+    /// The robot settled.
+    pub robot: SettleRobot,
+    /// Robot origin (ground under the axle centre, or the wheelbase centre), world.
     pub origin: [f64; 3],
     /// Roll, degrees.
     pub roll_deg: f64,
     /// Pitch, degrees.
     pub pitch_deg: f64,
-    /// The lowest contact of each wheel (right, left).
-    pub contacts: [[f64; 3]; 2],
-    /// Smallest body clearance along the axle, metres.
+    /// The settled ground contacts: Axel's lowest contact of each wheel (right, left); the
+    /// four-wheel rover's supporting wheels' ground points (in `support`'s order).
+    pub contacts: Vec<[f64; 3]>,
+    /// The four-wheel rover's supporting wheels (0 front left, 1 front right, 2 rear left, 3 rear
+    /// right; three or four); `None` for Axel.
+    pub support: Option<Vec<usize>>,
+    /// Smallest body clearance along the axle, metres (Axel; `None` for the four-wheel rover,
+    /// which has no body geometry).
     #[serde(rename = "body_clearance_m")]
-    pub body_clearance: f64,
-    /// The verdict per boom configuration when an anchor was given.
+    pub body_clearance: Option<f64>,
+    /// The verdict per boom configuration when an anchor was given (Axel: `inline` and
+    /// `in-contact`; the four-wheel rover: one, boom [`NO_BOOM`]).
     pub stability: Vec<BoomVerdict>,
     /// Where settling read its distances.
     pub distance_source: DistanceReport,
@@ -463,11 +493,98 @@ pub fn settle_report_with(
     };
     let p = |q: &Point3<f64>| [q.x, q.y, q.z];
     let report = SettleReport {
+        robot: SettleRobot::Axel,
         origin: p(&pose.origin),
         roll_deg: crate::report::deg(pose.roll()),
         pitch_deg: crate::report::deg(pose.pitch()),
-        contacts: [p(&pose.contacts[0]), p(&pose.contacts[1])],
-        body_clearance: pose.body_clearance,
+        contacts: pose.contacts.iter().map(p).collect(),
+        support: None,
+        body_clearance: Some(pose.body_clearance),
+        stability,
+        distance_source: distances.report(),
+    };
+    Ok((pose, report))
+}
+
+/// The four-wheel rover (default `FourWheelParams`) settled at `(x, y)` with yaw `yaw_deg`
+/// (degrees from `+x`, counter-clockwise) through `distances` (built from the ground); with the
+/// last anchor `anchor`, the stability QP's verdict ([`NO_BOOM`]: the tether from the anchor to
+/// the rover's tether exit on the body, the supporting wheels' contacts with frames from the
+/// mesh's exact distance gradient, [`SCENE_FRICTION`]). The rover has no body geometry: no body
+/// collision is checked.
+///
+/// ```
+/// use rappel::distance_source::{DistanceSource, GroundDistances};
+/// use rappel::settle::four_wheel_report_with;
+/// use rappel::terrain::mesh::TriMesh;
+/// use nalgebra::Point3;
+/// // The plane z = 0.1 y.
+/// let ground = TriMesh::new(
+///     vec![
+///         Point3::new(-5.0, -5.0, -0.5),
+///         Point3::new(5.0, -5.0, -0.5),
+///         Point3::new(5.0, 5.0, 0.5),
+///         Point3::new(-5.0, 5.0, 0.5),
+///     ],
+///     vec![[0, 1, 2], [0, 2, 3]],
+/// )
+/// .unwrap();
+/// let d = GroundDistances::new(&ground, DistanceSource::Exact).unwrap();
+/// let (pose, report) = four_wheel_report_with(&d, 0.0, 0.0, 90.0, None).unwrap();
+/// assert_eq!(report.support, Some(vec![0, 1, 2, 3]));
+/// assert!((pose.pitch() - 0.1f64.atan()).abs() < 1e-9);
+/// ```
+pub fn four_wheel_report_with(
+    distances: &GroundDistances,
+    x: f64,
+    y: f64,
+    yaw_deg: f64,
+    anchor: Option<[f64; 3]>,
+) -> Result<(FourWheelPose, SettleReport), rappel_mechanics::settle::SettleError> {
+    let pose = distances.settle_four_wheel(x, y, yaw_deg)?;
+    let stability = match anchor {
+        Some(a) => {
+            let a = Point3::new(a[0], a[1], a[2]);
+            let verdict = FourWheelRover::new(FourWheelParams::default())
+                .and_then(|rover| {
+                    pose.place(&rover, &**distances.bvh(), SCENE_FRICTION, Some((&a, None)))
+                })
+                .map_err(|e| e.to_string())
+                .and_then(|placed| {
+                    StabilityQp::default()
+                        .check(&placed)
+                        .map_err(|e| e.to_string())
+                });
+            vec![match verdict {
+                Ok(r) => BoomVerdict {
+                    boom: NO_BOOM.to_string(),
+                    stable: Some(r.stable),
+                    error: None,
+                    margin: r.margin,
+                },
+                Err(e) => BoomVerdict {
+                    boom: NO_BOOM.to_string(),
+                    stable: None,
+                    error: Some(e),
+                    margin: 0.0,
+                },
+            }]
+        }
+        None => Vec::new(),
+    };
+    let p = |q: &Point3<f64>| [q.x, q.y, q.z];
+    let report = SettleReport {
+        robot: SettleRobot::FourWheel,
+        origin: p(&pose.origin),
+        roll_deg: crate::report::deg(pose.roll()),
+        pitch_deg: crate::report::deg(pose.pitch()),
+        contacts: pose
+            .support
+            .iter()
+            .map(|&w| p(&pose.ground_points[w]))
+            .collect(),
+        support: Some(pose.support.clone()),
+        body_clearance: None,
         stability,
         distance_source: distances.report(),
     };

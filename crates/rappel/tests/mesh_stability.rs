@@ -168,3 +168,40 @@ fn field_map_agrees_with_the_exact_map() {
         Err(MeshStabilityError::Parameter(_))
     ));
 }
+
+/// `drive_and_check_with` through the sparse 10 cm field against the exact path on the ledge
+/// (the drives of `drives_down_the_slope_with_both_paper_anchors`): the same verdict, the same
+/// number of anchors, the last anchor within the field's error bound plus two prediction
+/// resolutions, the target's origin within the bound; each answer names its distance source.
+#[test]
+fn a_drive_through_the_field_agrees_with_the_exact_drive() {
+    use rappel::distance_source::{DistanceSource, GroundDistances};
+    use rappel::mesh_stability::drive_and_check_with;
+    let scene = PatonScene::paper(false);
+    let ground = scene.mesh().unwrap();
+    let h = 0.1;
+    let exact = GroundDistances::new(&ground, DistanceSource::Exact).unwrap();
+    let field = GroundDistances::new(&ground, DistanceSource::Field { resolution_m: h }).unwrap();
+    let bound = field.report().error_bound_m.unwrap();
+    let s = scene.start();
+    let x = 0.5 * scene.slope_foot_x();
+    for root in scene.anchor_points().into_iter().take(2) {
+        let root = AnchorHistory::new(root).unwrap();
+        for y in [-1.0, 0.0, 1.5] {
+            let e = drive_and_check_with(&ground, &exact, &root, [s.x, s.y], [x, y], 0.0).unwrap();
+            let f = drive_and_check_with(&ground, &field, &root, [s.x, s.y], [x, y], 0.0).unwrap();
+            assert_eq!(e.distance_source.source, "exact");
+            assert_eq!(f.distance_source.source, "field");
+            assert_eq!(f.distance_source.resolution_m, Some(h));
+            let (pe, pf) = (&e.stability, &f.stability);
+            assert_eq!(pe.stable, pf.stable, "{pe:?} vs {pf:?}");
+            assert_eq!(pe.anchors.len(), pf.anchors.len(), "{pe:?} vs {pf:?}");
+            let dist = |a: &[f64; 3], b: &[f64; 3]| {
+                (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
+            };
+            let (ae, af) = (pe.anchors.last().unwrap(), pf.anchors.last().unwrap());
+            assert!(dist(ae, af) <= bound + 2.0 * h, "{ae:?} vs {af:?}");
+            assert!(dist(&pe.origin, &pf.origin) <= bound, "{pe:?} vs {pf:?}");
+        }
+    }
+}

@@ -405,6 +405,91 @@ impl crate::surface::SignedDistance for TriMesh {
             .map(|z| Point3::new(q.x, q.y, z))
             .ok_or(crate::surface::DropError::Missed(*q))
     }
+    /// The exact segment-triangle test against every triangle ([`segment_hit`]), `O(triangles)`:
+    /// forward from `q` in the air (or on the ground), backward from `q` below it.
+    fn ground_along(
+        &self,
+        q: &Point3<f64>,
+        dir: &nalgebra::Unit<Vector3<f64>>,
+        reach: f64,
+        _tolerance: f64,
+    ) -> Result<Option<f64>, crate::surface::DropError> {
+        let d = TriMesh::signed_distance(self, q);
+        Ok(cast_along(q, dir, reach, d, 0..self.triangles.len(), |t| {
+            self.corners(t)
+        }))
+    }
+}
+
+/// [`crate::surface::SignedDistance::ground_along`] on triangles `candidates` (corners from
+/// `corners`) for a start `q` of signed distance `d`: the segment from `q` to `q + reach dir`
+/// when `d > 0`, to `q - reach dir` when `d < 0` (the signed parameter of the first hit by
+/// [`segment_hit`]); `0` on the ground. Shared by [`TriMesh`] and the BVH adapter, so the two
+/// answer bit for bit alike when the candidates hold every triangle the segment meets.
+pub fn cast_along(
+    q: &Point3<f64>,
+    dir: &nalgebra::Unit<Vector3<f64>>,
+    reach: f64,
+    d: f64,
+    candidates: impl IntoIterator<Item = usize>,
+    corners: impl Fn(usize) -> [Point3<f64>; 3],
+) -> Option<f64> {
+    if d == 0.0 {
+        return Some(0.0);
+    }
+    if !(reach >= 0.0 && reach.is_finite() && d.is_finite()) {
+        return None;
+    }
+    let sign = if d > 0.0 { 1.0 } else { -1.0 };
+    let end = q + dir.as_ref() * (sign * reach);
+    segment_hit(q, &end, candidates, corners).map(|s| sign * s * reach)
+}
+
+/// The first point of the segment `p0 p1` on a triangle among `candidates` (corners from
+/// `corners`), as its fraction `s` in `[0, 1]` of the way from `p0` to `p1`; `None` when the
+/// segment meets none. The decisions are exact (Shewchuk's adaptive `orient3d`): the segment
+/// meets triangle `abc` when `p0` and `p1` are not strictly on one side of its plane and the
+/// line `p0 p1` passes through the closed triangle (the three orientations of `p0 p1` with its
+/// edges agree in sign or vanish), so a segment through a shared edge or vertex always meets
+/// the triangles around it. A segment lying in a triangle's plane is not counted for it (it
+/// meets that plane's neighbours, if any, on their shared edges). The fraction is
+/// `V0 / (V0 - V1)` from the two plane orientations (its rounding only). The smallest over the
+/// candidates whatever their order, so any candidate superset of the triangles the segment
+/// meets (a BVH's) gives the brute force's answer bit for bit.
+pub fn segment_hit(
+    p0: &Point3<f64>,
+    p1: &Point3<f64>,
+    candidates: impl IntoIterator<Item = usize>,
+    corners: impl Fn(usize) -> [Point3<f64>; 3],
+) -> Option<f64> {
+    let c = |p: &Point3<f64>| robust::Coord3D {
+        x: p.x,
+        y: p.y,
+        z: p.z,
+    };
+    let (q0, q1) = (c(p0), c(p1));
+    let mut best: Option<f64> = None;
+    for t in candidates {
+        let [a, b, cc] = corners(t).map(|p| c(&p));
+        let v0 = robust::orient3d(a, b, cc, q0);
+        let v1 = robust::orient3d(a, b, cc, q1);
+        if (v0 > 0.0 && v1 > 0.0) || (v0 < 0.0 && v1 < 0.0) || (v0 == 0.0 && v1 == 0.0) {
+            continue;
+        }
+        let e = [
+            robust::orient3d(q0, q1, a, b),
+            robust::orient3d(q0, q1, b, cc),
+            robust::orient3d(q0, q1, cc, a),
+        ];
+        if e.iter().any(|x| *x > 0.0) && e.iter().any(|x| *x < 0.0) {
+            continue;
+        }
+        let s = (v0 / (v0 - v1)).clamp(0.0, 1.0);
+        if best.is_none_or(|b| s < b) {
+            best = Some(s);
+        }
+    }
+    best
 }
 
 /// The height of the first mesh point on the vertical through `q` among triangles `candidates`

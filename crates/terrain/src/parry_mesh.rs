@@ -143,4 +143,28 @@ impl SignedDistance for ParryMesh {
         .map(|z| Point3::new(q.x, q.y, z))
         .ok_or(crate::surface::DropError::Missed(*q))
     }
+    /// The exact segment-triangle test ([`crate::mesh::cast_along`], the same as [`TriMesh`]'s)
+    /// against the triangles whose boxes meet the segment's box (the BVH's candidates), so the
+    /// answer is the brute force's for a start on the same side of the ground.
+    fn ground_along(
+        &self,
+        q: &Point3<f64>,
+        dir: &nalgebra::Unit<Vector3<f64>>,
+        reach: f64,
+        _tolerance: f64,
+    ) -> Result<Option<f64>, crate::surface::DropError> {
+        let (d, _) = self
+            .closest(q)
+            .ok_or(crate::surface::DropError::Undefined(*q))?;
+        let end = q + dir.as_ref() * (if d < 0.0 { -reach } else { reach });
+        let mut tris = Vec::new();
+        if end.iter().all(|c| c.is_finite()) {
+            self.triangles_in_box(&q.inf(&end), &q.sup(&end), &mut tris);
+        }
+        let v = self.mesh.vertices();
+        let idx = self.mesh.indices();
+        Ok(crate::mesh::cast_along(q, dir, reach, d, tris, |t| {
+            idx[t].map(|i| from_parry(v[i as usize]))
+        }))
+    }
 }

@@ -409,6 +409,18 @@ impl crate::surface::SignedDistance for Sdf {
     fn ground_below(&self, q: &Point3<f64>, _tolerance: f64) -> Result<Point3<f64>, DropError> {
         ground_below_on_grid(self.origin.z, self.h, self.dims[2], q, |p| self.distance(p))
     }
+    /// The interpolant's exact first zero along the line (`first_zero_on_grid`).
+    fn ground_along(
+        &self,
+        q: &Point3<f64>,
+        dir: &nalgebra::Unit<Vector3<f64>>,
+        reach: f64,
+        _tolerance: f64,
+    ) -> Result<Option<f64>, DropError> {
+        first_zero_on_grid(&self.origin, self.h, self.dims, q, dir, reach, |i, j, k| {
+            self.value(i, j, k)
+        })
+    }
 }
 
 /// The first zero along the vertical through `q` (down from `q` in the air, up from it below
@@ -454,6 +466,193 @@ pub(crate) fn ground_below_on_grid(
         k += if down { -1.0 } else { 1.0 };
     }
     Err(DropError::Undefined(at(z)))
+}
+
+/// [`crate::surface::SignedDistance::ground_along`] on the trilinear field of the grid of `dims`
+/// points `origin + (i, j, k) h` with values `value(i, j, k)`: the interpolant's exact first zero
+/// on the line through `q` along the unit vector `dir`, forward from `q` in the air, backward
+/// from `q` below the ground, within `reach`.
+///
+/// The line is cut where it crosses the grid planes; within one cell the interpolant along it is
+/// a cubic in the line's parameter (trilinear in three coordinates that are each linear in it).
+/// A cell whose eight corners all lie strictly on the start's side holds no zero (the
+/// interpolant is their convex combination) and is skipped; otherwise the cubic is split at its
+/// critical points into monotone pieces and the first piece that reaches the other side is
+/// bisected to full precision (at most [`MAX_BISECTIONS`] halvings). No sphere-tracing
+/// convergence, no tolerance: the answer is the interpolant's first zero up to rounding.
+/// At most `dims[0] + dims[1] + dims[2] + 1` cells (the line leaves the grid or the reach
+/// before); [`DropError::Undefined`] where the line leaves the grid before a zero or the reach.
+pub(crate) fn first_zero_on_grid(
+    origin: &Point3<f64>,
+    h: f64,
+    dims: [usize; 3],
+    q: &Point3<f64>,
+    dir: &nalgebra::Unit<Vector3<f64>>,
+    reach: f64,
+    value: impl Fn(usize, usize, usize) -> f64,
+) -> Result<Option<f64>, DropError> {
+    let f0 = interpolate(origin, h, dims, q, &value)
+        .ok_or(DropError::Undefined(*q))?
+        .0;
+    if f0 == 0.0 {
+        return Ok(Some(0.0));
+    }
+    if !(reach >= 0.0 && reach.is_finite()) {
+        return Ok(None);
+    }
+    // Search along `s` from the start's side: the values times `sigma` start positive.
+    let sigma = f0.signum();
+    let s = dir.as_ref() * sigma;
+    let at = |tau: f64| q + s * tau;
+    // The next grid-plane crossing per axis: (tau, tau step), or none along an axis `s` is
+    // orthogonal to.
+    let mut next = [(f64::INFINITY, 0.0); 3];
+    for (a, nx) in next.iter_mut().enumerate() {
+        if s[a] != 0.0 {
+            let u = (q[a] - origin[a]) / h;
+            let du = s[a] / h;
+            let m = if du > 0.0 {
+                u.floor() + 1.0
+            } else {
+                u.ceil() - 1.0
+            };
+            *nx = ((m - u) / du, 1.0 / du.abs());
+        }
+    }
+    let mut tau = 0.0;
+    for _ in 0..=dims[0] + dims[1] + dims[2] {
+        // The cell interval [tau, end].
+        let (axis, crossing) = next
+            .iter()
+            .enumerate()
+            .map(|(a, n)| (a, n.0))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .expect("three axes");
+        let end = crossing.min(reach);
+        if end > tau {
+            let mid = at(0.5 * (tau + end));
+            let (cell, _) = grid_cell(origin, h, dims, &mid).ok_or(DropError::Undefined(mid))?;
+            let [i, j, k] = cell;
+            let mut c = [0.0; 8];
+            for (n, cv) in c.iter_mut().enumerate() {
+                *cv = sigma * value(i + (n & 1), j + ((n >> 1) & 1), k + (n >> 2));
+            }
+            if c.iter().any(|v| *v <= 0.0) {
+                // The cubic along the line, in lambda = tau' - tau on [0, end - tau].
+                let p = at(tau);
+                let corner = origin + Vector3::new(i as f64, j as f64, k as f64) * h;
+                let lin = |a: usize| [(p[a] - corner[a]) / h, s[a] / h];
+                if let Some(l) = first_root(&cell_cubic(c, [lin(0), lin(1), lin(2)]), end - tau) {
+                    return Ok(Some(sigma * (tau + l)));
+                }
+            }
+        }
+        if crossing >= reach {
+            return Ok(None);
+        }
+        tau = crossing;
+        next[axis].0 += next[axis].1;
+    }
+    Err(DropError::Undefined(at(tau)))
+}
+
+/// Most halvings of a bracket by [`first_root`] (a bracket of the cell's size reaches the
+/// spacing of doubles well before).
+pub const MAX_BISECTIONS: usize = 80;
+
+/// The coefficients `[a0, a1, a2, a3]` of the trilinear interpolant of corner values `c`
+/// (`c[a + 2 b + 4 c]` at corner `(a, b, c)`) along the line whose fractional cell coordinates
+/// are `x_a = l[a][0] + l[a][1] lambda`, as a cubic in `lambda`.
+fn cell_cubic(c: [f64; 8], l: [[f64; 2]; 3]) -> [f64; 4] {
+    let [c000, c100, c010, c110, c001, c101, c011, c111] = c;
+    // f = k0 + kx x + ky y + kz z + kxy x y + kxz x z + kyz y z + kxyz x y z.
+    let k0 = c000;
+    let kx = c100 - c000;
+    let ky = c010 - c000;
+    let kz = c001 - c000;
+    let kxy = c110 - c100 - c010 + c000;
+    let kxz = c101 - c100 - c001 + c000;
+    let kyz = c011 - c010 - c001 + c000;
+    let kxyz = c111 - c110 - c101 - c011 + c100 + c010 + c001 - c000;
+    let mul2 = |a: [f64; 2], b: [f64; 2]| [a[0] * b[0], a[0] * b[1] + a[1] * b[0], a[1] * b[1]];
+    let [x, y, z] = l;
+    let (xy, xz, yz) = (mul2(x, y), mul2(x, z), mul2(y, z));
+    let xyz = [
+        xy[0] * z[0],
+        xy[0] * z[1] + xy[1] * z[0],
+        xy[1] * z[1] + xy[2] * z[0],
+        xy[2] * z[1],
+    ];
+    [
+        k0 + kx * x[0]
+            + ky * y[0]
+            + kz * z[0]
+            + kxy * xy[0]
+            + kxz * xz[0]
+            + kyz * yz[0]
+            + kxyz * xyz[0],
+        kx * x[1] + ky * y[1] + kz * z[1] + kxy * xy[1] + kxz * xz[1] + kyz * yz[1] + kxyz * xyz[1],
+        kxy * xy[2] + kxz * xz[2] + kyz * yz[2] + kxyz * xyz[2],
+        kxyz * xyz[3],
+    ]
+}
+
+/// The smallest `lambda` in `[0, len]` where the cubic `a` (coefficients from the constant up)
+/// is `<= 0`, or `None` (module docs of [`first_zero_on_grid`]): split at the critical points,
+/// the first monotone piece whose end is `<= 0` is bisected.
+fn first_root(a: &[f64; 4], len: f64) -> Option<f64> {
+    let f = |x: f64| ((a[3] * x + a[2]) * x + a[1]) * x + a[0];
+    if f(0.0) <= 0.0 {
+        return Some(0.0);
+    }
+    // Critical points: roots of 3 a3 x^2 + 2 a2 x + a1 inside (0, len).
+    let (qa, qb, qc) = (3.0 * a[3], 2.0 * a[2], a[1]);
+    let mut cuts = [len; 3];
+    let mut n = 0;
+    let mut push = |x: f64| {
+        if x > 0.0 && x < len {
+            cuts[n] = x;
+            n += 1;
+        }
+    };
+    if qa == 0.0 {
+        if qb != 0.0 {
+            push(-qc / qb);
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            let r = -0.5 * (qb + qb.signum() * disc.sqrt());
+            if r != 0.0 {
+                push(r / qa);
+                push(qc / r);
+            } else {
+                push(0.0);
+            }
+        }
+    }
+    let (first, second) = (cuts[0].min(cuts[1]), cuts[0].max(cuts[1]));
+    let mut lo = 0.0;
+    for hi in [first, second, len] {
+        if hi > lo && f(hi) <= 0.0 {
+            // f(lo) > 0 >= f(hi) on a monotone piece: bisect.
+            let (mut l, mut r) = (lo, hi);
+            for _ in 0..MAX_BISECTIONS {
+                let m = 0.5 * (l + r);
+                if m <= l || m >= r {
+                    break;
+                }
+                if f(m) <= 0.0 {
+                    r = m;
+                } else {
+                    l = m;
+                }
+            }
+            return Some(r);
+        }
+        lo = lo.max(hi);
+    }
+    None
 }
 
 /// The grid box of a field over `mesh`: the mesh's bounds grown by `margin` on every side, as its

@@ -1130,4 +1130,16 @@ impl SignedDistance for SparseSdf {
             self.distance(p)
         })
     }
+    /// The interpolant's exact first zero along the line (`sdf::first_zero_on_grid`).
+    fn ground_along(
+        &self,
+        q: &Point3<f64>,
+        dir: &nalgebra::Unit<Vector3<f64>>,
+        reach: f64,
+        _tolerance: f64,
+    ) -> Result<Option<f64>, crate::surface::DropError> {
+        crate::sdf::first_zero_on_grid(&self.origin, self.h, self.dims, q, dir, reach, |i, j, k| {
+            self.value(i, j, k)
+        })
+    }
 }

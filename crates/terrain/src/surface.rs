@@ -13,7 +13,7 @@
 //! Obstacles are [`Prism`]s: a base polygon on one surface (in frame coordinates), a height along
 //! that surface's normal and the tether friction on their sides.
 
-use nalgebra::{Point2, Point3, Vector2, Vector3};
+use nalgebra::{Point2, Point3, Unit, Vector2, Vector3};
 use rappel_geometry::polygon::Polygon;
 use serde::{Deserialize, Serialize};
 
@@ -39,7 +39,7 @@ impl Chart {
     /// The world point of frame point `p` (on this chart's plane).
     ///
     /// ```
-    /// use nalgebra::{Point2, Point3, Vector2, Vector3};
+    /// use nalgebra::{Point2, Point3, Unit, Vector2, Vector3};
     /// use rappel_terrain::surface::Chart;
     /// let c = Chart { o3: Point3::origin(), u3: Vector3::x(), w3: Vector3::z(),
     ///                 o2: Point2::origin(), u2: Vector2::x(), w2: Vector2::y() };
@@ -185,8 +185,8 @@ fn closest_on_terrain<T: Terrain + ?Sized>(t: &T, q: &Point3<f64>) -> Option<(f6
     best
 }
 
-/// Most sphere-tracing steps of the default [`SignedDistance::ground_below`] (and of the
-/// settlers' drops along a normal, `rappel_mechanics::settle`).
+/// Most sphere-tracing steps of the default [`SignedDistance::ground_below`] and
+/// [`SignedDistance::ground_along`] (analytic terrains; meshes and grid fields answer exactly).
 pub const MAX_DROP_STEPS: usize = 200;
 
 /// Why [`SignedDistance::ground_below`] found no ground point.
@@ -194,7 +194,7 @@ pub const MAX_DROP_STEPS: usize = 200;
 pub enum DropError {
     /// The model has no distance at this point (off the terrain, outside a field's grid).
     Undefined(Point3<f64>),
-    /// No ground within the default search's bound ([`MAX_DROP_STEPS`] sphere-tracing steps).
+    /// No ground within the default searches' bound ([`MAX_DROP_STEPS`] sphere-tracing steps).
     NotReached,
     /// The vertical through this point meets no ground at all (a mesh with no triangle over it).
     Missed(Point3<f64>),
@@ -228,6 +228,55 @@ pub trait SignedDistance {
                 return Ok(q);
             }
             q.z -= d;
+        }
+        Err(DropError::NotReached)
+    }
+    /// The first ground point on the line through `q` along the unit vector `dir` (the settlers'
+    /// drop along a footprint normal, Paton §IV-A): the signed parameter `t` of the first zero of
+    /// the signed distance at `q + t dir`, searched forward (`0 <= t <= reach`) when `q` is in the
+    /// air and backward (`-reach <= t <= 0`) when it is below the ground; `0` on the ground.
+    /// `Ok(None)` when the line meets no ground within `reach`.
+    ///
+    /// The default is sphere tracing (each step moves by the distance, so it never passes the
+    /// first zero), stopping within `tolerance` of the ground, at most [`MAX_DROP_STEPS`] steps
+    /// ([`DropError::NotReached`] beyond them): slow where the line runs beside a wall, which is
+    /// why meshes (an exact segment-triangle test, `mesh::segment_hit`) and the grid fields (the
+    /// interpolant's exact first zero, cell by cell, `sdf::first_zero_on_grid`) override it.
+    ///
+    /// ```
+    /// use nalgebra::{Point3, Unit, Vector3};
+    /// use rappel_terrain::surface::SignedDistance;
+    /// struct Floor;
+    /// impl SignedDistance for Floor {
+    ///     fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> { Some(q.z) }
+    ///     fn distance_gradient(&self, _: &Point3<f64>) -> Option<Vector3<f64>> { Some(Vector3::z()) }
+    /// }
+    /// // 45° down from 1 m above the floor: sqrt 2 m along the line.
+    /// let dir = Unit::new_normalize(Vector3::new(1.0, 0.0, -1.0));
+    /// let t = Floor.ground_along(&Point3::new(0.0, 0.0, 1.0), &dir, 5.0, 1e-9).unwrap().unwrap();
+    /// assert!((t - 2f64.sqrt()).abs() < 1e-8);
+    /// // Upward from the air: no ground within reach.
+    /// assert_eq!(Floor.ground_along(&Point3::new(0.0, 0.0, 1.0), &Vector3::z_axis(), 5.0, 1e-9), Ok(None));
+    /// ```
+    fn ground_along(
+        &self,
+        q: &Point3<f64>,
+        dir: &Unit<Vector3<f64>>,
+        reach: f64,
+        tolerance: f64,
+    ) -> Result<Option<f64>, DropError> {
+        let mut t = 0.0;
+        for _ in 0..MAX_DROP_STEPS {
+            let p = q + dir.as_ref() * t;
+            let d = self.signed_distance(&p).ok_or(DropError::Undefined(p))?;
+            if d.abs() < tolerance {
+                return Ok(Some(t));
+            }
+            // Forward in the air, backward below the ground: toward the nearest zero either way.
+            t += d;
+            if t.abs() > reach {
+                return Ok(None);
+            }
         }
         Err(DropError::NotReached)
     }
