@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::settle::{SettleError, SettleParams, SettledPose, settle_axel};
+use rappel_planners::anchor_prediction::PredictParams;
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::parry_mesh::{ParryMesh, ParryMeshError};
 use rappel_terrain::sdf::SdfError;
@@ -147,6 +148,17 @@ impl GroundDistances {
         self.field
             .as_ref()
             .map_or(PREDICT_RESOLUTION, SparseSdf::resolution)
+    }
+
+    /// Anchor prediction's parameters: [`GroundDistances::predict_resolution`], with clear-ball
+    /// skipping on exact distances ([`PredictParams::exact`]: parry's distances to the mesh, whose
+    /// sign changes only across the ground inside the mesh's boundary), without it through the
+    /// field (an interpolated distance).
+    pub fn predict_params(&self) -> PredictParams {
+        match self.field {
+            None => PredictParams::exact(PREDICT_RESOLUTION),
+            Some(_) => PredictParams::new(self.predict_resolution()),
+        }
     }
 
     /// The height settling starts from: [`SETTLE_START_HEIGHT`] above the mesh's top.
