@@ -581,7 +581,7 @@ impl RoverProblem {
 /// ([`MotionValidator::history_valid`]) asked for: both at most the run's samples and motion
 /// checks, which its iteration budget bounds.
 #[derive(Debug, Default)]
-pub struct MotionMemo {
+struct MotionMemo {
     /// Settled poses of states, by the bits of `(x, y, yaw)`.
     settled: RefCell<HashMap<[u64; 3], SettledPose>>,
     /// Stability verdicts of states under histories, by the bits of the state.
