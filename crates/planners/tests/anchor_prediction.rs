@@ -316,10 +316,10 @@ struct Counted<'a> {
 impl SignedDistance for Counted<'_> {
     fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
         self.queries.set(self.queries.get() + 1);
-        self.mesh.signed_distance(q)
+        SignedDistance::signed_distance(self.mesh, q)
     }
     fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
-        self.mesh.distance_gradient(q)
+        SignedDistance::distance_gradient(self.mesh, q)
     }
 }
 
