@@ -474,8 +474,15 @@ pub fn settle_axel<D: SignedDistance + ?Sized>(
         }
         Ok((o, rot, lows))
     };
-    // Roll: bisection on (left lowest - right lowest) after a drop.
-    let gap = |phi: f64| drop(phi).map(|(_, _, l)| l[1].0 - l[0].0);
+    // Roll: bisection on (left lowest - right lowest) after a drop. The settled pose is the drop
+    // at the last roll the search tried (`best`): kept from the search, not dropped again.
+    let mut last: Option<(f64, Dropped)> = None;
+    let mut gap = |phi: f64| -> Result<f64, SettleError> {
+        let dropped = drop(phi)?;
+        let g = dropped.2[1].0 - dropped.2[0].0;
+        last = Some((phi, dropped));
+        Ok(g)
+    };
     let (mut lo, mut hi) = (-p.max_roll, p.max_roll);
     let mut best = 0.0;
     let g0 = gap(0.0)?;
@@ -501,7 +508,10 @@ pub fn settle_axel<D: SignedDistance + ?Sized>(
             }
         }
     }
-    let (origin, rotation, lows) = drop(best)?;
+    let (origin, rotation, lows) = match last {
+        Some((phi, dropped)) if phi.to_bits() == f64::to_bits(best) => dropped,
+        _ => drop(best)?,
+    };
     // Body collision points along the axle, inside the wheels.
     // The worst point (smallest clearance) is the one reported.
     let mut worst = (f64::INFINITY, 0, origin);

@@ -166,14 +166,43 @@ pub struct PredictParams {
     pub resolution: f64,
     /// Most distance queries in one step (`>= 1`).
     pub max_samples: usize,
+    /// The distances are exact Euclidean distances to the ground whose sign changes only across
+    /// the ground (a closed mesh, or a terrain sheet away from its open boundary): a sample at
+    /// distance `D > 0` then proves every point closer than `D` to it to be in the air, and the
+    /// samples of a ray inside that clear ball are skipped without a query (sphere tracing along
+    /// the ray). The anchors are the same as without skipping (no skipped sample can be an
+    /// obstacle); only the number of queries drops, several-fold on a tether in open air. Off
+    /// by [`PredictParams::new`]: a voxel field's interpolated distance is not exact.
+    pub skip_clear: bool,
 }
 
+/// Slack of the clear-ball skipping ([`PredictParams::skip_clear`]), relative to the ray's
+/// length: a sample is skipped only when it lies this much inside the clear ball, so rounding of
+/// the sample positions never skips a sample on the ball's boundary.
+pub const CLEAR_BALL_SLACK_REL: f64 = 1e-9;
+
 impl PredictParams {
-    /// Resolution `h` and [`DEFAULT_MAX_SAMPLES`].
+    /// Resolution `h`, [`DEFAULT_MAX_SAMPLES`], no clear-ball skipping.
     pub fn new(resolution: f64) -> Self {
         PredictParams {
             resolution,
             max_samples: DEFAULT_MAX_SAMPLES,
+            skip_clear: false,
+        }
+    }
+
+    /// [`PredictParams::new`] for exact distances: with clear-ball skipping
+    /// ([`PredictParams::skip_clear`]).
+    ///
+    /// ```
+    /// use rappel_planners::anchor_prediction::PredictParams;
+    /// let p = PredictParams::exact(0.05);
+    /// assert!(p.skip_clear && p.resolution == 0.05);
+    /// ```
+    pub fn exact(resolution: f64) -> Self {
+        PredictParams {
+            skip_clear: true,
+            ..PredictParams::new(resolution)
         }
     }
 }
@@ -274,6 +303,8 @@ struct Probe<'a, D: SignedDistance + ?Sized> {
     field: &'a D,
     used: usize,
     limit: usize,
+    /// [`PredictParams::skip_clear`].
+    skip_clear: bool,
 }
 
 impl<D: SignedDistance + ?Sized> Probe<'_, D> {
@@ -305,13 +336,23 @@ impl<D: SignedDistance + ?Sized> Probe<'_, D> {
         // Samples at h, 2h, .. short of the tip (the tip itself is checked to be out of the
         // ground); at most len / h + 1 of them, each counted against the budget.
         let n = (len / h).floor() as usize;
+        let slack = CLEAR_BALL_SLACK_REL * len;
         let mut best: Option<(Point3<f64>, f64)> = None;
-        for j in 1..=n {
+        // Each pass queries sample j and moves j forward by at least one.
+        let mut j = 1;
+        while j <= n {
             let s = apex + v * (j as f64 * h / len);
             let d = self.distance(&s)?;
             if d < -depth && best.is_none_or(|(_, b)| d < b) {
                 best = Some((s, d));
             }
+            // Samples j + k with k h < d - slack lie in the clear ball of sample j.
+            let clear = if self.skip_clear && d > slack {
+                ((d - slack) / h).floor() as usize
+            } else {
+                0
+            };
+            j += clear.max(1);
         }
         Ok(best)
     }
@@ -433,6 +474,7 @@ pub fn predict<D: SignedDistance + ?Sized>(
         field,
         used: 0,
         limit: params.max_samples,
+        skip_clear: params.skip_clear,
     };
     for (what, p) in [("the start tip", from_tip), ("the end tip", to_tip)] {
         if !p.iter().all(|c| c.is_finite()) {

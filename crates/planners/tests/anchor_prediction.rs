@@ -287,8 +287,8 @@ fn bad_input_is_a_typed_error() {
         ));
     }
     let tight = PredictParams {
-        resolution: 0.01,
         max_samples: 50,
+        ..PredictParams::new(0.01)
     };
     let far = Point3::new(1.0, 0.0, 4.0 - 55f64.to_radians().tan() + 0.3);
     assert!(matches!(
@@ -305,4 +305,63 @@ fn bad_input_is_a_typed_error() {
         predict(&t, &p, &r, &Point3::new(5.0, 6.0, 0.0), &off),
         Err(AnchorError::NoDistance { .. })
     ));
+}
+
+/// A ground that counts its distance queries.
+struct Counted<'a> {
+    mesh: &'a TriMesh,
+    queries: std::cell::Cell<usize>,
+}
+
+impl SignedDistance for Counted<'_> {
+    fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
+        self.queries.set(self.queries.get() + 1);
+        SignedDistance::signed_distance(self.mesh, q)
+    }
+    fn distance_gradient(&self, q: &Point3<f64>) -> Option<Vector3<f64>> {
+        SignedDistance::distance_gradient(self.mesh, q)
+    }
+}
+
+#[test]
+fn clear_ball_skipping_finds_the_same_anchors_with_fewer_queries() {
+    // The pole wrap and the lip bend of Paton's scenes, on the exact mesh: with skipping
+    // (`PredictParams::exact`) every event and anchor is bit-identical to the plain sampling,
+    // and the tether in open air needs far fewer distance queries.
+    let pole = PatonScene::paper(true);
+    let mesh = pole.mesh().unwrap();
+    let c = pole.pole_center().unwrap();
+    let centre = Point3::new(c.x, c.y, pole.height + 2.0);
+    let root = AnchorHistory::new(centre + Vector3::new(0.0, -4.0, 0.0)).unwrap();
+    let tips: Vec<Point3<f64>> = (0..=46)
+        .map(|k| {
+            let a = (-30.0 + 5.0 * k as f64).to_radians();
+            centre + Vector3::new(a.cos(), a.sin(), 0.0) * 2.0
+        })
+        .collect();
+    let ledge = PatonScene::paper(false);
+    let ledge_mesh = ledge.mesh().unwrap();
+    let lip_root = AnchorHistory::new(ledge.anchor_points()[0]).unwrap();
+    let lip_tips = ledge_tips(&ledge, (-1.0, 0.0), (1.4, 2.0), 24);
+    for (m, root, tips, h) in [
+        (&mesh, &root, &tips, 0.03),
+        (&ledge_mesh, &lip_root, &lip_tips, 0.02),
+    ] {
+        let run = |params: PredictParams| {
+            let g = Counted {
+                mesh: m,
+                queries: std::cell::Cell::new(0),
+            };
+            let out = predict_path(&g, &params, root, tips).unwrap();
+            (out, g.queries.get())
+        };
+        let (plain, n_plain) = run(PredictParams::new(h));
+        let (skip, n_skip) = run(PredictParams::exact(h));
+        assert!(plain.history.len() >= 2, "{:?}", plain.history);
+        assert_eq!(plain, skip);
+        assert!(
+            2 * n_skip < n_plain,
+            "{n_skip} queries with skipping, {n_plain} without"
+        );
+    }
 }

@@ -16,6 +16,7 @@ use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::four_wheel::FourWheelParams;
 use rappel_mechanics::four_wheel_settle::{FourWheelPose, settle_four_wheel};
 use rappel_mechanics::settle::{SettleError, SettleParams, SettledPose, settle_axel};
+use rappel_planners::anchor_prediction::PredictParams;
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::parry_mesh::{ParryMesh, ParryMeshError};
 use rappel_terrain::sdf::SdfError;
@@ -149,6 +150,17 @@ impl GroundDistances {
         self.field
             .as_ref()
             .map_or(PREDICT_RESOLUTION, SparseSdf::resolution)
+    }
+
+    /// Anchor prediction's parameters: [`GroundDistances::predict_resolution`], with clear-ball
+    /// skipping on exact distances ([`PredictParams::exact`]: parry's distances to the mesh, whose
+    /// sign changes only across the ground inside the mesh's boundary), without it through the
+    /// field (an interpolated distance).
+    pub fn predict_params(&self) -> PredictParams {
+        match self.field {
+            None => PredictParams::exact(PREDICT_RESOLUTION),
+            Some(_) => PredictParams::new(self.predict_resolution()),
+        }
     }
 
     /// The height settling starts from: [`SETTLE_START_HEIGHT`] above the mesh's top.

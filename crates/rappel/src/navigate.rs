@@ -30,6 +30,8 @@
 //! metre (driving 1 m at 10° roll costs 0.17 m extra). The heuristic `W_LEN * |b - a|` in the
 //! plane is admissible (the 3D drive is at least as long and the other terms are non-negative).
 
+use std::cell::RefCell;
+use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -39,6 +41,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use rappel_mechanics::axel::AxelParams;
+use rappel_mechanics::boom_contact::{BoomGround, IndexedGround};
 use rappel_mechanics::settle::SettledPose;
 use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict};
 use rappel_planners::sampler::{
@@ -52,6 +55,7 @@ use crate::distance_source::{
     DistanceReport, DistanceSource, DistanceSourceError, GroundDistances,
 };
 use crate::mesh_stability::{PREDICT_RESOLUTION, pose_stability, settle_from, tether_end};
+use crate::settle::pose_is_stable;
 use crate::tether_shadow::TetherShadow;
 
 /// Weight of the drive length in the cost, per metre.
@@ -388,33 +392,53 @@ impl RoverProblem {
     /// Walks `poses` (each with the drive length since the previous one) from `history` at the
     /// first pose: settles each, checks the height change against [`MAX_CLIMB`], predicts the
     /// anchor history from pivot to pivot and checks every pose's stability with it. The first
-    /// pose is checked too. The error names the first failing pose. On the exact mesh.
+    /// pose is checked too. The error names the first failing pose. On the exact mesh (its
+    /// brute-force distances and triangles: independent of the planner's BVH).
     pub fn walk(
         &self,
         history: &AnchorHistory,
         poses: &[(RoverState, f64)],
     ) -> Result<Walk, String> {
-        self.walk_on(&self.ground, PREDICT_RESOLUTION, history, poses)
+        self.walk_on(
+            &self.ground,
+            &self.ground,
+            &PredictParams::new(PREDICT_RESOLUTION),
+            history,
+            poses,
+            None,
+        )
     }
 
     /// [`RoverProblem::walk`] on `ground` (the exact mesh, or the planner's distances), anchor
-    /// prediction sampling at `h`.
-    fn walk_on<D: SignedDistance + ?Sized>(
+    /// prediction with `params`, the boom swept against `boom_ground`. With a `memo` (the
+    /// planner's runs, [`navigate`]): verdicts only (each pose's margin is NaN), the first and
+    /// last poses' settling and the first pose's stability looked up in the run's memo
+    /// ([`MotionMemo`]); the verdict, cost and history are those without it.
+    fn walk_on<D: SignedDistance + ?Sized, G: BoomGround + ?Sized>(
         &self,
         ground: &D,
-        h: f64,
+        boom_ground: &G,
+        params: &PredictParams,
         history: &AnchorHistory,
         poses: &[(RoverState, f64)],
+        memo: Option<&MotionMemo>,
     ) -> Result<Walk, String> {
         let axel = AxelParams::default();
-        let params = PredictParams::new(h);
         let mut h = history.clone();
         let mut cost = 0.0;
         let mut prev: Option<SettledPose> = None;
         let mut out = Vec::with_capacity(poses.len());
+        let last = poses.len().saturating_sub(1);
         for (k, (s, step)) in poses.iter().enumerate() {
             let at = |why: String| format!("pose {k} at ({:.3}, {:.3}): {why}", s.x, s.y);
-            let pose = settle_from(ground, self.z_top, s.x, s.y, s.yaw.to_degrees()).map_err(at)?;
+            let settle = || settle_from(ground, self.z_top, s.x, s.y, s.yaw.to_degrees());
+            let pose = match memo {
+                // The ends of a motion are graph states: settled when sampled, and again by
+                // every motion from or to them.
+                Some(m) if k == 0 || k == last => m.settled(s, settle),
+                _ => settle(),
+            }
+            .map_err(at)?;
             if let Some(p) = &prev {
                 // The wheels' travel since the previous pose: the drive step, or in a turn the
                 // arc of a wheel about the axle centre.
@@ -429,7 +453,7 @@ impl RoverProblem {
                 }
                 h = predict(
                     ground,
-                    &params,
+                    params,
                     &h,
                     &tether_end(p, &axel),
                     &tether_end(&pose, &axel),
@@ -438,11 +462,26 @@ impl RoverProblem {
                 .history;
                 cost += W_LEN * (pose.origin - p.origin).norm() + W_ROLL * pose.roll().abs() * step;
             }
-            // The boom sweeps need the triangles: always the exact mesh.
-            let st = pose_stability(&self.ground, &pose, &h);
+            let (stable, margin) = match memo {
+                None => {
+                    let st = pose_stability(boom_ground, &pose, &h);
+                    (st.stable, st.margin)
+                }
+                Some(m) => {
+                    let verdict = || pose_is_stable(boom_ground, &pose, &axel, &h);
+                    // The first pose of every motion from a tree state is that state with its
+                    // history: checked once per run.
+                    let stable = if k == 0 {
+                        m.stable(s, &h, verdict)
+                    } else {
+                        verdict()
+                    };
+                    (stable, f64::NAN)
+                }
+            };
             let held = self.held_within_boom_reach
                 && (h.last().point - tether_end(&pose, &axel)).norm() < axel.boom_length;
-            if !st.stable && !held {
+            if !stable && !held {
                 return Err(at(format!(
                     "unstable with the tether to the anchor at ({:.3}, {:.3}, {:.3})",
                     h.last().point.x,
@@ -450,7 +489,11 @@ impl RoverProblem {
                     h.last().point.z
                 )));
             }
-            out.push((st.origin, pose.roll(), st.margin));
+            out.push((
+                [pose.origin.x, pose.origin.y, pose.origin.z],
+                pose.roll(),
+                margin,
+            ));
             prev = Some(pose);
         }
         // Turning cost from the commanded headings (settling keeps the heading about the normal).
@@ -483,22 +526,151 @@ impl RoverProblem {
 
 impl RoverProblem {
     /// The planner's check of the motion from `from` (reached with `history`) to `to`, on the
-    /// BVH ground, with the reason when it fails (for diagnostics; the planner keeps only the
-    /// verdict).
+    /// planner's distances, with the reason when it fails and every pose's margin (for
+    /// diagnostics; the planner's own check, [`MotionValidator::motion`], finds the same verdict,
+    /// cost and history without the margins).
     pub fn check_motion(
         &self,
         from: &RoverState,
         history: &AnchorHistory,
         to: &RoverState,
     ) -> Result<Walk, String> {
+        self.planner_walk(from, history, to, None)
+    }
+
+    /// The motion from `from` to `to` on the planner's distances: settling and prediction
+    /// through [`GroundDistances`] (on exact distances with clear-ball skipping,
+    /// [`GroundDistances::predict_params`]), the boom swept against the mesh's triangles
+    /// through its BVH ([`IndexedGround`]: the brute force's contacts).
+    fn planner_walk(
+        &self,
+        from: &RoverState,
+        history: &AnchorHistory,
+        to: &RoverState,
+        memo: Option<&MotionMemo>,
+    ) -> Result<Walk, String> {
         let poses = motion_poses(from, to)
             .ok_or_else(|| format!("the motion needs more than {MAX_MOTION_POSES} poses"))?;
         self.walk_on(
             self.fast.distance(),
-            self.fast.predict_resolution(),
+            &self.boom_ground(),
+            &self.fast.predict_params(),
             history,
             &poses,
+            memo,
         )
+    }
+
+    /// The mesh with the planner's BVH, for the boom sweeps of the planner's stability checks.
+    fn boom_ground(&self) -> IndexedGround<'_> {
+        IndexedGround {
+            mesh: &self.ground,
+            bvh: self.fast.bvh(),
+        }
+    }
+}
+
+/// The planner's memo of one run ([`navigate`]): what the motion checks of a run would compute
+/// again. Every motion starts and ends at graph states, which were settled when sampled, and
+/// starts with the stability of its first state under that state's history, which every other
+/// motion from the state checks again. The memo is exact: an entry is the value the check would
+/// compute (same ground, same arguments), so a run's results are those without it.
+///
+/// Bounds: one settled pose per valid state the run samples (failed samples are not kept), one
+/// verdict per (state, history) pair whose stability a motion's first pose or a copied history
+/// ([`MotionValidator::history_valid`]) asked for: both at most the run's samples and motion
+/// checks, which its iteration budget bounds.
+#[derive(Debug, Default)]
+struct MotionMemo {
+    /// Settled poses of states, by the bits of `(x, y, yaw)`.
+    settled: RefCell<HashMap<[u64; 3], SettledPose>>,
+    /// Stability verdicts of states under histories, by the bits of the state.
+    stable: RefCell<HashMap<[u64; 3], Vec<(AnchorHistory, bool)>>>,
+}
+
+/// The memo's key of a state: the bits of its coordinates.
+fn state_key(s: &RoverState) -> [u64; 3] {
+    [s.x.to_bits(), s.y.to_bits(), s.yaw.to_bits()]
+}
+
+impl MotionMemo {
+    /// The settled pose of `s`, from the memo or from `settle` (kept when it settles).
+    fn settled(
+        &self,
+        s: &RoverState,
+        settle: impl FnOnce() -> Result<SettledPose, String>,
+    ) -> Result<SettledPose, String> {
+        let key = state_key(s);
+        if let Some(p) = self.settled.borrow().get(&key) {
+            return Ok(p.clone());
+        }
+        let p = settle()?;
+        self.settled.borrow_mut().insert(key, p.clone());
+        Ok(p)
+    }
+
+    /// The stability of `s` under history `h`, from the memo or from `verdict`.
+    fn stable(&self, s: &RoverState, h: &AnchorHistory, verdict: impl FnOnce() -> bool) -> bool {
+        let key = state_key(s);
+        if let Some(v) = self
+            .stable
+            .borrow()
+            .get(&key)
+            .and_then(|l| l.iter().find(|(k, _)| k == h))
+        {
+            return v.1;
+        }
+        let v = verdict();
+        self.stable
+            .borrow_mut()
+            .entry(key)
+            .or_default()
+            .push((h.clone(), v));
+        v
+    }
+}
+
+/// The rover problem as one planning run checks it: [`RoverProblem`]'s checks with the run's
+/// [`MotionMemo`] and verdict-only stability (the planner keeps no margin).
+struct PlanningRun<'a> {
+    problem: &'a RoverProblem,
+    memo: MotionMemo,
+}
+
+impl MotionValidator<RoverSpace, 4> for PlanningRun<'_> {
+    type History = AnchorHistory;
+
+    fn initial_history(&self, s: &RoverState) -> AnchorHistory {
+        self.problem.initial_history(s)
+    }
+
+    fn state_valid(&self, s: &RoverState) -> bool {
+        self.memo.settled(s, || self.problem.settle_fast(s)).is_ok()
+    }
+
+    fn compatible(&self, a: &AnchorHistory, b: &AnchorHistory) -> bool {
+        histories_compatible(a, b)
+    }
+
+    fn history_valid(&self, s: &RoverState, h: &AnchorHistory) -> bool {
+        let p = self.problem;
+        self.memo.settled(s, || p.settle_fast(s)).is_ok_and(|pose| {
+            self.memo.stable(s, h, || {
+                pose_is_stable(&p.boom_ground(), &pose, &AxelParams::default(), h)
+            })
+        })
+    }
+
+    fn motion(
+        &self,
+        from: &RoverState,
+        history: &AnchorHistory,
+        to: &RoverState,
+    ) -> Option<(f64, AnchorHistory)> {
+        self.problem
+            .planner_walk(from, history, to, Some(&self.memo))
+            .ok()
+            .map(|w| (w.cost, w.history))
     }
 }
 
@@ -522,7 +694,7 @@ impl MotionValidator<RoverSpace, 4> for RoverProblem {
 
     fn history_valid(&self, s: &RoverState, h: &AnchorHistory) -> bool {
         self.settle_fast(s)
-            .is_ok_and(|p| pose_stability(&self.ground, &p, h).stable)
+            .is_ok_and(|p| pose_is_stable(&self.boom_ground(), &p, &AxelParams::default(), h))
     }
 
     fn motion(
@@ -638,14 +810,12 @@ pub fn navigate(
             .with_rgg_k_factor(SHADOW_RGG_K_FACTOR)
             .map_err(|e| e.to_string())?;
     }
-    let mut abit = Abit::new(
-        &problem.space,
+    let run = PlanningRun {
         problem,
-        problem.start,
-        problem.goal,
-        settings,
-    )
-    .map_err(|e| e.to_string())?;
+        memo: MotionMemo::default(),
+    };
+    let mut abit = Abit::new(&problem.space, &run, problem.start, problem.goal, settings)
+        .map_err(|e| e.to_string())?;
     let status = abit.solve(termination).map_err(|e| e.to_string())?;
     let first = status.events.first();
     let mut report = NavigateReport {

@@ -157,10 +157,52 @@ pub fn boom_verdicts<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
     params: &AxelParams,
     history: &AnchorHistory,
 ) -> Vec<BoomVerdict> {
+    BOOM_CONFIGURATIONS
+        .into_iter()
+        .map(|boom| boom_verdict(ground, pose, params, history, boom))
+        .collect()
+}
+
+/// Axel's two boom configurations, in the order [`boom_verdicts`] reports them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BoomConfiguration {
+    /// The boom along the line from the pivot to the last anchor.
+    Inline,
+    /// The boom swept toward the last anchor until it touches the mesh.
+    InContact,
+}
+
+/// Both configurations, inline first.
+pub const BOOM_CONFIGURATIONS: [BoomConfiguration; 2] =
+    [BoomConfiguration::Inline, BoomConfiguration::InContact];
+
+/// Whether `pose` is stable with the tether from `history` in some boom configuration: the
+/// `stable` of [`boom_verdicts`] (any configuration stable), found without the second
+/// configuration's placement and QP when the inline boom is already stable (the planner's motion
+/// checks need the verdict, not the margins).
+pub fn pose_is_stable<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
+    ground: &G,
+    pose: &SettledPose,
+    params: &AxelParams,
+    history: &AnchorHistory,
+) -> bool {
+    BOOM_CONFIGURATIONS
+        .into_iter()
+        .any(|boom| boom_verdict(ground, pose, params, history, boom).stable == Some(true))
+}
+
+/// The verdict of one boom configuration (see [`boom_verdicts`]).
+pub fn boom_verdict<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
+    ground: &G,
+    pose: &SettledPose,
+    params: &AxelParams,
+    history: &AnchorHistory,
+    boom: BoomConfiguration,
+) -> BoomVerdict {
     let anchors = history.anchors();
-    let last = history.last().point;
     let in_contact = || {
         let mut n = anchors.len() - 1;
+        // Each pass pops one anchor (n decreases) or returns: at most one pass per anchor.
         loop {
             let placed = place_boom_in_contact(
                 pose,
@@ -179,36 +221,39 @@ pub fn boom_verdicts<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
             n -= 1;
         }
     };
-    [("inline", true), ("in-contact", false)]
-        .into_iter()
-        .map(|(name, inline)| {
-            let placed = if inline {
-                place_boom_inline(pose, params, ground, SCENE_FRICTION, (&last, None))
-                    .map_err(|e| e.to_string())
-            } else {
-                in_contact()
-            };
-            let verdict = placed.and_then(|placed| {
-                StabilityQp::default()
-                    .check(&placed)
-                    .map_err(|e| e.to_string())
-            });
-            match verdict {
-                Ok(r) => BoomVerdict {
-                    boom: name.to_string(),
-                    stable: Some(r.stable),
-                    error: None,
-                    margin: r.margin,
-                },
-                Err(e) => BoomVerdict {
-                    boom: name.to_string(),
-                    stable: None,
-                    error: Some(e),
-                    margin: 0.0,
-                },
-            }
-        })
-        .collect()
+    let (name, placed) = match boom {
+        BoomConfiguration::Inline => (
+            "inline",
+            place_boom_inline(
+                pose,
+                params,
+                ground,
+                SCENE_FRICTION,
+                (&history.last().point, None),
+            )
+            .map_err(|e| e.to_string()),
+        ),
+        BoomConfiguration::InContact => ("in-contact", in_contact()),
+    };
+    let verdict = placed.and_then(|placed| {
+        StabilityQp::default()
+            .check(&placed)
+            .map_err(|e| e.to_string())
+    });
+    match verdict {
+        Ok(r) => BoomVerdict {
+            boom: name.to_string(),
+            stable: Some(r.stable),
+            error: None,
+            margin: r.margin,
+        },
+        Err(e) => BoomVerdict {
+            boom: name.to_string(),
+            stable: None,
+            error: Some(e),
+            margin: 0.0,
+        },
+    }
 }
 
 /// Half-width of the square of ground drawn around a settled pose by [`settled_pose_picture`],
