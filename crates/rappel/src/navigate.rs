@@ -570,6 +570,9 @@ impl RoverProblem {
     }
 }
 
+/// The stability verdicts of one state under the histories asked about: `(history, stable)`.
+type StateVerdicts = Vec<(AnchorHistory, bool)>;
+
 /// The planner's memo of one run ([`navigate`]): what the motion checks of a run would compute
 /// again. Every motion starts and ends at graph states, which were settled when sampled, and
 /// starts with the stability of its first state under that state's history, which every other
@@ -585,7 +588,7 @@ struct MotionMemo {
     /// Settled poses of states, by the bits of `(x, y, yaw)`.
     settled: RefCell<HashMap<[u64; 3], SettledPose>>,
     /// Stability verdicts of states under histories, by the bits of the state.
-    stable: RefCell<HashMap<[u64; 3], Vec<(AnchorHistory, bool)>>>,
+    stable: RefCell<HashMap<[u64; 3], StateVerdicts>>,
 }
 
 /// The memo's key of a state: the bits of its coordinates.
