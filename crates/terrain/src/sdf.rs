@@ -556,7 +556,7 @@ pub(crate) fn first_zero_on_grid(
     Err(DropError::Undefined(at(tau)))
 }
 
-/// Most halvings of a bracket by [`first_root`] (a bracket of the cell's size reaches the
+/// Most halvings of a bracket by `first_root` (a bracket of the cell's size reaches the
 /// spacing of doubles well before).
 pub const MAX_BISECTIONS: usize = 80;
 
