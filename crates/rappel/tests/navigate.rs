@@ -9,6 +9,13 @@
 //! clear-ball skipping in anchor prediction, verdict-only stability) shows any drift in the
 //! iterations, the motions checked or the path. A deliberate change of behaviour updates them
 //! and says so.
+//!
+//! Updated once, deliberately: the exact drop along the footprint normal (issue 14,
+//! `SignedDistance::ground_along`, replacing sphere tracing to a tolerance) settles poses a
+//! little differently, which moved the path's cost by 1.1e-6 m (32.37228574037323 before) and
+//! the three states on the lip and the slope by at most 1.2e-6 m (the flat-top states are
+//! unchanged); the iterations, batches, states, motions and shadow samples are those recorded
+//! from 02bc40b.
 
 use rappel::navigate::{PATON_ITERATIONS, RoverProblem, SHADOW_SAMPLE_FRACTION, navigate};
 use rappel::planners::sampler::Termination;
@@ -29,7 +36,7 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
     assert_eq!(r.motions_checked, 194);
     assert_eq!(r.shadow_samples, 16);
     let cost = r.cost.unwrap();
-    assert!((cost - 32.37228574037323).abs() < 1e-9, "cost {cost}");
+    assert!((cost - 32.3722868241735).abs() < 1e-9, "cost {cost}");
     // The re-validated path: 12 states around the pole and down the slope, 8 anchors at the
     // goal (the root, the pole's wrap, the lip).
     assert_eq!(r.path.len(), 12);
@@ -42,9 +49,9 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
         [-3.779170752044446, -0.08791735880860552, 4.0],
         [-3.2957673942730343, 1.0183051791934146, 4.0],
         [-1.4761517728752178, 2.615279086567819, 4.0],
-        [-0.38381423244916524, 2.9617386407257715, 3.9551008747711998],
-        [1.436075350549275, 1.8428983560124994, 1.94907185058157],
-        [2.9443697632140773, 2.332637704729621, 0.12303378227647271],
+        [-0.383814337604953, 2.961738662863841, 3.9550999472587476],
+        [1.4360753505492747, 1.8428983560124994, 1.94907185058157],
+        [2.9443696540192237, 2.3326376968225615, 0.12303360102576666],
         [4.013552567301884, 1.6540790626275879, 0.0],
         [4.80083015283884, 0.0, 0.0],
     ];
