@@ -111,19 +111,25 @@ fn four_wheel_settles_on_a_plane_at_the_closed_form_pose() {
     .unwrap();
     let obj = obj.to_str().unwrap();
     let (x, y, yaw_deg) = (1.0, 0.5, 30.0f64);
-    let o = rappel(&[
-        "settle",
-        obj,
-        "--at",
-        "1,0.5",
-        "--yaw",
-        "30",
-        "--robot",
-        "four-wheel",
-        "--json",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(&String::from_utf8_lossy(&o.stdout)).unwrap();
+    // The four-wheel rover settled at (x, y, yaw) on the plane, with `extra` arguments: the report.
+    let settle = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec![
+            "settle",
+            obj,
+            "--at",
+            "1,0.5",
+            "--yaw",
+            "30",
+            "--robot",
+            "four-wheel",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let o = rappel(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        serde_json::from_str(&String::from_utf8_lossy(&o.stdout)).unwrap()
+    };
+    let v = settle(&[]);
     assert_eq!(v["robot"], "four_wheel");
     assert_eq!(v["support"], serde_json::json!([0, 1, 2, 3]));
     assert!(v["body_clearance_m"].is_null());
@@ -152,21 +158,7 @@ fn four_wheel_settles_on_a_plane_at_the_closed_form_pose() {
         let c: Vec<f64> = (0..3).map(|k| c[k].as_f64().unwrap()).collect();
         assert!((c[2] - b * c[1]).abs() < 1e-6, "{c:?}");
     }
-    let o = rappel(&[
-        "settle",
-        obj,
-        "--at",
-        "1,0.5",
-        "--yaw",
-        "30",
-        "--robot",
-        "four-wheel",
-        "--anchor",
-        "1,8,3",
-        "--json",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(&String::from_utf8_lossy(&o.stdout)).unwrap();
+    let v = settle(&["--anchor", "1,8,3"]);
     let verdicts = v["stability"].as_array().unwrap();
     assert_eq!(verdicts.len(), 1, "{verdicts:?}");
     assert_eq!(verdicts[0]["boom"], "none");
