@@ -1,6 +1,5 @@
-//! Mesh-terrain benchmarks (issue 14, Paton §IV): settling one Axel pose on the distance field of
-//! Paton's ledge (target < 50 us; also through parry's exact BVH and the sparse field, the two
-//! sources of `rappel settle`, on the top, mid-slope and beside the side wall), and building that distance field (target < 2 s at 5 cm). The
+//! Mesh-terrain benchmarks (issue 14, Paton §IV): building the dense distance field of Paton's
+//! ledge (settling one pose through it and the other distance sources is `benches/settle.rs`). The
 //! build is timed at 20 cm only: measured once at 1.9 s (20 cm) and 26 s (10 cm, 15 M grid
 //! points, the Dijkstra propagation dominates), 5 cm would take minutes per sample; the fast
 //! field (`terrain::sparse_sdf`, the 5 cm target) is benchmarked beside it in `benches/sdf.rs`.
@@ -15,8 +14,7 @@
 //! The boom swept against the mesh (`rappel_mechanics::boom_contact`, exact section sweep over
 //! the ledge's triangles) for a pose just past the lip (its shaft rests on the lip), with the
 //! in-contact and the mesh-checked inline placements + QP; the sweep on a 318 402-triangle DEM
-//! mesh over every triangle and over parry's BVH candidates; and the four-wheel settler
-//! (`rappel_mechanics::four_wheel_settle`) mid-slope through the 10 cm field and the exact mesh.
+//! mesh over every triangle and over parry's BVH candidates.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::{Point3, Vector3};
@@ -27,7 +25,6 @@ use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_planners::anchor_prediction::{AnchorHistory, PredictParams, predict};
 use rappel_terrain::paton_scene::PatonScene;
 use rappel_terrain::sdf::{Sdf, SdfParams};
-use rappel_terrain::surface::SignedDistance;
 use std::hint::black_box;
 
 fn mesh(c: &mut Criterion) {
@@ -38,41 +35,10 @@ fn mesh(c: &mut Criterion) {
     let field = Sdf::from_mesh(&m, &sp).expect("the field fits the cap");
     let axel = AxelParams::default();
     let p = SettleParams::default();
-    let s = scene.start();
 
     let mut g = c.benchmark_group("mesh");
     g.sample_size(10);
-    g.bench_function("settle_axel_ledge_top_sdf_10cm", |b| {
-        b.iter(|| settle_axel(&field, &axel, black_box(s.x), s.y, 5.9, 0.0, &p).expect("settles"))
-    });
     let x = 0.5 * scene.slope_foot_x();
-    g.bench_function("settle_axel_slope_sdf_10cm", |b| {
-        b.iter(|| settle_axel(&field, &axel, black_box(x), 0.0, 5.9, 0.0, &p).expect("settles"))
-    });
-    // The two distance sources `rappel settle` uses (`rappel::distance_source`): parry's exact
-    // BVH distances and the sparse 10 cm field; on the top, mid-slope, and with the left wheel
-    // 1 cm beside the ledge's side wall (heading +x on the ground at y = 5.46).
-    let bvh_ground = rappel_terrain::parry_mesh::ParryMesh::new(&m).expect("parry builds");
-    let mut sp = rappel_terrain::sparse_sdf::SparseSdfParams::new(0.1);
-    sp.margin = 2.0;
-    let sparse = rappel_terrain::sparse_sdf::SparseSdf::from_mesh(&m, &sp).expect("field builds");
-    let wall_y = 0.5 * scene.length + 0.5 * axel.track + 0.01;
-    for (name, ground) in [
-        ("parry_bvh", &bvh_ground as &dyn SignedDistance),
-        ("sparse_sdf_10cm", &sparse as &dyn SignedDistance),
-    ] {
-        for (place, px, py) in [
-            ("top", s.x, s.y),
-            ("slope", x, 0.0),
-            ("beside_wall", -2.0, -wall_y),
-        ] {
-            g.bench_function(format!("settle_axel_{place}_{name}"), |b| {
-                b.iter(|| {
-                    let _ = black_box(settle_axel(ground, &axel, black_box(px), py, 5.9, 0.0, &p));
-                })
-            });
-        }
-    }
     // One 0.5 m step of the boom pivot from the top over the lip onto the slope: one attach.
     let a = scene.slope_deg.to_radians();
     let pivot = |x: f64| {
@@ -254,28 +220,6 @@ fn mesh(c: &mut Criterion) {
             .expect("touches")
         })
     });
-    // The four-wheel settler mid-slope.
-    let rover = rappel_mechanics::four_wheel::FourWheelParams::default();
-    let ground: [(&str, &dyn SignedDistance); 2] = [
-        ("settle_four_wheel_slope_sdf_10cm", &field),
-        ("settle_four_wheel_slope_exact_mesh", &m),
-    ];
-    for (name, ground) in ground {
-        g.bench_function(name, |b| {
-            b.iter(|| {
-                rappel_mechanics::four_wheel_settle::settle_four_wheel(
-                    ground,
-                    &rover,
-                    black_box(x),
-                    0.0,
-                    5.9,
-                    0.0,
-                    &p,
-                )
-                .expect("settles")
-            })
-        });
-    }
     let mut sp = SdfParams::new(0.2);
     sp.margin = 2.0;
     g.bench_function("sdf_ledge_20cm", |b| {

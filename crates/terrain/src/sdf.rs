@@ -318,37 +318,40 @@ impl Sdf {
 
     /// Distance and gradient of the trilinear interpolant at `q`; `None` outside the grid.
     pub fn distance_and_gradient(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
-        interpolate(&self.origin, self.h, self.dims, q, |i, j, k| {
-            self.value(i, j, k)
-        })
+        interpolate(&self.origin, self.h, self.dims, q, |c| self.corners(c))
+    }
+}
+
+impl GridField for Sdf {
+    fn grid(&self) -> (&Point3<f64>, f64, [usize; 3]) {
+        (&self.origin, self.h, self.dims)
+    }
+    fn corners(&self, c: [usize; 3]) -> [f64; 8] {
+        corners_by_value(c, |i, j, k| self.value(i, j, k))
     }
 }
 
 /// Distance and gradient at `q` of the trilinear interpolant of the grid of `dims` points
-/// `origin + (i, j, k) h` whose values `value(i, j, k)` gives; `None` outside the grid.
+/// `origin + (i, j, k) h` whose cells' corner values `corners([i, j, k])` gives (in the order of
+/// [`trilinear`]); `None` outside the grid.
 pub(crate) fn interpolate(
     origin: &Point3<f64>,
     h: f64,
     dims: [usize; 3],
     q: &Point3<f64>,
-    value: impl Fn(usize, usize, usize) -> f64,
+    corners: impl Fn([usize; 3]) -> [f64; 8],
 ) -> Option<(f64, Vector3<f64>)> {
-    let ([i, j, k], t) = grid_cell(origin, h, dims, q)?;
-    let v = |a: usize, b: usize, c: usize| value(i + a, j + b, k + c);
-    Some(trilinear(
-        [
-            v(0, 0, 0),
-            v(1, 0, 0),
-            v(0, 1, 0),
-            v(1, 1, 0),
-            v(0, 0, 1),
-            v(1, 0, 1),
-            v(0, 1, 1),
-            v(1, 1, 1),
-        ],
-        t,
-        h,
-    ))
+    let (cell, t) = grid_cell(origin, h, dims, q)?;
+    Some(trilinear(corners(cell), t, h))
+}
+
+/// The eight corner values of the cell whose lowest corner is `[i, j, k]`, read one by one
+/// through `value`, in the order of [`trilinear`].
+pub(crate) fn corners_by_value(
+    [i, j, k]: [usize; 3],
+    value: impl Fn(usize, usize, usize) -> f64,
+) -> [f64; 8] {
+    std::array::from_fn(|n| value(i + (n & 1), j + ((n >> 1) & 1), k + (n >> 2)))
 }
 
 /// The cell of the grid of `dims` points `origin + (i, j, k) h` holding `q` (its lowest corner,
@@ -367,7 +370,8 @@ pub(crate) fn grid_cell(
         if !(u >= 0.0 && u <= top) {
             return None;
         }
-        let i = (u.floor() as usize).min(dims[a].saturating_sub(2));
+        // `u >= 0`, so the conversion's truncation is the floor (and no libm call).
+        let i = (u as usize).min(dims[a].saturating_sub(2));
         c[a] = i;
         f[a] = u - i as f64;
     }
@@ -407,7 +411,7 @@ impl crate::surface::SignedDistance for Sdf {
     }
     /// The interpolant's exact first zero along the vertical (`ground_below_on_grid`).
     fn ground_below(&self, q: &Point3<f64>, _tolerance: f64) -> Result<Point3<f64>, DropError> {
-        ground_below_on_grid(self.origin.z, self.h, self.dims[2], q, |p| self.distance(p))
+        ground_below_on_grid(self, q)
     }
     /// The interpolant's exact first zero along the line (`first_zero_on_grid`).
     fn ground_along(
@@ -417,33 +421,95 @@ impl crate::surface::SignedDistance for Sdf {
         reach: f64,
         _tolerance: f64,
     ) -> Result<Option<f64>, DropError> {
-        first_zero_on_grid(&self.origin, self.h, self.dims, q, dir, reach, |i, j, k| {
-            self.value(i, j, k)
-        })
+        first_zero_on_grid(self, q, dir, reach)
+    }
+}
+
+/// A box of grid cells (lowest-corner indices `lo..=hi` on each axis) every corner value of
+/// which is strictly positive (`positive`) or strictly negative: the trilinear interpolant, a
+/// convex combination of a cell's corners, has no zero in it. The grid walks
+/// ([`ground_below_on_grid`], [`first_zero_on_grid`]) ask a field for the box around a cell and
+/// step through the cells inside it without reading their corners; a field without such
+/// summaries answers `None`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct SignBox {
+    /// The box's lowest cell.
+    pub lo: [usize; 3],
+    /// The box's highest cell (inclusive).
+    pub hi: [usize; 3],
+    /// The sign of every corner value in the box.
+    pub positive: bool,
+}
+
+impl SignBox {
+    /// Whether cell `c` lies in the box.
+    fn holds(&self, c: [usize; 3]) -> bool {
+        (0..3).all(|a| self.lo[a] <= c[a] && c[a] <= self.hi[a])
+    }
+}
+
+/// A trilinear field on the grid of `dims` points `origin + (i, j, k) h`, as the grid walks
+/// ([`ground_below_on_grid`], [`first_zero_on_grid`]) read it.
+pub(crate) trait GridField {
+    /// The grid: `(origin, h, dims)`.
+    fn grid(&self) -> (&Point3<f64>, f64, [usize; 3]);
+    /// The corner values of the cell whose lowest corner is `c`, in the order of [`trilinear`].
+    fn corners(&self, c: [usize; 3]) -> [f64; 8];
+    /// The [`SignBox`] around cell `c`, if the field knows one.
+    fn sign_box(&self, c: [usize; 3]) -> Option<SignBox> {
+        let _ = c;
+        None
+    }
+}
+
+/// The last [`SignBox`] a walk was given, asked anew only for a cell outside it: whether a cell
+/// lies in a box of the sign `positive`.
+struct BoxCache<'a, F: ?Sized> {
+    field: &'a F,
+    last: Option<SignBox>,
+}
+
+impl<'a, F: GridField + ?Sized> BoxCache<'a, F> {
+    fn new(field: &'a F) -> Self {
+        BoxCache { field, last: None }
+    }
+    fn zero_free(&mut self, cell: [usize; 3], positive: bool) -> bool {
+        if !self.last.is_some_and(|b| b.holds(cell)) {
+            self.last = self.field.sign_box(cell).filter(|b| b.holds(cell));
+        }
+        self.last.is_some_and(|b| b.positive == positive)
     }
 }
 
 /// The first zero along the vertical through `q` (down from `q` in the air, up from it below
-/// the ground) of the trilinear field `f` on grid planes `z = z0 + k h`, `k < nz`: within one
-/// cell the interpolant is linear along a vertical line (trilinear in `z` at fixed `x, y`), so
-/// walking from grid plane to grid plane and solving the linear piece where the sign changes
-/// gives the interpolant's exact first zero (no sphere-tracing convergence, no tolerance). At
-/// most `nz + 1` evaluations. [`DropError::Undefined`] where `f` has no value (outside the grid,
-/// including leaving it without a zero).
-pub(crate) fn ground_below_on_grid(
-    z0: f64,
-    h: f64,
-    nz: usize,
+/// the ground) of the trilinear field `field`:
+/// within one cell the interpolant is linear along a vertical line (trilinear in `z` at fixed
+/// `x, y`), so walking from grid plane to grid plane and solving the linear piece where the sign
+/// changes gives the interpolant's exact first zero (no sphere-tracing convergence, no
+/// tolerance). A piece whose cell lies in a [`SignBox`] of the start's sign
+/// ([`GridField::sign_box`], asked once per box) holds no zero and is stepped over without
+/// evaluating the field; the answer is the
+/// same as without the boxes, bit for bit (the same planes bound the piece that crosses). At
+/// most `dims[2] + 1` pieces. [`DropError::Undefined`] where the field has no value (outside the
+/// grid, including leaving it without a zero).
+pub(crate) fn ground_below_on_grid<F: GridField + ?Sized>(
+    field: &F,
     q: &Point3<f64>,
-    f: impl Fn(&Point3<f64>) -> Option<f64>,
 ) -> Result<Point3<f64>, DropError> {
+    let (origin, h, dims) = field.grid();
+    let (z0, nz) = (origin.z, dims[2]);
     let at = |z: f64| Point3::new(q.x, q.y, z);
-    let value = |z: f64| f(&at(z)).ok_or(DropError::Undefined(at(z)));
-    let mut fz = value(q.z)?;
-    if fz == 0.0 {
+    let value = |z: f64| {
+        interpolate(origin, h, dims, &at(z), |c| field.corners(c))
+            .map(|(v, _)| v)
+            .ok_or(DropError::Undefined(at(z)))
+    };
+    let fq = value(q.z)?;
+    if fq == 0.0 {
         return Ok(*q);
     }
-    let down = fz > 0.0;
+    let down = fq > 0.0;
+    let mut boxes = BoxCache::new(field);
     let u = (q.z - z0) / h;
     // The next grid plane in the direction of the search.
     let mut k = if down {
@@ -451,47 +517,59 @@ pub(crate) fn ground_below_on_grid(
     } else {
         u.floor() + 1.0
     };
-    let mut z = q.z;
+    // The last plane (or `q`) and its value; the value is read only when a piece needs it: a
+    // piece whose cell lies in a box of the start's sign holds no zero and is stepped over.
+    let (mut z, mut fz) = (q.z, Some(fq));
     for _ in 0..=nz {
         if !(k >= 0.0 && k <= (nz - 1) as f64) {
             break;
         }
         let zn = z0 + k * h;
-        let fnext = value(zn)?;
-        if (down && fnext <= 0.0) || (!down && fnext >= 0.0) {
-            // The linear piece between `z` and `zn` crosses zero (`fz` is non-zero).
-            return Ok(at(z + (zn - z) * fz / (fz - fnext)));
+        let mid = at(0.5 * (z + zn));
+        let free =
+            grid_cell(origin, h, dims, &mid).is_some_and(|(cell, _)| boxes.zero_free(cell, down));
+        if free {
+            (z, fz) = (zn, None);
+        } else {
+            let fz_here = match fz {
+                Some(v) => v,
+                None => value(z)?,
+            };
+            let fnext = value(zn)?;
+            if (down && fnext <= 0.0) || (!down && fnext >= 0.0) {
+                // The linear piece between `z` and `zn` crosses zero (`fz_here` is non-zero).
+                return Ok(at(z + (zn - z) * fz_here / (fz_here - fnext)));
+            }
+            (z, fz) = (zn, Some(fnext));
         }
-        (z, fz) = (zn, fnext);
         k += if down { -1.0 } else { 1.0 };
     }
     Err(DropError::Undefined(at(z)))
 }
 
-/// [`crate::surface::SignedDistance::ground_along`] on the trilinear field of the grid of `dims`
-/// points `origin + (i, j, k) h` with values `value(i, j, k)`: the interpolant's exact first zero
-/// on the line through `q` along the unit vector `dir`, forward from `q` in the air, backward
-/// from `q` below the ground, within `reach`.
+/// [`crate::surface::SignedDistance::ground_along`] on the trilinear field `field`: the
+/// interpolant's exact first zero on the line through `q` along the unit vector `dir`, forward
+/// from `q` in the air, backward from `q` below the ground, within `reach`.
 ///
 /// The line is cut where it crosses the grid planes; within one cell the interpolant along it is
 /// a cubic in the line's parameter (trilinear in three coordinates that are each linear in it).
 /// A cell whose eight corners all lie strictly on the start's side holds no zero (the
-/// interpolant is their convex combination) and is skipped; otherwise the cubic is split at its
+/// interpolant is their convex combination) and is skipped, without reading its corners when it
+/// lies in a [`SignBox`] of that side ([`GridField::sign_box`], asked once per box); otherwise the cubic is split at its
 /// critical points into monotone pieces and the first piece that reaches the other side is
 /// bisected to full precision (at most [`MAX_BISECTIONS`] halvings). No sphere-tracing
 /// convergence, no tolerance: the answer is the interpolant's first zero up to rounding.
 /// At most `dims[0] + dims[1] + dims[2] + 1` cells (the line leaves the grid or the reach
 /// before); [`DropError::Undefined`] where the line leaves the grid before a zero or the reach.
-pub(crate) fn first_zero_on_grid(
-    origin: &Point3<f64>,
-    h: f64,
-    dims: [usize; 3],
+pub(crate) fn first_zero_on_grid<F: GridField + ?Sized>(
+    field: &F,
     q: &Point3<f64>,
     dir: &nalgebra::Unit<Vector3<f64>>,
     reach: f64,
-    value: impl Fn(usize, usize, usize) -> f64,
 ) -> Result<Option<f64>, DropError> {
-    let f0 = interpolate(origin, h, dims, q, &value)
+    let (origin, h, dims) = field.grid();
+    let corners = |c| field.corners(c);
+    let f0 = interpolate(origin, h, dims, q, corners)
         .ok_or(DropError::Undefined(*q))?
         .0;
     if f0 == 0.0 {
@@ -502,6 +580,7 @@ pub(crate) fn first_zero_on_grid(
     }
     // Search along `s` from the start's side: the values times `sigma` start positive.
     let sigma = f0.signum();
+    let mut boxes = BoxCache::new(field);
     let s = dir.as_ref() * sigma;
     let at = |tau: f64| q + s * tau;
     // The next grid-plane crossing per axis: (tau, tau step), or none along an axis `s` is
@@ -533,11 +612,12 @@ pub(crate) fn first_zero_on_grid(
             let mid = at(0.5 * (tau + end));
             let (cell, _) = grid_cell(origin, h, dims, &mid).ok_or(DropError::Undefined(mid))?;
             let [i, j, k] = cell;
-            let mut c = [0.0; 8];
-            for (n, cv) in c.iter_mut().enumerate() {
-                *cv = sigma * value(i + (n & 1), j + ((n >> 1) & 1), k + (n >> 2));
-            }
-            if c.iter().any(|v| *v <= 0.0) {
+            let c = if boxes.zero_free(cell, sigma > 0.0) {
+                None
+            } else {
+                Some(corners(cell).map(|v| sigma * v))
+            };
+            if let Some(c) = c.filter(|c| c.iter().any(|v| *v <= 0.0)) {
                 // The cubic along the line, in lambda = tau' - tau on [0, end - tau].
                 let p = at(tau);
                 let corner = origin + Vector3::new(i as f64, j as f64, k as f64) * h;

@@ -83,16 +83,22 @@ use std::collections::VecDeque;
 use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
-use crate::block_index::{AIR, BlockIndex, GROUND, TopId, UNKNOWN};
+use crate::block_index::{AIR, BlockIndex, GROUND, PAGE, TopId, UNKNOWN};
 use crate::mesh::{TriMesh, closest_point_triangle};
 use crate::sdf::{
-    INTERPOLATION_BOUND, SdfError, grid_cell, interpolate, padded_grid, saturating_count, trilinear,
+    GridField, INTERPOLATION_BOUND, SdfError, SignBox, interpolate, padded_grid, saturating_count,
 };
 use crate::surface::SignedDistance;
 
 /// Grid points per block side.
 pub const BLOCK: usize = 8;
 const BLOCK_POINTS: usize = BLOCK * BLOCK * BLOCK;
+/// Points per axis of a stored block: its [`BLOCK`] points and one more, a copy of the first
+/// point of the next block (the apron), so that every cell whose lowest corner lies in the block
+/// has its eight corners in it.
+const PADDED: usize = BLOCK + 1;
+/// Stored values per allocated block.
+const PADDED_POINTS: usize = PADDED * PADDED * PADDED;
 /// `log2 BLOCK`: the wavefront steps between points with shifts.
 const BLOCK_BITS: usize = 3;
 const _: () = assert!(BLOCK == 1 << BLOCK_BITS);
@@ -195,8 +201,12 @@ pub struct SparseSdf {
     dims: [usize; 3],
     /// Per block cell: the allocated block's number, or [`AIR`] / [`GROUND`].
     index: BlockIndex,
-    /// [`BLOCK_POINTS`] values per allocated block, `x` fastest.
+    /// [`PADDED_POINTS`] values per allocated block, `x` fastest: its points and its apron
+    /// ([`PADDED`]).
     values: Vec<f32>,
+    /// Per allocated block: the least and the greatest of its stored values, apron included
+    /// (derived from `values`; the grid walks' [`SignBox`]es).
+    ranges: Vec<[f32; 2]>,
 }
 
 fn bad(name: &'static str, value: f64, why: &'static str) -> SdfError {
@@ -618,6 +628,8 @@ impl SparseSdf {
             *v = tf;
         }
         index.replace_unknown(AIR);
+        let values = pad_blocks(&index, cells, &block_cells, &values, tf);
+        let ranges = block_ranges(&values);
         Ok(SparseSdf {
             origin,
             h,
@@ -626,6 +638,7 @@ impl SparseSdf {
             dims,
             index,
             values,
+            ranges,
         })
     }
 
@@ -659,7 +672,7 @@ impl SparseSdf {
 
     /// Allocated blocks.
     pub fn block_count(&self) -> usize {
-        self.values.len() / BLOCK_POINTS
+        self.values.len() / PADDED_POINTS
     }
 
     /// The bound on `|f(q) - clamp(d(q), -D, D)|` anywhere in the box (module doc):
@@ -680,8 +693,8 @@ impl SparseSdf {
             AIR => self.max_distance,
             GROUND => -self.max_distance,
             b => {
-                let l = ((k % BLOCK) * BLOCK + j % BLOCK) * BLOCK + i % BLOCK;
-                self.values[b as usize * BLOCK_POINTS + l] as f64
+                let l = ((k % BLOCK) * PADDED + j % BLOCK) * PADDED + i % BLOCK;
+                self.values[b as usize * PADDED_POINTS + l] as f64
             }
         }
     }
@@ -695,23 +708,109 @@ impl SparseSdf {
     /// Distance and gradient of the trilinear interpolant at `q` (zero gradient where every
     /// corner reads `±T`); `None` outside the grid.
     pub fn distance_and_gradient(&self, q: &Point3<f64>) -> Option<(f64, Vector3<f64>)> {
-        let ([i, j, k], t) = grid_cell(&self.origin, self.h, self.dims, q)?;
-        if i % BLOCK + 1 < BLOCK && j % BLOCK + 1 < BLOCK && k % BLOCK + 1 < BLOCK {
-            // The cell's 8 corners lie in one block: one index lookup.
-            let c = match self.index.get([i / BLOCK, j / BLOCK, k / BLOCK]) {
-                AIR => [self.max_distance; 8],
-                GROUND => [-self.max_distance; 8],
-                b => {
-                    let l = ((k % BLOCK) * BLOCK + j % BLOCK) * BLOCK + i % BLOCK;
-                    let v = &self.values[b as usize * BLOCK_POINTS + l..];
-                    let (y, z) = (BLOCK, BLOCK * BLOCK);
-                    [0, 1, y, y + 1, z, z + 1, z + y, z + y + 1].map(|o| v[o] as f64)
-                }
-            };
-            return Some(trilinear(c, t, self.h));
+        interpolate(&self.origin, self.h, self.dims, q, |c| self.cell_corners(c))
+    }
+
+    /// The corner values of the cell whose lowest corner is `[i, j, k]`, in the order of
+    /// `sdf::trilinear`: one index lookup in an allocated block (its apron holds the corners
+    /// past its last point) and in the inside of an unallocated one, else one per corner.
+    fn cell_corners(&self, [i, j, k]: [usize; 3]) -> [f64; 8] {
+        let inner = i % BLOCK + 1 < BLOCK && j % BLOCK + 1 < BLOCK && k % BLOCK + 1 < BLOCK;
+        match self.index.get([i / BLOCK, j / BLOCK, k / BLOCK]) {
+            AIR if inner => [self.max_distance; 8],
+            GROUND if inner => [-self.max_distance; 8],
+            AIR | GROUND => crate::sdf::corners_by_value([i, j, k], |i, j, k| self.value(i, j, k)),
+            b => {
+                let l = ((k % BLOCK) * PADDED + j % BLOCK) * PADDED + i % BLOCK;
+                let v = &self.values[b as usize * PADDED_POINTS + l..];
+                let (y, z) = (PADDED, PADDED * PADDED);
+                [0, 1, y, y + 1, z, z + 1, z + y, z + y + 1].map(|o| v[o] as f64)
+            }
         }
-        interpolate(&self.origin, self.h, self.dims, q, |i, j, k| {
-            self.value(i, j, k)
+    }
+
+    /// The [`SignBox`] around cell `c`: the cells of `c`'s allocated block (their corners are
+    /// its stored values, apron included), or those whose corners all lie in `c`'s unallocated
+    /// block or uniform top-level page, when every value there has one strict sign; `None` for
+    /// a cell of an unallocated block with corners beyond it and for a block holding both signs
+    /// (or a zero).
+    fn cell_sign_box(&self, c: [usize; 3]) -> Option<SignBox> {
+        let b = c.map(|x| x / BLOCK);
+        if let Some(e) = self.index.uniform(self.index.top_id(b)) {
+            let span = PAGE * BLOCK;
+            if let Some(bx) = self.uniform_box(c, span, e) {
+                return Some(bx);
+            }
+        }
+        match self.index.get(b) {
+            e @ (AIR | GROUND) => self
+                .uniform_box(c, BLOCK, e)
+                .or_else(|| self.straddling_box(c, e == AIR)),
+            n => {
+                let positive = self.block_sign(n)?;
+                // The apron holds the corners at local `BLOCK`: every cell of the block.
+                let lo = c.map(|x| x - x % BLOCK);
+                let hi = [0, 1, 2].map(|a| (lo[a] + BLOCK - 1).min(self.dims[a] - 2));
+                Some(SignBox { lo, hi, positive })
+            }
+        }
+    }
+
+    /// The strict sign of every value of the block cell holding entry `e`, `None` when it holds
+    /// both signs or a zero.
+    fn block_sign(&self, e: u32) -> Option<bool> {
+        match e {
+            AIR => Some(true),
+            GROUND => Some(false),
+            n => {
+                let [lo, hi] = self.ranges[n as usize];
+                if lo > 0.0 {
+                    Some(true)
+                } else if hi < 0.0 {
+                    Some(false)
+                } else {
+                    None
+                }
+            }
+        }
+    }
+
+    /// Cell `c` of an unallocated block (of sign `positive`) whose corners reach into the next
+    /// blocks: a box of that one cell when every block cell its corners lie in has the sign.
+    fn straddling_box(&self, c: [usize; 3], positive: bool) -> Option<SignBox> {
+        let far = c.map(|x| (x + 1) / BLOCK);
+        let near = c.map(|x| x / BLOCK);
+        for z in near[2]..=far[2] {
+            for y in near[1]..=far[1] {
+                for x in near[0]..=far[0] {
+                    if self.block_sign(self.index.get([x, y, z])) != Some(positive) {
+                        return None;
+                    }
+                }
+            }
+        }
+        Some(SignBox {
+            lo: c,
+            hi: c,
+            positive,
+        })
+    }
+
+    /// The box of an unallocated block or page of side `span` cells with entry `e`.
+    fn uniform_box(&self, c: [usize; 3], span: usize, e: u32) -> Option<SignBox> {
+        // `D > 0`: air reads `+D`, ground `-D`.
+        self.cell_box(c, span, e == AIR)
+    }
+
+    /// The cells of the aligned cube of `span` grid points holding cell `c` whose corners all
+    /// lie in the cube, `None` when `c` is not one of them.
+    fn cell_box(&self, c: [usize; 3], span: usize, positive: bool) -> Option<SignBox> {
+        let lo = c.map(|x| x - x % span);
+        let last = [0, 1, 2].map(|a| (lo[a] + span - 2).min(self.dims[a] - 2));
+        (0..3).all(|a| c[a] <= last[a]).then_some(SignBox {
+            lo,
+            hi: last,
+            positive,
         })
     }
 }
@@ -1080,6 +1179,83 @@ fn allocate(
     Ok(nb as u32)
 }
 
+/// The blocks' values (`BLOCK_POINTS` per block, the block at block cell `block_cells[k]` of a
+/// grid of `cells` block cells) with their aprons ([`PADDED`]): a point past the block's last
+/// along some axis reads the next block's point there, `±d` where that block cell is air or
+/// ground, and repeats the block's own last point past the grid's last block cell (no cell of
+/// the grid has a corner there).
+fn pad_blocks(
+    index: &BlockIndex,
+    cells: [usize; 3],
+    block_cells: &[usize],
+    values: &[f32],
+    d: f32,
+) -> Vec<f32> {
+    let mut out = vec![0.0f32; block_cells.len() * PADDED_POINTS];
+    out.par_chunks_mut(PADDED_POINTS)
+        .enumerate()
+        .for_each(|(k, o)| {
+            let id = block_cells[k];
+            let c = [
+                id % cells[0],
+                (id / cells[0]) % cells[1],
+                id / (cells[0] * cells[1]),
+            ];
+            // What lies at each of the 8 block cells at offsets in {0, 1}³ (offset 0: the block).
+            let block = |b: usize| &values[b * BLOCK_POINTS..(b + 1) * BLOCK_POINTS];
+            let sources: [Apron<'_>; 8] = std::array::from_fn(|n| {
+                let nc = [0, 1, 2].map(|a| c[a] + ((n >> a) & 1));
+                if (0..3).any(|a| nc[a] >= cells[a]) {
+                    return Apron::PastGrid;
+                }
+                match index.get(nc) {
+                    AIR => Apron::Uniform(d),
+                    GROUND => Apron::Uniform(-d),
+                    b => Apron::Block(block(b as usize)),
+                }
+            });
+            for z in 0..PADDED {
+                for y in 0..PADDED {
+                    for x in 0..PADDED {
+                        let g = [x, y, z];
+                        let n = (0..3).fold(0, |n, a| n | usize::from(g[a] == BLOCK) << a);
+                        let at = |v: &[f32], l: [usize; 3]| v[(l[2] * BLOCK + l[1]) * BLOCK + l[0]];
+                        o[(z * PADDED + y) * PADDED + x] = match sources[n] {
+                            Apron::Block(v) => at(v, g.map(|u| u % BLOCK)),
+                            Apron::Uniform(u) => u,
+                            Apron::PastGrid => at(block(k), g.map(|u| u.min(BLOCK - 1))),
+                        };
+                    }
+                }
+            }
+        });
+    out
+}
+
+/// What a block's apron copies along one offset ([`pad_blocks`]).
+#[derive(Clone, Copy)]
+enum Apron<'a> {
+    /// The values of the allocated block there.
+    Block(&'a [f32]),
+    /// An unallocated block's value (`±D`).
+    Uniform(f32),
+    /// Past the grid's last block cell.
+    PastGrid,
+}
+
+/// The least and the greatest value of each stored block (no NaN left).
+fn block_ranges(values: &[f32]) -> Vec<[f32; 2]> {
+    values
+        .chunks(PADDED_POINTS)
+        .map(|v| {
+            v.iter()
+                .fold([f32::INFINITY, f32::NEG_INFINITY], |[lo, hi], &x| {
+                    [lo.min(x), hi.max(x)]
+                })
+        })
+        .collect()
+}
+
 /// Step 2b for one block's values: every NaN point 6-connected inside the block to an exact
 /// point takes that point's sign as `±tf`. `false` when the block has no exact point.
 fn local_flood(v: &mut [f32], tf: f32) -> bool {
@@ -1113,6 +1289,18 @@ fn local_flood(v: &mut [f32], tf: f32) -> bool {
     true
 }
 
+impl GridField for SparseSdf {
+    fn grid(&self) -> (&Point3<f64>, f64, [usize; 3]) {
+        (&self.origin, self.h, self.dims)
+    }
+    fn corners(&self, c: [usize; 3]) -> [f64; 8] {
+        self.cell_corners(c)
+    }
+    fn sign_box(&self, c: [usize; 3]) -> Option<SignBox> {
+        self.cell_sign_box(c)
+    }
+}
+
 impl SignedDistance for SparseSdf {
     fn signed_distance(&self, q: &Point3<f64>) -> Option<f64> {
         self.distance(q)
@@ -1126,9 +1314,7 @@ impl SignedDistance for SparseSdf {
         q: &Point3<f64>,
         _tolerance: f64,
     ) -> Result<Point3<f64>, crate::surface::DropError> {
-        crate::sdf::ground_below_on_grid(self.origin.z, self.h, self.dims[2], q, |p| {
-            self.distance(p)
-        })
+        crate::sdf::ground_below_on_grid(self, q)
     }
     /// The interpolant's exact first zero along the line (`sdf::first_zero_on_grid`).
     fn ground_along(
@@ -1138,8 +1324,133 @@ impl SignedDistance for SparseSdf {
         reach: f64,
         _tolerance: f64,
     ) -> Result<Option<f64>, crate::surface::DropError> {
-        crate::sdf::first_zero_on_grid(&self.origin, self.h, self.dims, q, dir, reach, |i, j, k| {
-            self.value(i, j, k)
-        })
+        crate::sdf::first_zero_on_grid(self, q, dir, reach)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The query-side structures against independent readings of the same field: the block
+    //! aprons against the owning blocks' values, the sign boxes against the corners they
+    //! summarise, and the grid walks with the boxes against the same walks without them.
+    use super::*;
+    use crate::paton_scene::PatonScene;
+    use crate::sdf::{corners_by_value, first_zero_on_grid, ground_below_on_grid};
+
+    /// The field read cell by cell: no sign boxes.
+    struct NoBoxes<'a>(&'a SparseSdf);
+    impl GridField for NoBoxes<'_> {
+        fn grid(&self) -> (&Point3<f64>, f64, [usize; 3]) {
+            self.0.grid()
+        }
+        fn corners(&self, c: [usize; 3]) -> [f64; 8] {
+            self.0.corners(c)
+        }
+    }
+    use nalgebra::Unit;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Paton's ledge (with the pole) at 20 cm: propagated to the default `D`, and truncated.
+    fn fields() -> Vec<SparseSdf> {
+        let m = PatonScene::paper(true).mesh().expect("the scene meshes");
+        let mut p = SparseSdfParams::new(0.2);
+        p.margin = 1.0;
+        let propagated = SparseSdf::from_mesh(&m, &p).expect("builds");
+        p.max_distance = p.truncation;
+        let truncated = SparseSdf::from_mesh(&m, &p).expect("builds");
+        assert!(propagated.max_distance() > truncated.max_distance());
+        vec![propagated, truncated]
+    }
+
+    /// Every cell's corners as the blocks' aprons give them equal the values of the blocks
+    /// owning those points (or `±D` for unallocated ones).
+    #[test]
+    fn aprons_copy_the_owning_blocks() {
+        for f in fields() {
+            let d = f.dims;
+            let mut checked = 0;
+            for k in 0..d[2] - 1 {
+                for j in 0..d[1] - 1 {
+                    for i in 0..d[0] - 1 {
+                        let c = [i, j, k];
+                        let by_owner = corners_by_value(c, |i, j, k| f.value(i, j, k));
+                        assert_eq!(f.corners(c), by_owner, "cell {c:?}");
+                        checked += 1;
+                    }
+                }
+            }
+            assert!(checked > 100_000, "{checked} cells");
+        }
+    }
+
+    /// A sign box holds only cells whose eight corners have its sign, strictly.
+    #[test]
+    fn sign_boxes_hold_what_they_claim() {
+        for f in fields() {
+            let d = f.dims;
+            let (mut boxes, mut signs) = (0, [0, 0]);
+            for k in 0..d[2] - 1 {
+                for j in 0..d[1] - 1 {
+                    for i in 0..d[0] - 1 {
+                        let c = [i, j, k];
+                        let Some(b) = f.sign_box(c) else { continue };
+                        assert!(
+                            b.lo.iter().zip(c).all(|(l, x)| *l <= x),
+                            "{b:?} holds {c:?}"
+                        );
+                        assert!(
+                            b.hi.iter().zip(c).all(|(h, x)| x <= *h),
+                            "{b:?} holds {c:?}"
+                        );
+                        boxes += 1;
+                        signs[usize::from(b.positive)] += 1;
+                        // The claim for this cell, read corner by corner from the owners.
+                        let v = corners_by_value(c, |i, j, k| f.value(i, j, k));
+                        assert!(
+                            v.iter().all(|x| (*x > 0.0) == b.positive && *x != 0.0),
+                            "cell {c:?} in {b:?} has corners {v:?}"
+                        );
+                    }
+                }
+            }
+            assert!(
+                signs[0] > 1000 && signs[1] > 1000,
+                "boxes {boxes}, signs {signs:?}"
+            );
+        }
+    }
+
+    /// The walks with the sign boxes give the answers of the walks reading every cell, bit for
+    /// bit: 3,000 seeded lines and verticals per field, from the air and from below the ground.
+    #[test]
+    fn sign_boxes_do_not_change_the_walks() {
+        let mut rng = ChaCha8Rng::seed_from_u64(14);
+        for f in fields() {
+            let (lo, hi) = f.bounds();
+            let mut hits = 0;
+            for _ in 0..3000 {
+                let q = Point3::from(Vector3::from_fn(|a, _| rng.random_range(lo[a]..hi[a])));
+                // Toward a point of the ground's height range (the floor at 0, the ledge's top
+                // at 4 m), a little past it: most lines cross the ground, some stop short.
+                let aim = Point3::new(
+                    rng.random_range(lo.x..hi.x),
+                    rng.random_range(lo.y..hi.y),
+                    rng.random_range(-0.5..4.5),
+                );
+                let Some(dir) = Unit::try_new(aim - q, 1e-9) else {
+                    continue;
+                };
+                let reach = (aim - q).norm() * rng.random_range(0.5..1.5);
+                let with = f.ground_along(&q, &dir, reach, 0.0);
+                let without = first_zero_on_grid(&NoBoxes(&f), &q, &dir, reach);
+                assert_eq!(with, without, "line from {q:?} along {dir:?}");
+                hits += usize::from(matches!(with, Ok(Some(_))));
+                let below = f.ground_below(&q, 0.0);
+                let plain = ground_below_on_grid(&NoBoxes(&f), &q);
+                assert_eq!(below, plain, "vertical through {q:?}");
+            }
+            assert!(hits > 500, "{hits} lines met the ground");
+        }
     }
 }
