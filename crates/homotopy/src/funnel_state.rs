@@ -19,7 +19,7 @@
 //! `depth(x) - depth(jump(x))` of its parent and of its parent's jump, and in a skew-binary
 //! scheme every span is `2^k - 1`: the record keeps the level `k` in the top bits of its jump
 //! word, so adding a node reads the records of its parent and its parent's jump (which the
-//! scans have usually just touched) and nothing else. Ids then have [`ID_BITS`] bits in the
+//! scans have usually just touched) and nothing else. Ids then have 27 bits in the
 //! jump word; nodes from id `2^ID_BITS` on (a tree of 134 million nodes, about 4.8 GB) jump to
 //! their parent (span 1), which keeps every scan exact and only makes scans through those
 //! nodes linear.
