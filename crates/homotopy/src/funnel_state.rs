@@ -9,12 +9,20 @@
 //! `g(v) = g(pred(v)) + |v - pred(v)|` (the cost of thesis eq. 2.5).
 //!
 //! The arena keeps what the sector scans read (point, length, parent, jump pointer) in 32-byte
-//! records aligned to 32 bytes, two to a cache line and none across two, and the vertex id and
-//! depth in a second array: a first SHP on a 100,000-obstacle strip makes 16 million nodes,
-//! far beyond the cache, and the scans' cost is their cache misses. A node's id is larger than
-//! its parent's (a node is added after its parent, and only the last node is ever removed), so
-//! along a path to the root ids decrease, and a scan stops at the apex by comparing ids, without
-//! reading depths.
+//! records aligned to 32 bytes, two to a cache line and none across two, and the vertex id in a
+//! second array: a first SHP on a 100,000-obstacle strip makes 16 million nodes, far beyond the
+//! cache, and the scans' cost is their cache misses. A node's id is larger than its parent's (a
+//! node is added after its parent, and only the last node is ever removed), so along a path to
+//! the root ids decrease, and a scan stops at the apex by comparing ids.
+//!
+//! No depths are stored. Myers' rule for a new node's jump pointer compares the spans
+//! `depth(x) - depth(jump(x))` of its parent and of its parent's jump, and in a skew-binary
+//! scheme every span is `2^k - 1`: the record keeps the level `k` in the top bits of its jump
+//! word, so adding a node reads the records of its parent and its parent's jump (which the
+//! scans have usually just touched) and nothing else. Ids then have 27 bits in the
+//! jump word; nodes from id `2^ID_BITS` on (a tree of 134 million nodes, about 4.8 GB) jump to
+//! their parent (span 1), which keeps every scan exact and only makes scans through those
+//! nodes linear.
 //!
 //! # Funnel states
 //! A funnel (Fig. 2.12) is then four words, a [`FunnelState`]: the left tip node (on `alpha`),
@@ -70,13 +78,25 @@ pub struct FunnelNode {
     pub length: f64,
     /// The map vertex it lifts, [`NO_VERTEX`] for the root and goal points.
     vertex: u32,
+    /// The predecessor's id, [`NO_PARENT`] for the root.
     parent: u32,
-    jump: u32,
-    depth: u32,
 }
 
 /// The stored vertex id of a node that lifts no map vertex.
 const NO_VERTEX: u32 = u32::MAX;
+
+/// [`FunnelNode`]'s parent of the root.
+const NO_PARENT: u32 = u32::MAX;
+
+/// Bits of a node id in a record's jump word (module docs); the top bits hold the jump's span
+/// level.
+const ID_BITS: u32 = 27;
+
+/// Nodes with an id below this keep their span level beside their jump pointer.
+const PACKED_NODES: u32 = 1 << ID_BITS;
+
+/// The id part of a packed jump word.
+const ID_MASK: u32 = PACKED_NODES - 1;
 
 impl FunnelNode {
     /// The map vertex it lifts (`None` for the root and for goal points).
@@ -87,12 +107,7 @@ impl FunnelNode {
 
     /// The predecessor, `None` for the root.
     pub fn parent(&self) -> Option<NodeId> {
-        (self.depth > 0).then_some(NodeId(self.parent))
-    }
-
-    /// Number of edges on the path to the root.
-    pub fn depth(&self) -> u32 {
-        self.depth
+        (self.parent != NO_PARENT).then_some(NodeId(self.parent))
     }
 }
 
@@ -104,21 +119,41 @@ struct Link {
     point: Point2<f64>,
     length: f64,
     parent: u32,
+    /// The jump pointer; below id [`PACKED_NODES`] its low [`ID_BITS`] bits, with the level `k`
+    /// of its span `2^k - 1` in the bits above (0 for the root), read with [`Link::jump`] and
+    /// [`Link::level`].
     jump: u32,
 }
 
-/// The rest of a node: its map vertex ([`NO_VERTEX`] for none) and depth.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Extra {
-    vertex: u32,
-    depth: u32,
+impl Link {
+    /// The jump pointer of node `id`, whose record this is.
+    #[inline]
+    fn jump(&self, id: u32) -> u32 {
+        if id < PACKED_NODES {
+            self.jump & ID_MASK
+        } else {
+            self.jump
+        }
+    }
+
+    /// The level `k` of node `id`'s span `depth(id) - depth(jump(id)) = 2^k - 1`: 0 for the
+    /// root, 1 beyond the packed ids (whose jump is their parent).
+    #[inline]
+    fn level(&self, id: u32) -> u32 {
+        if id < PACKED_NODES {
+            self.jump >> ID_BITS
+        } else {
+            1
+        }
+    }
 }
 
 /// The arena of shortest-path-tree nodes shared by all funnels of one search.
 #[derive(Debug, Clone)]
 pub struct FunnelTree {
     links: Vec<Link>,
-    extra: Vec<Extra>,
+    /// Each node's map vertex ([`NO_VERTEX`] for none).
+    vertices: Vec<u32>,
 }
 
 impl FunnelTree {
@@ -126,7 +161,7 @@ impl FunnelTree {
     pub fn new(start: Point2<f64>) -> FunnelTree {
         let mut tree = FunnelTree {
             links: Vec::new(),
-            extra: Vec::new(),
+            vertices: Vec::new(),
         };
         tree.reset(start);
         tree
@@ -136,27 +171,25 @@ impl FunnelTree {
     /// tree across queries allocates only when a query grows it beyond every earlier one.
     pub fn reset(&mut self, start: Point2<f64>) {
         self.links.clear();
-        self.extra.clear();
+        self.vertices.clear();
+        // The root jumps to itself with span 0 (level 0).
         self.links.push(Link {
             point: start,
             length: 0.0,
             parent: 0,
             jump: 0,
         });
-        self.extra.push(Extra {
-            vertex: NO_VERTEX,
-            depth: 0,
-        });
+        self.vertices.push(NO_VERTEX);
     }
 
     /// Bytes of node storage held (capacity, not length).
     pub fn capacity_bytes(&self) -> usize {
         self.links.capacity() * std::mem::size_of::<Link>()
-            + self.extra.capacity() * std::mem::size_of::<Extra>()
+            + self.vertices.capacity() * std::mem::size_of::<u32>()
     }
 
     /// Bytes of storage per node (length, not capacity: multiply by [`FunnelTree::len`]).
-    pub const NODE_BYTES: usize = std::mem::size_of::<Link>() + std::mem::size_of::<Extra>();
+    pub const NODE_BYTES: usize = std::mem::size_of::<Link>() + std::mem::size_of::<u32>();
 
     /// The root (the start point).
     pub fn root(&self) -> NodeId {
@@ -169,14 +202,12 @@ impl FunnelTree {
     /// When `id` did not come from this tree.
     #[inline]
     pub fn node(&self, id: NodeId) -> FunnelNode {
-        let (l, e) = (&self.links[id.index()], &self.extra[id.index()]);
+        let l = &self.links[id.index()];
         FunnelNode {
             point: l.point,
             length: l.length,
-            vertex: e.vertex,
-            parent: l.parent,
-            jump: l.jump,
-            depth: e.depth,
+            vertex: self.vertices[id.index()],
+            parent: if id.0 == 0 { NO_PARENT } else { l.parent },
         }
     }
 
@@ -204,7 +235,7 @@ impl FunnelTree {
     /// When `id` did not come from this tree.
     #[inline]
     pub fn vertex(&self, id: NodeId) -> Option<VertexId> {
-        let v = self.extra[id.index()].vertex;
+        let v = self.vertices[id.index()];
         (v != NO_VERTEX).then_some(VertexId(v))
     }
 
@@ -231,17 +262,18 @@ impl FunnelTree {
             return parent;
         }
         // Myers' skew-binary jump pointers: level-ancestor and monotone searches in O(log n).
-        let j = p.jump as usize;
-        let jj = self.links[j].jump as usize;
-        let (dp, dj, djj) = (
-            self.extra[parent.index()].depth,
-            self.extra[j].depth,
-            self.extra[jj].depth,
-        );
-        let jump = if dp > 0 && dp - dj == dj - djj {
-            jj as u32
-        } else {
+        // The parent's span and its jump's are equal exactly when their levels are (module
+        // docs): then the new node jumps over both, with a span of twice theirs plus one.
+        let id = u32::try_from(self.links.len()).expect("fewer than 2^32 tree nodes");
+        let j = p.jump(parent.0);
+        let (level_p, jl) = (p.level(parent.0), &self.links[j as usize]);
+        let jump = if id >= PACKED_NODES {
+            // Beyond the packed ids every node jumps to its parent (module docs).
             parent.0
+        } else if level_p > 0 && level_p == jl.level(j) {
+            jl.jump(j) | (level_p + 1) << ID_BITS
+        } else {
+            parent.0 | 1 << ID_BITS
         };
         self.links.push(Link {
             point,
@@ -249,11 +281,8 @@ impl FunnelTree {
             parent: parent.0,
             jump,
         });
-        self.extra.push(Extra {
-            vertex: vertex.map_or(NO_VERTEX, |v| v.0),
-            depth: dp + 1,
-        });
-        NodeId((self.links.len() - 1) as u32)
+        self.vertices.push(vertex.map_or(NO_VERTEX, |v| v.0));
+        NodeId(id)
     }
 
     /// Removes node `id` if it is the last node added and not the root, and returns whether it
@@ -265,13 +294,13 @@ impl FunnelTree {
             return false;
         }
         self.links.pop();
-        self.extra.pop();
+        self.vertices.pop();
         true
     }
 
     /// The nodes from the root to `id`.
     pub fn path(&self, id: NodeId) -> Vec<NodeId> {
-        let mut out = Vec::with_capacity(self.extra[id.index()].depth as usize + 1);
+        let mut out = Vec::new();
         let mut x = id;
         loop {
             out.push(x);
@@ -315,7 +344,7 @@ impl FunnelTree {
                 return Some(NodeId(x));
             }
             let n = &links[x as usize];
-            let j = n.jump;
+            let j = n.jump(x);
             x = if j > apex.0 && !turns(j) { j } else { n.parent };
         }
         None
@@ -540,5 +569,61 @@ impl FunnelState {
                 mouth: self.mouth,
                 next,
             })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The packed span levels give the jump pointers of Myers' rule computed from depths (the
+    /// rule the tree used when it stored depths), on random trees with long paths and many
+    /// branches: every jump is an ancestor, and its span is `2^level - 1`.
+    #[test]
+    fn packed_levels_follow_myers_rule() {
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for round in 0..20u32 {
+            let mut tree = FunnelTree::new(Point2::new(0.0, 0.0));
+            let mut depth = vec![0u32];
+            let mut myers_jump = vec![0u32];
+            for i in 1..2_000u32 {
+                // Mostly the last node (long paths), sometimes any earlier one (branches).
+                let n = tree.len() as u32;
+                let parent = if next() % (2 + u64::from(round)) == 0 {
+                    (next() % u64::from(n)) as u32
+                } else {
+                    n - 1
+                };
+                let id = tree.extend(NodeId(parent), Point2::new(f64::from(i), 1.0), None);
+                assert_eq!(id.index(), depth.len());
+                let (p, j) = (parent as usize, myers_jump[parent as usize] as usize);
+                let jj = myers_jump[j] as usize;
+                let expected = if depth[p] > 0 && depth[p] - depth[j] == depth[j] - depth[jj] {
+                    jj as u32
+                } else {
+                    parent
+                };
+                depth.push(depth[p] + 1);
+                myers_jump.push(expected);
+                let link = &tree.links[id.index()];
+                assert_eq!(link.jump(id.0), expected);
+                let span = depth[id.index()] - depth[expected as usize];
+                assert_eq!(span, (1u32 << link.level(id.0)) - 1);
+                // The jump is an ancestor.
+                let mut x = id.0;
+                while x > expected {
+                    x = tree.links[x as usize].parent;
+                }
+                assert_eq!(x, expected);
+            }
+            assert_eq!(tree.node(tree.root()).parent(), None);
+            assert_eq!(tree.links[0].level(0), 0);
+        }
     }
 }
