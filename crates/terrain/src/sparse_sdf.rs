@@ -1239,7 +1239,7 @@ impl FaceRegion {
             let (p0, p1, p2) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
             let mut m = n.cross(&(p1 - p0));
             let len = m.norm();
-            if !(len > 0.0) {
+            if len.is_nan() || len <= 0.0 {
                 return None;
             }
             m /= len;
