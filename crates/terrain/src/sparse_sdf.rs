@@ -93,8 +93,11 @@
 //! only where a block is allocated; allocated blocks (2 KiB each, the band's and the wavefront's together) at
 //! most `max_blocks`; candidate pairs at most [`MAX_CANDIDATES_PER_BLOCK`] per allowed block;
 //! wavefront relaxations at most [`MAX_RELAXATIONS_PER_POINT`] per grid point. Each is a typed
-//! [`SdfError`]. Build memory with propagation: 4 bytes of value, 4 of site index and 4 of
-//! closest-triangle index per grid point, plus 12 bytes per seed.
+//! [`SdfError`]. Far mode is taken only when its pairs (counted from the grown bounding boxes
+//! before any is gathered) fit [`SparseSdfParams::max_far_pairs`], else the band's pairs are
+//! gathered (no error). Build memory with propagation: 4 bytes of value, 4 of site index and 4 of
+//! closest-triangle index per grid point, plus 12 bytes per seed (far mode on a coarse mesh:
+//! 8 bytes per grid point, no wavefront).
 
 use std::collections::VecDeque;
 
