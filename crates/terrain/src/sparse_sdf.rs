@@ -13,12 +13,15 @@
 //!    Every triangle visits only the blocks whose centres lie in its bounding box grown by `R`
 //!    (rayon over triangles). `R = T + r_b` (`r_b` the block's half-diagonal), or in **far
 //!    mode** `R = D + r_b`: chosen when `D > T` and those grown boxes hold at most
-//!    [`SparseSdfParams::max_far_pairs`] block centres in all (coarse meshes such as Paton's 18-triangle ledge).
+//!    [`SparseSdfParams::max_far_pairs`] block centres in all (coarse meshes such as Paton's
+//!    18-triangle ledge).
 //! 2. **Exact values**: every grid point of an allocated block takes the smallest
 //!    [`TriMesh::closest_on_triangle`] distance over candidates of its block (rayon over blocks).
 //!    A point lies within `r_b` of its block's centre, so its closest triangle lies within
 //!    `min + 2 r_b` of the centre (`min` the nearest candidate's distance to it). When that
-//!    distance is within `R` (all those triangles are candidates) and at most
+//!    distance is within `R` (all those triangles are candidates; in far mode always enough: a
+//!    point within `D` of the mesh has its closest triangle within `D + r_b` of the centre, and
+//!    a value above `D` is not kept) and at most
 //!    [`MAX_EXACT_CANDIDATES`] triangles lie that close, the block is **complete**: each point
 //!    takes its exact distance from that list, kept out to `D` (NaN beyond `D`), the sign from
 //!    its true closest feature's pseudo-normal. Otherwise the block takes the candidates within
@@ -184,9 +187,10 @@ pub struct SparseSdfParams {
     /// Truncation distance `T`, metres (`>= 2 h`: the sign flood needs `T > sqrt 3 h`): the exact
     /// band.
     pub truncation: f64,
-    /// Propagation distance `D >= T`, metres: beyond the exact band the closest surface points
-    /// are carried outward by a wavefront up to `D`; values beyond are `±D`. `D = T`: no
-    /// propagation (a truncated field).
+    /// Propagation distance `D >= T`, metres: beyond the exact band values are exact in the
+    /// complete blocks of far mode, elsewhere the closest surface points are carried outward by
+    /// a wavefront up to `D`; values beyond are `±D`. `D = T`: no propagation (a truncated
+    /// field).
     pub max_distance: f64,
     /// Margin added around the mesh's bounding box, metres (`>= 0`).
     pub margin: f64,
