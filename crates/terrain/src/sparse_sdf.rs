@@ -9,22 +9,41 @@
 //!
 //! # Construction
 //! 1. **Blocks**: block `b` (grid points `8 b .. 8 b + 7` on each axis) is allocated when some
-//!    triangle lies within `T + r_b` of its centre (`r_b` the block's half-diagonal); that
-//!    triangle joins the block's candidate list. Every triangle visits only the blocks whose
-//!    centres lie in its bounding box grown by `T + r_b` (rayon over triangles).
-//! 2. **Exact band**: every grid point of an allocated block takes the smallest
-//!    [`TriMesh::closest_on_triangle`] distance over its block's candidates (rayon over blocks).
-//!    A point within `T` of the mesh has its closest triangle among the candidates (it is within
-//!    `r_b` of the centre), so every value `<= T` is exact; a larger value only proves `|d| > T`,
-//!    and its pseudo-normal sign (from a triangle that need not be the closest) is not trusted.
-//!    2a. **Propagation** (when `D > T`; Voxblox's `esdf_integrator` wavefront, here carrying
-//!    sites as in Danielsson's vector propagation): the exact points next to a point beyond `T`
-//!    are the seeds, each with its closest surface point as its *site*. A bucketed priority
+//!    triangle lies within `R` of its centre; that triangle joins the block's candidate list.
+//!    Every triangle visits only the blocks whose centres lie in its bounding box grown by `R`
+//!    (rayon over triangles). `R = T + r_b` (`r_b` the block's half-diagonal), or in **far
+//!    mode** `R = D + r_b`: chosen when `D > T` and those grown boxes hold at most
+//!    [`SparseSdfParams::max_far_pairs`] block centres in all (coarse meshes such as Paton's
+//!    18-triangle ledge).
+//! 2. **Exact values**: every grid point of an allocated block takes the smallest
+//!    [`TriMesh::closest_on_triangle`] distance over candidates of its block (rayon over blocks).
+//!    A point lies within `r_b` of its block's centre, so its closest triangle lies within
+//!    `min + 2 r_b` of the centre (`min` the nearest candidate's distance to it). When that
+//!    distance is within `R` (all those triangles are candidates; in far mode always enough: a
+//!    point within `D` of the mesh has its closest triangle within `D + r_b` of the centre, and
+//!    a value above `D` is not kept) and at most
+//!    [`MAX_EXACT_CANDIDATES`] triangles lie that close, the block is **complete**: each point
+//!    takes its exact distance from that list, kept out to `D` (NaN beyond `D`), the sign from
+//!    its true closest feature's pseudo-normal. Otherwise the block takes the candidates within
+//!    `T + r_b` of its centre: a point within `T` of the mesh has its closest triangle among them
+//!    (it is within `r_b` of the centre), so every value `<= T` is exact; a larger value only
+//!    proves `|d| > T`, and its pseudo-normal sign (from a triangle that need not be the
+//!    closest) is not trusted: it is NaN. Values `<= T` are the same either way. Per point,
+//!    the candidates whose face region (the prism over the triangle along its normal) holds it
+//!    give their plane's signed distance (the triangle's exact one there); the others are
+//!    skipped when a lower bound (`sqrt(pd^2 + e^2)`, `pd` off the plane and `e` beyond an edge's
+//!    plane) exceeds the best so far, else take [`TriMesh::closest_on_triangle`]; a block lying
+//!    wholly in a candidate's face region skips the per-point region test.
+//!    2a. **Propagation** (when `D > T`, unless far mode left every block complete; Voxblox's
+//!    `esdf_integrator` wavefront, here carrying sites as in Danielsson's vector propagation):
+//!    the exact points next to a NaN point of a block that is not complete (or, outside far
+//!    mode, next to an unallocated block; in far mode every point of one lies beyond `D`) are
+//!    the seeds, each with its closest surface point as its *site*. A bucketed priority
 //!    queue (buckets `h / 4` wide) processes points in increasing distance; a processed point
 //!    offers its site to its 6-neighbours beyond `T`, which take it when it is closer than their
 //!    own by more than [`RELAX_SLACK_VOXELS`] `h`, with the exact distance to that site and the
-//!    processed point's sign. Blocks are allocated on demand where a point within `D` is reached
-//!    (same block cap). Sign: two 6-adjacent points one of which is beyond `T >= 2 h` lie on one
+//!    processed point's sign. Outside far mode, blocks are allocated on demand where a point
+//!    within `D` is reached (same block cap). Sign: two 6-adjacent points one of which is beyond `T >= 2 h` lie on one
 //!    side of the surface, so the carried sign is exact. Each bucket is processed in rounds:
 //!    the round's points compute their offers in parallel against the state at the round's
 //!    start, then the offers are applied in a fixed order (ascending grid points), so the field
@@ -51,7 +70,9 @@
 //! distance, and where it reads `±T` the exact distance is at least `T - 2 bound` in magnitude,
 //! with that sign.
 //!
-//! **Propagated** (`D > T`): values `<= T` are exact as above. A propagated value is the exact
+//! **Propagated** (`D > T`): values `<= T` are exact as above, and so is every value of a
+//! complete block out to `D` (up to `f32` rounding; in far mode on a coarse mesh, most of the
+//! field or all of it). A propagated value (wavefront) is the exact
 //! distance from its grid point to a real surface point (its site, stored in `f32`), so it is
 //! **never below** the exact distance (up to the site's `f32` rounding, a few micrometres on
 //! scenes of tens of metres) and never above `D`; its sign is exact. How far above is **not
@@ -75,8 +96,11 @@
 //! only where a block is allocated; allocated blocks (2 KiB each, the band's and the wavefront's together) at
 //! most `max_blocks`; candidate pairs at most [`MAX_CANDIDATES_PER_BLOCK`] per allowed block;
 //! wavefront relaxations at most [`MAX_RELAXATIONS_PER_POINT`] per grid point. Each is a typed
-//! [`SdfError`]. Build memory with propagation: 4 bytes of value, 4 of site index and 4 of
-//! closest-triangle index per grid point, plus 12 bytes per seed.
+//! [`SdfError`]. Far mode is taken only when its pairs (counted from the grown bounding boxes
+//! before any is gathered) fit [`SparseSdfParams::max_far_pairs`], else the band's pairs are
+//! gathered (no error). Build memory with propagation: 4 bytes of value, 4 of site index and 4 of
+//! closest-triangle index per grid point, plus 12 bytes per seed (far mode on a coarse mesh:
+//! 8 bytes per grid point, no wavefront).
 
 use std::collections::VecDeque;
 
@@ -130,6 +154,23 @@ pub const RELAX_SLACK_VOXELS: f64 = 0.01;
 /// value or gives it its first one); over it is [`SdfError::PropagationBudget`].
 pub const MAX_RELAXATIONS_PER_POINT: usize = 16;
 
+/// A block whose complete candidate list (the triangles within `min + 2 r_b` of its centre,
+/// `min` the nearest one's distance and `r_b` the block's half-diagonal) holds at most this many
+/// triangles takes exact distances at all its points out to `D` (a **complete** block: no
+/// wavefront inside it). Each point costs one plane test per candidate and a closest point on
+/// the few triangles that pass it; a longer list (fine meshes) leaves the block to the band and
+/// the wavefront.
+pub const MAX_EXACT_CANDIDATES: usize = 16;
+
+/// Default budget on the (block cell, triangle) pairs of **far mode**
+/// ([`SparseSdfParams::max_far_pairs`]): when the triangles' bounding
+/// boxes grown by `D + r_b` hold at most this many block centres in all (a coarse mesh such as
+/// Paton's 18-triangle ledge), candidates are gathered out to `D + r_b` instead of `T + r_b`, so
+/// that blocks beyond the band can be complete; above it (fine meshes, whose far blocks would
+/// have long lists anyway) only the band's pairs are gathered. 16 bytes per pair: 64 MiB at the
+/// budget.
+pub const DEFAULT_MAX_FAR_PAIRS: usize = 1 << 22;
+
 /// Default cap on allocated blocks (2 KiB each: 512 MiB at the cap).
 pub const DEFAULT_MAX_BLOCKS: usize = 262_144;
 
@@ -152,9 +193,10 @@ pub struct SparseSdfParams {
     /// Truncation distance `T`, metres (`>= 2 h`: the sign flood needs `T > sqrt 3 h`): the exact
     /// band.
     pub truncation: f64,
-    /// Propagation distance `D >= T`, metres: beyond the exact band the closest surface points
-    /// are carried outward by a wavefront up to `D`; values beyond are `±D`. `D = T`: no
-    /// propagation (a truncated field).
+    /// Propagation distance `D >= T`, metres: beyond the exact band values are exact in the
+    /// complete blocks of far mode, elsewhere the closest surface points are carried outward by
+    /// a wavefront up to `D`; values beyond are `±D`. `D = T`: no propagation (a truncated
+    /// field).
     pub max_distance: f64,
     /// Margin added around the mesh's bounding box, metres (`>= 0`).
     pub margin: f64,
@@ -163,6 +205,10 @@ pub struct SparseSdfParams {
     /// Cap on the top-level cells of the block index (pages of 8³ block cells over the grid's
     /// box, 4 bytes each): the only cap on the box's size.
     pub max_block_cells: usize,
+    /// Budget of far mode's (block cell, triangle) pairs ([`DEFAULT_MAX_FAR_PAIRS`]; module
+    /// doc, step 1): far mode is chosen when its pairs would not exceed it. `0` never chooses it
+    /// (the band and the wavefront only, as for a fine mesh).
+    pub max_far_pairs: usize,
 }
 
 impl SparseSdfParams {
@@ -186,6 +232,7 @@ impl SparseSdfParams {
             margin: truncation,
             max_blocks: DEFAULT_MAX_BLOCKS,
             max_block_cells: DEFAULT_MAX_BLOCK_CELLS,
+            max_far_pairs: DEFAULT_MAX_FAR_PAIRS,
         }
     }
 }
@@ -298,32 +345,52 @@ impl SparseSdf {
         let b = BLOCK as f64;
         let half = 0.5 * (b - 1.0);
         let r_b = half * h * 3f64.sqrt();
-        // Rounding slack on the candidate test (relative to the reach).
-        let reach = (t_max + r_b) * (1.0 + 1e-9);
+        // Rounding slack on the candidate tests (relative to the reach).
+        let grow = 1.0 + 1e-9;
+        let band_reach = (t_max + r_b) * grow;
         let centre =
             |c: [usize; 3]| origin + Vector3::from(c.map(|v| v as f64 * b + half)).scale(h);
+        // The block cells whose centres lie in triangle `t`'s bounding box grown by `reach`.
+        let block_ranges = |t: usize, reach: f64| {
+            let [a, bb, c] = mesh.corners(t);
+            let tlo = a.inf(&bb).inf(&c) - Vector3::repeat(reach);
+            let thi = a.sup(&bb).sup(&c) + Vector3::repeat(reach);
+            [0, 1, 2].map(|axis| {
+                let u0 = ((tlo[axis] - origin[axis]) / h - half) / b;
+                let u1 = ((thi[axis] - origin[axis]) / h - half) / b;
+                let top = cells[axis] as f64 - 1.0;
+                let lo = u0.ceil().clamp(0.0, top) as usize;
+                let hi = u1.floor().clamp(0.0, top) as usize;
+                // An empty range when the box ends before the first centre.
+                if u1 < 0.0 || u0 > top {
+                    1..1
+                } else {
+                    lo..hi + 1
+                }
+            })
+        };
+        // Far mode (module doc, step 1): candidates out to `D + r_b` when their count stays
+        // under the budget (a coarse mesh), so that short lists give exact values out to `D`.
+        let far_reach = (d_max + r_b) * grow;
+        let far = d_max > t_max && {
+            let estimate: f64 = (0..mesh.triangles().len())
+                .map(|t| {
+                    block_ranges(t, far_reach)
+                        .iter()
+                        .map(|r| r.len() as f64)
+                        .product::<f64>()
+                })
+                .sum();
+            estimate <= p.max_far_pairs as f64
+        };
+        let reach = if far { far_reach } else { band_reach };
 
         // 1. Candidate (block cell, triangle) pairs.
         let mut pairs: Vec<(usize, u32)> = (0..mesh.triangles().len())
             .into_par_iter()
             .flat_map_iter(|t| {
                 let [a, bb, c] = mesh.corners(t);
-                let tlo = a.inf(&bb).inf(&c) - Vector3::repeat(reach);
-                let thi = a.sup(&bb).sup(&c) + Vector3::repeat(reach);
-                let range = |axis: usize| {
-                    let u0 = ((tlo[axis] - origin[axis]) / h - half) / b;
-                    let u1 = ((thi[axis] - origin[axis]) / h - half) / b;
-                    let top = cells[axis] as f64 - 1.0;
-                    let lo = u0.ceil().clamp(0.0, top) as usize;
-                    let hi = u1.floor().clamp(0.0, top) as usize;
-                    // An empty range when the box ends before the first centre.
-                    if u1 < 0.0 || u0 > top {
-                        1..1
-                    } else {
-                        lo..hi + 1
-                    }
-                };
-                let (rx, ry, rz) = (range(0), range(1), range(2));
+                let [rx, ry, rz] = block_ranges(t, reach);
                 let mut out = Vec::new();
                 for k in rz {
                     for j in ry.clone() {
@@ -374,21 +441,26 @@ impl SparseSdf {
             index.set(split(c), k as u32);
         }
 
-        // 2. Exact values up to T; NaN marks "farther than T, sign unknown". The plane test's
+        // 2. Exact values; NaN marks "farther than the block's exact reach, sign unknown" (`T`
+        // in a block with the band's candidates, `D` in a complete block). The plane test's
         // slack covers the rounding of the unit normal (relative to the scene's size).
-        let plane_slack = 1e-9 * (ext.norm() + t_max);
+        let plane_slack = 1e-9 * (ext.norm() + d_max);
+        // Margin of the face-region test: a block must lie this far inside each edge's plane.
+        let prism_slack = 1e-9 * (ext.norm() + d_max);
         let mut values = vec![0f32; nb * BLOCK_POINTS];
         // The closest triangle of every exact point (the wavefront's sites).
         let mut best_tri = vec![u32::MAX; nb * BLOCK_POINTS];
-        values
+        // Per block: whether its candidates are complete (every value exact out to `D`, NaN
+        // only beyond `D`).
+        let complete: Vec<bool> = values
             .par_chunks_mut(BLOCK_POINTS)
             .zip(best_tri.par_chunks_mut(BLOCK_POINTS))
             .enumerate()
-            .for_each(|(k, (out, tri_out))| {
+            .map(|(k, (out, tri_out))| {
                 let cc = split(block_cells[k]);
                 // Each candidate with a point and the unit normal of its plane: the distance to
                 // the plane is a lower bound on the distance to the triangle, so a candidate
-                // whose plane is farther than the best so far (or than T) is skipped.
+                // whose plane is farther than the best so far (or than the reach) is skipped.
                 // Nearest to the block's centre first (ties by triangle): the first candidate
                 // is then usually a point's closest, and the plane test skips most others.
                 let c0 = centre(cc);
@@ -403,34 +475,101 @@ impl SparseSdf {
                     })
                     .collect();
                 cand.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+                // Every point lies within `r_b` of the centre, so its closest triangle is within
+                // `min + 2 r_b` of the centre: that prefix is complete when the pairs reached
+                // that far; in far mode it is complete for every point within `D` of the mesh
+                // anyway (that point's closest triangle lies within `D + r_b` of the centre).
+                let full = (cand[0].0 + 2.0 * r_b) * grow;
+                let n_full = cand.partition_point(|c| c.0 <= full);
+                let (cand, reach_k, complete) =
+                    if (far || full <= reach) && n_full <= MAX_EXACT_CANDIDATES {
+                        (&cand[..n_full], d_max, true)
+                    } else {
+                        let n_band = cand.partition_point(|c| c.0 <= band_reach);
+                        (&cand[..n_band], t_max, false)
+                    };
+                // Per candidate: its face region (the prism over it along its normal, where the
+                // closest point on it is the projection and the signed distance is the plane's)
+                // and whether the block's points all lie in it (then no per-point test).
+                let lo = origin + Vector3::from(cc.map(|c| (c * BLOCK) as f64)).scale(h);
+                let span = ((BLOCK - 1) as f64) * h;
+                let corners: [Point3<f64>; 8] = std::array::from_fn(|k| {
+                    lo + Vector3::new(
+                        (k & 1) as f64 * span,
+                        ((k >> 1) & 1) as f64 * span,
+                        ((k >> 2) & 1) as f64 * span,
+                    )
+                });
+                let regions: Vec<(Option<FaceRegion>, bool)> = cand
+                    .iter()
+                    .map(|&(_, t, _, n)| {
+                        let r = FaceRegion::new(&mesh.corners(t), &n);
+                        let whole =
+                            r.is_some_and(|r| corners.iter().all(|c| r.margin(c) >= prism_slack));
+                        (r, whole)
+                    })
+                    .collect();
+                // Per candidate and point: a lower bound on the distance to the triangle, or
+                // infinity when the point lies in its face region (its distance is then known).
+                let mut lower = vec![0.0; cand.len()];
                 for (l, (slot, tri_slot)) in out.iter_mut().zip(tri_out.iter_mut()).enumerate() {
                     let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
                     let q = origin
                         + Vector3::from([0, 1, 2].map(|a| (cc[a] * BLOCK + g[a]) as f64)).scale(h);
                     let mut best = f64::INFINITY;
                     let mut best_t = u32::MAX;
-                    for &(_, t, a, n) in &cand {
-                        if (q - a).dot(&n).abs() > best.abs().min(t_max) + plane_slack {
-                            continue;
-                        }
-                        let d = mesh.closest_on_triangle(t, &q).signed_distance;
-                        if d.abs() < best.abs() {
-                            best = d;
-                            best_t = t as u32;
+                    // First the face regions: there the plane's signed distance is the
+                    // triangle's (its sign the face normal's, the pseudo-normal there). Outside,
+                    // `q` lies a distance `e` beyond an edge's plane and `pd` off the triangle's
+                    // plane, two orthogonal directions: the triangle is at least
+                    // `sqrt(pd^2 + e^2)` away.
+                    for (((_, t, a, n), (region, whole)), lb) in
+                        cand.iter().zip(&regions).zip(lower.iter_mut())
+                    {
+                        let pd = (q - a).dot(n);
+                        let e = match region {
+                            _ if *whole => 0.0,
+                            Some(r) => r.margin(&q),
+                            None => f64::NEG_INFINITY,
+                        };
+                        if e >= 0.0 {
+                            *lb = f64::INFINITY;
+                            if pd.abs() < best.abs() {
+                                best = pd;
+                                best_t = *t as u32;
+                            }
+                        } else if e.is_finite() {
+                            *lb = (pd * pd + e * e).sqrt();
+                        } else {
+                            *lb = pd.abs();
                         }
                     }
-                    if best.abs() <= t_max {
+                    // Then the edges and corners of the triangles that may still be closer.
+                    for ((_, t, _, _), &lb) in cand.iter().zip(&lower) {
+                        if lb > best.abs().min(reach_k) + plane_slack {
+                            continue;
+                        }
+                        let d = mesh.closest_on_triangle(*t, &q).signed_distance;
+                        if d.abs() < best.abs() {
+                            best = d;
+                            best_t = *t as u32;
+                        }
+                    }
+                    if best.abs() <= reach_k {
                         *slot = best as f32;
                         *tri_slot = best_t;
                     } else {
                         *slot = f32::NAN;
                     }
                 }
-            });
+                complete
+            })
+            .collect();
 
         drop(pairs);
-        // 2a. The wavefront beyond the exact band, out to D.
-        if d_max > t_max {
+        // 2a. The wavefront beyond the exact values, out to D: needed unless every block is
+        // complete in far mode (then no point within `D` lies outside a complete block).
+        if d_max > t_max && !(far && complete.iter().all(|&c| c)) {
             let grid = Grid { origin, h, cells };
             propagate(
                 mesh,
@@ -439,6 +578,8 @@ impl SparseSdf {
                 &mut block_cells,
                 &mut values,
                 &best_tri,
+                &complete,
+                far,
                 d_max,
                 p.max_blocks,
             )?;
@@ -629,7 +770,7 @@ impl SparseSdf {
         }
         index.replace_unknown(AIR);
         let values = pad_blocks(&index, cells, &block_cells, &values, tf);
-        let ranges = block_ranges(&values);
+        let value_ranges = stored_ranges(&values);
         Ok(SparseSdf {
             origin,
             h,
@@ -638,7 +779,7 @@ impl SparseSdf {
             dims,
             index,
             values,
-            ranges,
+            ranges: value_ranges,
         })
     }
 
@@ -934,6 +1075,8 @@ fn propagate(
     block_cells: &mut Vec<usize>,
     field: &mut Vec<f32>,
     best_tri: &[u32],
+    complete: &[bool],
+    far: bool,
     d_max: f64,
     max_blocks: usize,
 ) -> Result<(), SdfError> {
@@ -953,11 +1096,17 @@ fn propagate(
     };
     let mut blocks = Blocks { coords, across };
     // Value and site side by side: the inner loop's reads of a point cost one cache line.
+    // A complete block's points are final (NaN there: beyond `D`).
     let mut pts: Vec<Pt> = field
         .par_iter()
-        .map(|&value| Pt {
+        .enumerate()
+        .map(|(v, &value)| Pt {
             value,
-            site: if value.is_nan() { NO_SITE } else { EXACT_SITE },
+            site: if value.is_nan() && !complete[v / BLOCK_POINTS] {
+                NO_SITE
+            } else {
+                EXACT_SITE
+            },
         })
         .collect();
     // The grid point across face `f` of point `v`: `Ok(u)` in an allocated block, `Err(Some(l))`
@@ -983,8 +1132,9 @@ fn propagate(
             nb => Ok(nb as usize * BLOCK_POINTS + local),
         }
     };
-    // Seeds: exact points with a neighbour that is NaN or unallocated; their closest point is
-    // the site.
+    // Seeds: exact points with a neighbour that no site has reached (a NaN point of a block
+    // that is not complete, or an unallocated cell unless in far mode, where every point of an
+    // unallocated cell lies beyond `D`); their closest point is the site.
     let seeds: Vec<(u32, Point3<f32>)> = {
         let (blocks, pts) = (&blocks, &pts);
         (0..blocks.coords.len())
@@ -997,8 +1147,8 @@ fn propagate(
                         continue;
                     }
                     let open = (0..6).any(|f| match step(blocks, v, f) {
-                        Ok(u) => pts[u].value.is_nan(),
-                        Err(local) => local.is_some(),
+                        Ok(u) => pts[u].site == NO_SITE,
+                        Err(local) => local.is_some() && !far,
                     });
                     if open {
                         let q = grid.point(blocks.coords[b], l);
@@ -1084,14 +1234,14 @@ fn propagate(
                                             });
                                         }
                                     }
-                                    Err(Some(local)) => out.push(Offer {
+                                    Err(Some(local)) if !far => out.push(Offer {
                                         target: b as u32,
                                         face: f as u8,
                                         local: local as u16,
                                         site: s,
                                         value: sign * d2.sqrt(),
                                     }),
-                                    Err(None) => {}
+                                    Err(_) => {}
                                 }
                             }
                         }
@@ -1244,7 +1394,7 @@ enum Apron<'a> {
 }
 
 /// The least and the greatest value of each stored block (no NaN left).
-fn block_ranges(values: &[f32]) -> Vec<[f32; 2]> {
+fn stored_ranges(values: &[f32]) -> Vec<[f32; 2]> {
     values
         .chunks(PADDED_POINTS)
         .map(|v| {
@@ -1254,6 +1404,46 @@ fn block_ranges(values: &[f32]) -> Vec<[f32; 2]> {
                 })
         })
         .collect()
+}
+
+/// The face region of a triangle: the prism of points whose projection on its plane falls in
+/// the triangle, as three inward unit normals of the planes through its edges along its normal
+/// and their offsets.
+#[derive(Clone, Copy)]
+struct FaceRegion {
+    planes: [(Vector3<f64>, f64); 3],
+}
+
+impl FaceRegion {
+    /// The face region of triangle `tri` with unit normal `n`; `None` when an edge is degenerate.
+    fn new(tri: &[Point3<f64>; 3], n: &Vector3<f64>) -> Option<Self> {
+        let mut planes = [(Vector3::zeros(), 0.0); 3];
+        for (k, plane) in planes.iter_mut().enumerate() {
+            let (p0, p1, p2) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
+            let mut m = n.cross(&(p1 - p0));
+            let len = m.norm();
+            if len.is_nan() || len <= 0.0 {
+                return None;
+            }
+            m /= len;
+            // Inward: towards the opposite corner.
+            if m.dot(&(p2 - p0)) < 0.0 {
+                m = -m;
+            }
+            *plane = (m, m.dot(&p0.coords));
+        }
+        Some(FaceRegion { planes })
+    }
+
+    /// How far `q` lies inside the region: the smallest signed distance to the edges' planes
+    /// (negative outside).
+    #[inline]
+    fn margin(&self, q: &Point3<f64>) -> f64 {
+        self.planes
+            .iter()
+            .map(|(m, o)| m.dot(&q.coords) - o)
+            .fold(f64::INFINITY, f64::min)
+    }
 }
 
 /// Step 2b for one block's values: every NaN point 6-connected inside the block to an exact

@@ -14,7 +14,7 @@ use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::parry_mesh::ParryMesh;
 use rappel_terrain::paton_scene::PatonScene;
 use rappel_terrain::sdf::SdfError;
-use rappel_terrain::sparse_sdf::{SparseSdf, SparseSdfParams};
+use rappel_terrain::sparse_sdf::{DEFAULT_MAX_FAR_PAIRS, SparseSdf, SparseSdfParams};
 use rappel_terrain::surface::SignedDistance;
 
 /// Samples `n` points from `sample`, checks the bound against `exact`; returns how many lay
@@ -292,11 +292,26 @@ fn check_grid_point(f: &SparseSdf, q: &Point3<f64>, d: f64) -> bool {
     d.abs() > f.truncation() && d.abs() <= dm
 }
 
+/// [`SparseSdfParams::new`] at `h`, far mode's pair budget `far_pairs` (`0`: the band and the
+/// wavefront only, the path a fine mesh takes).
+fn propagated(h: f64, far_pairs: usize) -> SparseSdfParams {
+    let mut p = SparseSdfParams::new(h);
+    p.max_far_pairs = far_pairs;
+    p
+}
+
 #[test]
 fn propagated_field_on_the_ledge_scenes_against_the_bvh() {
-    for pole in [false, true] {
+    // Both paths: far mode (the default on this 18-triangle mesh; with the pole some blocks
+    // still go to the wavefront) and the wavefront alone.
+    for (pole, far_pairs) in [
+        (false, DEFAULT_MAX_FAR_PAIRS),
+        (true, DEFAULT_MAX_FAR_PAIRS),
+        (false, 0),
+        (true, 0),
+    ] {
         let h = 0.1;
-        let (exact, f, top, zmin) = ledge_case(pole, &SparseSdfParams::new(h));
+        let (exact, f, top, zmin) = ledge_case(pole, &propagated(h, far_pairs));
         assert!(f.max_distance() > f.truncation());
         let (lo, hi) = f.bounds();
         let n = (hi - lo) / h;
@@ -352,12 +367,20 @@ fn propagated_field_on_the_ledge_scenes_against_the_bvh() {
 
 #[test]
 fn propagated_field_against_closed_forms() {
-    // A closed box 2 x 1.4 x 1 m: its centre lies 0.5 m deep, beyond T = 0.2 m; the wavefront
-    // must carry the exact -0.5 there (the truncated field reads -T).
+    for far_pairs in [DEFAULT_MAX_FAR_PAIRS, 0] {
+        closed_box_and_tilted_plane(far_pairs);
+    }
+}
+
+/// [`propagated_field_against_closed_forms`] with far mode's pair budget `far_pairs`.
+fn closed_box_and_tilted_plane(far_pairs: usize) {
+    // A closed box 2 x 1.4 x 1 m: its centre lies 0.5 m deep, beyond T = 0.2 m; far mode's
+    // exact values or the wavefront must carry the exact -0.5 there (the truncated field reads
+    // -T).
     let (c, e) = (Point3::new(0.13, -0.21, 0.37), Vector3::new(1.0, 0.7, 0.5));
     let m = closed_box(c, e);
     let h = 0.05;
-    let mut p = SparseSdfParams::new(h);
+    let mut p = propagated(h, far_pairs);
     p.truncation = 0.2;
     let f = SparseSdf::from_mesh(&m, &p).expect("fits");
     assert_eq!(f.max_distance(), 1.0);
@@ -389,7 +412,7 @@ fn propagated_field_against_closed_forms() {
     let m = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]]).expect("a plane");
     let n = Vector3::new(-0.3, 0.2, 1.0).normalize();
     let plane = |q: &Point3<f64>| (q - Point3::new(0.0, 0.0, 1.0)).dot(&n);
-    let f = SparseSdf::from_mesh(&m, &SparseSdfParams::new(0.1)).expect("fits");
+    let f = SparseSdf::from_mesh(&m, &propagated(0.1, far_pairs)).expect("fits");
     let (near, far) = check_bound(
         &f,
         2000,
@@ -417,14 +440,74 @@ fn same_field_whatever_the_thread_count() {
             .expect("a pool")
             .install(|| SparseSdf::from_mesh(&m, params).expect("fits"))
     };
-    for (pole, h) in [(false, 0.1), (true, 0.1), (false, 0.2)] {
-        let p = SparseSdfParams::new(h);
+    // Far mode (default), and the wavefront alone (pair budget 0).
+    for (pole, h, far_pairs) in [
+        (false, 0.1, DEFAULT_MAX_FAR_PAIRS),
+        (true, 0.1, DEFAULT_MAX_FAR_PAIRS),
+        (false, 0.2, DEFAULT_MAX_FAR_PAIRS),
+        (false, 0.1, 0),
+        (true, 0.1, 0),
+    ] {
+        let p = propagated(h, far_pairs);
         let one = build(1, pole, &p);
         let three = build(3, pole, &p);
         assert!(one.block_count() > 0);
         assert_eq!(one.block_count(), three.block_count(), "pole {pole}, h {h}");
         assert!(one == three, "pole {pole}, h {h}: stored values differ");
     }
+}
+
+/// Far mode on Paton's ledge (18 triangles: every block's complete candidate list is short):
+/// every sampled grid point out to `D` holds the exact signed distance (parry's) up to `f32`
+/// rounding, far beyond `T` too, where the wavefront's values may lie up to `excess_bound`
+/// above it. The wavefront-only field (pair budget 0) is a different field (so the budget
+/// switches the path) that never reads below far mode's values and at most `excess_bound`
+/// above them. Fails if a complete block misses a point's closest triangle, if the face-region
+/// shortcut gives a wrong distance or sign, or if the two paths disagree beyond the bound.
+#[test]
+fn far_mode_is_exact_on_the_ledge_and_agrees_with_the_wavefront() {
+    let h = 0.1;
+    let (exact, far, top, zmin) = ledge_case(false, &propagated(h, DEFAULT_MAX_FAR_PAIRS));
+    let (_, wave, _, _) = ledge_case(false, &propagated(h, 0));
+    assert!(far != wave, "the pair budget must switch the path");
+    let (lo, hi) = far.bounds();
+    let n = (hi - lo) / h;
+    let dm = far.max_distance();
+    let mut rng = ChaCha8Rng::seed_from_u64(2611);
+    let mut beyond = 0;
+    for _ in 0..6000 {
+        let q = lo
+            + Vector3::new(
+                rng.random_range(0..=n.x.round() as i64) as f64,
+                rng.random_range(0..=n.y.round() as i64) as f64,
+                rng.random_range(0..=((top + 1.5 - lo.z) / h).floor().min(n.z) as i64) as f64,
+            ) * h;
+        // Inside the open ground's edge (beyond it the sign is a convention).
+        if q.x < lo.x + 3.0 || q.x > hi.x - 3.0 || q.y < lo.y + 3.0 || q.y > hi.y - 3.0 {
+            continue;
+        }
+        if q.z < zmin {
+            continue;
+        }
+        let d = exact.signed_distance(&q).expect("finite");
+        let rounding = 4e-6 * (1.0 + q.coords.norm());
+        let got = far.distance(&q).expect("inside");
+        assert!(
+            (got - d.clamp(-dm, dm)).abs() <= rounding,
+            "far mode at {q}: {got}, exact {d}"
+        );
+        let w = wave.distance(&q).expect("inside");
+        let excess = w.abs() - got.abs();
+        assert!(
+            excess >= -rounding && excess <= wave.excess_bound() + rounding,
+            "wavefront at {q}: {w}, far mode {got}"
+        );
+        if d.abs() > rounding {
+            assert_eq!(w.signum(), got.signum(), "sign at {q}: {w} vs {got}");
+        }
+        beyond += usize::from(d.abs() > far.truncation() && d.abs() < dm);
+    }
+    assert!(beyond > 500, "{beyond} grid points between T and D");
 }
 
 /// Two closed boxes 300 m apart on each axis at 5 cm: a dense block index over the box would
