@@ -15,8 +15,10 @@
 //! histories spread from the start cell outward ring by ring (Chebyshev rings, each in
 //! parallel): a cell's history is its parent's, predicted over one step from the parent's
 //! pivot to its own. The parent is the neighbour one step toward the start (diagonal first),
-//! else the first neighbour on the inner ring that has a history. This is the tree a sampling
-//! planner would grow (Paton §V), on a grid.
+//! else the first neighbour on the inner ring that has a history, else (no inner neighbour has
+//! one: a ring of poses that did not settle) the nearest cell with a history on the line of
+//! diagonal-first steps toward the start, the prediction then spanning the unsettled cells. This
+//! is the tree a sampling planner would grow (Paton §V), on a grid.
 
 use nalgebra::{Point2, Point3, Vector3};
 use rayon::prelude::*;
@@ -595,10 +597,25 @@ pub fn stability_map_for<R: MapRobot>(
                         }
                     }
                 }
-                let mut why = String::from("no neighbour toward the start has an anchor history");
-                for (pi, pj) in parents {
+                let mut why = String::from("no cell toward the start has an anchor history");
+                let mut tried = false;
+                // The inner neighbours first; when none has a history (a ring of cells that did
+                // not settle, e.g. a rigid rover straddling a crest), the nearest cell with one
+                // on the diagonal-first line toward the start (at most `r - 1` more steps).
+                let (mut ci, mut cj) = parents[0];
+                let inward = std::iter::from_fn(|| {
+                    (ring(ci, cj) > 0).then(|| {
+                        (ci, cj) = (toward(ci, si), toward(cj, sj));
+                        (ci, cj)
+                    })
+                });
+                for (pi, pj) in parents.into_iter().chain(inward) {
                     let pc = pi + pj * nx;
+                    if tried && ring(pi, pj) + 1 < r {
+                        break;
+                    }
                     if let (Some(Ok(h)), Ok(pp)) = (&histories[pc], &poses[pc]) {
+                        tried = true;
                         match predict(
                             distance,
                             &params,
