@@ -1,18 +1,20 @@
 //! `rappel settle-map GROUND [--x MIN,MAX] [--y MIN,MAX] [--step M] [--yaw DEG] [--start X,Y]
-//! (--root X,Y,Z | --test N) [--robot axel] [--field RES] [--svg OUT] [--html OUT] [--json]`: a
-//! stability map of settled Axel poses on 3D ground like Paton's Fig. 8 (`--robot four-wheel`
-//! exits 2: the map is Axel's). Every grid cell is settled, its anchor history is predicted from
-//! the start outward (Paton Alg. 1, [`rappel::mesh_stability`]) and the stability
-//! QP is solved with the tether from the last predicted anchor (boom inline or in contact).
+//! (--root X,Y,Z | --test N) [--robot axel|four-wheel] [--field RES] [--svg OUT] [--html OUT]
+//! [--json]`: a stability map of settled poses on 3D ground like Paton's Fig. 8, of Axel or of the
+//! rigid four-wheel rover. Every grid cell is settled, its anchor history is predicted from the
+//! start outward (Paton Alg. 1, [`rappel::mesh_stability`]) along the robot's tether end and the
+//! stability QP is solved with the tether from the last predicted anchor (Axel: boom inline or in
+//! contact; the four-wheel rover: the tether fixed to its body).
 //! `--field RES`: settling and anchor prediction read the sparse distance field at `RES` metres
 //! instead of parry's exact distances (Paton's use of the field, [`crate::field_arg`]).
 //! Exit 0 when the map was computed; bad input exits 2.
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
-use rappel::mesh_stability::{MapSpec, map_svg, stability_map_with};
+use rappel::mesh_stability::{AxelMap, FourWheelMap, MapSpec, map_svg, stability_map_for};
 use rappel::nalgebra::Point3;
 use rappel::planners::anchor_prediction::AnchorHistory;
+use rappel::settle::SettleRobot;
 use rappel::settle::{load_ground, load_scene};
 use std::path::PathBuf;
 
@@ -53,10 +55,9 @@ pub struct Args {
     /// The root anchor of a scene's test N (1: behind the start, 2: in front).
     #[arg(long, value_name = "N")]
     test: Option<usize>,
-    /// The robot: `axel` only. The map's verdicts are Axel's (both boom configurations, the
-    /// boom pivot as the tether end of anchor prediction); the library settles the four-wheel
-    /// rover and checks one pose's stability with a tether (`rappel settle --robot four-wheel
-    /// --anchor X,Y,Z`) but builds no map for it, so `four-wheel` exits 2.
+    /// The robot: `axel` (both boom configurations, the boom pivot as the tether end of anchor
+    /// prediction) or `four-wheel` (the rigid rover, its tether exit on the body as the tether
+    /// end, one verdict without a boom).
     #[arg(long, value_name = "NAME", default_value = "axel")]
     robot: String,
     #[command(flatten)]
@@ -70,12 +71,7 @@ pub struct Args {
 
 /// Runs `rappel settle-map`.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
-    if crate::settle::robot(&args.robot)? != rappel::settle::SettleRobot::Axel {
-        return Err(CliError(format!(
-            "--robot {}: settle-map builds Axel's stability map only (its boom configurations and boom pivot); settle one four-wheel pose with `rappel settle --robot four-wheel --anchor X,Y,Z`",
-            args.robot
-        )));
-    }
+    let robot = crate::settle::robot(&args.robot)?;
     refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
     let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
     let is_scene = args
@@ -149,7 +145,11 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     let progress = rappel::progress::Progress::spinner("settle-map");
     progress.message("settling poses and predicting their anchors");
     let map = args.field.distances(&ground).and_then(|d| {
-        stability_map_with(&ground, &d, &root, &spec).map_err(|e| CliError(e.to_string()))
+        match robot {
+            SettleRobot::Axel => stability_map_for(&AxelMap, &ground, &d, &root, &spec),
+            SettleRobot::FourWheel => stability_map_for(&FourWheelMap, &ground, &d, &root, &spec),
+        }
+        .map_err(|e| CliError(e.to_string()))
     });
     progress.finish();
     let map = map?;

@@ -1,6 +1,6 @@
 //! `rappel settle-map` on Paton's ledge: the JSON map's slope cells past the lip (the boom swept
 //! against the mesh rests on the lip within its reach) are stable under the test-1 root (anchored on the lip) and unstable under the test-2
-//! root; bad input exits 2.
+//! root; the four-wheel rover's map is red on the slope under the test-2 root; bad input exits 2.
 
 mod common;
 
@@ -105,4 +105,77 @@ fn field_option_shades_the_slope_and_refuses_bad_resolutions() {
         &bad,
         "--field 0: the resolution must be a positive, finite number",
     );
+}
+
+/// `--robot four-wheel`: the rigid rover's map (tether fixed to its body, one verdict without a
+/// boom). Under the test-2 root the tether from a slope cell runs toward the anchor 8.2 m in front
+/// of the start and 2 m above it: away from the 55° slope and not uphill along it, so it cannot
+/// hold the rover, and wheel friction 0.6 (`SCENE_FRICTION`) is below tan 55° = 1.43: every
+/// settled slope cell must be unstable. On the flat top, far enough from the lip for all four
+/// wheels, the rover rests on its wheels without the tether: stable. The rover does not settle
+/// straddling the lip (its rest iteration does not converge there), so the slope's histories
+/// are predicted across that row from the top. Under the test-1 root the slope cells anchor on
+/// the lip and the tether, running up the slope, holds them.
+#[test]
+fn four_wheel_map_is_red_on_the_slope_under_test_2() {
+    let ledge = fixture("paton/ledge.ron");
+    let map = |test: &str| -> serde_json::Value {
+        let o = rappel(&[
+            "settle-map",
+            &ledge,
+            "--test",
+            test,
+            "--robot",
+            "four-wheel",
+            "--x",
+            "-2,2.5",
+            "--y",
+            "-2,2",
+            "--step",
+            "0.5",
+            "--json",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        serde_json::from_slice(&o.stdout).expect("JSON")
+    };
+    let one = map("1");
+    let slope: Vec<_> = slope_cells(&one)
+        .into_iter()
+        .filter(|c| !c["pose"].is_null())
+        .collect();
+    assert!(slope.len() >= 27, "{} settled slope cells", slope.len());
+    for c in &slope {
+        assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(true), "{c}");
+        // From x = 1 m on, the straight tether from the root to the tether exit would pass more
+        // than 0.3 m under the lip (at x = 0.5 m only about 5 cm, the prediction's sampling
+        // depth), so the last anchor is on the lip.
+        if c["ground"][0].as_f64().is_some_and(|x| x >= 1.0) {
+            let last = c["pose"]["anchors"]
+                .as_array()
+                .and_then(|a| a.last())
+                .expect("anchor");
+            assert!(last[0].as_f64().is_some_and(|x| x.abs() < 0.1), "{c}");
+        }
+    }
+    let v = map("2");
+    assert_eq!(v["robot"], "four_wheel");
+    let slope: Vec<_> = slope_cells(&v)
+        .into_iter()
+        .filter(|c| !c["pose"].is_null())
+        .collect();
+    assert!(slope.len() >= 27, "{} settled slope cells", slope.len());
+    for c in &slope {
+        assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(false), "{c}");
+        assert_eq!(c["pose"]["verdicts"][0]["boom"], "none", "{c}");
+    }
+    let top: Vec<_> = v["cells"]
+        .as_array()
+        .expect("cells")
+        .iter()
+        .filter(|c| c["ground"][0].as_f64().is_some_and(|x| x <= -1.0))
+        .collect();
+    assert!(top.len() >= 18, "{} top cells", top.len());
+    for c in &top {
+        assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(true), "{c}");
+    }
 }

@@ -4,17 +4,21 @@
 //! predicted anchor sets the tether's direction in the stability QP (both boom configurations,
 //! [`crate::settle::boom_verdicts`]).
 //!
-//! The tether end used for prediction is Axel's boom pivot (the axle centre): with the boom
-//! inline the tether from the last anchor to the boom tip lies on the segment from the anchor to
-//! the pivot, so the prediction is exact for it; with the boom in contact the tip is lower (an
-//! approximation, as the in-contact boom's own ground contact is, see `docs/mesh.md`).
+//! The robot is a [`MapRobot`]: Axel ([`AxelMap`]) or the rigid four-wheel rover
+//! ([`FourWheelMap`]). The tether end used for prediction is Axel's boom pivot (the axle centre):
+//! with the boom inline the tether from the last anchor to the boom tip lies on the segment from
+//! the anchor to the pivot, so the prediction is exact for it; with the boom in contact the tip is
+//! lower (an approximation, as the in-contact boom's own ground contact is, see `docs/mesh.md`).
+//! The four-wheel rover's tether end is its tether exit on the body, exact for its one verdict.
 //!
 //! A map is a grid of ground points; every cell is settled (in parallel), then the anchor
 //! histories spread from the start cell outward ring by ring (Chebyshev rings, each in
 //! parallel): a cell's history is its parent's, predicted over one step from the parent's
 //! pivot to its own. The parent is the neighbour one step toward the start (diagonal first),
-//! else the first neighbour on the inner ring that has a history. This is the tree a sampling
-//! planner would grow (Paton §V), on a grid.
+//! else the first neighbour on the inner ring that has a history, else (no inner neighbour has
+//! one: a ring of poses that did not settle) the nearest cell with a history on the line of
+//! diagonal-first steps toward the start, the prediction then spanning the unsettled cells. This
+//! is the tree a sampling planner would grow (Paton §V), on a grid.
 
 use nalgebra::{Point2, Point3, Vector3};
 use rayon::prelude::*;
@@ -31,8 +35,10 @@ use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::surface::SignedDistance;
 
 use crate::distance_source::{DistanceReport, DistanceSource, GroundDistances};
-use crate::settle::{BoomVerdict, boom_verdicts};
+use crate::settle::{BoomVerdict, SettleRobot, boom_verdicts, four_wheel_verdict};
 use crate::svg::{Layer, Marker, Picture};
+use rappel_mechanics::four_wheel::FourWheelParams;
+use rappel_mechanics::four_wheel_settle::FourWheelPose;
 
 /// Sampling resolution of anchor prediction on exact mesh distances, metres: the smallest ground
 /// feature the tether notices (contacts are found once the swept tether is this deep).
@@ -231,6 +237,125 @@ pub fn drive_and_check_with(
     })
 }
 
+/// A robot whose settled poses a stability map checks (the map's seam for robot models): how a
+/// pose settles, where the tether leaves it (the point anchor prediction carries the history
+/// to) and its stability with the tether from its last anchor. Axel: [`AxelMap`]; the rigid
+/// four-wheel rover: [`FourWheelMap`].
+pub trait MapRobot: Sync {
+    /// A settled pose.
+    type Pose: Send + Sync;
+    /// Which robot, for reports.
+    fn robot(&self) -> SettleRobot;
+    /// The pose at ground point `(x, y)` heading `yaw_deg` (degrees from `+x`), settled through
+    /// `distances`; the error's message otherwise.
+    fn settle(
+        &self,
+        distances: &GroundDistances,
+        x: f64,
+        y: f64,
+        yaw_deg: f64,
+    ) -> Result<Self::Pose, String>;
+    /// Where the tether leaves the robot at `pose`, world.
+    fn tether_end(&self, pose: &Self::Pose) -> Point3<f64>;
+    /// The stability of `pose` with anchor history `history`, the mesh behind `ground`.
+    fn stability(
+        &self,
+        ground: &IndexedGround<'_>,
+        pose: &Self::Pose,
+        history: &AnchorHistory,
+    ) -> PoseStability;
+}
+
+/// Axel with the default [`AxelParams`] on a map: settled by [`GroundDistances::settle`], the
+/// tether end its boom pivot ([`tether_end`]), both boom configurations ([`pose_stability`]).
+///
+/// ```
+/// use rappel::mesh_stability::{AxelMap, MapRobot};
+/// use rappel::settle::SettleRobot;
+/// assert_eq!(AxelMap.robot(), SettleRobot::Axel);
+/// ```
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AxelMap;
+
+impl MapRobot for AxelMap {
+    type Pose = SettledPose;
+    fn robot(&self) -> SettleRobot {
+        SettleRobot::Axel
+    }
+    fn settle(
+        &self,
+        distances: &GroundDistances,
+        x: f64,
+        y: f64,
+        yaw_deg: f64,
+    ) -> Result<SettledPose, String> {
+        distances.settle(x, y, yaw_deg).map_err(|e| e.to_string())
+    }
+    fn tether_end(&self, pose: &SettledPose) -> Point3<f64> {
+        tether_end(pose, &AxelParams::default())
+    }
+    fn stability(
+        &self,
+        ground: &IndexedGround<'_>,
+        pose: &SettledPose,
+        history: &AnchorHistory,
+    ) -> PoseStability {
+        pose_stability(ground, pose, history)
+    }
+}
+
+/// The rigid four-wheel rover with the default [`FourWheelParams`] on a map: settled by
+/// [`GroundDistances::settle_four_wheel`], the tether end its tether exit on the body, one
+/// verdict without a boom ([`four_wheel_verdict`]: contact frames from the mesh's exact
+/// distances through the BVH).
+///
+/// ```
+/// use rappel::mesh_stability::{FourWheelMap, MapRobot};
+/// use rappel::settle::SettleRobot;
+/// assert_eq!(FourWheelMap.robot(), SettleRobot::FourWheel);
+/// ```
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FourWheelMap;
+
+impl MapRobot for FourWheelMap {
+    type Pose = FourWheelPose;
+    fn robot(&self) -> SettleRobot {
+        SettleRobot::FourWheel
+    }
+    fn settle(
+        &self,
+        distances: &GroundDistances,
+        x: f64,
+        y: f64,
+        yaw_deg: f64,
+    ) -> Result<FourWheelPose, String> {
+        distances
+            .settle_four_wheel(x, y, yaw_deg)
+            .map_err(|e| e.to_string())
+    }
+    fn tether_end(&self, pose: &FourWheelPose) -> Point3<f64> {
+        pose.origin + pose.rotation * FourWheelParams::default().tether_exit.coords
+    }
+    fn stability(
+        &self,
+        ground: &IndexedGround<'_>,
+        pose: &FourWheelPose,
+        history: &AnchorHistory,
+    ) -> PoseStability {
+        let last = history.last().point;
+        let verdict = four_wheel_verdict(pose, ground.bvh, &last);
+        let stable = verdict.stable == Some(true);
+        let p = |q: &Point3<f64>| [q.x, q.y, q.z];
+        PoseStability {
+            origin: p(&pose.origin),
+            anchors: history.anchors().iter().map(|a| p(&a.point)).collect(),
+            margin: if stable { verdict.margin } else { 0.0 },
+            verdicts: vec![verdict],
+            stable,
+        }
+    }
+}
+
 /// A map's grid: ground points `(x0 + i step, y0 + j step)` within the bounds, every pose
 /// heading `yaw_deg`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -287,6 +412,8 @@ pub struct MapCell {
 /// A stability map.
 #[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct StabilityMap {
+    /// The robot settled in every cell.
+    pub robot: SettleRobot,
     /// The grid.
     pub spec: MapSpec,
     /// Cells along x.
@@ -348,8 +475,20 @@ pub fn stability_map(
 /// The stability map of `spec` under root anchor `root` on `ground` (see the module doc), with
 /// settling and anchor prediction through `distances` (built from `ground`: exact or through the
 /// field, [`GroundDistances`]); the boom sweep and the placement through its BVH. The map states
-/// its distance source.
+/// its distance source. Axel's map: [`stability_map_for`] with [`AxelMap`].
 pub fn stability_map_with(
+    ground: &TriMesh,
+    distances: &GroundDistances,
+    root: &AnchorHistory,
+    spec: &MapSpec,
+) -> Result<StabilityMap, MeshStabilityError> {
+    stability_map_for(&AxelMap, ground, distances, root, spec)
+}
+
+/// [`stability_map_with`] for any [`MapRobot`]: every cell settled by `robot`, the anchor
+/// histories carried along its tether ends, its verdicts.
+pub fn stability_map_for<R: MapRobot>(
+    robot: &R,
     ground: &TriMesh,
     distances: &GroundDistances,
     root: &AnchorHistory,
@@ -402,15 +541,12 @@ pub fn stability_map_with(
         ));
     }
     let (si, sj) = (si as usize, sj as usize);
-    let axel = AxelParams::default();
     // Settle every cell.
-    let poses: Vec<Result<SettledPose, String>> = (0..nx * ny)
+    let poses: Vec<Result<R::Pose, String>> = (0..nx * ny)
         .into_par_iter()
         .map(|c| {
             let (x, y) = at(c % nx, c / nx);
-            distances
-                .settle(x, y, spec.yaw_deg)
-                .map_err(|e| e.to_string())
+            robot.settle(distances, x, y, spec.yaw_deg)
         })
         .collect();
     let mut histories: Vec<Option<Result<AnchorHistory, String>>> = vec![None; nx * ny];
@@ -461,16 +597,31 @@ pub fn stability_map_with(
                         }
                     }
                 }
-                let mut why = String::from("no neighbour toward the start has an anchor history");
-                for (pi, pj) in parents {
+                let mut why = String::from("no cell toward the start has an anchor history");
+                let mut tried = false;
+                // The inner neighbours first; when none has a history (a ring of cells that did
+                // not settle, e.g. a rigid rover straddling a crest), the nearest cell with one
+                // on the diagonal-first line toward the start (at most `r - 1` more steps).
+                let (mut ci, mut cj) = parents[0];
+                let inward = std::iter::from_fn(|| {
+                    (ring(ci, cj) > 0).then(|| {
+                        (ci, cj) = (toward(ci, si), toward(cj, sj));
+                        (ci, cj)
+                    })
+                });
+                for (pi, pj) in parents.into_iter().chain(inward) {
                     let pc = pi + pj * nx;
+                    if tried && ring(pi, pj) + 1 < r {
+                        break;
+                    }
                     if let (Some(Ok(h)), Ok(pp)) = (&histories[pc], &poses[pc]) {
+                        tried = true;
                         match predict(
                             distance,
                             &params,
                             h,
-                            &tether_end(pp, &axel),
-                            &tether_end(pose, &axel),
+                            &robot.tether_end(pp),
+                            &robot.tether_end(pose),
                         ) {
                             Ok(step) => return (c, Ok(step.history)),
                             Err(e) => why = format!("anchor prediction: {e}"),
@@ -491,7 +642,7 @@ pub fn stability_map_with(
             match (&poses[c], &histories[c]) {
                 (Ok(p), Some(Ok(h))) => MapCell {
                     ground: [x, y],
-                    pose: Some(pose_stability(&IndexedGround { mesh: ground, bvh }, p, h)),
+                    pose: Some(robot.stability(&IndexedGround { mesh: ground, bvh }, p, h)),
                     failure: None,
                 },
                 (Err(e), _) => MapCell {
@@ -519,6 +670,7 @@ pub fn stability_map_with(
     let failed = cells.iter().filter(|c| c.pose.is_none()).count();
     let r = root.root().point;
     Ok(StabilityMap {
+        robot: robot.robot(),
         spec: *spec,
         nx,
         ny,

@@ -551,6 +551,38 @@ pub fn settle_report_with(
     Ok((pose, report))
 }
 
+/// The stability verdict of the settled four-wheel rover `pose` (default `FourWheelParams`) with
+/// the tether from `anchor` to its tether exit ([`NO_BOOM`]): the supporting wheels' contacts
+/// with frames from `ground`'s distance gradient, [`SCENE_FRICTION`], the stability QP.
+pub fn four_wheel_verdict<D: rappel_terrain::surface::SignedDistance + ?Sized>(
+    pose: &FourWheelPose,
+    ground: &D,
+    anchor: &Point3<f64>,
+) -> BoomVerdict {
+    let verdict = FourWheelRover::new(FourWheelParams::default())
+        .and_then(|rover| pose.place(&rover, ground, SCENE_FRICTION, Some((anchor, None))))
+        .map_err(|e| e.to_string())
+        .and_then(|placed| {
+            StabilityQp::default()
+                .check(&placed)
+                .map_err(|e| e.to_string())
+        });
+    match verdict {
+        Ok(r) => BoomVerdict {
+            boom: NO_BOOM.to_string(),
+            stable: Some(r.stable),
+            error: None,
+            margin: r.margin,
+        },
+        Err(e) => BoomVerdict {
+            boom: NO_BOOM.to_string(),
+            stable: None,
+            error: Some(e),
+            margin: 0.0,
+        },
+    }
+}
+
 /// The four-wheel rover (default `FourWheelParams`) settled at `(x, y)` with yaw `yaw_deg`
 /// (degrees from `+x`, counter-clockwise) through `distances` (built from the ground); with the
 /// last anchor `anchor`, the stability QP's verdict ([`NO_BOOM`]: the tether from the anchor to
@@ -588,33 +620,11 @@ pub fn four_wheel_report_with(
 ) -> Result<(FourWheelPose, SettleReport), rappel_mechanics::settle::SettleError> {
     let pose = distances.settle_four_wheel(x, y, yaw_deg)?;
     let stability = match anchor {
-        Some(a) => {
-            let a = Point3::new(a[0], a[1], a[2]);
-            let verdict = FourWheelRover::new(FourWheelParams::default())
-                .and_then(|rover| {
-                    pose.place(&rover, &**distances.bvh(), SCENE_FRICTION, Some((&a, None)))
-                })
-                .map_err(|e| e.to_string())
-                .and_then(|placed| {
-                    StabilityQp::default()
-                        .check(&placed)
-                        .map_err(|e| e.to_string())
-                });
-            vec![match verdict {
-                Ok(r) => BoomVerdict {
-                    boom: NO_BOOM.to_string(),
-                    stable: Some(r.stable),
-                    error: None,
-                    margin: r.margin,
-                },
-                Err(e) => BoomVerdict {
-                    boom: NO_BOOM.to_string(),
-                    stable: None,
-                    error: Some(e),
-                    margin: 0.0,
-                },
-            }]
-        }
+        Some(a) => vec![four_wheel_verdict(
+            &pose,
+            &**distances.bvh(),
+            &Point3::new(a[0], a[1], a[2]),
+        )],
         None => Vec::new(),
     };
     let p = |q: &Point3<f64>| [q.x, q.y, q.z];
