@@ -235,25 +235,7 @@ pub fn boom_verdict<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
         ),
         BoomConfiguration::InContact => ("in-contact", in_contact()),
     };
-    let verdict = placed.and_then(|placed| {
-        StabilityQp::default()
-            .check(&placed)
-            .map_err(|e| e.to_string())
-    });
-    match verdict {
-        Ok(r) => BoomVerdict {
-            boom: name.to_string(),
-            stable: Some(r.stable),
-            error: None,
-            margin: r.margin,
-        },
-        Err(e) => BoomVerdict {
-            boom: name.to_string(),
-            stable: None,
-            error: Some(e),
-            margin: 0.0,
-        },
-    }
+    qp_verdict(name, placed)
 }
 
 /// Half-width of the square of ground drawn around a settled pose by [`settled_pose_picture`],
@@ -559,23 +541,30 @@ pub fn four_wheel_verdict<D: rappel_terrain::surface::SignedDistance + ?Sized>(
     ground: &D,
     anchor: &Point3<f64>,
 ) -> BoomVerdict {
-    let verdict = FourWheelRover::new(FourWheelParams::default())
+    let placed = FourWheelRover::new(FourWheelParams::default())
         .and_then(|rover| pose.place(&rover, ground, SCENE_FRICTION, Some((anchor, None))))
-        .map_err(|e| e.to_string())
-        .and_then(|placed| {
-            StabilityQp::default()
-                .check(&placed)
-                .map_err(|e| e.to_string())
-        });
-    match verdict {
+        .map_err(|e| e.to_string());
+    qp_verdict(NO_BOOM, placed)
+}
+
+/// The stability QP's verdict on a placed robot (or the placement's error), labelled `boom`.
+fn qp_verdict(
+    boom: &str,
+    placed: Result<rappel_mechanics::robot::PlacedRobot, String>,
+) -> BoomVerdict {
+    match placed.and_then(|placed| {
+        StabilityQp::default()
+            .check(&placed)
+            .map_err(|e| e.to_string())
+    }) {
         Ok(r) => BoomVerdict {
-            boom: NO_BOOM.to_string(),
+            boom: boom.to_string(),
             stable: Some(r.stable),
             error: None,
             margin: r.margin,
         },
         Err(e) => BoomVerdict {
-            boom: NO_BOOM.to_string(),
+            boom: boom.to_string(),
             stable: None,
             error: Some(e),
             margin: 0.0,
