@@ -6,6 +6,9 @@ mod common;
 
 use common::*;
 
+/// Paton Fig. 8's view at 0.5 m (over the lip and down the slope, y within 2 m), as JSON.
+const FIG8_VIEW: [&str; 7] = ["--x", "-2,2.5", "--y", "-2,2", "--step", "0.5", "--json"];
+
 fn slope_cells(v: &serde_json::Value) -> Vec<&serde_json::Value> {
     // The paper's ledge: lip at x = 0, slope foot at x = 4 / tan 55° = 2.80 m.
     v["cells"]
@@ -24,7 +27,7 @@ fn ledge_map_is_green_under_test_1_and_red_under_test_2() {
     let dir = temp_dir("settle-map");
     let svg = dir.join("m.svg");
     let ledge = fixture("paton/ledge.ron");
-    let args = ["--x", "-2,2.5", "--y", "-2,2", "--step", "0.5", "--json"];
+    let args = FIG8_VIEW;
     let mut one: Vec<&str> = vec!["settle-map", &ledge, "--test", "1", "--svg"];
     one.push(svg.to_str().unwrap_or_default());
     one.extend(args);
@@ -76,20 +79,9 @@ fn bad_settle_map_input_exits_2() {
 #[test]
 fn field_option_shades_the_slope_and_refuses_bad_resolutions() {
     let ledge = fixture("paton/ledge.ron");
-    let base = [
-        "settle-map",
-        &ledge,
-        "--test",
-        "1",
-        "--x",
-        "-2,2.5",
-        "--y",
-        "-2,2",
-        "--step",
-        "0.5",
-        "--json",
-    ];
-    let mut args = base.to_vec();
+    let mut base = vec!["settle-map", ledge.as_str(), "--test", "1"];
+    base.extend(FIG8_VIEW);
+    let mut args = base.clone();
     args.extend(["--field", "0.1"]);
     let o = rappel(&args);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
@@ -99,7 +91,7 @@ fn field_option_shades_the_slope_and_refuses_bad_resolutions() {
     for c in &cells {
         assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(true), "{c}");
     }
-    let mut bad = base.to_vec();
+    let mut bad = base;
     bad.extend(["--field", "0"]);
     check_error(
         &bad,
@@ -120,21 +112,16 @@ fn field_option_shades_the_slope_and_refuses_bad_resolutions() {
 fn four_wheel_map_is_red_on_the_slope_under_test_2() {
     let ledge = fixture("paton/ledge.ron");
     let map = |test: &str| -> serde_json::Value {
-        let o = rappel(&[
+        let mut args = vec![
             "settle-map",
             &ledge,
             "--test",
             test,
             "--robot",
             "four-wheel",
-            "--x",
-            "-2,2.5",
-            "--y",
-            "-2,2",
-            "--step",
-            "0.5",
-            "--json",
-        ]);
+        ];
+        args.extend(FIG8_VIEW);
+        let o = rappel(&args);
         assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
         serde_json::from_slice(&o.stdout).expect("JSON")
     };
