@@ -25,14 +25,11 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use nalgebra::Point2;
 use polyanya::Mesh;
-use rappel_benches::{polyanya_mesh, to_vec2};
+use rappel_benches::{map_from_polyanya_v2, polyanya_mesh, scenario_pairs, to_vec2};
 use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::generate::{CraterStripOptions, GeneratedMap, crater_strip};
-use rappel_geometry::map::Map;
-use rappel_geometry::polygon::Polygon;
 use rappel_homotopy::h_signature::HSignature;
 use rappel_planners::spt::{SearchOptions, SptPlanner};
-use std::collections::HashMap;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -170,85 +167,6 @@ impl Strip {
         );
         assert!((ours.length() - f64::from(theirs.length)).abs() < rel * ours.length());
     }
-}
-
-/// A map from a polyanya v2 mesh file: the free space is the union of its polygons; its boundary
-/// edges (neighbour -1) chain into rings, the one of largest area is the map boundary and the
-/// others are obstacles.
-fn map_from_polyanya_v2(text: &str) -> Map {
-    let mut it = text.split_whitespace();
-    let mut next = || it.next().expect("complete mesh file");
-    assert_eq!(next(), "mesh");
-    assert_eq!(next(), "2");
-    let nv: usize = next().parse().expect("vertex count");
-    let np: usize = next().parse().expect("polygon count");
-    let mut points = Vec::with_capacity(nv);
-    for _ in 0..nv {
-        let x: f64 = next().parse().expect("x");
-        let y: f64 = next().parse().expect("y");
-        let k: usize = next().parse().expect("neighbour count");
-        for _ in 0..k {
-            next();
-        }
-        points.push(Point2::new(x, y));
-    }
-    // Boundary edge a -> b (polygon counter-clockwise, so free space on its left) keyed by a.
-    let mut succ: HashMap<usize, usize> = HashMap::new();
-    for _ in 0..np {
-        let n: usize = next().parse().expect("polygon size");
-        let v: Vec<usize> = (0..n).map(|_| next().parse().expect("vertex")).collect();
-        let p: Vec<i64> = (0..n).map(|_| next().parse().expect("neighbour")).collect();
-        for i in 0..n {
-            // p[i] is across the edge v[i-1] v[i].
-            if p[i] == -1 {
-                let a = v[(i + n - 1) % n];
-                assert!(
-                    succ.insert(a, v[i]).is_none(),
-                    "a pinch vertex in the arena mesh"
-                );
-            }
-        }
-    }
-    let mut rings: Vec<Vec<Point2<f64>>> = Vec::new();
-    while let Some(&first) = succ.keys().min() {
-        let mut ring = Vec::new();
-        let mut v = first;
-        while let Some(w) = succ.remove(&v) {
-            ring.push(points[v]);
-            v = w;
-        }
-        rings.push(ring);
-    }
-    let area = |r: &[Point2<f64>]| {
-        (0..r.len())
-            .map(|i| {
-                let (a, b) = (r[i], r[(i + 1) % r.len()]);
-                a.x * b.y - b.x * a.y
-            })
-            .sum::<f64>()
-    };
-    let outer = (0..rings.len())
-        .max_by(|&i, &j| area(&rings[i]).total_cmp(&area(&rings[j])))
-        .expect("a ring");
-    let boundary = Polygon::new(rings.swap_remove(outer));
-    Map::new(boundary, rings.into_iter().map(Polygon::new).collect())
-}
-
-/// The start-goal pairs of a MovingAI scenario file.
-fn scenario_pairs(text: &str) -> Vec<(Point2<f64>, Point2<f64>)> {
-    text.lines()
-        .skip(1)
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| {
-            let f: Vec<f64> = l
-                .split_whitespace()
-                .skip(4)
-                .take(4)
-                .map(|x| x.parse().expect("a number"))
-                .collect();
-            (Point2::new(f[0], f[1]), Point2::new(f[2], f[3]))
-        })
-        .collect()
 }
 
 /// The arena's coordinates are small: no shift for polyanya.

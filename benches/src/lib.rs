@@ -7,7 +7,9 @@ use nalgebra::Point2;
 use polyanya::{Mesh, Polygon as PolyPolygon, Vertex as PolyVertex};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::Map;
+use rappel_geometry::polygon::Polygon;
 use spade::Point2 as SpadePoint;
+use std::collections::HashMap;
 
 /// A map as spade's constrained-Delaunay input: every ring vertex, and every ring edge as a pair
 /// of vertex indices.
@@ -73,4 +75,98 @@ pub fn polyanya_mesh(btm: &Btm, origin: Point2<f64>) -> Mesh {
 /// `p - origin` in polyanya's `f32`.
 pub fn to_vec2(p: Point2<f64>, origin: Point2<f64>) -> Vec2 {
     Vec2::new((p.x - origin.x) as f32, (p.y - origin.y) as f32)
+}
+
+/// A map from a polyanya v2 mesh file: the free space is the union of its polygons; its boundary
+/// edges (neighbour -1) chain into rings, the one of largest area is the map boundary and the
+/// others are obstacles. Panics on a malformed file (benchmark input, not user input).
+///
+/// ```
+/// // One square polygon: four vertices (each with one neighbouring polygon) and no neighbours
+/// // across its edges.
+/// let mesh = "mesh 2 4 1  0 0 1 0  1 0 1 0  1 1 1 0  0 1 1 0  4 0 1 2 3 -1 -1 -1 -1";
+/// let map = rappel_benches::map_from_polyanya_v2(mesh);
+/// assert_eq!((map.boundary.len(), map.obstacles.len()), (4, 0));
+/// ```
+pub fn map_from_polyanya_v2(text: &str) -> Map {
+    let mut it = text.split_whitespace();
+    let mut next = || it.next().expect("complete mesh file");
+    assert_eq!(next(), "mesh");
+    assert_eq!(next(), "2");
+    let nv: usize = next().parse().expect("vertex count");
+    let np: usize = next().parse().expect("polygon count");
+    let mut points = Vec::with_capacity(nv);
+    for _ in 0..nv {
+        let x: f64 = next().parse().expect("x");
+        let y: f64 = next().parse().expect("y");
+        let k: usize = next().parse().expect("neighbour count");
+        for _ in 0..k {
+            next();
+        }
+        points.push(Point2::new(x, y));
+    }
+    // Boundary edge a -> b (polygon counter-clockwise, so free space on its left) keyed by a.
+    let mut succ: HashMap<usize, usize> = HashMap::new();
+    for _ in 0..np {
+        let n: usize = next().parse().expect("polygon size");
+        let v: Vec<usize> = (0..n).map(|_| next().parse().expect("vertex")).collect();
+        let p: Vec<i64> = (0..n).map(|_| next().parse().expect("neighbour")).collect();
+        for i in 0..n {
+            // p[i] is across the edge v[i-1] v[i].
+            if p[i] == -1 {
+                let a = v[(i + n - 1) % n];
+                assert!(
+                    succ.insert(a, v[i]).is_none(),
+                    "a pinch vertex in the arena mesh"
+                );
+            }
+        }
+    }
+    let mut rings: Vec<Vec<Point2<f64>>> = Vec::new();
+    while let Some(&first) = succ.keys().min() {
+        let mut ring = Vec::new();
+        let mut v = first;
+        while let Some(w) = succ.remove(&v) {
+            ring.push(points[v]);
+            v = w;
+        }
+        rings.push(ring);
+    }
+    let area = |r: &[Point2<f64>]| {
+        (0..r.len())
+            .map(|i| {
+                let (a, b) = (r[i], r[(i + 1) % r.len()]);
+                a.x * b.y - b.x * a.y
+            })
+            .sum::<f64>()
+    };
+    let outer = (0..rings.len())
+        .max_by(|&i, &j| area(&rings[i]).total_cmp(&area(&rings[j])))
+        .expect("a ring");
+    let boundary = Polygon::new(rings.swap_remove(outer));
+    Map::new(boundary, rings.into_iter().map(Polygon::new).collect())
+}
+
+/// The start-goal pairs of a MovingAI scenario file (a version line, then `bucket map width
+/// height start_x start_y goal_x goal_y optimal_length` per query). Panics on a malformed file.
+///
+/// ```
+/// let scen = "version 1\n0 arena.map 49 49 1.5 2.5 30.25 40 45.1\n";
+/// let pairs = rappel_benches::scenario_pairs(scen);
+/// assert_eq!(pairs, vec![(nalgebra::Point2::new(1.5, 2.5), nalgebra::Point2::new(30.25, 40.0))]);
+/// ```
+pub fn scenario_pairs(text: &str) -> Vec<(Point2<f64>, Point2<f64>)> {
+    text.lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let f: Vec<f64> = l
+                .split_whitespace()
+                .skip(4)
+                .take(4)
+                .map(|x| x.parse().expect("a number"))
+                .collect();
+            (Point2::new(f[0], f[1]), Point2::new(f[2], f[3]))
+        })
+        .collect()
 }

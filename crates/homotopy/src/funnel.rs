@@ -92,8 +92,9 @@ impl TautPath {
         btm: &Btm,
         corners: impl IntoIterator<Item = (Point2<f64>, Option<VertexId>)>,
     ) -> TautPath {
-        let mut points: Vec<Point2<f64>> = Vec::new();
-        let mut vertices: Vec<Option<VertexId>> = Vec::new();
+        let corners = corners.into_iter();
+        let mut points: Vec<Point2<f64>> = Vec::with_capacity(corners.size_hint().0);
+        let mut vertices: Vec<Option<VertexId>> = Vec::with_capacity(corners.size_hint().0);
         for (p, v) in corners {
             if let Some(last) = points.last()
                 && *last == p

@@ -149,7 +149,21 @@ impl Link {
 }
 
 /// The arena of shortest-path-tree nodes shared by all funnels of one search.
-#[derive(Debug, Clone)]
+///
+/// `FunnelTree::default()` is storage without a root, allocating nothing (for a placeholder left
+/// where a tree was moved out): [`FunnelTree::reset`] gives it its root; until then its
+/// [`FunnelTree::len`] is 0 and reading a node of it panics.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_homotopy::funnel_state::FunnelTree;
+/// let mut tree = FunnelTree::default();
+/// assert_eq!(tree.len(), 0);
+/// tree.reset(Point2::new(1.0, 2.0));
+/// assert_eq!(tree.len(), 1);
+/// assert_eq!(tree.point(tree.root()), Point2::new(1.0, 2.0));
+/// ```
+#[derive(Debug, Clone, Default)]
 pub struct FunnelTree {
     links: Vec<Link>,
     /// Each node's map vertex ([`NO_VERTEX`] for none).
@@ -244,9 +258,10 @@ impl FunnelTree {
         self.links.len()
     }
 
-    /// Always `false`: the root is always there.
+    /// `true` only for storage without a root (`FunnelTree::default()` before its first
+    /// [`FunnelTree::reset`]); a tree made by [`FunnelTree::new`] always holds its root.
     pub fn is_empty(&self) -> bool {
-        false
+        self.links.is_empty()
     }
 
     /// Adds a node at `point` with predecessor `parent`; when `point` coincides with the parent's
@@ -300,16 +315,16 @@ impl FunnelTree {
 
     /// The nodes from the root to `id`.
     pub fn path(&self, id: NodeId) -> Vec<NodeId> {
-        let mut out = Vec::new();
-        let mut x = id;
-        loop {
-            out.push(x);
-            if x.0 == 0 {
-                break;
-            }
-            x = NodeId(self.links[x.index()].parent);
+        let ancestors = || {
+            std::iter::successors(Some(id), |x| {
+                (x.0 != 0).then(|| NodeId(self.links[x.index()].parent))
+            })
+        };
+        // Counted first: one allocation of the exact size, filled from the back.
+        let mut out = vec![NodeId(0); ancestors().count()];
+        for (slot, x) in out.iter_mut().rev().zip(ancestors()) {
+            *slot = x;
         }
-        out.reverse();
         out
     }
 

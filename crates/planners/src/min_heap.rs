@@ -97,7 +97,7 @@ struct Line([u128; ARITY]);
 /// from the root down along the smallest children to a leaf and the last entry up from there
 /// (Floyd's bottom-up deletion: the last entry usually belongs near the bottom).
 /// Memory: 20 bytes plus the item per entry at the peak, kept (cleared, not freed) for reuse.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub(crate) struct ArenaHeap<T> {
     lines: Vec<Line>,
     len: usize,
@@ -105,9 +105,9 @@ pub(crate) struct ArenaHeap<T> {
     free: Vec<u32>,
 }
 
-impl<T: Rank + Copy> ArenaHeap<T> {
-    /// An empty queue.
-    pub fn new() -> Self {
+impl<T> Default for ArenaHeap<T> {
+    /// An empty queue, allocating nothing (no `T: Default` bound, unlike the derived one).
+    fn default() -> Self {
         ArenaHeap {
             lines: Vec::new(),
             len: 0,
@@ -115,7 +115,9 @@ impl<T: Rank + Copy> ArenaHeap<T> {
             free: Vec::new(),
         }
     }
+}
 
+impl<T: Rank + Copy> ArenaHeap<T> {
     /// Number of queued items.
     pub fn len(&self) -> usize {
         self.len
@@ -306,7 +308,7 @@ mod tests {
             state
         };
         for round in 0..20 {
-            let mut ours = ArenaHeap::new();
+            let mut ours = ArenaHeap::default();
             let mut oracle = BinaryHeap::new();
             let mut popped = Vec::new();
             let mut serial = 0u64;

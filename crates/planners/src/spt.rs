@@ -519,7 +519,7 @@ impl<'b> SptPlanner<'b> {
             .lock()
             .ok()
             .and_then(|mut p| p.pop())
-            .unwrap_or_else(Scratch::new)
+            .unwrap_or_default()
     }
 
     /// Gives a finished search's scratch space back to the pool (dropped when the pool is full
@@ -981,7 +981,7 @@ impl Lifts {
 /// the shortest path tree's nodes, the queue, the trail of mouths, the lifts and the
 /// simple-prefix verdicts. A query clears them (keeping their capacity) instead of growing new
 /// ones from empty.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 struct Scratch {
     tree: FunnelTree,
     queue: ArenaHeap<Kind>,
@@ -994,22 +994,13 @@ struct Scratch {
     /// answered (no allocation per class beyond the answer's own vectors).
     simple_buffers: SimpleBuffers,
     crossings: Vec<u64>,
+    /// Lengths of the queued goal entries, ascending, at most the number of classes still
+    /// wanted (module docs, "The incumbent"); kept only when a class count is set and every
+    /// goal reached is returned (not in the simple-classes mode).
+    pending_goals: Vec<f64>,
 }
 
 impl Scratch {
-    fn new() -> Scratch {
-        Scratch {
-            tree: FunnelTree::new(Point2::origin()),
-            queue: ArenaHeap::new(),
-            trail: Vec::new(),
-            trail_dropped: false,
-            lifts: Lifts::default(),
-            simple_prefix: Vec::new(),
-            simple_buffers: SimpleBuffers::default(),
-            crossings: Vec::new(),
-        }
-    }
-
     /// Clears everything for a query from `start`.
     fn reset(&mut self, start: Point2<f64>) {
         self.tree.reset(start);
@@ -1017,6 +1008,7 @@ impl Scratch {
         self.trail.clear();
         self.trail_dropped = false;
         self.simple_prefix.clear();
+        self.pending_goals.clear();
     }
 
     /// Bytes held (capacities), for the pool's size limit.
@@ -1080,10 +1072,6 @@ pub struct SptSearch<'a> {
     scratch: Scratch,
     /// Whether dominance pruning is on (the lifts are kept).
     pruning: bool,
-    /// Lengths of the queued goal entries, ascending, at most the number of classes still
-    /// wanted (module docs, "The incumbent"); kept only when a class count is set and every
-    /// goal reached is returned (not in the simple-classes mode).
-    pending_goals: Vec<f64>,
     emitted: usize,
     shortest: Option<f64>,
     termination: Option<Termination>,
@@ -1126,7 +1114,6 @@ impl<'a> SptSearch<'a> {
             options,
             scratch,
             pruning,
-            pending_goals: Vec::new(),
             emitted: 0,
             shortest: None,
             termination: None,
@@ -1214,9 +1201,9 @@ impl<'a> SptSearch<'a> {
             }
             match item {
                 Kind::Goal { node, trail } => {
-                    if self.still_wanted().is_some() && !self.pending_goals.is_empty() {
+                    if self.still_wanted().is_some() && !self.scratch.pending_goals.is_empty() {
                         // The smallest queued goal is the one popped.
-                        self.pending_goals.remove(0);
+                        self.scratch.pending_goals.remove(0);
                     }
                     return Ok(Some((node, trail)));
                 }
@@ -1394,10 +1381,10 @@ impl<'a> SptSearch<'a> {
     /// Queues a goal entry and notes its key among the pending goals.
     fn push_goal(&mut self, key: f64, node: NodeId, trail: u32) {
         if let Some(wanted) = self.still_wanted() {
-            let at = self.pending_goals.partition_point(|&x| x <= key);
+            let at = self.scratch.pending_goals.partition_point(|&x| x <= key);
             if at < wanted {
-                self.pending_goals.insert(at, key);
-                self.pending_goals.truncate(wanted);
+                self.scratch.pending_goals.insert(at, key);
+                self.scratch.pending_goals.truncate(wanted);
             }
         }
         self.push(key, Kind::Goal { node, trail });
@@ -1416,7 +1403,8 @@ impl<'a> SptSearch<'a> {
     /// keys at most `b`, the search ends before any funnel keyed `b` or more is expanded.
     fn incumbent(&self) -> Option<f64> {
         let wanted = self.still_wanted()?;
-        (wanted > 0 && self.pending_goals.len() >= wanted).then(|| self.pending_goals[wanted - 1])
+        (wanted > 0 && self.scratch.pending_goals.len() >= wanted)
+            .then(|| self.scratch.pending_goals[wanted - 1])
     }
 
     fn push(&mut self, key: f64, kind: Kind) {
@@ -1554,7 +1542,8 @@ impl<'a> SptSearch<'a> {
 impl Drop for SptSearch<'_> {
     /// Gives the scratch space back to the planner's pool for the next query.
     fn drop(&mut self) {
-        let scratch = std::mem::replace(&mut self.scratch, Scratch::new());
+        // The placeholder left behind allocates nothing (`FunnelTree::default` has no root).
+        let scratch = std::mem::take(&mut self.scratch);
         self.planner.return_scratch(scratch);
     }
 }
