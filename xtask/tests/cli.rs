@@ -40,7 +40,7 @@ fn unknown_command_and_flag_are_usage_errors() {
 }
 
 #[test]
-fn committed_schemas_match_the_code() {
+fn schemas_check_exits_0_on_the_committed_documents() {
     let out = xtask(&["schemas", "--check"]);
     assert_eq!(
         out.status.code(),
