@@ -1021,6 +1021,7 @@ impl Scratch {
             + self.simple_buffers.vertices.capacity() * std::mem::size_of::<VertexId>()
             + self.simple_buffers.runs.capacity() * std::mem::size_of::<ObstacleId>()
             + self.crossings.capacity() * std::mem::size_of::<u64>()
+            + self.pending_goals.capacity() * std::mem::size_of::<f64>()
     }
 
     /// Bytes the current query uses (lengths, not capacities: the same for the same query
