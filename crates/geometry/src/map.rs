@@ -847,22 +847,69 @@ mod tests {
                 })
                 .collect();
             let m = map(obstacles);
-            let rings: Vec<&Polygon> = std::iter::once(&m.boundary).chain(&m.obstacles).collect();
-            let segs: Vec<(u32, u32)> = rings
-                .iter()
-                .enumerate()
-                .flat_map(|(r, ring)| (0..ring.len()).map(move |e| (r as u32, e as u32)))
-                .collect();
-            let mut brute: Vec<EdgeContact> = Vec::new();
-            for (k, &x) in segs.iter().enumerate() {
-                for &y in &segs[k + 1..] {
-                    brute.extend(pair_contact(&rings, x, y));
-                }
-            }
-            brute.sort_by_key(|(k, _)| *k);
             let found = m.edge_contacts();
-            assert_eq!(found, brute, "seed {seed}");
+            assert_eq!(found, brute_contacts(&m), "seed {seed}");
             total += found.len();
+        }
+        assert!(
+            total > 100,
+            "only {total} contacts: the maps do not exercise the check"
+        );
+    }
+
+    /// Every contact of `m` found by testing every pair of edges, sorted: the oracle.
+    fn brute_contacts(m: &Map) -> Vec<EdgeContact> {
+        let rings: Vec<&Polygon> = std::iter::once(&m.boundary).chain(&m.obstacles).collect();
+        let segs: Vec<(u32, u32)> = rings
+            .iter()
+            .enumerate()
+            .flat_map(|(r, ring)| (0..ring.len()).map(move |e| (r as u32, e as u32)))
+            .collect();
+        let mut brute: Vec<EdgeContact> = Vec::new();
+        for (k, &x) in segs.iter().enumerate() {
+            for &y in &segs[k + 1..] {
+                brute.extend(pair_contact(&rings, x, y));
+            }
+        }
+        brute.sort_by_key(|(k, _)| *k);
+        brute
+    }
+
+    #[test]
+    fn edge_contacts_match_all_pairs_on_random_stars() {
+        // Star-shaped obstacles with long spikes in every direction, their points snapped to a
+        // coarse grid (shared points, collinear overlaps, crossings, touches at vertices): the
+        // cells along each segment must find exactly the contacts of testing every pair.
+        use rand::{RngExt, SeedableRng};
+        let mut total = 0;
+        for seed in 0..200u64 {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            let obstacles: Vec<Polygon> = (0..4)
+                .map(|_| {
+                    let (cx, cy) = (
+                        f64::from(rng.random_range(6..=14u32)),
+                        f64::from(rng.random_range(6..=14u32)),
+                    );
+                    let n = 2 * rng.random_range(3..=12u32);
+                    let pts: Vec<(f64, f64)> = (0..n)
+                        .map(|i| {
+                            let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+                            let r = if i % 2 == 0 {
+                                f64::from(rng.random_range(3..=5u32))
+                            } else {
+                                1.0
+                            };
+                            let snap = |v: f64| (v * 4.0).round() / 4.0;
+                            (snap(cx + r * a.cos()), snap(cy + r * a.sin()))
+                        })
+                        .collect();
+                    poly(&pts)
+                })
+                .collect();
+            // A small map, so that the grid's cells are shorter than the spikes.
+            let m = Map::new(square(0.0, 0.0, 20.0), obstacles);
+            assert_eq!(m.edge_contacts(), brute_contacts(&m), "seed {seed}");
+            total += m.edge_contacts().len();
         }
         assert!(
             total > 100,
