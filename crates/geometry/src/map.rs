@@ -458,6 +458,11 @@ impl Map {
     /// Every pair of edges (within a ring or across rings) that meet where they must not, as
     /// errors keyed by `(ring, edge, ring, edge)` with rings numbered boundary first, sorted.
     pub(crate) fn edge_contacts(&self) -> Vec<EdgeContact> {
+        self.edge_contacts_by(ContactForm::Auto)
+    }
+
+    /// [`Map::edge_contacts`] in the form `form` picks (both find the same contacts).
+    fn edge_contacts_by(&self, form: ContactForm) -> Vec<EdgeContact> {
         // Segment table: (ring, edge index). Ring 0 is the boundary, ring k + 1 obstacle k.
         let rings: Vec<&Polygon> = std::iter::once(&self.boundary)
             .chain(&self.obstacles)
@@ -492,31 +497,73 @@ impl Map {
                 boxes.push(Aabb::of_points([&a, &b]));
             }
         }
-        let grid = frame.pack(&boxes);
+        let grid = frame.clone().pack(&boxes);
+        let pairs_listed: usize = grid
+            .buckets()
+            .map(|b| b.len() * b.len().saturating_sub(1) / 2)
+            .sum();
+        let by_segment = match form {
+            ContactForm::Auto => pairs_listed > SEGMENT_FORM_PAIRS_PER_EDGE * boxes.len(),
+            ContactForm::Boxes => false,
+            ContactForm::Segments => true,
+        };
         let mut found: Vec<EdgeContact> = Vec::new();
-        // A pair of edges shares every cell that both boxes cover. It is tested only in the cell
-        // holding the lower-left corner of the intersection of their boxes, which both boxes
-        // cover (cells are monotone in the coordinates), so each pair is tested once, without a
-        // set of pairs seen. Disjoint boxes (exact coordinate comparisons) mean disjoint edges.
-        for (cell, bucket) in grid.buckets().enumerate() {
-            for (k, &i) in bucket.iter().enumerate() {
-                for &j in &bucket[k + 1..] {
-                    let (bi, bj) = (&boxes[i as usize], &boxes[j as usize]);
-                    let corner = Point2::new(bi.min.x.max(bj.min.x), bi.min.y.max(bj.min.y));
-                    if corner.x > bi.max.x.min(bj.max.x)
-                        || corner.y > bi.max.y.min(bj.max.y)
-                        || grid.cell_of(&corner) != cell
-                    {
-                        continue;
+        if !by_segment {
+            // A pair of edges shares every cell that both boxes cover. It is tested only in the
+            // cell holding the lower-left corner of the intersection of their boxes, which both
+            // boxes cover (cells are monotone in the coordinates), so each pair is tested once,
+            // without a set of pairs seen. Disjoint boxes (exact coordinate comparisons) mean
+            // disjoint edges.
+            for (cell, bucket) in grid.buckets().enumerate() {
+                for (k, &i) in bucket.iter().enumerate() {
+                    for &j in &bucket[k + 1..] {
+                        let (bi, bj) = (&boxes[i as usize], &boxes[j as usize]);
+                        let corner = Point2::new(bi.min.x.max(bj.min.x), bi.min.y.max(bj.min.y));
+                        if corner.x > bi.max.x.min(bj.max.x)
+                            || corner.y > bi.max.y.min(bj.max.y)
+                            || grid.cell_of(&corner) != cell
+                        {
+                            continue;
+                        }
+                        let (i, j) = (i as usize, j as usize);
+                        let ring_len = lens[segs[i].0 as usize];
+                        if let Some(contact) =
+                            segment_pair_contact(ring_len, (segs[i], ends[i]), (segs[j], ends[j]))
+                        {
+                            found.push(contact);
+                        }
                     }
-                    let (i, j) = (i as usize, j as usize);
+                }
+            }
+        } else {
+            // Each edge is listed in the cells its segment meets, not in every cell of its box.
+            // Edge `i` finds every edge that touches it among the edges listed in its own cells
+            // (they share the cell of a common point), and tests each partner `j > i` once:
+            // `tested_by[j]` remembers the last `i` that tested `j` (no set of pairs). Disjoint
+            // boxes (exact coordinate comparisons) mean disjoint edges.
+            let segments: Vec<[Point2<f64>; 2]> = ends.iter().map(|&(a, b)| [a, b]).collect();
+            let grid = frame.pack_segments(&segments);
+            let mut tested_by = vec![u32::MAX; segments.len()];
+            for (i, segment) in segments.iter().enumerate() {
+                grid.visit_near_convex(segment, 0.0, |j| {
+                    let j = j as usize;
+                    if j <= i || tested_by[j] == i as u32 {
+                        return;
+                    }
+                    tested_by[j] = i as u32;
+                    let (bi, bj) = (&boxes[i], &boxes[j]);
+                    if bi.min.x.max(bj.min.x) > bi.max.x.min(bj.max.x)
+                        || bi.min.y.max(bj.min.y) > bi.max.y.min(bj.max.y)
+                    {
+                        return;
+                    }
                     let ring_len = lens[segs[i].0 as usize];
                     if let Some(contact) =
                         segment_pair_contact(ring_len, (segs[i], ends[i]), (segs[j], ends[j]))
                     {
                         found.push(contact);
                     }
-                }
+                });
             }
         }
         found.sort_by_key(|(k, _)| *k);
@@ -748,6 +795,31 @@ fn contact_point(
     a + r * t
 }
 
+/// How [`Map::edge_contacts`] lists the edges in its grid before testing the pairs that share a
+/// cell. Both forms find exactly the contacts of testing every pair of edges (the module's tests
+/// run both against that oracle).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ContactForm {
+    /// [`ContactForm::Boxes`] unless the box grid lists more than
+    /// [`SEGMENT_FORM_PAIRS_PER_EDGE`] pairs per edge, then [`ContactForm::Segments`].
+    Auto,
+    /// Each edge in every cell of its bounding box, each pair tested in the cell holding the
+    /// lower-left corner of the intersection of their boxes: the fastest on maps of many small
+    /// obstacles (each edge in one to four cells).
+    Boxes,
+    /// Each edge in the cells its segment meets, each edge testing the edges listed in its own
+    /// cells, each pair once (a stamp per edge): on long diagonal edges packed close together
+    /// (the 10,000-vertex star's spikes) the boxes pile up in every cell whatever its size, and
+    /// this form lists and tests less than half as much.
+    Segments,
+}
+
+/// Pairs listed per edge in the box grid (pairs of edges sharing a cell, most of them rejected
+/// by the corner rule before any exact test) above which [`ContactForm::Auto`] takes the segment
+/// form: the generated crater strips of 1,000 to 100,000 obstacles list 2.4-2.5 pairs per edge
+/// (Boxes), the thesis's Fig. 2.7 map 2.0, the 10,000-vertex star 667 (Segments).
+const SEGMENT_FORM_PAIRS_PER_EDGE: usize = 16;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -849,6 +921,11 @@ mod tests {
             let m = map(obstacles);
             let found = m.edge_contacts();
             assert_eq!(found, brute_contacts(&m), "seed {seed}");
+            assert_eq!(
+                m.edge_contacts_by(ContactForm::Segments),
+                found,
+                "seed {seed}"
+            );
             total += found.len();
         }
         assert!(
@@ -908,8 +985,11 @@ mod tests {
                 .collect();
             // A small map, so that the grid's cells are shorter than the spikes.
             let m = Map::new(square(0.0, 0.0, 20.0), obstacles);
-            assert_eq!(m.edge_contacts(), brute_contacts(&m), "seed {seed}");
-            total += m.edge_contacts().len();
+            let brute = brute_contacts(&m);
+            for form in [ContactForm::Boxes, ContactForm::Segments] {
+                assert_eq!(m.edge_contacts_by(form), brute, "seed {seed}, {form:?}");
+            }
+            total += brute.len();
         }
         assert!(
             total > 100,

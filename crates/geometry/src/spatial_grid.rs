@@ -110,6 +110,47 @@ impl SpatialGrid {
         self
     }
 
+    /// This grid's cells holding segment `i` (id `i`) in every cell that the closed segment
+    /// `segments[i]` meets, each cell's ids in increasing order; whatever it held before is
+    /// dropped. The cells are those [`SpatialGrid::visit_near_convex`] visits for the segment
+    /// with margin 0 (a superset, rounding covered), so two segments with a common point share
+    /// the cell holding it, and `visit_near_convex` of a segment with margin 0 finds every
+    /// segment that meets it. A long diagonal segment is listed in the cells along it, not in
+    /// every cell of its bounding box as [`SpatialGrid::pack`] would list it.
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::{polygon::Aabb, spatial_grid::SpatialGrid};
+    /// let p = |x, y| Point2::new(x, y);
+    /// let bounds = Aabb { min: p(0.0, 0.0), max: p(10.0, 10.0) };
+    /// // The diagonal meets 10 to 28 of the 100 cells (its box covers all of them).
+    /// let grid = SpatialGrid::new(bounds, 100).pack_segments(&[[p(0.0, 0.0), p(10.0, 10.0)]]);
+    /// let listed = grid.buckets().filter(|b| !b.is_empty()).count();
+    /// assert!((10..=28).contains(&listed), "{listed}");
+    /// assert_eq!(grid.at(&p(5.5, 5.5)), &[0]);
+    /// assert!(grid.at(&p(9.5, 0.5)).is_empty());
+    /// ```
+    pub fn pack_segments(mut self, segments: &[[Point2<f64>; 2]]) -> Self {
+        let cells = self.cols * self.rows;
+        let mut start = vec![0u32; cells + 1];
+        for seg in segments {
+            self.visit_cells_near_convex(seg, 0.0, |cell| start[cell + 1] += 1);
+        }
+        for i in 0..cells {
+            start[i + 1] += start[i];
+        }
+        let mut fill: Vec<u32> = start[..cells].to_vec();
+        let mut items = vec![0u32; start[cells] as usize];
+        for (id, seg) in segments.iter().enumerate() {
+            self.visit_cells_near_convex(seg, 0.0, |cell| {
+                items[fill[cell] as usize] = id as u32;
+                fill[cell] += 1;
+            });
+        }
+        self.buckets = Buckets::Packed { start, items };
+        self
+    }
+
     /// The indices of `points` ordered by the cell holding each (row by row, stable within a
     /// cell): a counting sort, linear in the points and cells. Items numbered in this order lie
     /// near their neighbours in memory as in space, so a pass over the cells touches them in
@@ -218,6 +259,23 @@ impl SpatialGrid {
     /// assert!(!near.contains(&99)); // (99, 4) lies far from it
     /// ```
     pub fn visit_near_convex(&self, corners: &[Point2<f64>], margin: f64, mut f: impl FnMut(u32)) {
+        self.visit_cells_near_convex(corners, margin, |cell| {
+            for &id in self.bucket(cell) {
+                f(id);
+            }
+        });
+    }
+
+    /// Calls `f` with the index of every cell that meets the convex hull of `corners` grown by
+    /// `margin` (plus [`GRID_SLACK`]), each once, column by column: the cells
+    /// [`SpatialGrid::visit_near_convex`] reads. Nothing for no corners, a non-finite corner or
+    /// margin.
+    fn visit_cells_near_convex(
+        &self,
+        corners: &[Point2<f64>],
+        margin: f64,
+        mut f: impl FnMut(usize),
+    ) {
         if corners.is_empty()
             || !margin.is_finite()
             || corners
@@ -265,9 +323,7 @@ impl SpatialGrid {
             }
             let row = |y: f64| self.col_row(&Point2::new(self.origin.x, y)).1;
             for r in row(y_lo - margin)..=row(y_hi + margin) {
-                for &id in self.bucket(r * self.cols + c) {
-                    f(id);
-                }
+                f(r * self.cols + c);
             }
         }
     }
