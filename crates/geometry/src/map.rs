@@ -502,11 +502,14 @@ impl Map {
             .buckets()
             .map(|b| b.len() * b.len().saturating_sub(1) / 2)
             .sum();
-        let by_segment = match form {
-            ContactForm::Auto => pairs_listed > SEGMENT_FORM_PAIRS_PER_EDGE * boxes.len(),
-            ContactForm::Boxes => false,
-            ContactForm::Segments => true,
+        let form = match form {
+            ContactForm::Auto if pairs_listed > SEGMENT_FORM_PAIRS_PER_EDGE * boxes.len() => {
+                ContactForm::Segments
+            }
+            ContactForm::Auto => ContactForm::Boxes,
+            chosen => chosen,
         };
+        let by_segment = form == ContactForm::Segments;
         let mut found: Vec<EdgeContact> = Vec::new();
         if !by_segment {
             // A pair of edges shares every cell that both boxes cover. It is tested only in the
