@@ -22,6 +22,16 @@ fn slope_cells(v: &serde_json::Value) -> Vec<&serde_json::Value> {
         .collect()
 }
 
+/// The slope cells where the robot settled, asserting there are at least 27 of them.
+fn settled_slope_cells(v: &serde_json::Value) -> Vec<&serde_json::Value> {
+    let slope: Vec<_> = slope_cells(v)
+        .into_iter()
+        .filter(|c| !c["pose"].is_null())
+        .collect();
+    assert!(slope.len() >= 27, "{} settled slope cells", slope.len());
+    slope
+}
+
 #[test]
 fn ledge_map_is_green_under_test_1_and_red_under_test_2() {
     let dir = temp_dir("settle-map");
@@ -126,11 +136,7 @@ fn four_wheel_map_is_red_on_the_slope_under_test_2() {
         serde_json::from_slice(&o.stdout).expect("JSON")
     };
     let one = map("1");
-    let slope: Vec<_> = slope_cells(&one)
-        .into_iter()
-        .filter(|c| !c["pose"].is_null())
-        .collect();
-    assert!(slope.len() >= 27, "{} settled slope cells", slope.len());
+    let slope = settled_slope_cells(&one);
     for c in &slope {
         assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(true), "{c}");
         // From x = 1 m on, the straight tether from the root to the tether exit would pass more
@@ -146,11 +152,7 @@ fn four_wheel_map_is_red_on_the_slope_under_test_2() {
     }
     let v = map("2");
     assert_eq!(v["robot"], "four_wheel");
-    let slope: Vec<_> = slope_cells(&v)
-        .into_iter()
-        .filter(|c| !c["pose"].is_null())
-        .collect();
-    assert!(slope.len() >= 27, "{} settled slope cells", slope.len());
+    let slope = settled_slope_cells(&v);
     for c in &slope {
         assert_eq!(c["pose"]["stable"], serde_json::Value::Bool(false), "{c}");
         assert_eq!(c["pose"]["verdicts"][0]["boom"], "none", "{c}");
