@@ -210,8 +210,13 @@ pub fn path_pair_evaluated(
     let ascent = if tether_free {
         descent.clone().map(|d| d.into_iter().rev().collect())
     } else {
-        let bent = bend_around_released(input.route, &offsets, &near);
-        keep_clear("ascent", bent, &near)
+        // The route's waypoints are fixed corners of the ascent: one too close to an anchor fails
+        // the pair whatever the bends, so it is told before bending (the bends of a route that
+        // hugs a long obstacle are many; see `bend_around_released`).
+        fixed_corners_clear("ascent", input.route.iter().map(|c| c.point), &near).and_then(|()| {
+            let bent = bend_around_released(input.route, &offsets, &near);
+            keep_clear("ascent", bent, &near)
+        })
     };
     let ascent = ascent?;
     let word = input.crossings;
@@ -378,9 +383,37 @@ fn bend_around_released(route: &[RouteCorner], offsets: &[Corner], near: &Near<'
 /// Largest number of rounds [`keep_clear`] pushes corners outwards.
 const PUSH_ROUNDS: usize = 32;
 
+/// Fails with [`PairFailure::TooClose`] when one of the fixed corners `points` (start, goal,
+/// route waypoints) lies closer to an anchor than its clearance (less [`CLEARANCE_TOLERANCE`]):
+/// the corners [`keep_clear`] pushes are owned by anchors, a fixed one never moves, so every
+/// path through it fails the clearance however the rest is bent. Names the closest (the first
+/// corner, then the lowest anchor, among equally close ones), at its distance.
+fn fixed_corners_clear(
+    which: &str,
+    points: impl Iterator<Item = Point2<f64>>,
+    near: &Near<'_>,
+) -> Result<(), PairFailure> {
+    let mut worst: Option<(usize, usize, f64)> = None;
+    for (i, p) in points.enumerate() {
+        near.too_close(&p, &p, |k, d| {
+            if worst.is_none_or(|(iw, kw, dw)| d < dw || (d == dw && i == iw && k < kw)) {
+                worst = Some((i, k, d));
+            }
+        });
+    }
+    match worst {
+        Some((_, anchor, distance)) => Err(PairFailure::TooClose {
+            which: which.to_string(),
+            anchor,
+            distance,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Pushes owned corners away from their anchors until every segment keeps the clearance from
 /// every anchor; fails naming the anchor when a segment that no owned corner can move is too
-/// close.
+/// close, at once when a fixed corner is ([`fixed_corners_clear`]).
 /// The worst offence is the smallest distance, the first leg and then the lowest anchor among
 /// equal ones.
 fn keep_clear(
@@ -389,6 +422,11 @@ fn keep_clear(
     near: &Near<'_>,
 ) -> Result<Vec<Point2<f64>>, PairFailure> {
     let clearances = near.clearances;
+    let fixed = corners
+        .iter()
+        .filter(|c| c.owner.is_none())
+        .map(Corner::point);
+    fixed_corners_clear(which, fixed, near)?;
     for round in 0..=PUSH_ROUNDS {
         let mut worst: Option<(usize, usize, f64)> = None;
         for i in 0..corners.len().saturating_sub(1) {

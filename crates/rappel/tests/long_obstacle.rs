@@ -141,3 +141,78 @@ fn a_long_star_plans_as_its_circle_says() {
         second.verdict
     );
 }
+
+#[test]
+fn a_route_hugging_the_star_fails_its_pair_at_the_closest_waypoint() {
+    use rappel::geometry::btm::Btm;
+    use rappel::mechanics::friction_cone::TetherFrictionCone;
+    use rappel::planners::feasibility::{FeasibilityContext, check_feasibility};
+    use rappel::planners::path_pair::{PairFailure, path_pair};
+    use rappel::planners::spt::{SearchOptions, SptPlanner};
+    use rappel::planners::terrain::PlaneSeries;
+    // The route's waypoints lie on the hull's tangent lines, which pass within a sagitta of the
+    // next hull vertices: every ascent through them passes closer than the clearance to one of
+    // them. The pair must fail naming the anchor closest to a waypoint, at that distance, found
+    // here by comparing every waypoint with every anchor.
+    let scenario = star_scenario(VERTICES).expect("star");
+    let btm = Btm::from_map(&scenario.map).expect("btm");
+    let terrain = PlaneSeries::new(&scenario.terrain.planes, &TetherFrictionCone).expect("planes");
+    let ctx = FeasibilityContext {
+        btm: &btm,
+        terrain: &terrain,
+        clearance: scenario.robot.clearance_m,
+        tether_length: scenario.robot.tether_length_m,
+    };
+    let options = SearchOptions::default()
+        .with_max_classes(Some(3))
+        .expect("options");
+    let classes = SptPlanner::new(&btm)
+        .search(scenario.start, scenario.goal, &options)
+        .expect("search")
+        .run()
+        .expect("classes")
+        .classes;
+    let mut failed = 0;
+    for class in &classes {
+        let report = check_feasibility(&ctx, &class.shp.taut);
+        if !report.feasible() {
+            continue;
+        }
+        let anchors = &class.shp.taut.anchors;
+        // (distance, waypoint, anchor from 1) of the closest pair; ties to the first waypoint,
+        // then the lowest anchor.
+        let mut closest = (f64::INFINITY, 0, 0);
+        for (i, w) in report.route.iter().enumerate() {
+            for (k, a) in anchors.iter().enumerate() {
+                let d = (w.point - a.point).norm();
+                if d < closest.0 {
+                    closest = (d, i, k + 1);
+                }
+            }
+        }
+        assert!(
+            closest.0 < ctx.clearance,
+            "class {}: the route keeps {} m from every anchor",
+            class.rank,
+            closest.0
+        );
+        match path_pair(&ctx, class, &report) {
+            Err(PairFailure::TooClose {
+                which,
+                anchor,
+                distance,
+            }) => {
+                assert_eq!(which, "ascent");
+                assert_eq!(
+                    (distance, anchor),
+                    (closest.0, closest.2),
+                    "class {}",
+                    class.rank
+                );
+            }
+            other => panic!("class {}: {other:?}", class.rank),
+        }
+        failed += 1;
+    }
+    assert!(failed >= 1, "no class of the star was feasible");
+}
