@@ -6,10 +6,12 @@
 //!
 //! The SPT search, whose queue holds up to about a million funnels on a 100,000-obstacle strip,
 //! queues them in an [`ArenaHeap`] instead: the same order on `(key, rank)`, with the items kept
-//! in an arena beside a 4-ary heap of 16-byte entries, so that a pop sifts through about half as
-//! many levels, each one cache line, instead of moving 32-byte items through a binary heap.
+//! in an arena beside a radix heap of 16-byte entries over the keys' bits, which appends where a
+//! binary heap would sift through levels far larger than the cache (the search's keys never fall
+//! below the last key popped).
 
-use std::cmp::Ordering;
+use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
 
 /// How queued items of equal key are ordered: the smaller rank is popped first.
 pub(crate) trait Rank {
@@ -67,7 +69,11 @@ fn order_word(key: f64, rank: u32, item: u32) -> u128 {
 
 /// The key of an order word ([`order_word`] inverted).
 fn key_of(word: u128) -> f64 {
-    let ordered = (word >> 64) as u64;
+    key_of_ordered((word >> 64) as u64)
+}
+
+/// The key of its order-preserving bits (the high half of an [`order_word`]).
+fn key_of_ordered(ordered: u64) -> f64 {
     f64::from_bits(if ordered >> 63 == 1 {
         ordered & !(1 << 63)
     } else {
@@ -75,31 +81,39 @@ fn key_of(word: u128) -> f64 {
     })
 }
 
-/// Children per heap node.
-const ARITY: usize = 4;
-
-/// No entry: above every real order word (whose arena index is below `u32::MAX`).
-const VACANT: u128 = u128::MAX;
-
-/// Four sibling entries, aligned to one 64-byte cache line.
-#[derive(Debug, Clone, Copy)]
-#[repr(C, align(64))]
-struct Line([u128; ARITY]);
+/// Buckets of [`ArenaHeap`] above the keys equal to the last one popped: one per bit of a key.
+const BUCKETS: usize = 64;
 
 /// A min-priority queue of `(key, item)`, smallest key first and on equal keys smallest
 /// [`Rank::rank`] first (as a [`BinaryHeap`](std::collections::BinaryHeap) of [`MinEntry`]);
 /// equal `(key, rank)` pairs pop in the order of their arena index, so the order is a function of
-/// the operations alone. The items live in an arena whose slots are reused through a free list;
-/// the heap is 4-ary over 16-byte order words ([`order_word`]), laid out so that the four
-/// children of a node fill one cache line: logical position `p` is slot `p + 3` of the lines,
-/// so the children `4p + 1 ..= 4p + 4` are exactly line `p + 1`, and vacant slots hold
-/// [`VACANT`] so that the smallest child is found without bounds tests. A pop moves the hole
-/// from the root down along the smallest children to a leaf and the last entry up from there
-/// (Floyd's bottom-up deletion: the last entry usually belongs near the bottom).
-/// Memory: 20 bytes plus the item per entry at the peak, kept (cleared, not freed) for reuse.
+/// the operations alone. The items live in an arena whose slots are reused through a free list.
+///
+/// # A radix heap
+/// The SPT search keys a child no lower than its parent (pathmax, [`crate::spt`]), so the keys it
+/// pushes never fall below the last key popped. The queue exploits that as a radix heap over the
+/// keys' order-preserving bits ([`order_word`]'s high half): an entry whose key differs from the
+/// last popped key `last` first at bit `b` waits, unsorted, in bucket `b` (16 bytes appended to a
+/// vector, no sifting through a heap far larger than the cache); entries whose key equals `last`
+/// wait in a small binary heap on `(rank, index)`. A pop takes from that heap; when it is empty
+/// the lowest non-empty bucket's smallest key becomes `last` and the bucket's entries move to
+/// lower buckets or to the heap of equals. An entry only ever moves down, at most once per bit.
+/// Keys below `last` (never pushed by the search, but any caller may) go to a binary heap of
+/// whole order words popped before everything else, so the order is exact for any sequence.
+/// Memory: 16 bytes plus the item per entry at the peak, kept (cleared, not freed) for reuse.
 #[derive(Debug, Clone)]
 pub(crate) struct ArenaHeap<T> {
-    lines: Vec<Line>,
+    /// The order-preserving bits of the last key popped from the buckets (0 before the first).
+    last: u64,
+    /// Entries keyed `last`, by `(rank << 32) | index`.
+    equal: BinaryHeap<Reverse<u64>>,
+    /// `(key bits, (rank << 32) | index)` whose key differs from `last` first at bit `b`, in
+    /// `buckets[b]`.
+    buckets: Vec<Vec<(u64, u64)>>,
+    /// Bit `b` set when `buckets[b]` is not empty.
+    occupied: u64,
+    /// Whole order words of entries keyed below `last`.
+    below: BinaryHeap<Reverse<u128>>,
     len: usize,
     items: Vec<T>,
     free: Vec<u32>,
@@ -109,7 +123,11 @@ impl<T> Default for ArenaHeap<T> {
     /// An empty queue, allocating nothing (no `T: Default` bound, unlike the derived one).
     fn default() -> Self {
         ArenaHeap {
-            lines: Vec::new(),
+            last: 0,
+            equal: BinaryHeap::new(),
+            buckets: Vec::new(),
+            occupied: 0,
+            below: BinaryHeap::new(),
             len: 0,
             items: Vec::new(),
             free: Vec::new(),
@@ -125,7 +143,11 @@ impl<T: Rank + Copy> ArenaHeap<T> {
 
     /// Empties the queue, keeping its storage.
     pub fn clear(&mut self) {
-        self.lines.clear();
+        self.last = 0;
+        self.equal.clear();
+        self.buckets.iter_mut().for_each(Vec::clear);
+        self.occupied = 0;
+        self.below.clear();
         self.len = 0;
         self.items.clear();
         self.free.clear();
@@ -133,26 +155,34 @@ impl<T: Rank + Copy> ArenaHeap<T> {
 
     /// Bytes held (capacities).
     pub fn held_bytes(&self) -> usize {
-        self.lines.capacity() * std::mem::size_of::<Line>()
+        self.equal.capacity() * std::mem::size_of::<u64>()
+            + self
+                .buckets
+                .iter()
+                .map(|b| b.capacity() * std::mem::size_of::<(u64, u64)>())
+                .sum::<usize>()
+            + self.below.capacity() * std::mem::size_of::<u128>()
             + self.items.capacity() * std::mem::size_of::<T>()
             + self.free.capacity() * std::mem::size_of::<u32>()
     }
 
     /// Bytes in use: the queued entries and the arena's slots (free ones included).
     pub fn live_bytes(&self) -> usize {
-        self.len * std::mem::size_of::<u128>()
+        self.len * std::mem::size_of::<(u64, u64)>()
             + self.items.len() * std::mem::size_of::<T>()
             + self.free.len() * std::mem::size_of::<u32>()
     }
 
+    /// Files `(ordered, tie)` by its first bit differing from `last` (`ordered >= last`).
     #[inline]
-    fn get(&self, p: usize) -> u128 {
-        self.lines[(p + 3) / ARITY].0[(p + 3) % ARITY]
-    }
-
-    #[inline]
-    fn set(&mut self, p: usize, word: u128) {
-        self.lines[(p + 3) / ARITY].0[(p + 3) % ARITY] = word;
+    fn file(&mut self, ordered: u64, tie: u64) {
+        if ordered == self.last {
+            self.equal.push(Reverse(tie));
+        } else {
+            let b = (63 - (ordered ^ self.last).leading_zeros()) as usize;
+            self.buckets[b].push((ordered, tie));
+            self.occupied |= 1 << b;
+        }
     }
 
     /// Queues `item` with priority `key`.
@@ -174,28 +204,17 @@ impl<T: Rank + Copy> ArenaHeap<T> {
                 i
             }
         };
+        if self.buckets.is_empty() {
+            self.buckets = vec![Vec::new(); BUCKETS];
+        }
         let word = order_word(key, item.rank() as u32, index);
-        let at = self.len;
-        if (at + 3) / ARITY == self.lines.len() {
-            self.lines.push(Line([VACANT; ARITY]));
-        }
+        let ordered = (word >> 64) as u64;
         self.len += 1;
-        self.sift_up(at, word);
-    }
-
-    /// Places `word` at the hole `at` or above it: its ancestors larger than it move down.
-    #[inline]
-    fn sift_up(&mut self, mut at: usize, word: u128) {
-        while at > 0 {
-            let parent = (at - 1) / ARITY;
-            let above = self.get(parent);
-            if word >= above {
-                break;
-            }
-            self.set(at, above);
-            at = parent;
+        if ordered < self.last {
+            self.below.push(Reverse(word));
+        } else {
+            self.file(ordered, word as u64);
         }
-        self.set(at, word);
     }
 
     /// Removes and returns the first `(key, item)`.
@@ -203,31 +222,33 @@ impl<T: Rank + Copy> ArenaHeap<T> {
         if self.len == 0 {
             return None;
         }
-        let top = self.get(0);
         self.len -= 1;
-        let n = self.len;
-        let last = self.get(n);
-        self.set(n, VACANT);
-        if n > 0 {
-            // The hole goes down along the smallest children to a leaf...
-            let mut at = 0;
-            while let Some(line) = self.lines.get(at + 1) {
-                let c = &line.0;
-                let (i01, w01) = if c[0] <= c[1] { (0, c[0]) } else { (1, c[1]) };
-                let (i23, w23) = if c[2] <= c[3] { (2, c[2]) } else { (3, c[3]) };
-                let (i, w) = if w01 <= w23 { (i01, w01) } else { (i23, w23) };
-                if w == VACANT {
-                    break;
+        let (key, index) = if let Some(Reverse(word)) = self.below.pop() {
+            (key_of(word), word as u32)
+        } else {
+            if self.equal.is_empty() {
+                // The lowest non-empty bucket holds the next key: it becomes `last`, and the
+                // bucket's entries move below it (each to a lower bucket, or to the equals).
+                let b = self.occupied.trailing_zeros() as usize;
+                if b >= BUCKETS {
+                    // Unreachable: `len` counts the entries of the buckets and both heaps.
+                    self.len += 1;
+                    return None;
                 }
-                self.set(at, w);
-                at = ARITY * at + 1 + i;
+                let mut bucket = std::mem::take(&mut self.buckets[b]);
+                self.occupied &= !(1 << b);
+                self.last = bucket.iter().map(|e| e.0).min().unwrap_or(self.last);
+                for &(ordered, tie) in &bucket {
+                    self.file(ordered, tie);
+                }
+                bucket.clear();
+                self.buckets[b] = bucket;
             }
-            // ... and the last entry comes up from there.
-            self.sift_up(at, last);
-        }
-        let index = top as u32;
+            let Reverse(tie) = self.equal.pop()?;
+            (key_of_ordered(self.last), tie as u32)
+        };
         self.free.push(index);
-        Some((key_of(top), self.items[index as usize]))
+        Some((key, self.items[index as usize]))
     }
 }
 
@@ -293,6 +314,53 @@ mod tests {
         fn rank(&self) -> usize {
             self.0
         }
+    }
+
+    /// The search's pattern: every key pushed at least the last key popped (equal ones common,
+    /// others a few ulps to many binades above), as the radix buckets assume. Against `std`'s
+    /// binary heap of [`MinEntry`]: the same `(key, rank)` sequence, every item once, nothing
+    /// filed below the last key.
+    #[test]
+    fn arena_heap_pops_monotone_keys_in_min_entry_order() {
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut ours = ArenaHeap::default();
+        let mut oracle = BinaryHeap::new();
+        let (mut last, mut serial, mut popped) = (0.0f64, 0u64, 0u64);
+        for _ in 0..20_000 {
+            if next() % 5 < 3 || ours.len() == 0 {
+                let key = match next() % 4 {
+                    0 => last,
+                    1 => f64::from_bits(last.to_bits() + 1 + next() % 8),
+                    2 => last + (next() % 1000) as f64 * 1e-3,
+                    _ => last * (1.0 + (next() % 64) as f64) + 1.0,
+                };
+                let item = Ranked((next() % 2) as usize, serial);
+                serial += 1;
+                ours.push(key, item);
+                oracle.push(MinEntry { key, item: item.0 });
+            } else {
+                let (key, item) = ours.pop().unwrap();
+                let expected = oracle.pop().unwrap();
+                assert_eq!((key, item.0), (expected.key, expected.item));
+                assert!(key >= last);
+                last = key;
+                popped += 1;
+            }
+            assert!(ours.below.is_empty());
+        }
+        while let Some((key, item)) = ours.pop() {
+            let expected = oracle.pop().unwrap();
+            assert_eq!((key, item.0), (expected.key, expected.item));
+            popped += 1;
+        }
+        assert_eq!(popped, serial);
+        assert!(oracle.pop().is_none());
     }
 
     /// Against `std`'s binary heap of [`MinEntry`] as the oracle: seeded random pushes and pops

@@ -94,9 +94,11 @@
 //! scaffolded triangulation of `n` vertices has `2n + 1` triangles: about 192 bytes per map
 //! vertex), built with the planner.
 //!
-//! The queue is a 4-ary heap of 16-byte order words (key, rank, arena index) with the funnels
-//! in an arena beside it (`min_heap::ArenaHeap`): on a 100,000-obstacle strip it holds up to
-//! 864k funnels, and a pop sifts through half the levels of a binary heap, one cache line each.
+//! The queue is a radix heap over the keys' bits, with the funnels in an arena beside it
+//! (`min_heap::ArenaHeap`): every key pushed is at least the key of the funnel being expanded
+//! (the children's and the goal's keys are `max`ed with it, pathmax), hence at least the last key
+//! popped, so a push appends 16 bytes to the bucket of its first bit differing from that key
+//! instead of sifting through a heap that holds up to 864k funnels on a 100,000-obstacle strip.
 //! Funnels of equal key and rank pop in the order of their arena index (a function of the
 //! search's operations, so the search stays deterministic).
 //!
