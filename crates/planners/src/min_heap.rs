@@ -308,6 +308,16 @@ mod tests {
         assert!(order_word(1.0, 1, 2) < order_word(1.0, 1, 3));
     }
 
+    /// The tests' seeded xorshift64 generator from the nonzero seed `state`.
+    fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        }
+    }
+
     /// An item whose rank is its own field, for the arena heap's tests.
     #[derive(Debug, Clone, Copy, PartialEq)]
     struct Ranked(usize, u64);
@@ -318,51 +328,75 @@ mod tests {
         }
     }
 
+    /// An [`ArenaHeap`] beside `std`'s binary heap of [`MinEntry`] as its oracle, each item
+    /// numbered as it is pushed.
+    #[derive(Default)]
+    struct Checked {
+        ours: ArenaHeap<Ranked>,
+        oracle: BinaryHeap<MinEntry<usize>>,
+        pushed: u64,
+    }
+
+    impl Checked {
+        /// Pushes an item of rank `rank` with `key` onto both.
+        fn push(&mut self, key: f64, rank: usize) {
+            self.ours.push(key, Ranked(rank, self.pushed));
+            self.oracle.push(MinEntry { key, item: rank });
+            self.pushed += 1;
+        }
+
+        /// Pops both, checking that they agree on `(key, rank)`: the key and the item's number.
+        fn pop(&mut self) -> Option<(f64, u64)> {
+            let popped = self.ours.pop();
+            let expected = self.oracle.pop();
+            assert_eq!(
+                popped.map(|(k, item)| (k, item.0)),
+                expected.map(|e| (e.key, e.item))
+            );
+            assert_eq!(self.ours.len(), self.oracle.len());
+            popped.map(|(k, item)| (k, item.1))
+        }
+
+        /// Pops the rest, checking that every item pushed came out exactly once (`popped`
+        /// holds the numbers popped before).
+        fn drain(&mut self, mut popped: Vec<u64>) {
+            while let Some((_, n)) = self.pop() {
+                popped.push(n);
+            }
+            popped.sort_unstable();
+            assert!(
+                popped.iter().copied().eq(0..self.pushed),
+                "every item exactly once"
+            );
+        }
+    }
+
     /// The search's pattern: every key pushed at least the last key popped (equal ones common,
     /// others a few ulps to many binades above), as the radix buckets assume. Against `std`'s
     /// binary heap of [`MinEntry`]: the same `(key, rank)` sequence, every item once, nothing
     /// filed below the last key.
     #[test]
     fn arena_heap_pops_monotone_keys_in_min_entry_order() {
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        let mut ours = ArenaHeap::default();
-        let mut oracle = BinaryHeap::new();
-        let (mut last, mut serial, mut popped) = (0.0f64, 0u64, 0u64);
+        let mut next = xorshift(0x2545_F491_4F6C_DD1D);
+        let mut heap = Checked::default();
+        let (mut last, mut popped) = (0.0f64, Vec::new());
         for _ in 0..20_000 {
-            if next() % 5 < 3 || ours.len() == 0 {
+            if next() % 5 < 3 || heap.ours.len() == 0 {
                 let key = match next() % 4 {
                     0 => last,
                     1 => f64::from_bits(last.to_bits() + 1 + next() % 8),
                     2 => last + (next() % 1000) as f64 * 1e-3,
                     _ => last * (1.0 + (next() % 64) as f64) + 1.0,
                 };
-                let item = Ranked((next() % 2) as usize, serial);
-                serial += 1;
-                ours.push(key, item);
-                oracle.push(MinEntry { key, item: item.0 });
-            } else {
-                let (key, item) = ours.pop().unwrap();
-                let expected = oracle.pop().unwrap();
-                assert_eq!((key, item.0), (expected.key, expected.item));
+                heap.push(key, (next() % 2) as usize);
+            } else if let Some((key, n)) = heap.pop() {
                 assert!(key >= last);
                 last = key;
-                popped += 1;
+                popped.push(n);
             }
-            assert!(ours.below.is_empty());
+            assert!(heap.ours.below.is_empty());
         }
-        while let Some((key, item)) = ours.pop() {
-            let expected = oracle.pop().unwrap();
-            assert_eq!((key, item.0), (expected.key, expected.item));
-            popped += 1;
-        }
-        assert_eq!(popped, serial);
-        assert!(oracle.pop().is_none());
+        heap.drain(popped);
     }
 
     /// Against `std`'s binary heap of [`MinEntry`] as the oracle: seeded random pushes and pops
@@ -370,47 +404,22 @@ mod tests {
     /// `(key, rank)` sequence, and every item pushed comes out once.
     #[test]
     fn arena_heap_pops_in_min_entry_order() {
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x9E37_79B9_7F4A_7C15);
         for round in 0..20 {
-            let mut ours = ArenaHeap::default();
-            let mut oracle = BinaryHeap::new();
+            let mut heap = Checked::default();
             let mut popped = Vec::new();
-            let mut serial = 0u64;
             for _ in 0..(500 * (round + 1)) {
-                if next() % 3 != 0 || ours.len() == 0 {
+                if !next().is_multiple_of(3) || heap.ours.len() == 0 {
                     let key = (next() % (2 + round)) as f64 * 0.5;
-                    let item = Ranked((next() % 2) as usize, serial);
-                    serial += 1;
-                    ours.push(key, item);
-                    oracle.push(MinEntry { key, item: item.0 });
-                } else {
-                    let (key, item) = ours.pop().unwrap();
-                    let expected = oracle.pop().unwrap();
-                    assert_eq!((key, item.0), (expected.key, expected.item));
-                    popped.push(item.1);
+                    heap.push(key, (next() % 2) as usize);
+                } else if let Some((_, n)) = heap.pop() {
+                    popped.push(n);
                 }
-                assert_eq!(ours.len(), oracle.len());
             }
-            while let Some((key, item)) = ours.pop() {
-                let expected = oracle.pop().unwrap();
-                assert_eq!((key, item.0), (expected.key, expected.item));
-                popped.push(item.1);
-            }
-            assert!(oracle.pop().is_none());
-            popped.sort_unstable();
-            assert!(
-                popped.iter().copied().eq(0..serial),
-                "every item exactly once"
-            );
+            heap.drain(popped);
             // Cleared, it starts over empty.
-            ours.clear();
-            assert!(ours.pop().is_none());
+            heap.ours.clear();
+            assert!(heap.ours.pop().is_none());
         }
     }
 }

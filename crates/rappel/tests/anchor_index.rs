@@ -5,13 +5,12 @@
 //! on seeded random crater strips, a long star obstacle, the committed strips and the Mars
 //! patch. The reference is the direct form, which looks at every anchor and needs no index.
 
+mod common;
+
+use common::Prepared;
 use rappel::dem::dem_scenario;
-use rappel::geometry::btm::Btm;
-use rappel::mechanics::friction_cone::TetherFrictionCone;
-use rappel::planners::feasibility::{Evaluation, FeasibilityContext, check_feasibility_evaluated};
+use rappel::planners::feasibility::{Evaluation, check_feasibility_evaluated};
 use rappel::planners::path_pair::{AnchorClearance, PairInput, path_pair_evaluated};
-use rappel::planners::spt::{SearchOptions, SptPlanner};
-use rappel::planners::terrain::PlaneSeries;
 use rappel::scenario::Scenario;
 use rappel::terrain::ingest::IngestOptions;
 
@@ -25,28 +24,10 @@ struct Covered {
 
 /// Compares both evaluations on the first `k` classes of `scenario`.
 fn compare(scenario: &Scenario, k: usize) -> Covered {
-    let btm = Btm::from_map(&scenario.map).expect("btm");
-    let terrain = PlaneSeries::new(&scenario.terrain.planes, &TetherFrictionCone).expect("planes");
-    let ctx = FeasibilityContext {
-        btm: &btm,
-        terrain: &terrain,
-        clearance: scenario.robot.clearance_m,
-        tether_length: scenario.robot.tether_length_m,
-    };
-    let classes = SptPlanner::new(&btm)
-        .search(
-            scenario.start,
-            scenario.goal,
-            &SearchOptions::default()
-                .with_max_classes(Some(k))
-                .expect("options"),
-        )
-        .expect("search")
-        .run()
-        .expect("classes")
-        .classes;
+    let prepared = Prepared::new(scenario, k);
+    let (ctx, classes) = (prepared.ctx(), &prepared.classes);
     let mut covered = Covered::default();
-    for class in &classes {
+    for class in classes {
         let taut = &class.shp.taut;
         let none = |_: usize| false;
         let indexed = check_feasibility_evaluated(&ctx, taut, &none, Evaluation::Indexed);

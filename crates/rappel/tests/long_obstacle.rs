@@ -6,6 +6,9 @@
 //! which class the goal holds. Every expected value is computed here from the scenario's
 //! numbers (radius, centre, start, goal, slopes, friction), not by the planner.
 
+mod common;
+
+use common::Prepared;
 use rappel::generated::{STAR_CENTRE, STAR_INNER_RADIUS, STAR_OUTER_RADIUS, star_scenario};
 use rappel::plan::{PlanOptions, plan};
 use std::f64::consts::TAU;
@@ -144,36 +147,16 @@ fn a_long_star_plans_as_its_circle_says() {
 
 #[test]
 fn a_route_hugging_the_star_fails_its_pair_at_the_closest_waypoint() {
-    use rappel::geometry::btm::Btm;
-    use rappel::mechanics::friction_cone::TetherFrictionCone;
-    use rappel::planners::feasibility::{FeasibilityContext, check_feasibility};
+    use rappel::planners::feasibility::check_feasibility;
     use rappel::planners::path_pair::{PairFailure, path_pair};
-    use rappel::planners::spt::{SearchOptions, SptPlanner};
-    use rappel::planners::terrain::PlaneSeries;
     // The route's waypoints lie on the hull's tangent lines, which pass within a sagitta of the
     // next hull vertices: every ascent through them passes closer than the clearance to one of
     // them. The pair must fail naming the anchor closest to a waypoint, at that distance, found
     // here by comparing every waypoint with every anchor.
-    let scenario = star_scenario(VERTICES).expect("star");
-    let btm = Btm::from_map(&scenario.map).expect("btm");
-    let terrain = PlaneSeries::new(&scenario.terrain.planes, &TetherFrictionCone).expect("planes");
-    let ctx = FeasibilityContext {
-        btm: &btm,
-        terrain: &terrain,
-        clearance: scenario.robot.clearance_m,
-        tether_length: scenario.robot.tether_length_m,
-    };
-    let options = SearchOptions::default()
-        .with_max_classes(Some(3))
-        .expect("options");
-    let classes = SptPlanner::new(&btm)
-        .search(scenario.start, scenario.goal, &options)
-        .expect("search")
-        .run()
-        .expect("classes")
-        .classes;
+    let prepared = Prepared::new(&star_scenario(VERTICES).expect("star"), 3);
+    let (ctx, classes) = (prepared.ctx(), &prepared.classes);
     let mut failed = 0;
-    for class in &classes {
+    for class in classes {
         let report = check_feasibility(&ctx, &class.shp.taut);
         if !report.feasible() {
             continue;
