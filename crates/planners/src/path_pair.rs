@@ -19,8 +19,9 @@
 //! A fixed corner (start, goal, route waypoint) closer than the clearance to an anchor fails the
 //! pair before anything is bent: no push moves it (`fixed_corners_clear`). Both paths lie in
 //! free space ([`Path::validate`]); both have the SHP's reduced crossing sequence (the
-//! descent's, and the reversed ascent's), so they are homotopic to each other and to the tether (thesis §2.1.1); both keep at least `clearance` (less [`CLEARANCE_TOLERANCE`])
-//! from every anchor; and on tether-demand planes the ascent is walked with its proximal anchor
+//! descent's, and the reversed ascent's), so they are homotopic to each other and to the tether
+//! (thesis §2.1.1); both keep at least `clearance` (less [`CLEARANCE_TOLERANCE`]) from every
+//! anchor; and on tether-demand planes the ascent is walked with its proximal anchor
 //! tracked (it drops from `a_j` to `a_{j-1}` where the path crosses the visibility line `L_j`
 //! beyond `a_j`), each stretch inside the wedge of its proximal anchor, band by band. The descent
 //! is walked the same way (the proximal anchor rises where it crosses into the next visibility
