@@ -140,7 +140,7 @@ impl StabilityQp {
     /// Checks the static stability of `robot` with the dense active-set solver
     /// ([`crate::dense_qp`], Goldfarb-Idnani): the same QP as [`StabilityQp::check_clarabel`],
     /// a few microseconds instead of 100-200 (cross-checked against it on random and settled
-    /// poses, `crates/mechanics/tests/dense_qp.rs`). `reduced_accuracy` is always `false`.
+    /// poses, `crates/mechanics/tests/all/dense_qp.rs`). `reduced_accuracy` is always `false`.
     ///
     /// # Example
     /// ```

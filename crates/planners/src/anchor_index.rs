@@ -27,7 +27,7 @@ pub enum Evaluation {
     Indexed,
     /// Every anchor visited by every query and every cell evaluated on its own: quadratic in the
     /// anchors of a long obstacle. The oracle of the equivalence tests
-    /// (`crates/rappel/tests/anchor_index.rs`): both forms give identical reports.
+    /// (`crates/rappel/tests/all/anchor_index.rs`): both forms give identical reports.
     Direct,
 }
 

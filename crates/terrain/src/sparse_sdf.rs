@@ -77,7 +77,7 @@
 //! **never below** the exact distance (up to the site's `f32` rounding, a few micrometres on
 //! scenes of tens of metres) and never above `D`; its sign is exact. How far above is **not
 //! proven**: [`PROPAGATION_EXCESS_VOXELS`] `h` = 0.25 h is the empirical bound the property tests
-//! assert (`crates/terrain/tests/sparse_sdf.rs`: seeded grid points in the band and out to `D`
+//! assert (`crates/terrain/tests/all/sparse_sdf.rs`: seeded grid points in the band and out to `D`
 //! on Paton's ledge and pole scenes against parry's exact distance, a closed box and a tilted
 //! plane; the largest excess measured in a probe was 0.11 h at 10 cm and 0.07 h at 5 cm). So every grid
 //! value lies in `[clamp(|d|, 0, D), clamp(|d|, 0, D) + 0.25 h]` in magnitude, and queries
@@ -140,7 +140,7 @@ pub const DEFAULT_MAX_DISTANCE: f64 = 1.0;
 
 /// **Empirical** bound on the excess of a propagated grid value over the exact distance, in grid
 /// spacings: every propagated value is the exact distance to a real surface point (so never below
-/// the exact distance), and the property tests (`crates/terrain/tests/sparse_sdf.rs`, Paton's
+/// the exact distance), and the property tests (`crates/terrain/tests/all/sparse_sdf.rs`, Paton's
 /// ledge scenes and closed forms) find it at most this many `h` above it. Not proven (the
 /// wavefront hands each voxel the best site of the neighbour that reached it first, like
 /// Danielsson's vector propagation, whose known errors are a fraction of a voxel).

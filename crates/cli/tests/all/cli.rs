@@ -1,7 +1,7 @@
 //! End-to-end tests of the `rappel` binary: outputs, exit codes, one-line errors naming the place,
 //! and no half-written files.
 
-mod common;
+use crate::common;
 
 use common::*;
 

@@ -2,7 +2,7 @@
 //! against the mesh rests on the lip within its reach) are stable under the test-1 root (anchored on the lip) and unstable under the test-2
 //! root; the four-wheel rover's map is red on the slope under the test-2 root; bad input exits 2.
 
-mod common;
+use crate::common;
 
 use common::*;
 

@@ -1,7 +1,7 @@
 //! Crossing sequences: the symbolic perturbation rules for paths through vertices, along edges and
 //! with endpoints on the skeleton, reduction, and path validation against free space.
 
-mod common;
+use crate::common;
 
 use common::{p, segment_clear, small_strip, square_map};
 use nalgebra::Point2;

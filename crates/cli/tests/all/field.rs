@@ -4,7 +4,7 @@
 //! the field is re-validated on the exact mesh; bad resolutions exit 2 with one `error:` line
 //! naming the flag and the value.
 
-mod common;
+use crate::common;
 
 use common::*;
 

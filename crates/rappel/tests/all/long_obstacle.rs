@@ -6,7 +6,7 @@
 //! which class the goal holds. Every expected value is computed here from the scenario's
 //! numbers (radius, centre, start, goal, slopes, friction), not by the planner.
 
-mod common;
+use crate::common;
 
 use common::Prepared;
 use rappel::generated::{STAR_CENTRE, STAR_INNER_RADIUS, STAR_OUTER_RADIUS, star_scenario};

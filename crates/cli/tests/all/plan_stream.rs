@@ -6,7 +6,7 @@
 //! ends with an error marker (text) or an `error` object (JSON lines) and exit code 2; and
 //! `--progress` writes progress lines on a stderr that is not a terminal, nothing without it.
 
-mod common;
+use crate::common;
 
 use common::{fixture, rappel, stderr, stdout, temp_dir};
 use rappel::plan_stream::PlanStreamLine;

@@ -4,7 +4,7 @@
 //! it is there an upper-case enum value, a point written as an object with `x` and `y`, or an
 //! angle field without its unit.
 
-mod common;
+use crate::common;
 
 use common::{fixture, rappel, stderr, stdout, temp_dir};
 use rappel::report::{Report, read_report};

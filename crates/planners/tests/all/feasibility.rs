@@ -3,7 +3,7 @@
 //! on their visibility lines, and path pairs are free, homotopic and clear of the anchors
 //! (checked with the homotopy crate's own functions).
 
-mod common;
+use crate::common;
 
 use common::random_map;
 use nalgebra::Point2;

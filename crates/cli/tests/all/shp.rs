@@ -1,6 +1,6 @@
 //! End-to-end tests of `rappel shp` and `rappel homotopic` on the thesis Fig. 2.7 fixture.
 
-mod common;
+use crate::common;
 
 use common::{rappel, stderr, stdout};
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! `rappel track` on Kumar's environment (fixtures/tracking): exit 0 when Robot 2 holds at every
 //! waypoint, 1 at the first unstable one (named), 2 on a path through an obstacle.
 
-mod common;
+use crate::common;
 
 use common::*;
 

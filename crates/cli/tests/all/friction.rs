@@ -1,7 +1,7 @@
 //! `rappel plan` on scenarios with PTFOs: the frictional report in text and JSON, the picture's
 //! PTFO colours, exit 0 when a class is feasible with friction and 1 when none is.
 
-mod common;
+use crate::common;
 
 use common::*;
 

@@ -1,7 +1,7 @@
 //! End-to-end tests of `rappel online`: exit code 0 at the goal, 1 for a clean "no", 2 with one
 //! `error:` line for bad input; the JSON timeline and the pictures.
 
-mod common;
+use crate::common;
 
 use common::*;
 

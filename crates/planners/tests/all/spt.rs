@@ -3,7 +3,7 @@
 //! non-homotopic and in non-decreasing length, closed forms around one obstacle, and every
 //! termination rule.
 
-mod common;
+use crate::common;
 
 use common::{one_box, random_map};
 use nalgebra::Point2;

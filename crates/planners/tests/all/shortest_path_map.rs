@@ -3,7 +3,7 @@
 //! oracle's (or, on a tie, one through which a path of the same length runs); it agrees with the
 //! per-point SPT search; bad points and budgets give typed errors.
 
-mod common;
+use crate::common;
 
 use common::{one_box, random_map};
 use nalgebra::Point2;

@@ -3,7 +3,7 @@
 //! locally shortest, idempotent, reversible, equal H-signatures), plus the funnel-state
 //! primitive reproducing the Funnel Algorithm.
 
-mod common;
+use crate::common;
 
 use common::{LENGTH_SLACK, p, random_walk, small_strip, square_map, steps};
 use nalgebra::Point2;

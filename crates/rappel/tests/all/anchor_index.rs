@@ -5,7 +5,7 @@
 //! on seeded random crater strips, a long star obstacle, the committed strips and the Mars
 //! patch. The reference is the direct form, which looks at every anchor and needs no index.
 
-mod common;
+use crate::common;
 
 use common::Prepared;
 use rappel::dem::dem_scenario;

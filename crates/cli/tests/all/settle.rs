@@ -2,7 +2,7 @@
 //! would overwrite the ground file is refused before anything is read or written (exit 2), and a
 //! PLY mesh is accepted as ground.
 
-mod common;
+use crate::common;
 use common::{check_error, fixture, rappel, stderr, temp_dir};
 
 #[test]
@@ -93,7 +93,7 @@ fn bad_meshes_exit_2_and_poses_off_the_ground_exit_1() {
 /// `rappel settle --robot four-wheel` on the plane `z = y tan 10°` (an OBJ), heading 30°: all
 /// four wheels down, the origin on the plane under the start, the pitch the plane's slope along
 /// the heading and the roll its slope along the left axis (closed forms, as for Axel in
-/// `crates/mechanics/tests/settle.rs`), every contact on the plane; the JSON names the robot.
+/// `crates/mechanics/tests/all/settle.rs`), every contact on the plane; the JSON names the robot.
 /// With an anchor, one verdict for the tether fixed to the body (boom `none`).
 #[test]
 fn four_wheel_settles_on_a_plane_at_the_closed_form_pose() {

@@ -1,7 +1,7 @@
 //! `rappel dem` at its edges: an output path equal to the input is refused before anything is
 //! written, and a spiked grid is refused as implausible relief with exit code 2 and no output.
 
-mod common;
+use crate::common;
 
 use common::*;
 

@@ -5,7 +5,7 @@
 //! selected ascent are homotopic in the from-scratch BTM. Bad input is a typed error that leaves
 //! the session as it was.
 
-mod common;
+use crate::common;
 
 use common::random_map;
 use nalgebra::Point2;

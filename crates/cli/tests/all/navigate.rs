@@ -2,7 +2,7 @@
 //! root (exit 0, JSON, SVG), no path under the test-2 root within a small budget (exit 1, the
 //! budget named), bad input exits 2.
 
-mod common;
+use crate::common;
 
 use common::*;
 

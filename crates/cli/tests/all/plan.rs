@@ -1,7 +1,7 @@
 //! End-to-end tests of `rappel plan` on the plan fixtures: the table, the JSON report, the
 //! picture, and one-line errors with exit code 2.
 
-mod common;
+use crate::common;
 
 use common::*;
 

@@ -4,7 +4,7 @@
 //! the winding form on random walks (crater strips, and a map built for ties: poles at the height
 //! of obstacle vertices and of portal midpoints).
 
-mod common;
+use crate::common;
 
 use common::{p, random_walk, small_strip, steps};
 use nalgebra::{Complex, Point2};

@@ -1,0 +1,23 @@
+//! The facade's integration tests, one module per theme, in one test binary (each file was its
+//! own binary; one link instead of seventeen keeps the CI's build shorter). `plan_memory.rs`
+//! stays a binary of its own: it measures the process's resident set, which other tests running
+//! beside it would disturb.
+
+mod anchor_index;
+mod common;
+mod dem_formats_agree;
+mod dem_ptfo_saddles;
+mod distance_source;
+mod export;
+mod fuzz_inputs;
+mod long_obstacle;
+mod mesh_stability;
+mod navigate;
+mod online_friction;
+mod plan_robot_models;
+mod query;
+mod render;
+mod schemas;
+mod settle_picture;
+mod stability_tethers;
+mod sticking_profile;
