@@ -13,7 +13,7 @@
 //! within a minute this keeps the ratios meaningful where criterion's consecutive groups
 //! (`planner_arena_160_queries`, the benchmark of record) do not.
 
-use rappel_benches::{map_from_polyanya_v2, scenario_pairs, to_vec2};
+use rappel_benches::{map_from_polyanya_v2, median_by, scenario_pairs, to_vec2};
 use rappel_geometry::btm::Btm;
 use rappel_planners::spt::SptPlanner;
 use std::hint::black_box;
@@ -94,11 +94,9 @@ fn interleaved(rounds: usize, pairs: &[Pair], spt: &SptPlanner<'_>, mesh: &polya
             times[i].push(t.elapsed().as_secs_f64() / (PASSES * pairs.len()) as f64);
         }
     }
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let medians = times.each_mut().map(median);
+    let medians = times
+        .each_mut()
+        .map(|v| median_by(v, f64::total_cmp).unwrap_or(f64::NAN));
     for (i, name) in ["class answer", "path alone", "polyanya"]
         .iter()
         .enumerate()

@@ -19,7 +19,7 @@
 //! processes); its ratio columns are then meaningless.
 
 use nalgebra::Point2;
-use rappel_benches::{polyanya_mesh, to_vec2};
+use rappel_benches::{median_by, polyanya_mesh, to_vec2};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::generate::{CraterStripOptions, crater_strip};
 use rappel_homotopy::kite::KiteTable;
@@ -27,9 +27,9 @@ use rappel_planners::spt::{SearchOptions, SptPlanner};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
+/// The median of `v` (zero when empty).
 fn median(mut v: Vec<Duration>) -> Duration {
-    v.sort_unstable();
-    v.get(v.len() / 2).copied().unwrap_or_default()
+    median_by(&mut v, Ord::cmp).unwrap_or_default()
 }
 
 /// This process's user + system CPU time (`/proc/self/stat` fields 14 and 15, in clock ticks of

@@ -170,3 +170,19 @@ pub fn scenario_pairs(text: &str) -> Vec<(Point2<f64>, Point2<f64>)> {
         })
         .collect()
 }
+
+/// The median of `values` under `cmp` (the upper middle one of an even count), `None` when there
+/// are none: the statistic the interleaved examples print. Sorts `values` in place.
+///
+/// ```
+/// use rappel_benches::median_by;
+/// assert_eq!(median_by(&mut [3.0, 1.0, 2.0, 9.0], f64::total_cmp), Some(3.0));
+/// assert_eq!(median_by::<u32>(&mut [], Ord::cmp), None);
+/// ```
+pub fn median_by<T: Copy>(
+    values: &mut [T],
+    cmp: impl FnMut(&T, &T) -> std::cmp::Ordering,
+) -> Option<T> {
+    values.sort_unstable_by(cmp);
+    values.get(values.len() / 2).copied()
+}

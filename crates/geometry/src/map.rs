@@ -509,31 +509,32 @@ impl Map {
             ContactForm::Auto => ContactForm::Boxes,
             chosen => chosen,
         };
-        let by_segment = form == ContactForm::Segments;
         let mut found: Vec<EdgeContact> = Vec::new();
-        if !by_segment {
+        // The exact contact test of edges `i` and `j`, whose boxes meet (disjoint boxes, by exact
+        // coordinate comparisons, mean disjoint edges: each form rejects those first).
+        let mut test = |i: usize, j: usize| {
+            let ring_len = lens[segs[i].0 as usize];
+            if let Some(contact) =
+                segment_pair_contact(ring_len, (segs[i], ends[i]), (segs[j], ends[j]))
+            {
+                found.push(contact);
+            }
+        };
+        if form == ContactForm::Boxes {
             // A pair of edges shares every cell that both boxes cover. It is tested only in the
             // cell holding the lower-left corner of the intersection of their boxes, which both
             // boxes cover (cells are monotone in the coordinates), so each pair is tested once,
-            // without a set of pairs seen. Disjoint boxes (exact coordinate comparisons) mean
-            // disjoint edges.
+            // without a set of pairs seen.
             for (cell, bucket) in grid.buckets().enumerate() {
                 for (k, &i) in bucket.iter().enumerate() {
                     for &j in &bucket[k + 1..] {
                         let (bi, bj) = (&boxes[i as usize], &boxes[j as usize]);
                         let corner = Point2::new(bi.min.x.max(bj.min.x), bi.min.y.max(bj.min.y));
-                        if corner.x > bi.max.x.min(bj.max.x)
-                            || corner.y > bi.max.y.min(bj.max.y)
-                            || grid.cell_of(&corner) != cell
+                        if corner.x <= bi.max.x.min(bj.max.x)
+                            && corner.y <= bi.max.y.min(bj.max.y)
+                            && grid.cell_of(&corner) == cell
                         {
-                            continue;
-                        }
-                        let (i, j) = (i as usize, j as usize);
-                        let ring_len = lens[segs[i].0 as usize];
-                        if let Some(contact) =
-                            segment_pair_contact(ring_len, (segs[i], ends[i]), (segs[j], ends[j]))
-                        {
-                            found.push(contact);
+                            test(i as usize, j as usize);
                         }
                     }
                 }
@@ -542,8 +543,7 @@ impl Map {
             // Each edge is listed in the cells its segment meets, not in every cell of its box.
             // Edge `i` finds every edge that touches it among the edges listed in its own cells
             // (they share the cell of a common point), and tests each partner `j > i` once:
-            // `tested_by[j]` remembers the last `i` that tested `j` (no set of pairs). Disjoint
-            // boxes (exact coordinate comparisons) mean disjoint edges.
+            // `tested_by[j]` remembers the last `i` that tested `j` (no set of pairs).
             let segments: Vec<[Point2<f64>; 2]> = ends.iter().map(|&(a, b)| [a, b]).collect();
             let grid = frame.pack_segments(&segments);
             let mut tested_by = vec![u32::MAX; segments.len()];
@@ -555,16 +555,10 @@ impl Map {
                     }
                     tested_by[j] = i as u32;
                     let (bi, bj) = (&boxes[i], &boxes[j]);
-                    if bi.min.x.max(bj.min.x) > bi.max.x.min(bj.max.x)
-                        || bi.min.y.max(bj.min.y) > bi.max.y.min(bj.max.y)
+                    if bi.min.x.max(bj.min.x) <= bi.max.x.min(bj.max.x)
+                        && bi.min.y.max(bj.min.y) <= bi.max.y.min(bj.max.y)
                     {
-                        return;
-                    }
-                    let ring_len = lens[segs[i].0 as usize];
-                    if let Some(contact) =
-                        segment_pair_contact(ring_len, (segs[i], ends[i]), (segs[j], ends[j]))
-                    {
-                        found.push(contact);
+                        test(i, j);
                     }
                 });
             }

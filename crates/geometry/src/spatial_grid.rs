@@ -81,32 +81,11 @@ impl SpatialGrid {
     /// This grid's cells holding exactly `boxes` (item `i` with id `i`), packed as in
     /// [`SpatialGrid::packed`]; whatever it held before is dropped.
     pub fn pack(mut self, boxes: &[Aabb]) -> Self {
-        let grid = &mut self;
-        let cells = grid.cols * grid.rows;
-        let ranges: Vec<[usize; 4]> = boxes.iter().map(|b| grid.cell_range(b)).collect();
-        let mut start = vec![0u32; cells + 1];
-        for &[c0, r0, c1, r1] in &ranges {
-            for r in r0..=r1 {
-                for c in c0..=c1 {
-                    start[r * grid.cols + c + 1] += 1;
-                }
-            }
-        }
-        for i in 0..cells {
-            start[i + 1] += start[i];
-        }
-        let mut fill: Vec<u32> = start[..cells].to_vec();
-        let mut items = vec![0u32; start[cells] as usize];
-        for (id, &[c0, r0, c1, r1]) in ranges.iter().enumerate() {
-            for r in r0..=r1 {
-                for c in c0..=c1 {
-                    let slot = &mut fill[r * grid.cols + c];
-                    items[*slot as usize] = id as u32;
-                    *slot += 1;
-                }
-            }
-        }
-        grid.buckets = Buckets::Packed { start, items };
+        let cells = BoxCells {
+            ranges: boxes.iter().map(|b| self.cell_range(b)).collect(),
+            cols: self.cols,
+        };
+        self.buckets = packed_buckets(self.cols * self.rows, &cells);
         self
     }
 
@@ -131,23 +110,14 @@ impl SpatialGrid {
     /// assert!(grid.at(&p(9.5, 0.5)).is_empty());
     /// ```
     pub fn pack_segments(mut self, segments: &[[Point2<f64>; 2]]) -> Self {
-        let cells = self.cols * self.rows;
-        let mut start = vec![0u32; cells + 1];
-        for seg in segments {
-            self.visit_cells_near_convex(seg, 0.0, |cell| start[cell + 1] += 1);
-        }
-        for i in 0..cells {
-            start[i + 1] += start[i];
-        }
-        let mut fill: Vec<u32> = start[..cells].to_vec();
-        let mut items = vec![0u32; start[cells] as usize];
-        for (id, seg) in segments.iter().enumerate() {
-            self.visit_cells_near_convex(seg, 0.0, |cell| {
-                items[fill[cell] as usize] = id as u32;
-                fill[cell] += 1;
-            });
-        }
-        self.buckets = Buckets::Packed { start, items };
+        let buckets = packed_buckets(
+            self.cols * self.rows,
+            &SegmentCells {
+                grid: &self,
+                segments,
+            },
+        );
+        self.buckets = buckets;
         self
     }
 
@@ -391,6 +361,77 @@ fn y_range_in_slab(p: &Point2<f64>, q: &Point2<f64>, xa: f64, xb: f64) -> Option
     };
     let (ya, yb) = (at(xa.max(p.x)), at(xb.min(q.x)));
     Some((ya.min(yb), ya.max(yb)))
+}
+
+/// The cells of each item of a grid being packed ([`packed_buckets`]).
+trait CellsOf {
+    /// The number of items.
+    fn count(&self) -> usize;
+    /// Calls `f` with every cell item `id` goes in, each once.
+    fn visit(&self, id: usize, f: impl FnMut(usize));
+}
+
+/// The cells of bounding boxes, as cell ranges `[c0, r0, c1, r1]` ([`SpatialGrid::pack`]).
+struct BoxCells {
+    ranges: Vec<[usize; 4]>,
+    cols: usize,
+}
+
+impl CellsOf for BoxCells {
+    fn count(&self) -> usize {
+        self.ranges.len()
+    }
+
+    #[inline]
+    fn visit(&self, id: usize, mut f: impl FnMut(usize)) {
+        let [c0, r0, c1, r1] = self.ranges[id];
+        for r in r0..=r1 {
+            for c in c0..=c1 {
+                f(r * self.cols + c);
+            }
+        }
+    }
+}
+
+/// The cells along segments ([`SpatialGrid::pack_segments`]).
+struct SegmentCells<'a> {
+    grid: &'a SpatialGrid,
+    segments: &'a [[Point2<f64>; 2]],
+}
+
+impl CellsOf for SegmentCells<'_> {
+    fn count(&self) -> usize {
+        self.segments.len()
+    }
+
+    #[inline]
+    fn visit(&self, id: usize, f: impl FnMut(usize)) {
+        self.grid
+            .visit_cells_near_convex(&self.segments[id], 0.0, f);
+    }
+}
+
+/// The packed buckets of `cells` cells holding the items of `of`, each cell's ids in increasing
+/// order: a counting sort in two passes over the items (count, then fill), shared by
+/// [`SpatialGrid::pack`] (cells of a box) and [`SpatialGrid::pack_segments`] (cells along a
+/// segment).
+fn packed_buckets(cells: usize, of: &impl CellsOf) -> Buckets {
+    let mut start = vec![0u32; cells + 1];
+    for id in 0..of.count() {
+        of.visit(id, |cell| start[cell + 1] += 1);
+    }
+    for i in 0..cells {
+        start[i + 1] += start[i];
+    }
+    let mut fill: Vec<u32> = start[..cells].to_vec();
+    let mut items = vec![0u32; start[cells] as usize];
+    for id in 0..of.count() {
+        of.visit(id, |cell| {
+            items[fill[cell] as usize] = id as u32;
+            fill[cell] += 1;
+        });
+    }
+    Buckets::Packed { start, items }
 }
 
 #[cfg(test)]
