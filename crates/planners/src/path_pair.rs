@@ -3,21 +3,35 @@
 //! to the class's SHP, in free space and keeping a clearance around the anchors.
 //!
 //! # Construction
-//! - **Descent** `start -> goal`: the SHP pushed off each anchor `a_j` to the mitre point
-//!   `o_j = a_j + m_j b_j`, where `b_j` is the unit bisector of the tether's outer angle at `a_j`
-//!   (pointing away from the obstacle) and `m_j = clearance / cos(phi_j / 2)` for the turning
-//!   angle `phi_j` (capped at [`MITRE_LIMIT`] times the clearance): the point at distance
-//!   `clearance` from both tether lines through `a_j`, which is also the clearance from the
-//!   obstacle corner.
+//! Both paths round an anchor `a_k` by a **local detour** ([`detour`]): the path runs along its
+//! leg (a tether segment, or an ascent leg) up to a point `e_in` on the leg, out to a corner
+//! `g_k = a_k + h n` and back onto the leg at `e_out`, where `n` points from `a_k` to the leg's side
+//! (the outer side of the tether's turn for the descent) and `h` is the smallest offset for which
+//! both detour segments keep `clearance` from `a_k` (a closed form, [`offset_for_clearance`]). The
+//! detour stays within a few clearances of `a_k`: the rest of the leg is the leg itself, which is
+//! in free space (a tether segment, or a side of a sweep triangle that Alg. 5 found free), so an
+//! obstacle lying near the tether far from the anchor does not block the pair. Where a leg has no
+//! room for a detour (its ends closer than a clearance along it to the anchor's foot, or a turn too
+//! sharp), the anchor's **mitre point** `o_k = a_k + m_k b_k` is used instead, with `b_k` the unit
+//! bisector of the tether's outer angle at `a_k` and `m_k = clearance / cos(phi_k / 2)` for the
+//! turning angle `phi_k` (capped at [`MITRE_LIMIT`] times the clearance).
+//! - **Descent** `start -> goal`: the SHP with each anchor rounded so.
 //! - **Ascent** `goal -> start`: the route of Alg. 5 (one waypoint per anchor on its visibility
 //!   edge, sometimes preceded by a via point towards the anchor), in order. A leg that passes closer than the clearance to an anchor `a_k`
-//!   it has already released is bent through `o_k` (which lies on the released side of `L_k`).
-//!   On planes that are all tether-free any homotopic pair will do (§2.2.4): the ascent is the
-//!   descent reversed.
+//!   it has already released is bent around it (the nearest such anchor first, each anchor at most
+//!   once per route leg). On planes that are all tether-free any homotopic pair will do (§2.2.4):
+//!   the ascent is the descent reversed.
+//!
+//! Every corner the construction places around an anchor aims at `clearance` times
+//! `1 + `[`PLACEMENT_MARGIN`], so the clearance check that follows (which accepts `clearance`
+//! less [`CLEARANCE_TOLERANCE`]) passes whatever the rounding of the corner's coordinates: a
+//! corner the planner placed at the clearance is never the reason its own pair fails.
 //!
 //! # Checks (all exact except the distances)
 //! A fixed corner (start, goal, route waypoint) closer than the clearance to an anchor fails the
-//! pair before anything is bent: no push moves it (`fixed_corners_clear`). Both paths lie in
+//! pair before anything is bent: no push moves it (`fixed_corners_clear`). A corner owned by an
+//! anchor and still too close to it is pushed outwards along its direction to the offset the
+//! closed form gives (at most [`PUSH_ROUNDS_PER_CORNER`] pushes per corner). Both paths lie in
 //! free space ([`Path::validate`]); both have the SHP's reduced crossing sequence (the
 //! descent's, and the reversed ascent's), so they are homotopic to each other and to the tether
 //! (thesis §2.1.1); both keep at least `clearance` (less [`CLEARANCE_TOLERANCE`]) from every
@@ -49,6 +63,31 @@ use serde::{Deserialize, Serialize};
 
 /// Largest mitre offset, in clearances (a sharp turn would push the mitre point far away).
 pub const MITRE_LIMIT: f64 = 4.0;
+
+/// Relative margin by which the corners a pair places around an anchor clear its clearance: they
+/// aim at `clearance * (1 + PLACEMENT_MARGIN)` (0.5 µm beyond a 0.5 m clearance), so that the check
+/// that follows, which accepts `clearance * (1 - CLEARANCE_TOLERANCE)`, passes them whatever the
+/// rounding of their coordinates: a few ulps of the map's coordinates, below 1e-6 of the
+/// clearance while the coordinates stay under 1e9 clearances.
+pub const PLACEMENT_MARGIN: f64 = 1e-6;
+
+/// How far along its leg a detour's ends lie from the anchor's foot, in clearances divided by the
+/// sine of the angle between the leg and the detour's direction: `sqrt(2)`, the 45° detour
+/// (module docs). Any value above one keeps the closed form finite; larger ones give a flatter
+/// detour that reaches farther along the tether.
+const DETOUR_REACH_CLEARANCES: f64 = std::f64::consts::SQRT_2;
+
+/// Smallest excess of a detour end's distance from the detour's line of offset over the target
+/// clearance, relative to it: an end closer to that line than `1 + MIN_DETOUR_LEVER` target
+/// clearances would need a corner very far out, and the mitre point is used instead.
+const MIN_DETOUR_LEVER: f64 = 1e-3;
+
+/// A leg passing closer than this fraction of the clearance to a released anchor runs through it:
+/// the detour goes to the released side of `L_k` whichever side the rounded leg passes on (a leg
+/// from a waypoint on `L_k` to a via point on `L_k` passes the anchor, which lies on `L_k` too, on
+/// the side its rounding chose, a few ulps of the coordinates away: 5e-8 m on a 0.5 m clearance
+/// is far above that and far below any robot).
+const THROUGH_ANCHOR_FRACTION: f64 = 1e-7;
 
 /// An ascent/descent pair for one homotopy class.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -103,7 +142,10 @@ pub enum PairFailure {
         available: f64,
     },
     /// A path comes closer to an anchor than the clearance.
-    #[error("the {which} path passes {distance:.3} m from anchor {anchor}, inside the clearance")]
+    #[error(
+        "the {which} path passes {distance:.6} m from anchor {anchor}, inside its clearance of \
+         {clearance} m (less the relative tolerance {CLEARANCE_TOLERANCE:e})"
+    )]
     TooClose {
         /// `"ascent"` or `"descent"`.
         which: String,
@@ -111,6 +153,8 @@ pub enum PairFailure {
         anchor: usize,
         /// The distance, m.
         distance: f64,
+        /// The clearance the anchor asks for, m.
+        clearance: f64,
     },
     /// The ascent leaves the friction cone of its proximal anchor.
     #[error("the ascent leaves the friction cone of anchor {anchor}")]
@@ -198,9 +242,7 @@ pub fn path_pair_evaluated(
         })
         .collect();
     let offsets = mitre_offsets(taut, &clearances);
-    let mut descent = vec![Corner::fixed(taut.start())];
-    descent.extend(offsets.iter().copied());
-    descent.push(Corner::fixed(taut.goal()));
+    let descent = rounded_tether(taut, &clearances, &offsets);
     let near = Near {
         index: &index,
         anchors: &anchors,
@@ -216,7 +258,7 @@ pub fn path_pair_evaluated(
         // the pair whatever the bends, so it is told before bending (the bends of a route that
         // hugs a long obstacle are many; see `bend_around_released`).
         fixed_corners_clear("ascent", input.route.iter().map(|c| c.point), &near).and_then(|()| {
-            let bent = bend_around_released(input.route, &offsets, &near);
+            let bent = bend_around_released(input.route, &offsets, taut, &near);
             keep_clear("ascent", bent, &near)
         })
     };
@@ -317,6 +359,145 @@ fn mitre_offsets(taut: &TautPath, clearances: &[f64]) -> Vec<Corner> {
         .collect()
 }
 
+/// The clearance a corner placed around an anchor of clearance `clearance` aims at (module docs).
+fn target(clearance: f64) -> f64 {
+    clearance * (1.0 + PLACEMENT_MARGIN)
+}
+
+/// The smallest `m >= 0` for which the line through `p` and `a + m n` (`n` a unit vector) passes at
+/// least `c` from `a`, or `None` when no `m` does (`p` lies within `c` of the line through `a`
+/// along `n`).
+///
+/// With `u = p - a`, the distance is `m |u x n| / |m n - u|`; setting it to `c` gives
+/// `m^2 ((u x n)^2 - c^2) + 2 c^2 (u . n) m - c^2 |u|^2 = 0`, whose leading coefficient is positive
+/// and constant term negative exactly when a solution exists: one positive root, taken in the
+/// cancellation-free form. The distance grows from `m = 0` up to a peak and then falls towards
+/// `|u x n| > c`, so every `m` beyond the root keeps the line at least `c` away, and so does the
+/// segment `p -> a + m n`, which lies on it.
+///
+/// ```
+/// use nalgebra::{Point2, Vector2};
+/// use rappel_planners::path_pair::offset_for_clearance;
+/// let a = Point2::new(0.0, 0.0);
+/// // From 2 m along the x axis to a corner up the y axis, 1 m from the anchor: the corner at
+/// // 2 / sqrt(3) (the segment's line is tangent to the unit circle).
+/// let m = offset_for_clearance(&a, &Point2::new(2.0, 0.0), &Vector2::new(0.0, 1.0), 1.0).unwrap();
+/// assert!((m - 2.0 / 3f64.sqrt()).abs() < 1e-12);
+/// assert!(offset_for_clearance(&a, &Point2::new(0.5, 0.0), &Vector2::new(0.0, 1.0), 1.0).is_none());
+/// ```
+pub fn offset_for_clearance(
+    a: &Point2<f64>,
+    p: &Point2<f64>,
+    n: &Vector2<f64>,
+    c: f64,
+) -> Option<f64> {
+    let u = p - a;
+    let cross = u.perp(n);
+    let qa = cross * cross - c * c;
+    if !(qa > 0.0) {
+        return None;
+    }
+    let qb = 2.0 * c * c * u.dot(n);
+    let qc = -c * c * u.norm_squared();
+    let root = (qb * qb - 4.0 * qa * qc).sqrt();
+    let m = if qb >= 0.0 {
+        -2.0 * qc / (qb + root)
+    } else {
+        (root - qb) / (2.0 * qa)
+    };
+    (m.is_finite() && m >= 0.0).then_some(m)
+}
+
+/// One side of a leg as [`detour`] sees it from the anchor's foot: the unit direction along the
+/// leg, how far the leg runs that way (m), and its end.
+#[derive(Debug, Clone, Copy)]
+struct LegSide {
+    dir: Vector2<f64>,
+    room: f64,
+    end: Point2<f64>,
+}
+
+/// The local detour of a leg around anchor `k` (`a_k` at `a`, module docs): the leg's point
+/// nearest `a` is `foot` (the anchor itself for a corner of the tether), `back` and `ahead` its
+/// two sides, `n` the unit direction from `a` in which the detour's corner goes. Returns the
+/// corners `e_in`, `g`, `e_out` (the ends the leg's own points or its ends), or `None` when a side
+/// has no room ([`MIN_DETOUR_LEVER`]) or the corner would lie beyond [`MITRE_LIMIT`] clearances.
+fn detour(
+    k: usize,
+    a: &Point2<f64>,
+    foot: &Point2<f64>,
+    back: LegSide,
+    ahead: LegSide,
+    n: &Vector2<f64>,
+    clearance: f64,
+) -> Option<[Corner; 3]> {
+    let c = target(clearance);
+    let mut ends = [Corner::fixed(*foot); 2];
+    let mut h: f64 = 0.0;
+    for (end, side) in ends.iter_mut().zip([back, ahead]) {
+        let sine = side.dir.perp(n).abs();
+        if !(sine > 0.0) {
+            return None;
+        }
+        let reach = DETOUR_REACH_CLEARANCES * c / sine;
+        let e = if reach < side.room {
+            foot + side.dir * reach
+        } else {
+            side.end
+        };
+        if !((e - a).perp(n).abs() > c * (1.0 + MIN_DETOUR_LEVER)) {
+            return None;
+        }
+        h = h.max(offset_for_clearance(a, &e, n, c)?);
+        *end = Corner::fixed(e);
+    }
+    if !(h <= MITRE_LIMIT * clearance) {
+        return None;
+    }
+    let g = Corner {
+        base: *a,
+        owner: Some((k, *n, h)),
+    };
+    Some([ends[0], g, ends[1]])
+}
+
+/// The descent's corners before any push: the SHP from the start to the goal with each anchor
+/// rounded by its [`detour`] on the outer side of the turn (each side of a tether segment between
+/// two rounded anchors gets half of it), or by its mitre point `offsets[k - 1]` where the detour
+/// has no room; an anchor of clearance zero is its own corner.
+fn rounded_tether(taut: &TautPath, clearances: &[f64], offsets: &[Corner]) -> Vec<Corner> {
+    let n = taut.anchors.len();
+    let mut corners: Vec<Point2<f64>> = Vec::with_capacity(n + 2);
+    corners.push(taut.start());
+    corners.extend(taut.anchors.iter().map(|a| a.point));
+    corners.push(taut.goal());
+    let mut out = vec![Corner::fixed(taut.start())];
+    for k in 1..=n {
+        let a = corners[k];
+        let owned = offsets[k - 1];
+        let Some((_, b, _)) = owned.owner else {
+            out.push(owned);
+            continue;
+        };
+        let side = |other: usize| {
+            let v = corners[other] - a;
+            let len = v.norm();
+            let shared = (1..=n).contains(&other) && clearances[other - 1] > 0.0;
+            LegSide {
+                dir: v / len,
+                room: if shared { len / 2.0 } else { len },
+                end: if shared { a + v / 2.0 } else { corners[other] },
+            }
+        };
+        match detour(k, &a, &a, side(k - 1), side(k + 1), &b, clearances[k - 1]) {
+            Some(d) => out.extend(d),
+            None => out.push(owned),
+        }
+    }
+    out.push(Corner::fixed(taut.goal()));
+    out
+}
+
 /// The anchors of a pair's checks with their clearances, and the grid that finds the ones near a
 /// leg.
 struct Near<'a> {
@@ -349,20 +530,31 @@ impl Near<'_> {
 }
 
 /// Bends every ascent leg that passes within the clearance of an anchor it has already released
-/// through that anchor's mitre corner (which lies on the released side of its visibility line).
-/// The nearest such anchor first (the lowest index among equally near ones); each anchor bends a
-/// leg at most once, so a leg gets at most `n` bends.
-fn bend_around_released(route: &[RouteCorner], offsets: &[Corner], near: &Near<'_>) -> Vec<Corner> {
+/// around that anchor: by its [`detour`] on the side of the leg away from the anchor (the released
+/// side of `L_k` when the leg runs through the anchor), or through its mitre corner where the leg
+/// has no room. The nearest such anchor first (the lowest index among equally near ones), then the
+/// pieces the bend leaves, each checked again; each anchor bends a route leg at most once, so a
+/// route leg gets at most `n` bends and `3 n` corners.
+fn bend_around_released(
+    route: &[RouteCorner],
+    offsets: &[Corner],
+    taut: &TautPath,
+    near: &Near<'_>,
+) -> Vec<Corner> {
     let n = near.anchors.len();
     let mut out = vec![Corner::fixed(route[0].point)];
-    // `bent_on[k] == leg + 1`: anchor `k` already bends leg `leg`.
+    // `bent_on[k] == leg + 1`: anchor `k` already bends route leg `leg`.
     let mut bent_on = vec![0usize; n + 1];
     for (leg, w) in route.windows(2).enumerate() {
         let released = w[0].released_from.max(1)..=n;
-        let (mut from, to) = (w[0].point, w[1].point);
-        loop {
+        // The corners still to reach, the next one last: the piece checked runs from the last
+        // corner placed to it.
+        let mut pending = vec![Corner::fixed(w[1].point)];
+        let mut from = Corner::fixed(w[0].point);
+        while let Some(to) = pending.last().copied() {
+            let (p, q) = (from.point(), to.point());
             let mut nearest: Option<(usize, f64)> = None;
-            near.too_close(&from, &to, |k, d| {
+            near.too_close(&p, &q, |k, d| {
                 if released.contains(&k)
                     && bent_on[k] != leg + 1
                     && nearest.is_none_or(|(kn, dn)| d.total_cmp(&dn).then(k.cmp(&kn)).is_lt())
@@ -371,19 +563,84 @@ fn bend_around_released(route: &[RouteCorner], offsets: &[Corner], near: &Near<'
                 }
             });
             let Some((k, _)) = nearest else {
-                break;
+                pending.pop();
+                out.push(to);
+                from = to;
+                continue;
             };
             bent_on[k] = leg + 1;
-            from = offsets[k - 1].point();
-            out.push(offsets[k - 1]);
+            let bend = leg_detour(k, &p, &q, taut, near).map_or(vec![offsets[k - 1]], Vec::from);
+            pending.extend(bend.into_iter().rev());
         }
-        out.push(Corner::fixed(to));
     }
     out
 }
 
-/// Largest number of rounds [`keep_clear`] pushes corners outwards.
-const PUSH_ROUNDS: usize = 32;
+/// The [`detour`] of the leg `p -> q` around the released anchor `a_k`, on the side of the leg
+/// away from it (decided exactly, [`orient2d`]; the released side of `L_k` when the leg runs
+/// through `a_k`, within [`THROUGH_ANCHOR_FRACTION`] of the clearance), or `None` when the leg's nearest point to `a_k` is one of its ends or the leg
+/// has no room.
+fn leg_detour(
+    k: usize,
+    p: &Point2<f64>,
+    q: &Point2<f64>,
+    taut: &TautPath,
+    near: &Near<'_>,
+) -> Option<[Corner; 3]> {
+    let a = near.anchors[k - 1];
+    let v = q - p;
+    let len = v.norm();
+    if !(len > 0.0) {
+        return None;
+    }
+    let dir = v / len;
+    let t = (a - p).dot(&dir);
+    if !(t > 0.0 && t < len) {
+        return None;
+    }
+    let foot = p + dir * t;
+    let left = Vector2::new(-dir.y, dir.x);
+    let through = (foot - a).norm() < THROUGH_ANCHOR_FRACTION * near.clearances[k - 1];
+    let o = orient2d(p, q, &a);
+    let n = if o > 0.0 && !through {
+        -left
+    } else if o < 0.0 && !through {
+        left
+    } else {
+        // Through the anchor: the released side of `L_k`, which lies away from its obstacle.
+        let prev = if k == 1 {
+            taut.start()
+        } else {
+            near.anchors[k - 2]
+        };
+        let l = a - prev;
+        let towards_turn = match taut.anchors[k - 1].side {
+            Side::Left => Vector2::new(-l.y, l.x),
+            Side::Right => Vector2::new(l.y, -l.x),
+        };
+        if left.dot(&towards_turn) > 0.0 {
+            -left
+        } else {
+            left
+        }
+    };
+    let back = LegSide {
+        dir: -dir,
+        room: t,
+        end: *p,
+    };
+    let ahead = LegSide {
+        dir,
+        room: len - t,
+        end: *q,
+    };
+    detour(k, &a, &foot, back, ahead, &n, near.clearances[k - 1])
+}
+
+/// Rounds of [`keep_clear`] per corner of the path (each round pushes the corners of the worst
+/// offence to the offset that clears it, [`offset_for_clearance`]): with one more corner, the
+/// documented bound on its loop.
+const PUSH_ROUNDS_PER_CORNER: usize = 8;
 
 /// Fails with [`PairFailure::TooClose`] when one of the fixed corners `points` (start, goal,
 /// route waypoints) lies closer to an anchor than its clearance (less [`CLEARANCE_TOLERANCE`]):
@@ -408,6 +665,7 @@ fn fixed_corners_clear(
             which: which.to_string(),
             anchor,
             distance,
+            clearance: near.clearances[anchor - 1],
         }),
         None => Ok(()),
     }
@@ -429,7 +687,8 @@ fn keep_clear(
         .filter(|c| c.owner.is_none())
         .map(Corner::point);
     fixed_corners_clear(which, fixed, near)?;
-    for round in 0..=PUSH_ROUNDS {
+    let rounds = PUSH_ROUNDS_PER_CORNER * (corners.len() + 1);
+    for round in 0..=rounds {
         let mut worst: Option<(usize, usize, f64)> = None;
         for i in 0..corners.len().saturating_sub(1) {
             let (p, q) = (corners[i].point(), corners[i + 1].point());
@@ -445,13 +704,20 @@ fn keep_clear(
             return Ok(points);
         };
         let mut moved = false;
-        for corner in &mut corners[i..=i + 1] {
-            if let Some((owner, _, m)) = &mut corner.owner
+        let clearance = clearances[k - 1];
+        let a = near.anchors[k - 1];
+        for (this, other) in [(i, i + 1), (i + 1, i)] {
+            let other = corners[other].point();
+            if let Some((owner, dir, m)) = &mut corners[this].owner
                 && *owner == k
-                && round < PUSH_ROUNDS
+                && round < rounds
             {
-                let clearance = clearances[k - 1];
-                *m *= (clearance / d.max(1e-3 * clearance)).min(2.0) * (1.0 + 1e-6);
+                // The offset that clears this segment with the other end where it is, and at
+                // least a little outwards (the other end may move too); where no offset clears
+                // it, the proportional step of the distance short.
+                let step = *m * (clearance / d.max(1e-3 * clearance)).min(2.0) * (1.0 + 1e-6);
+                let exact = offset_for_clearance(&a, &other, dir, target(clearance));
+                *m = exact.map_or(step, |e| e.max(*m * (1.0 + PLACEMENT_MARGIN)));
                 moved = true;
             }
         }
@@ -460,15 +726,11 @@ fn keep_clear(
                 which: which.to_string(),
                 anchor: k,
                 distance: d,
+                clearance,
             });
         }
     }
-    // Every round returns: the last one cannot move a corner.
-    Err(PairFailure::TooClose {
-        which: which.to_string(),
-        anchor: 0,
-        distance: 0.0,
-    })
+    unreachable!("the last round of keep_clear moves no corner, so it returns")
 }
 
 /// Free space and homotopy checks of one path (`reversed`: it runs goal to start).
