@@ -61,6 +61,10 @@ use rappel_homotopy::funnel::{Side, TautPath};
 use rappel_homotopy::path::{Path, PathError};
 use serde::{Deserialize, Serialize};
 
+mod around;
+pub use around::{ARC_STEP, offset_for_clearance};
+use around::{Node, around};
+
 /// Largest mitre offset, in clearances (a sharp turn would push the mitre point far away).
 pub const MITRE_LIMIT: f64 = 4.0;
 
@@ -71,16 +75,10 @@ pub const MITRE_LIMIT: f64 = 4.0;
 /// clearance while the coordinates stay under 1e9 clearances.
 pub const PLACEMENT_MARGIN: f64 = 1e-6;
 
-/// How far along its leg a detour's ends lie from the anchor's foot, in clearances divided by the
-/// sine of the angle between the leg and the detour's direction: `sqrt(2)`, the 45° detour
-/// (module docs). Any value above one keeps the closed form finite; larger ones give a flatter
-/// detour that reaches farther along the tether.
+/// How far along its leg (a tether segment or an ascent leg) the path comes back onto it from an
+/// anchor's foot, in target clearances: `sqrt(2)`. Any value above one leaves a tangent to the
+/// clearance circle; larger ones give a flatter detour that runs farther beside the leg.
 const DETOUR_REACH_CLEARANCES: f64 = std::f64::consts::SQRT_2;
-
-/// Smallest excess of a detour end's distance from the detour's line of offset over the target
-/// clearance, relative to it: an end closer to that line than `1 + MIN_DETOUR_LEVER` target
-/// clearances would need a corner very far out, and the mitre point is used instead.
-const MIN_DETOUR_LEVER: f64 = 1e-3;
 
 /// A leg passing closer than this fraction of the clearance to a released anchor runs through it:
 /// the detour goes to the released side of `L_k` whichever side the rounded leg passes on (a leg
@@ -350,7 +348,8 @@ fn mitre_offsets(taut: &TautPath, clearances: &[f64]) -> Vec<Corner> {
             if clearance == 0.0 || outer.norm() == 0.0 {
                 return Corner::fixed(a.point);
             }
-            let m = (clearance / (a.turning_angle / 2.0).cos()).min(MITRE_LIMIT * clearance);
+            let m =
+                (target(clearance) / (a.turning_angle / 2.0).cos()).min(MITRE_LIMIT * clearance);
             Corner {
                 base: a.point,
                 owner: Some((k + 1, outer.normalize(), m)),
@@ -364,138 +363,64 @@ fn target(clearance: f64) -> f64 {
     clearance * (1.0 + PLACEMENT_MARGIN)
 }
 
-/// The smallest `m >= 0` for which the line through `p` and `a + m n` (`n` a unit vector) passes at
-/// least `c` from `a`, or `None` when no `m` does (`p` lies within `c` of the line through `a`
-/// along `n`).
-///
-/// With `u = p - a`, the distance is `m |u x n| / |m n - u|`; setting it to `c` gives
-/// `m^2 ((u x n)^2 - c^2) + 2 c^2 (u . n) m - c^2 |u|^2 = 0`, whose leading coefficient is positive
-/// and constant term negative exactly when a solution exists: one positive root, taken in the
-/// cancellation-free form. The distance grows from `m = 0` up to a peak and then falls towards
-/// `|u x n| > c`, so every `m` beyond the root keeps the line at least `c` away, and so does the
-/// segment `p -> a + m n`, which lies on it.
-///
-/// ```
-/// use nalgebra::{Point2, Vector2};
-/// use rappel_planners::path_pair::offset_for_clearance;
-/// let a = Point2::new(0.0, 0.0);
-/// // From 2 m along the x axis to a corner up the y axis, 1 m from the anchor: the corner at
-/// // 2 / sqrt(3) (the segment's line is tangent to the unit circle).
-/// let m = offset_for_clearance(&a, &Point2::new(2.0, 0.0), &Vector2::new(0.0, 1.0), 1.0).unwrap();
-/// assert!((m - 2.0 / 3f64.sqrt()).abs() < 1e-12);
-/// assert!(offset_for_clearance(&a, &Point2::new(0.5, 0.0), &Vector2::new(0.0, 1.0), 1.0).is_none());
-/// ```
-pub fn offset_for_clearance(
-    a: &Point2<f64>,
-    p: &Point2<f64>,
-    n: &Vector2<f64>,
-    c: f64,
-) -> Option<f64> {
-    let u = p - a;
-    let cross = u.perp(n);
-    let qa = cross * cross - c * c;
-    if !(qa > 0.0) {
-        return None;
-    }
-    let qb = 2.0 * c * c * u.dot(n);
-    let qc = -c * c * u.norm_squared();
-    let root = (qb * qb - 4.0 * qa * qc).sqrt();
-    let m = if qb >= 0.0 {
-        -2.0 * qc / (qb + root)
-    } else {
-        (root - qb) / (2.0 * qa)
-    };
-    (m.is_finite() && m >= 0.0).then_some(m)
-}
-
-/// One side of a leg as [`detour`] sees it from the anchor's foot: the unit direction along the
-/// leg, how far the leg runs that way (m), and its end.
-#[derive(Debug, Clone, Copy)]
-struct LegSide {
-    dir: Vector2<f64>,
-    room: f64,
-    end: Point2<f64>,
-}
-
-/// The local detour of a leg around anchor `k` (`a_k` at `a`, module docs): the leg's point
-/// nearest `a` is `foot` (the anchor itself for a corner of the tether), `back` and `ahead` its
-/// two sides, `n` the unit direction from `a` in which the detour's corner goes. Returns the
-/// corners `e_in`, `g`, `e_out` (the ends the leg's own points or its ends), or `None` when a side
-/// has no room ([`MIN_DETOUR_LEVER`]) or the corner would lie beyond [`MITRE_LIMIT`] clearances.
-fn detour(
-    k: usize,
-    a: &Point2<f64>,
-    foot: &Point2<f64>,
-    back: LegSide,
-    ahead: LegSide,
-    n: &Vector2<f64>,
-    clearance: f64,
-) -> Option<[Corner; 3]> {
-    let c = target(clearance);
-    let mut ends = [Corner::fixed(*foot); 2];
-    let mut h: f64 = 0.0;
-    for (end, side) in ends.iter_mut().zip([back, ahead]) {
-        let sine = side.dir.perp(n).abs();
-        if !(sine > 0.0) {
-            return None;
-        }
-        let reach = DETOUR_REACH_CLEARANCES * c / sine;
-        let e = if reach < side.room {
-            foot + side.dir * reach
-        } else {
-            side.end
-        };
-        if !((e - a).perp(n).abs() > c * (1.0 + MIN_DETOUR_LEVER)) {
-            return None;
-        }
-        h = h.max(offset_for_clearance(a, &e, n, c)?);
-        *end = Corner::fixed(e);
-    }
-    if !(h <= MITRE_LIMIT * clearance) {
-        return None;
-    }
-    let g = Corner {
-        base: *a,
-        owner: Some((k, *n, h)),
-    };
-    Some([ends[0], g, ends[1]])
-}
-
-/// The descent's corners before any push: the SHP from the start to the goal with each anchor
-/// rounded by its [`detour`] on the outer side of the turn (each side of a tether segment between
-/// two rounded anchors gets half of it), or by its mitre point `offsets[k - 1]` where the detour
-/// has no room; an anchor of clearance zero is its own corner.
+/// The descent's corners before any push: the SHP from the start to the goal with each anchor of
+/// non-zero clearance kept on the side the tether turns to at the target clearance ([`around`]),
+/// and the path back on the tether [`DETOUR_REACH_CLEARANCES`] target clearances along each
+/// segment from its anchors where the segment has room for both; or the mitre points `offsets`
+/// where no such path exists. An anchor of clearance zero is passed through.
 fn rounded_tether(taut: &TautPath, clearances: &[f64], offsets: &[Corner]) -> Vec<Corner> {
-    let n = taut.anchors.len();
-    let mut corners: Vec<Point2<f64>> = Vec::with_capacity(n + 2);
-    corners.push(taut.start());
-    corners.extend(taut.anchors.iter().map(|a| a.point));
-    corners.push(taut.goal());
-    let mut out = vec![Corner::fixed(taut.start())];
-    for k in 1..=n {
-        let a = corners[k];
-        let owned = offsets[k - 1];
-        let Some((_, b, _)) = owned.owner else {
-            out.push(owned);
-            continue;
+    let mut nodes = vec![Node::through(taut.start())];
+    // The previous node's reach along the tether (0 for a pass-through node).
+    let mut reach_back = 0.0;
+    for (i, a) in taut.anchors.iter().enumerate() {
+        let c = target(clearances[i]);
+        let reach = if clearances[i] > 0.0 {
+            DETOUR_REACH_CLEARANCES * c
+        } else {
+            0.0
         };
-        let side = |other: usize| {
-            let v = corners[other] - a;
-            let len = v.norm();
-            let shared = (1..=n).contains(&other) && clearances[other - 1] > 0.0;
-            LegSide {
-                dir: v / len,
-                room: if shared { len / 2.0 } else { len },
-                end: if shared { a + v / 2.0 } else { corners[other] },
+        push_returns(&mut nodes, reach_back, &a.point, reach);
+        nodes.push(if clearances[i] > 0.0 {
+            Node {
+                point: a.point,
+                rho: match a.side {
+                    Side::Left => c,
+                    Side::Right => -c,
+                },
+                k: i + 1,
             }
-        };
-        match detour(k, &a, &a, side(k - 1), side(k + 1), &b, clearances[k - 1]) {
-            Some(d) => out.extend(d),
-            None => out.push(owned),
-        }
+        } else {
+            Node::through(a.point)
+        });
+        reach_back = reach;
     }
-    out.push(Corner::fixed(taut.goal()));
-    out
+    push_returns(&mut nodes, reach_back, &taut.goal(), 0.0);
+    nodes.push(Node::through(taut.goal()));
+    around(&nodes).unwrap_or_else(|| {
+        let mut out = vec![Corner::fixed(taut.start())];
+        out.extend_from_slice(offsets);
+        out.push(Corner::fixed(taut.goal()));
+        out
+    })
+}
+
+/// Appends the pass-through nodes on the straight piece from the last node of `nodes` to `to`:
+/// `reach_back` along it from its start and `reach` before its end, where they fit in order
+/// (nothing where one of them is 0 or they would overlap).
+fn push_returns(nodes: &mut Vec<Node>, reach_back: f64, to: &Point2<f64>, reach: f64) {
+    let from = nodes[nodes.len() - 1].point;
+    let v = to - from;
+    let len = v.norm();
+    if !(reach_back + reach < len) {
+        return;
+    }
+    let dir = v / len;
+    if reach_back > 0.0 {
+        nodes.push(Node::through(from + dir * reach_back));
+    }
+    if reach > 0.0 {
+        nodes.push(Node::through(to - dir * reach));
+    }
 }
 
 /// The anchors of a pair's checks with their clearances, and the grid that finds the ones near a
@@ -529,12 +454,12 @@ impl Near<'_> {
     }
 }
 
-/// Bends every ascent leg that passes within the clearance of an anchor it has already released
-/// around that anchor: by its [`detour`] on the side of the leg away from the anchor (the released
-/// side of `L_k` when the leg runs through the anchor), or through its mitre corner where the leg
-/// has no room. The nearest such anchor first (the lowest index among equally near ones), then the
-/// pieces the bend leaves, each checked again; each anchor bends a route leg at most once, so a
-/// route leg gets at most `n` bends and `3 n` corners.
+/// Bends every ascent leg that passes within the clearance of anchors it has already released
+/// around them: by a [`detour`] on the side of the leg away from them ([`leg_detour`]), or
+/// through the nearest one's mitre corner where the leg has no room. The nearest such anchor first
+/// (the lowest index among equally near ones) with its neighbours along the leg, then the pieces
+/// the bend leaves, each checked again; each anchor bends a route leg at most once, so a route leg
+/// gets at most `n` bends and `3 n` corners.
 fn bend_around_released(
     route: &[RouteCorner],
     offsets: &[Corner],
@@ -553,88 +478,140 @@ fn bend_around_released(
         let mut from = Corner::fixed(w[0].point);
         while let Some(to) = pending.last().copied() {
             let (p, q) = (from.point(), to.point());
-            let mut nearest: Option<(usize, f64)> = None;
+            let mut close: Vec<(usize, f64)> = Vec::new();
             near.too_close(&p, &q, |k, d| {
-                if released.contains(&k)
-                    && bent_on[k] != leg + 1
-                    && nearest.is_none_or(|(kn, dn)| d.total_cmp(&dn).then(k.cmp(&kn)).is_lt())
-                {
-                    nearest = Some((k, d));
+                if released.contains(&k) && bent_on[k] != leg + 1 {
+                    close.push((k, d));
                 }
             });
-            let Some((k, _)) = nearest else {
+            let Some(&(k, _)) = close
+                .iter()
+                .min_by(|(ka, da), (kb, db)| da.total_cmp(db).then(ka.cmp(kb)))
+            else {
                 pending.pop();
                 out.push(to);
                 from = to;
                 continue;
             };
-            bent_on[k] = leg + 1;
-            let bend = leg_detour(k, &p, &q, taut, near).map_or(vec![offsets[k - 1]], Vec::from);
+            let bend = match leg_detour(k, &close, &p, &q, taut, near) {
+                Some((members, corners)) => {
+                    for j in members {
+                        bent_on[j] = leg + 1;
+                    }
+                    corners
+                }
+                None => {
+                    bent_on[k] = leg + 1;
+                    vec![offsets[k - 1]]
+                }
+            };
             pending.extend(bend.into_iter().rev());
         }
     }
     out
 }
 
-/// The [`detour`] of the leg `p -> q` around the released anchor `a_k`, on the side of the leg
-/// away from it (decided exactly, [`orient2d`]; the released side of `L_k` when the leg runs
-/// through `a_k`, within [`THROUGH_ANCHOR_FRACTION`] of the clearance), or `None` when the leg's nearest point to `a_k` is one of its ends or the leg
-/// has no room.
+/// The side of the leg `p -> q` (direction `dir`) on which the path keeps the released anchor
+/// `a_k`: the sign of its node's radius ([`Node::rho`]; positive: `a_k` on the path's left), from
+/// the side of the leg on which `a_k` lies (decided exactly, [`orient2d`]), or the released side
+/// of `L_k` when the leg runs through `a_k` (within [`THROUGH_ANCHOR_FRACTION`] of its clearance
+/// of its foot `foot`): the path passes on the released side.
+fn keep_side(
+    k: usize,
+    p: &Point2<f64>,
+    q: &Point2<f64>,
+    dir: &Vector2<f64>,
+    foot: &Point2<f64>,
+    taut: &TautPath,
+    near: &Near<'_>,
+) -> f64 {
+    let a = near.anchors[k - 1];
+    let through = (foot - a).norm() < THROUGH_ANCHOR_FRACTION * near.clearances[k - 1];
+    let o = orient2d(p, q, &a);
+    if !through && o != 0.0 {
+        return o.signum();
+    }
+    // Through the anchor: the path goes to the released side of `L_k`, so the anchor lies on
+    // the side of the leg towards which the tether turns at it.
+    let prev = if k == 1 {
+        taut.start()
+    } else {
+        near.anchors[k - 2]
+    };
+    let l = a - prev;
+    let towards_turn = match taut.anchors[k - 1].side {
+        Side::Left => Vector2::new(-l.y, l.x),
+        Side::Right => Vector2::new(l.y, -l.x),
+    };
+    let left = Vector2::new(-dir.y, dir.x);
+    if left.dot(&towards_turn) > 0.0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// The path of the leg `p -> q` around the released anchor `a_k` and the anchors of `close`
+/// (released, too close to the leg, with their distances) that chain to it along the leg (feet
+/// closer than twice [`DETOUR_REACH_CLEARANCES`] target clearances apart), each kept on its side
+/// ([`keep_side`]) by [`around`], back on the leg that reach before the first foot and after the
+/// last where the leg has room; with the members it takes. The corners exclude `p` and `q`.
+/// `None` when the foot of `a_k` is not inside the leg or no such path exists.
 fn leg_detour(
     k: usize,
+    close: &[(usize, f64)],
     p: &Point2<f64>,
     q: &Point2<f64>,
     taut: &TautPath,
     near: &Near<'_>,
-) -> Option<[Corner; 3]> {
-    let a = near.anchors[k - 1];
+) -> Option<(Vec<usize>, Vec<Corner>)> {
     let v = q - p;
     let len = v.norm();
     if !(len > 0.0) {
         return None;
     }
     let dir = v / len;
-    let t = (a - p).dot(&dir);
-    if !(t > 0.0 && t < len) {
-        return None;
+    let reach = |j: usize| DETOUR_REACH_CLEARANCES * target(near.clearances[j - 1]);
+    // (along the leg, k) of each candidate whose foot lies inside the leg.
+    let mut along: Vec<(f64, usize)> = close
+        .iter()
+        .map(|&(j, _)| ((near.anchors[j - 1] - p).dot(&dir), j))
+        .filter(|&(t, _)| t > 0.0 && t < len)
+        .collect();
+    along.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let at = along.iter().position(|x| x.1 == k)?;
+    let link = |x: &(f64, usize), y: &(f64, usize)| y.0 - x.0 < reach(x.1) + reach(y.1);
+    let (mut lo, mut hi) = (at, at);
+    while lo > 0 && link(&along[lo - 1], &along[lo]) {
+        lo -= 1;
     }
-    let foot = p + dir * t;
-    let left = Vector2::new(-dir.y, dir.x);
-    let through = (foot - a).norm() < THROUGH_ANCHOR_FRACTION * near.clearances[k - 1];
-    let o = orient2d(p, q, &a);
-    let n = if o > 0.0 && !through {
-        -left
-    } else if o < 0.0 && !through {
-        left
-    } else {
-        // Through the anchor: the released side of `L_k`, which lies away from its obstacle.
-        let prev = if k == 1 {
-            taut.start()
-        } else {
-            near.anchors[k - 2]
-        };
-        let l = a - prev;
-        let towards_turn = match taut.anchors[k - 1].side {
-            Side::Left => Vector2::new(-l.y, l.x),
-            Side::Right => Vector2::new(l.y, -l.x),
-        };
-        if left.dot(&towards_turn) > 0.0 {
-            -left
-        } else {
-            left
-        }
-    };
-    let back = LegSide {
-        dir: -dir,
-        room: t,
-        end: *p,
-    };
-    let ahead = LegSide {
-        dir,
-        room: len - t,
-        end: *q,
-    };
-    detour(k, &a, &foot, back, ahead, &n, near.clearances[k - 1])
+    while hi + 1 < along.len() && link(&along[hi], &along[hi + 1]) {
+        hi += 1;
+    }
+    let run = &along[lo..=hi];
+    let mut nodes = vec![Node::through(*p)];
+    let (t0, k0) = run[0];
+    if t0 > reach(k0) {
+        nodes.push(Node::through(p + dir * (t0 - reach(k0))));
+    }
+    for &(t, j) in run {
+        let side = keep_side(j, p, q, &dir, &(p + dir * t), taut, near);
+        nodes.push(Node {
+            point: near.anchors[j - 1],
+            rho: side * target(near.clearances[j - 1]),
+            k: j,
+        });
+    }
+    let (t1, k1) = run[run.len() - 1];
+    if len - t1 > reach(k1) {
+        nodes.push(Node::through(p + dir * (t1 + reach(k1))));
+    }
+    nodes.push(Node::through(*q));
+    let corners = around(&nodes)?;
+    Some((
+        run.iter().map(|x| x.1).collect(),
+        corners[1..corners.len() - 1].to_vec(),
+    ))
 }
 
 /// Rounds of [`keep_clear`] per corner of the path (each round pushes the corners of the worst
