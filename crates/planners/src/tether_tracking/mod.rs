@@ -3,20 +3,34 @@
 //! updated step by step.
 //!
 //! All decisions are made in the terrain's frame (the development of the surfaces, see
-//! [`rappel_terrain::surface`]), with exact orientation predicates:
+//! [`rappel_terrain::surface`]), with exact orientation predicates on the input points (the base,
+//! the obstacle corners and the robot's waypoints), never on a computed intersection point. The
+//! robot's position inside a step is kept implicitly: it is where the step meets the ray from the
+//! top anchor (the apex) along the tether's last direction, and that direction is itself given by
+//! two input points ([`Heading`]: towards a waypoint, straight on from the anchor below, or
+//! straight on through a released anchor). Free space is closed: the robot may step through a
+//! corner or along a side; such a step is decided as the same step moved off the obstacle by an
+//! arbitrarily small amount, which is what the homotopy class of the walked path is.
 //! - **detach** (`isDetached`): the top obstacle anchor `a_n`, wrapped with turn side `w` after the
-//!   previous obstacle or robot anchor `a_{n-1}`, is released when the robot crosses the ray from
-//!   `a_n` straight on from `a_{n-1}`; the robot's intermediate position `v_s1` is where the step
-//!   crosses that ray (`intersectLines`). Kumar's obstacle-normal construction `Z = X x (n x X)`
-//!   is the same half-plane test in the frame.
+//!   previous obstacle or robot anchor `a_{n-1}`, is released when the tether's direction from
+//!   `a_n` sweeps onto or across the ray from `a_n` straight on from `a_{n-1}` (the robot reaches
+//!   or crosses that ray beyond `a_n`, Kumar's `intersectLines`): `orient2d(a_{n-1}, a_n, ·)` of
+//!   the heading and of the step's end, and the sweep side `-w`. A step through `a_n` itself,
+//!   or one that stops on `a_n` and leaves it, releases it unless it leaves into the free sector
+//!   between its arrival direction and that ray. Kumar's obstacle-normal construction
+//!   `Z = X x (n x X)` is the same half-plane test in the frame.
 //! - **attach** (`attachAnchor`): the segment from the top anchor to the robot sweeps the triangle
-//!   `(a_n, p_k, p_k+1)`; the obstacle corner strictly inside it at the smallest angle from
-//!   `a_n -> p_k` (nearest first on ties) is the new anchor, the robot having reached the point
-//!   where the line `a_n -> corner` crosses its step; repeated until no corner is swept.
+//!   `(a_n, p, p_k+1)`; the obstacle corner in it (strictly inside, or on the segment
+//!   `a_n -> p` or on the step, its obstacle ahead of the sweep) at the smallest angle from
+//!   `a_n -> p` (nearest first on ties) is the new anchor; repeated until no corner is swept.
+//!   Membership is `orient2d` against the heading, the step's line and the end ray; the tie on
+//!   one ray is decided by comparing coordinates.
 //! - **ground anchors** (`rotatewrtAnchorSurface`): wherever a straight frame segment of the
 //!   tether crosses a crest edge ([`EdgeKind::Crest`], Kumar's "concave" change) the folded tether
 //!   rests on the edge; the anchor is that crossing, so it slides along the edge as the robot
 //!   moves. They are recomputed from the obstacle anchors after each step (Alg. 1 pops them).
+//!   Whether a segment crosses an edge is exact; the crossing point (a position, not a decision)
+//!   is rounded, and so is its order along the segment when two edges cross it.
 //!
 //! Winding angles `phi_j` are measured on the folded 3D polyline (obstacle anchors at their base
 //! corner, `h_t = 0`), and [`TetherTracker::windings`] pairs them with each anchor's friction
@@ -29,7 +43,7 @@ pub mod two_robots;
 
 use nalgebra::{Point2, Point3};
 use rappel_geometry::polygon::PointInPolygon;
-use rappel_geometry::predicates::orient2d;
+use rappel_geometry::predicates::{orient2d, point_on_segment};
 use rappel_terrain::surface::{EdgeKind, Terrain};
 use serde::{Deserialize, Serialize};
 
@@ -119,8 +133,65 @@ pub struct TetherTracker<'t, T: Terrain + ?Sized> {
     /// Obstacle anchors, base side first.
     stack: Vec<TetherAnchor>,
     robot: Point2<f64>,
+    /// The tether's last direction when the robot stands on the top anchor (the way it arrived),
+    /// `None` when unknown.
+    heading: Option<Heading>,
     steps: usize,
     event_limit: usize,
+}
+
+/// The exact direction of the tether's last segment from the apex (the top anchor, or the base):
+/// towards `through` when `forward`, away from it otherwise. The apex and `through` are input
+/// points (waypoints, corners, the base), so every side test against the direction is an
+/// `orient2d` of input points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Heading {
+    through: Point2<f64>,
+    forward: bool,
+}
+
+impl Heading {
+    /// The exact side (-1, 0, 1) of `v` against the line from `apex` along the heading.
+    fn side(&self, apex: &Point2<f64>, v: &Point2<f64>) -> i8 {
+        let s = sign(orient2d(apex, &self.through, v));
+        if self.forward { s } else { -s }
+    }
+
+    /// For `v` on the heading's line (`v != apex`): `true` when it lies on the heading's ray.
+    fn ahead(&self, apex: &Point2<f64>, v: &Point2<f64>) -> bool {
+        same_way(apex, &self.through, v) == self.forward
+    }
+}
+
+/// For `t` and `v` collinear with `apex` and both different from it: `true` when they lie on the
+/// same ray from `apex`. Exact: coordinate comparisons only.
+fn same_way(apex: &Point2<f64>, t: &Point2<f64>, v: &Point2<f64>) -> bool {
+    let way = |x: f64, o: f64| (x > o) as i8 - (x < o) as i8;
+    if t.x != apex.x {
+        way(t.x, apex.x) == way(v.x, apex.x)
+    } else {
+        way(t.y, apex.y) == way(v.y, apex.y)
+    }
+}
+
+/// For `v` and `w` on one ray from `apex`: `true` when `v` is strictly nearer. Exact.
+fn nearer(apex: &Point2<f64>, v: &Point2<f64>, w: &Point2<f64>) -> bool {
+    if w.x != apex.x {
+        if w.x > apex.x { v.x < w.x } else { v.x > w.x }
+    } else if w.y > apex.y {
+        v.y < w.y
+    } else {
+        v.y > w.y
+    }
+}
+
+/// Where the sweep of the tether's last segment ends.
+#[derive(Debug, Clone, Copy)]
+enum SweepEnd {
+    /// At the step's end point.
+    Target,
+    /// At the release ray of the top anchor, straight on from the given anchor below it.
+    Release(Point2<f64>),
 }
 
 fn sign(x: f64) -> i8 {
@@ -155,6 +226,7 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
             base,
             stack: Vec::new(),
             robot,
+            heading: None,
             steps: 0,
             event_limit: EVENTS_PER_VERTEX * n + 16,
         };
@@ -204,7 +276,10 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
         Ok(())
     }
 
-    /// Refuses a segment crossing an obstacle's interior (a proper crossing of a base edge).
+    /// Refuses a segment entering an obstacle's interior: a proper crossing of a base edge, or a
+    /// departure into the interior from a corner or a side point on the segment (exact: at a
+    /// corner `v` with neighbours `u`, `w`, the direction towards the segment's far end is tested
+    /// against the interior angle with `orient2d`; no rounded midpoint is used).
     fn check_segment(
         &self,
         what: &str,
@@ -216,8 +291,7 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
                 sign(orient2d(p, q, a)) * sign(orient2d(p, q, b)) < 0
                     && sign(orient2d(a, b, p)) * sign(orient2d(a, b, q)) < 0
             });
-            let mid = Point2::from((p.coords + q.coords) * 0.5);
-            if crosses || o.base.locate(&mid) == PointInPolygon::Inside {
+            if crosses || enters_interior(&o.base.vertices, p, q) {
                 return Err(TrackError::ThroughObstacle {
                     what: what.into(),
                     obstacle: k,
@@ -255,33 +329,75 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
         self.stack.last().map_or(self.base, |a| a.point)
     }
 
-    /// The first corner swept by the segment `apex -> x` as `x` moves from `p` to `q`, with the
-    /// sweep side.
+    /// The top obstacle anchor's wrap: the point below it and its turn side `w` (±1).
+    fn top_wrap(&self) -> Option<(Point2<f64>, i8)> {
+        let top = self.stack.last()?;
+        let AnchorKind::Obstacle { left, .. } = top.kind else {
+            unreachable!("the stack holds obstacle anchors only")
+        };
+        Some((self.point_below_top(), if left { 1 } else { -1 }))
+    }
+
+    /// With the robot standing on the top anchor `a`, having arrived along `arrival`: `true` when
+    /// the step to `q` releases `a`. It stays only when `q` is on its turn side and inside the free
+    /// sector from the arrival direction to the release ray (the robot goes round the corner on
+    /// its free side, as a step moved off the corner would).
+    fn leaves_apex(&self, arrival: Option<Heading>, q: &Point2<f64>) -> bool {
+        let Some((b, w)) = self.top_wrap() else {
+            return false;
+        };
+        let a = self.top();
+        if sign(orient2d(&b, &a, q)) != w {
+            return true;
+        }
+        arrival.is_some_and(|h| {
+            let c = h.side(&a, q);
+            !(c == -w || (c == 0 && h.ahead(&a, q)))
+        })
+    }
+
+    /// The first corner swept by the tether's last segment, from the apex along `h` (the robot
+    /// on the step `p0 -> q`) turning with side `s` (±1) until `end`: `(obstacle, vertex, on the
+    /// step)`, the last `true` when the corner lies on the step itself (the robot reaches it).
     fn first_swept(
         &self,
         apex: &Point2<f64>,
-        p: &Point2<f64>,
-        q: &Point2<f64>,
-    ) -> Option<(usize, usize, i8)> {
-        let s = sign(orient2d(apex, p, q));
-        if s == 0 {
-            return None;
-        }
-        let mut best: Option<(usize, usize, Point2<f64>)> = None;
+        h: &Heading,
+        (p0, q): (&Point2<f64>, &Point2<f64>),
+        s: i8,
+        end: SweepEnd,
+    ) -> Option<(usize, usize, bool)> {
+        // The apex's side of the step's line (not 0: the sweep would be empty).
+        let oa = sign(orient2d(p0, q, apex));
+        let mut best: Option<(usize, usize, Point2<f64>, bool)> = None;
         for (k, o) in self.terrain.obstacles().iter().enumerate() {
             let n = o.base.len();
             for (i, v) in o.base.vertices.iter().enumerate() {
                 if v == apex {
                     continue;
                 }
-                let a0 = sign(orient2d(apex, p, v));
-                let inside = sign(orient2d(p, q, v)) == s && sign(orient2d(q, apex, v)) == s;
-                if !inside {
+                // On the sweep side of the heading, or on its ray (between the apex and the
+                // robot, the robot's position included).
+                let st = h.side(apex, v);
+                if st == -s || (st == 0 && !h.ahead(apex, v)) {
+                    continue;
+                }
+                // Not beyond the step's line.
+                let os = sign(orient2d(p0, q, v));
+                if os == -oa {
+                    continue;
+                }
+                // Strictly before the sweep's end.
+                let before = match end {
+                    SweepEnd::Target => sign(orient2d(apex, q, v)) == -s,
+                    SweepEnd::Release(b) => sign(orient2d(&b, apex, v)) == -s,
+                };
+                if !before {
                     continue;
                 }
                 // The sweeping segment first touches a corner with its obstacle ahead: a neighbour
                 // strictly on the sweep side of the ray apex -> v. This also keeps a corner just
-                // released (its obstacle behind the ray) from being caught again through rounding.
+                // released (its obstacle behind the ray) from being caught again.
                 let (pv, nv) = (
                     &o.base.vertices[(i + n - 1) % n],
                     &o.base.vertices[(i + 1) % n],
@@ -289,25 +405,19 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
                 if sign(orient2d(apex, v, pv)) != s && sign(orient2d(apex, v, nv)) != s {
                     continue;
                 }
-                // A corner on the segment apex -> p itself is swept too.
-                let on_start = a0 == 0 && (v - apex).dot(&(p - v)) > 0.0;
-                if a0 != s && !on_start {
-                    continue;
-                }
                 let better = match &best {
                     None => true,
-                    Some((_, _, b)) => {
+                    Some((_, _, b, _)) => {
                         let o2 = sign(orient2d(apex, b, v));
-                        o2 == -s
-                            || (o2 == 0 && (v - apex).norm_squared() < (b - apex).norm_squared())
+                        o2 == -s || (o2 == 0 && nearer(apex, v, b))
                     }
                 };
                 if better {
-                    best = Some((k, i, *v));
+                    best = Some((k, i, *v, os == 0));
                 }
             }
         }
-        best.map(|(k, i, _)| (k, i, s))
+        best.map(|(k, i, _, on_step)| (k, i, on_step))
     }
 
     /// Moves the robot to `q` along a straight step (Kumar Alg. 1).
@@ -315,7 +425,22 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
         let what = format!("step {}", self.steps);
         self.check_point(&what, &q)?;
         self.check_segment(&what, &self.robot, &q)?;
-        let mut p = self.robot;
+        let p0 = self.robot;
+        if p0 == q {
+            self.steps += 1;
+            return Ok(());
+        }
+        // The robot is where the step meets the ray from the apex along `heading`; `at_apex` when
+        // it stands on the apex itself (then `heading` is the way it arrived).
+        let mut at_apex = p0 == self.top();
+        let mut heading = if at_apex {
+            self.heading
+        } else {
+            Some(Heading {
+                through: p0,
+                forward: true,
+            })
+        };
         let mut events = 0usize;
         loop {
             events += 1;
@@ -326,49 +451,81 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
                 });
             }
             let a = self.top();
-            // isDetached: the robot crosses the ray from a straight on from the anchor below.
-            if let Some(top) = self.stack.last() {
-                let AnchorKind::Obstacle { left, .. } = top.kind else {
-                    unreachable!("the stack holds obstacle anchors only")
-                };
-                let w: i8 = if left { 1 } else { -1 };
-                let b = self.point_below_top();
-                let m = intersect_lines(b, a, p, q);
-                // Only a crossing of the ray beyond a releases it; a robot stepping over the
-                // tether segment b -> a (or behind b) leaves the wrap in place.
-                if sign(orient2d(&b, &a, &p)) == w
-                    && sign(orient2d(&b, &a, &q)) != w
-                    && (m - a).dot(&(a - b)) > 0.0
-                {
-                    // Corners swept before the release point attach first.
-                    if let Some((k, i, s)) = self.first_swept(&a, &p, &m) {
-                        p = self.attach(a, k, i, s, p, m);
-                        continue;
-                    }
+            if at_apex {
+                // On the apex, leaving it for `q` (`q != a`): released, or moving straight out.
+                at_apex = false;
+                if self.leaves_apex(heading, &q) {
                     self.stack.pop();
-                    p = m;
+                    heading = Some(Heading {
+                        through: a,
+                        forward: true,
+                    });
                     continue;
                 }
+                heading = Some(Heading {
+                    through: q,
+                    forward: true,
+                });
+                break;
             }
-            match self.first_swept(&a, &p, &q) {
-                Some((k, i, s)) => p = self.attach(a, k, i, s, p, q),
+            let h = heading.expect("known unless the robot stands on the apex");
+            let s = h.side(&a, &q);
+            if s == 0 {
+                // The step runs along the heading's line: straight out (or onto the apex), or
+                // through the apex to the far side.
+                if q != a && !h.ahead(&a, &q) {
+                    at_apex = true;
+                    continue;
+                }
+                break;
+            }
+            // isDetached: the heading turns (side s) onto or across the ray from a straight on
+            // from the anchor below; only the ray beyond a releases it, a robot stepping over
+            // the tether segment b -> a (or behind b) leaves the wrap in place.
+            let mut end = SweepEnd::Target;
+            if let Some((b, w)) = self.top_wrap() {
+                let side_h = if h.forward { 1 } else { -1 } * sign(orient2d(&b, &a, &h.through));
+                let on_ray = side_h == 0 && same_way(&a, &b, &h.through) != h.forward;
+                if s == -w && (on_ray || (side_h == w && sign(orient2d(&b, &a, &q)) != w)) {
+                    end = SweepEnd::Release(b);
+                }
+            }
+            // attachAnchor: corners swept before the release (or the step's end) attach first.
+            match self.first_swept(&a, &h, (&p0, &q), s, end) {
+                Some((k, i, on_step)) => {
+                    self.attach(k, i, s);
+                    heading = Some(if on_step {
+                        // The robot reaches the corner and walks straight away from it.
+                        Heading {
+                            through: q,
+                            forward: true,
+                        }
+                    } else {
+                        // Straight on from the old apex through the new one.
+                        Heading {
+                            through: a,
+                            forward: false,
+                        }
+                    });
+                }
+                None if matches!(end, SweepEnd::Release(_)) => {
+                    self.stack.pop();
+                    heading = Some(Heading {
+                        through: a,
+                        forward: true,
+                    });
+                }
                 None => break,
             }
         }
+        self.heading = heading;
         self.robot = q;
         self.steps += 1;
         Ok(())
     }
 
-    fn attach(
-        &mut self,
-        apex: Point2<f64>,
-        k: usize,
-        i: usize,
-        s: i8,
-        p: Point2<f64>,
-        q: Point2<f64>,
-    ) -> Point2<f64> {
+    /// Pushes corner `i` of obstacle `k`, wrapped with turn side `s`.
+    fn attach(&mut self, k: usize, i: usize, s: i8) {
         let o = &self.terrain.obstacles()[k];
         let v = o.base.vertices[i];
         self.stack.push(TetherAnchor {
@@ -380,7 +537,6 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
             point: v,
             world: self.terrain.fold(o.surface, &v),
         });
-        intersect_lines(apex, v, p, q)
     }
 
     /// Follows a path of waypoints (the first is taken as a step target too; a repeated point is
@@ -430,6 +586,32 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
     pub fn windings(&self) -> Vec<(f64, f64)> {
         windings_of(self.terrain, &self.configuration())
     }
+}
+
+/// `true` when the segment `p -> q`, crossing no edge properly, still enters the interior of the
+/// counter-clockwise polygon `ring`: it leaves a corner on it, or a side point at one of its ends,
+/// into the interior. Exact (`orient2d` and coordinate comparisons).
+fn enters_interior(ring: &[Point2<f64>], p: &Point2<f64>, q: &Point2<f64>) -> bool {
+    let n = ring.len();
+    for (i, v) in ring.iter().enumerate() {
+        if !point_on_segment(p, q, v) {
+            continue;
+        }
+        let (u, w) = (&ring[(i + n - 1) % n], &ring[(i + 1) % n]);
+        let convex = orient2d(u, v, w) >= 0.0;
+        let inside = |t: &Point2<f64>| {
+            let (l1, l2) = (orient2d(u, v, t) > 0.0, orient2d(v, w, t) > 0.0);
+            if convex { l1 && l2 } else { l1 || l2 }
+        };
+        if (v != q && inside(q)) || (v != p && inside(p)) {
+            return true;
+        }
+    }
+    ring.iter().zip(ring.iter().cycle().skip(1)).any(|(a, b)| {
+        [(p, q), (q, p)].iter().any(|(e, t)| {
+            e != &a && e != &b && point_on_segment(a, b, e) && orient2d(a, b, t) > 0.0
+        })
+    })
 }
 
 /// The ground anchors where the frame segment `a -> b` crosses crest edges, in order from `a`.

@@ -278,3 +278,131 @@ fn bad_steps_are_positioned_errors() {
     assert_eq!(tr.robot(), p(3.0, 2.0));
     assert_eq!(t.surface_count(), 1);
 }
+
+// Exact attach and release (issue 29 §4): steps through obstacle corners, along obstacle sides and
+// within an ulp of a corner, checked against the homotopy crate's SHP of the walked path (crossing
+// sequences, sleeves and the funnel: exact, and independent of the tracker's incremental updates).
+
+/// The walk `base -> walk[0] -> ...` tracked on a flat map with `obstacles`, against the SHP of the
+/// same walk: the same points (repeated and straight-through points dropped on both sides; anchors
+/// are obstacle corners, so they compare exactly) and the same length.
+fn check_against_shp(obstacles: &[Polygon], size: f64, base: Point2<f64>, walk: &[Point2<f64>]) {
+    let planes = [TerrainPlane::new(size, 0.0, 0.0, 0.4)];
+    let terrain = PlaneSeriesTerrain::new(&planes, (0.0, size), prisms(obstacles)).unwrap();
+    let mut tracker = TetherTracker::new(&terrain, base, base).unwrap();
+    tracker.follow(walk).unwrap();
+    let map = Map::new(Polygon::rectangle(0.0, 0.0, size, size), obstacles.to_vec());
+    let btm = Btm::from_map(&map).unwrap();
+    let full: Vec<Point2<f64>> = std::iter::once(base).chain(walk.iter().copied()).collect();
+    let shp = shortest_homotopic_path(&btm, &Path::new(full.clone()).unwrap()).unwrap();
+    let tracked = taut_points(tracker.configuration().iter().map(|a| a.point));
+    let expected = taut_points(shp.taut.points.iter().copied());
+    assert_eq!(
+        tracked, expected,
+        "tracked tether differs from the SHP of the walk {full:?} (obstacles {obstacles:?})"
+    );
+    assert!((tracker.length() - shp.taut.length).abs() <= 1e-9 * shp.taut.length.max(1.0));
+}
+
+/// A polyline without repeated points and without points passed straight through (exact: a point
+/// on the closed segment between its neighbours). A point where the line doubles back stays.
+fn taut_points(points: impl Iterator<Item = Point2<f64>>) -> Vec<Point2<f64>> {
+    let mut out: Vec<Point2<f64>> = Vec::new();
+    for q in points {
+        if out.last() == Some(&q) {
+            continue;
+        }
+        while out.len() >= 2 {
+            let (a, b) = (out[out.len() - 2], out[out.len() - 1]);
+            if rappel_geometry::predicates::point_on_segment(&a, &q, &b) {
+                out.pop();
+            } else {
+                break;
+            }
+        }
+        out.push(q);
+    }
+    out
+}
+
+/// The square `[4, 6]^2` of the hand cases above, as a polygon list.
+fn square() -> Vec<Polygon> {
+    vec![Polygon::rectangle(4.0, 4.0, 2.0, 2.0)]
+}
+
+#[test]
+fn a_step_along_an_obstacle_side_and_through_the_anchor_releases_it() {
+    // Wrapped clockwise at (4, 4), the robot walks down the square's west side, through the
+    // anchor, to (4, 0): the tether is straight again.
+    let walk = [p(3.0, 2.0), p(3.0, 10.0), p(4.0, 8.0), p(4.0, 0.0)];
+    check_against_shp(&square(), 20.0, p(5.0, 0.0), &walk);
+    let t = square_terrain(&flat());
+    let mut tr = TetherTracker::new(&t, p(5.0, 0.0), p(3.0, 2.0)).unwrap();
+    tr.follow(&walk[1..]).unwrap();
+    assert!(tr.obstacle_anchors().is_empty());
+    assert_eq!(tr.length(), 1.0);
+}
+
+#[test]
+fn a_step_through_the_anchor_corner_releases_it() {
+    // The step (3.5, 8) -> (4.25, 2) passes exactly through the anchor (4, 4) on a supporting
+    // line of the square, crossing the release ray there: the wrap is released, as it is for the
+    // same step moved off the corner.
+    let walk = [p(3.0, 2.0), p(3.0, 10.0), p(3.5, 8.0), p(4.25, 2.0)];
+    check_against_shp(&square(), 20.0, p(5.0, 0.0), &walk);
+    let walk = [
+        p(3.0, 2.0),
+        p(3.0, 10.0),
+        p(3.5, 8.0),
+        p(4.25, 2.0),
+        p(9.0, 1.0),
+    ];
+    check_against_shp(&square(), 20.0, p(5.0, 0.0), &walk);
+}
+
+#[test]
+fn a_step_along_an_obstacle_side_wraps_both_its_corners_in_turn() {
+    // The robot walks east along the top side of the square [-1, 1] x [8, 10] (shifted into the
+    // map): the tether from the base below catches the bottom-left corner, then the top-left one
+    // where the robot passes it, and runs along the side to the robot.
+    let obstacles = vec![Polygon::rectangle(9.0, 8.0, 2.0, 2.0)];
+    check_against_shp(
+        &obstacles,
+        20.0,
+        p(10.0, 0.0),
+        &[p(5.0, 10.0), p(15.0, 10.0)],
+    );
+    // Back west along the side: both corners are released.
+    check_against_shp(
+        &obstacles,
+        20.0,
+        p(10.0, 0.0),
+        &[p(5.0, 10.0), p(15.0, 10.0), p(5.0, 10.0)],
+    );
+}
+
+#[test]
+fn a_robot_stopping_on_a_corner_and_leaving_round_it_wraps_it() {
+    // The robot stops exactly on the top-left corner of the square, then walks round it east.
+    check_against_shp(
+        &square(),
+        20.0,
+        p(2.0, 1.0),
+        &[p(2.0, 6.0), p(4.0, 6.0), p(5.0, 8.0)],
+    );
+    // Stopping on the anchor itself, then leaving on either side of its release ray.
+    for q in [
+        p(2.0, 9.0),
+        p(3.0, 10.0),
+        p(3.0, 2.0),
+        p(4.0, 0.0),
+        p(1.0, 4.0),
+    ] {
+        check_against_shp(
+            &square(),
+            20.0,
+            p(5.0, 0.0),
+            &[p(3.0, 2.0), p(3.0, 10.0), p(4.0, 4.0), q],
+        );
+    }
+}
