@@ -7,7 +7,7 @@
 //! the obstacle corners and the robot's waypoints), never on a computed intersection point. The
 //! robot's position inside a step is kept implicitly: it is where the step meets the ray from the
 //! top anchor (the apex) along the tether's last direction, and that direction is itself given by
-//! two input points ([`Heading`]: towards a waypoint, straight on from the anchor below, or
+//! two input points (`Heading`: towards a waypoint, straight on from the anchor below, or
 //! straight on through a released anchor). Free space is closed: the robot may step through a
 //! corner or along a side; such a step is decided as the same step moved off the obstacle by an
 //! arbitrarily small amount, which is what the homotopy class of the walked path is.
@@ -405,6 +405,21 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
                 if sign(orient2d(apex, v, pv)) != s && sign(orient2d(apex, v, nv)) != s {
                     continue;
                 }
+                // A corner on the step is reached by the robot itself: it is swept only when its
+                // obstacle lies in the triangle next to it, on the apex's side of the step (when
+                // the robot stands on it, between the tether and the step).
+                if os == 0 {
+                    let meets = if st == 0 {
+                        wedge_meets_cone(pv, v, nv, apex, q)
+                    } else {
+                        orient2d(pv, v, nv) <= 0.0
+                            || sign(orient2d(p0, q, pv)) == oa
+                            || sign(orient2d(p0, q, nv)) == oa
+                    };
+                    if !meets {
+                        continue;
+                    }
+                }
                 let better = match &best {
                     None => true,
                     Some((_, _, b, _)) => {
@@ -586,6 +601,35 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
     pub fn windings(&self) -> Vec<(f64, f64)> {
         windings_of(self.terrain, &self.configuration())
     }
+}
+
+/// `true` when the interior of the counter-clockwise polygon at its corner `v` (previous corner
+/// `u`, next `w`) meets the open cone at `v` between the rays towards `c1` and `c2` (not
+/// collinear with `v`). Exact: `orient2d` and coordinate comparisons.
+fn wedge_meets_cone(
+    u: &Point2<f64>,
+    v: &Point2<f64>,
+    w: &Point2<f64>,
+    c1: &Point2<f64>,
+    c2: &Point2<f64>,
+) -> bool {
+    let convex = orient2d(u, v, w) > 0.0;
+    let in_wedge = |t: &Point2<f64>| {
+        let (l1, l2) = (orient2d(u, v, t) > 0.0, orient2d(v, w, t) > 0.0);
+        if convex { l1 && l2 } else { l1 || l2 }
+    };
+    if in_wedge(c1) || in_wedge(c2) {
+        return true;
+    }
+    if !convex {
+        // The cone lies in the closed exterior, a convex sector.
+        return false;
+    }
+    let sigma = sign(orient2d(v, c1, c2));
+    let in_cone =
+        |t: &Point2<f64>| sign(orient2d(v, c1, t)) == sigma && sign(orient2d(v, c2, t)) == -sigma;
+    let on_ray = |t: &Point2<f64>, c: &Point2<f64>| orient2d(v, c, t) == 0.0 && same_way(v, c, t);
+    in_cone(u) || in_cone(w) || (on_ray(u, c1) && on_ray(w, c2)) || (on_ray(u, c2) && on_ray(w, c1))
 }
 
 /// `true` when the segment `p -> q`, crossing no edge properly, still enters the interior of the

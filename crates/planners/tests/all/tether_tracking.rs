@@ -406,3 +406,141 @@ fn a_robot_stopping_on_a_corner_and_leaving_round_it_wraps_it() {
         );
     }
 }
+
+/// The walk of the hand case above whose last step passes through the anchor (4, 4), rotated by
+/// `turn` about (10, 10) and moved to the centre of a 40 m map and with that last step moved off the corner by `offset` (outwards, away
+/// from the square), as the rounded coordinates give it: `(square, base, walk)`.
+fn near_corner_case(turn: f64, offset: f64) -> (Polygon, Point2<f64>, Vec<Point2<f64>>) {
+    let (c, s) = (turn.cos(), turn.sin());
+    let r = |x: f64, y: f64| {
+        p(
+            20.0 + c * (x - 10.0) - s * (y - 10.0),
+            20.0 + s * (x - 10.0) + c * (y - 10.0),
+        )
+    };
+    let o = offset / 2f64.sqrt();
+    let square = Polygon::new(vec![r(4.0, 4.0), r(6.0, 4.0), r(6.0, 6.0), r(4.0, 6.0)]);
+    let walk = vec![
+        r(3.0, 2.0),
+        r(3.0, 10.0),
+        r(3.5 - o, 8.0 - o),
+        r(4.25 - o, 2.0 - o),
+    ];
+    (square, r(5.0, 0.0), walk)
+}
+
+#[test]
+fn a_step_passing_within_an_ulp_of_the_anchor_releases_it_exactly_when_it_should() {
+    // Issue 29 §4: a step passing 1e-15 outside the top anchor corner, across its release ray.
+    // The rounded intersection with the release ray can land behind the corner; the exact
+    // decision releases the wrap (and the SHP of the walk agrees), whatever the rounding.
+    let mut rng = ChaCha8Rng::seed_from_u64(29);
+    let mut checked = 0;
+    for _ in 0..400 {
+        let turn = rng.random_range(0.0..std::f64::consts::TAU);
+        let offset = rng.random_range(-2e-15..2e-15);
+        let (square, base, walk) = near_corner_case(turn, offset);
+        let planes = [TerrainPlane::new(SIZE, 0.0, 0.0, 0.4)];
+        let terrain =
+            PlaneSeriesTerrain::new(&planes, (0.0, SIZE), prisms(std::slice::from_ref(&square)))
+                .unwrap();
+        let mut tr = TetherTracker::new(&terrain, base, base).unwrap();
+        // Rounding may put the step through the square's interior: refused, not tracked.
+        if tr.follow(&walk).is_err() {
+            continue;
+        }
+        check_against_shp(&[square], SIZE, base, &walk);
+        checked += 1;
+    }
+    assert!(checked > 100, "{checked} cases checked");
+}
+
+/// A random map on a 1/64 grid: up to four obstacles (rectangles and triangles with integer
+/// corners, one in each 8 m cell of a 16 m square, clear of the cells' borders), so that steps
+/// between grid points pass exactly through corners and along sides.
+fn dyadic_obstacles(rng: &mut ChaCha8Rng) -> Vec<Polygon> {
+    let mut out = Vec::new();
+    for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+        if rng.random_range(0.0..1.0) < 0.2 {
+            continue;
+        }
+        let (cx, cy) = (8.0 * i as f64, 8.0 * j as f64);
+        let coord = |r: &mut ChaCha8Rng, c: f64| c + r.random_range(1..=7) as f64;
+        let poly = if rng.random_range(0.0..1.0) < 0.5 {
+            let (x0, x1) = (coord(rng, cx), coord(rng, cx));
+            let (y0, y1) = (coord(rng, cy), coord(rng, cy));
+            if x0 == x1 || y0 == y1 {
+                continue;
+            }
+            Polygon::rectangle(x0.min(x1), y0.min(y1), (x1 - x0).abs(), (y1 - y0).abs())
+        } else {
+            let pts: Vec<_> = (0..3).map(|_| p(coord(rng, cx), coord(rng, cy))).collect();
+            if rappel_geometry::predicates::orient2d(&pts[0], &pts[1], &pts[2]) == 0.0 {
+                continue;
+            }
+            Polygon::new(pts).to_counter_clockwise()
+        };
+        out.push(poly);
+    }
+    out
+}
+
+/// A random walk on the 1/64 grid from the map's centre: mostly integer points (through corners
+/// and along sides), some obstacle corners themselves, some repeated points, some off the integer
+/// grid; steps the tracker refuses (through an obstacle) are skipped. Checked against the SHP.
+fn check_dyadic_walk(seed: u64, steps: usize) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let obstacles = dyadic_obstacles(&mut rng);
+    let corners: Vec<Point2<f64>> = obstacles.iter().flat_map(|o| o.vertices.clone()).collect();
+    let planes = [TerrainPlane::new(16.0, 0.0, 0.0, 0.4)];
+    let terrain = PlaneSeriesTerrain::new(&planes, (0.0, 16.0), prisms(&obstacles)).unwrap();
+    let base = p(8.0, 8.0);
+    let mut tracker = TetherTracker::new(&terrain, base, base).unwrap();
+    let mut walk = Vec::new();
+    let mut tries = 0;
+    while walk.len() < steps && tries < 20 * steps {
+        tries += 1;
+        let cur = *walk.last().unwrap_or(&base);
+        let roll = rng.random_range(0.0..1.0);
+        let q = if roll < 0.1 {
+            cur
+        } else if roll < 0.3 && !corners.is_empty() {
+            corners[rng.random_range(0..corners.len())]
+        } else if roll < 0.85 {
+            p(
+                rng.random_range(1..=15) as f64,
+                rng.random_range(1..=15) as f64,
+            )
+        } else {
+            let g = |r: &mut ChaCha8Rng| r.random_range(64..=15 * 64) as f64 / 64.0;
+            p(g(&mut rng), g(&mut rng))
+        };
+        match tracker.step(q) {
+            Ok(()) => walk.push(q),
+            Err(TrackError::ThroughObstacle { .. }) => continue,
+            Err(e) => panic!("seed {seed}: {e}"),
+        }
+        // Every prefix: the first step that goes wrong is the one reported.
+        check_against_shp(&obstacles, 16.0, base, &walk);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// On a 1/64 grid, with steps through corners, along sides and onto corners, and repeated
+    /// points, the tracked tether is the SHP of the walk.
+    #[test]
+    fn tracked_tether_is_the_shp_on_a_dyadic_grid(seed in any::<u64>()) {
+        check_dyadic_walk(seed, 40);
+    }
+}
+
+/// Dyadic walks that went wrong while the exact decisions were written (a corner on the step
+/// with its obstacle beyond it, a robot leaving a corner it stands on away from its obstacle).
+#[test]
+fn dyadic_walks_that_went_wrong() {
+    for seed in [213305290714261695, 0, 1, 2, 3] {
+        check_dyadic_walk(seed, 40);
+    }
+}
