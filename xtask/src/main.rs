@@ -1,9 +1,11 @@
 //! Project automation, run as `cargo xtask <command>` (the alias lives in `.cargo/config.toml`):
 //! `regress` runs the regression suites that reproduce the papers' figures and our invariants,
+//! `journeys` runs every subcommand the way a user does and checks the outcomes,
 //! `gen-fixtures` regenerates the generated fixtures from their seeds, `schemas` writes (or with
 //! `--check` checks) the JSON Schema documents in `docs/schemas/` (`docs/output-format.md`).
 
 mod fixtures;
+mod journeys;
 mod regress;
 
 use clap::{Parser, Subcommand};
@@ -28,6 +30,19 @@ enum Command {
         #[arg(long)]
         full: bool,
     },
+    /// Run every subcommand the way a user does, on the bundled fixtures and generated strips,
+    /// and check each outcome against the README (xtask/src/journeys.rs).
+    Journeys {
+        /// Also the 100,000-obstacle strip.
+        #[arg(long)]
+        full: bool,
+        /// The rappel binary (default: target/release/rappel if built, else target/debug/rappel).
+        #[arg(long)]
+        bin: Option<std::path::PathBuf>,
+        /// Require headless Chromium for the HTML pages (else they are checked when it is there).
+        #[arg(long)]
+        viewer: bool,
+    },
     /// Regenerate the generated fixtures (random maps) from their seeds.
     GenFixtures,
     /// Write the JSON Schema documents of the scenario and every report to docs/schemas/.
@@ -45,6 +60,15 @@ fn main() -> ExitCode {
             regress::set_full(full);
             regress::run(suite.as_deref())
         }
+        Command::Journeys { full, bin, viewer } => journeys::run(
+            full,
+            bin,
+            if viewer {
+                journeys::Viewer::Require
+            } else {
+                journeys::Viewer::Auto
+            },
+        ),
         Command::GenFixtures => fixtures::generate(),
         Command::Schemas { check } => schemas(check),
     };

@@ -47,9 +47,11 @@ pub struct Args {
     /// List only simple classes: no tether winds around an obstacle or returns to one.
     #[arg(long)]
     simple_only: bool,
-    /// Funnel expansion budget of the search; when it runs out the report says so.
-    #[arg(long, value_name = "N", default_value_t = rappel::planners::spt::DEFAULT_MAX_EXPANSIONS)]
-    max_expansions: usize,
+    /// Funnel expansion budget of the search: `auto` (the default) scales it to the map's
+    /// triangles and the classes asked for, under a memory cap; a number fixes it. When it runs
+    /// out the report says which limit stopped the search and how to raise it.
+    #[arg(long, value_name = "N|auto", default_value = "auto", value_parser = rappel::planners::budget::ExpansionBudget::parse)]
+    max_expansions: rappel::planners::budget::ExpansionBudget,
     /// Print the report as JSON.
     #[arg(long, conflicts_with = "jsonl")]
     json: bool,
@@ -276,10 +278,11 @@ fn print_head(file: &str, r: &PlanSetting, class_count: usize, o: &PlanOutcome) 
         crate::outln!("warning      {w}");
     }
     crate::outln!(
-        "classes      {} ({}; {} expansions)",
+        "classes      {} ({}; {} of {} expansions)",
         class_count,
         o.termination.describe(),
-        o.stats.expansions
+        o.stats.expansions,
+        o.stats.expansion_limit
     );
 }
 

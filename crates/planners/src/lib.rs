@@ -21,6 +21,7 @@
 
 pub mod anchor_index;
 pub mod anchor_prediction;
+pub mod budget;
 pub mod feasibility;
 pub mod frictional;
 mod min_heap;

@@ -47,10 +47,12 @@
 //!
 //! # Bounds
 //! The expansion stops with [`SearchError::BudgetExhausted`] after
-//! [`ShortestPathMap::build_with_budget`]'s budget of expansions ([`DEFAULT_MAX_EXPANSIONS`] by
-//! default). Each expansion adds at most one tree node (48 bytes), one record (20 bytes, 16 once
+//! [`ShortestPathMap::build_with_budget`]'s budget of expansions (by default
+//! [`ShortestPathMap::default_budget`]: the automatic budget of [`crate::budget`] for one class,
+//! at least [`DEFAULT_MAX_EXPANSIONS`]). Each expansion adds at most one tree node (48 bytes), one record (20 bytes, 16 once
 //! packed per triangle, plus an 8-byte bound) and two queue entries (24 bytes each), so the map
-//! holds at most about 130 bytes per expansion: [`DEFAULT_MAX_EXPANSIONS`] bounds it near 1 GB. A query costs
+//! holds at most about 130 bytes per expansion: [`DEFAULT_MAX_EXPANSIONS`] bounds it near 1 GB,
+//! [`crate::budget::AUTO_MAX_EXPANSIONS`] near 13 GB. A query costs
 //! `O(f log n)` for the `f` funnels recorded in its triangle (each sector search is logarithmic in
 //! the chain length, funnel module docs).
 
@@ -63,7 +65,8 @@ use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::funnel_state::{FunnelState, FunnelTree, NodeId};
 use std::collections::BinaryHeap;
 
-/// Default budget of funnel expansions of one map (about 130 bytes each, module docs "Bounds").
+/// Smallest default budget of funnel expansions of one map (about 130 bytes each, module docs
+/// "Bounds"); larger maps get the automatic budget ([`ShortestPathMap::default_budget`]).
 pub const DEFAULT_MAX_EXPANSIONS: usize = 8_000_000;
 
 /// The answer for one point: its geodesic distance from the start and the last anchor of the
@@ -135,9 +138,17 @@ impl Rank for FunnelState {
 
 impl<'b> ShortestPathMap<'b> {
     /// The map of `start` (a finite point of the closed free space) with the default budget
-    /// ([`DEFAULT_MAX_EXPANSIONS`]).
+    /// ([`ShortestPathMap::default_budget`]).
     pub fn build(btm: &'b Btm, start: Point2<f64>) -> Result<Self, SearchError> {
-        Self::build_with_budget(btm, start, DEFAULT_MAX_EXPANSIONS)
+        Self::build_with_budget(btm, start, Self::default_budget(btm))
+    }
+
+    /// The default budget of a map on `btm`: the automatic budget of one class
+    /// ([`crate::budget::ExpansionBudget::Auto`]), at least [`DEFAULT_MAX_EXPANSIONS`].
+    pub fn default_budget(btm: &Btm) -> usize {
+        crate::budget::ExpansionBudget::Auto
+            .limit(btm.triangle_count(), 1)
+            .max(DEFAULT_MAX_EXPANSIONS)
     }
 
     /// The map of `start` expanding at most `max_expansions` funnels (at least 1); a map that

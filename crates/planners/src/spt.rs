@@ -131,6 +131,7 @@
 //! chain's anchors are anchors of every SHP below), so only finitely many funnels are ever
 //! expanded and the search always ends.
 
+use crate::budget::ExpansionBudget;
 use crate::min_heap::{ArenaHeap, Rank};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
@@ -151,8 +152,10 @@ use std::sync::{Mutex, OnceLock};
 
 /// Default number of classes a search returns.
 pub const DEFAULT_MAX_CLASSES: usize = 10;
-/// Default budget of funnel expansions (about 130 bytes of search state each).
-pub const DEFAULT_MAX_EXPANSIONS: usize = 1_000_000;
+/// The fixed budget of funnel expansions the searches had before budgets followed the map (about
+/// 130 bytes of search state each); the automatic budget ([`ExpansionBudget::Auto`], the default)
+/// never gives less.
+pub const DEFAULT_MAX_EXPANSIONS: usize = crate::budget::AUTO_MIN_EXPANSIONS;
 
 /// Marks "no parent" in the trail of mouths and "no component" in the labels.
 const NONE: u32 = u32::MAX;
@@ -173,7 +176,7 @@ pub enum SearchError {
     /// The expansion budget ran out before the search could answer (not a proof that start and
     /// goal are disconnected).
     #[error(
-        "search budget exhausted after {expansions} expansions before a path was found (raise --max-expansions)"
+        "the search budget ran out after {expansions} expansions before a path was found (this does not mean start and goal are disconnected; raise the budget)"
     )]
     BudgetExhausted {
         /// Funnel expansions made.
@@ -214,7 +217,7 @@ impl From<SleeveError> for SearchError {
 pub struct SearchOptions {
     max_classes: Option<usize>,
     max_length_factor: Option<f64>,
-    max_expansions: usize,
+    max_expansions: ExpansionBudget,
     simple_only: bool,
     #[serde(default = "default_trail_limit")]
     trail_limit: usize,
@@ -225,13 +228,13 @@ fn default_trail_limit() -> usize {
 }
 
 impl Default for SearchOptions {
-    /// [`DEFAULT_MAX_CLASSES`] classes, no length bound, [`DEFAULT_MAX_EXPANSIONS`] expansions,
-    /// every class, a trail of at most [`TRAIL_MAX_ENTRIES`] mouths.
+    /// [`DEFAULT_MAX_CLASSES`] classes, no length bound, the automatic expansion budget
+    /// ([`ExpansionBudget::Auto`]), every class, a trail of at most [`TRAIL_MAX_ENTRIES`] mouths.
     fn default() -> Self {
         SearchOptions {
             max_classes: Some(DEFAULT_MAX_CLASSES),
             max_length_factor: None,
-            max_expansions: DEFAULT_MAX_EXPANSIONS,
+            max_expansions: ExpansionBudget::Auto,
             simple_only: false,
             trail_limit: TRAIL_MAX_ENTRIES,
         }
@@ -267,8 +270,19 @@ impl SearchOptions {
         if n == 0 {
             return Err(SearchError::Option("max_expansions must be at least 1"));
         }
-        self.max_expansions = n;
+        self.max_expansions = ExpansionBudget::Fixed(n);
         Ok(self)
+    }
+
+    /// Bound the expansions as `budget` says ([`ExpansionBudget::Fixed`] at least 1).
+    pub fn with_budget(self, budget: ExpansionBudget) -> Result<Self, SearchError> {
+        match budget {
+            ExpansionBudget::Fixed(n) => self.with_max_expansions(n),
+            ExpansionBudget::Auto => Ok(SearchOptions {
+                max_expansions: ExpansionBudget::Auto,
+                ..self
+            }),
+        }
     }
 
     /// Return simple classes only (module docs, "Simple classes").
@@ -301,8 +315,17 @@ impl SearchOptions {
     }
 
     /// The expansion budget.
-    pub fn max_expansions(&self) -> usize {
+    pub fn budget(&self) -> ExpansionBudget {
         self.max_expansions
+    }
+
+    /// The expansions this search may make on `btm` ([`ExpansionBudget::limit`] with the class
+    /// count, [`DEFAULT_MAX_CLASSES`] when there is none).
+    pub fn expansion_limit(&self, btm: &Btm) -> usize {
+        self.max_expansions.limit(
+            btm.triangle_count(),
+            self.max_classes.unwrap_or(DEFAULT_MAX_CLASSES),
+        )
     }
 
     /// Whether only simple classes are returned.
@@ -332,7 +355,7 @@ impl Termination {
         match self {
             Termination::ClassCount => "the requested number of classes was found",
             Termination::LengthFactor => "the next class would exceed the length factor",
-            Termination::Expansions => "the search budget was exhausted (raise --max-expansions)",
+            Termination::Expansions => "the search budget ran out (raise it)",
             Termination::Exhausted => "no further class exists within the bounds",
             Termination::Disconnected => {
                 "start and goal lie in different connected components of free space"
@@ -366,6 +389,9 @@ pub struct SearchStats {
     pub nodes_discarded: usize,
     /// Largest number of queued entries.
     pub queue_peak: usize,
+    /// The expansions the search was allowed ([`SearchOptions::expansion_limit`]).
+    #[serde(default)]
+    pub expansion_limit: usize,
     /// Peak bytes held by the search's own structures (tree nodes, queue, trail, pruning lists),
     /// counting allocated capacity where it is visible and live length for the tree.
     pub peak_bytes: usize,
@@ -1120,7 +1146,10 @@ impl<'a> SptSearch<'a> {
             emitted: 0,
             shortest: None,
             termination: None,
-            stats: SearchStats::default(),
+            stats: SearchStats {
+                expansion_limit: options.expansion_limit(btm),
+                ..SearchStats::default()
+            },
         };
         if !planner.connected(start_triangle, goal_triangle) {
             search.termination = Some(Termination::Disconnected);
@@ -1219,7 +1248,7 @@ impl<'a> SptSearch<'a> {
                         self.stats.pruned_dominated += 1;
                         continue;
                     }
-                    if self.stats.expansions >= self.options.max_expansions {
+                    if self.stats.expansions >= self.stats.expansion_limit {
                         self.termination = Some(Termination::Expansions);
                         return Ok(None);
                     }
@@ -1298,7 +1327,7 @@ impl<'a> SptSearch<'a> {
             }
             let through = match kept {
                 [Some(c), None] | [None, Some(c)] => {
-                    c.0 <= key && self.stats.expansions < self.options.max_expansions
+                    c.0 <= key && self.stats.expansions < self.stats.expansion_limit
                 }
                 _ => false,
             };

@@ -53,6 +53,7 @@ pub mod query;
 pub mod report;
 pub mod robot;
 pub mod scenario;
+pub mod schema_check;
 pub mod settle;
 pub mod stability;
 pub mod sticking_profile;

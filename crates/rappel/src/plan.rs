@@ -24,11 +24,10 @@ use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::traversability::StabilitySettings;
 use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
+use rappel_planners::budget::{BudgetKind, ExpansionBudget};
 use rappel_planners::feasibility::{self, FeasibilityContext, Passability, fill_reachable_areas};
 use rappel_planners::path_pair::{ClassOutcome, PairPlan, PathPair, plan_path_pair_each};
-use rappel_planners::spt::{
-    DEFAULT_MAX_EXPANSIONS, SearchError, SearchOptions, SearchStats, SptPlanner, Termination,
-};
+use rappel_planners::spt::{SearchError, SearchOptions, SearchStats, SptPlanner, Termination};
 use rappel_planners::terrain::{PlaneSeries, TerrainError};
 use serde::{Deserialize, Serialize};
 
@@ -50,8 +49,9 @@ pub struct PlanOptions {
     pub max_length_factor: Option<f64>,
     /// List only simple classes (no tether winds around an obstacle; see `docs/planner.md`).
     pub simple_only: bool,
-    /// Funnel expansion budget of the search.
-    pub max_expansions: usize,
+    /// Funnel expansion budget of the search: scaled to the map by default
+    /// ([`ExpansionBudget::Auto`]).
+    pub max_expansions: ExpansionBudget,
     /// Cut every anchor reachable set to free space and report its area
     /// ([`AnchorReport::reachable_area_m2`]): a polygon overlay per anchor of every class, for
     /// reports only (feasibility never needs it), so off by default.
@@ -59,13 +59,13 @@ pub struct PlanOptions {
 }
 
 impl Default for PlanOptions {
-    /// [`DEFAULT_CLASSES`] classes, no length bound, every class, the search's default budget.
+    /// [`DEFAULT_CLASSES`] classes, no length bound, every class, the automatic budget.
     fn default() -> Self {
         PlanOptions {
             classes: DEFAULT_CLASSES,
             max_length_factor: None,
             simple_only: false,
-            max_expansions: DEFAULT_MAX_EXPANSIONS,
+            max_expansions: ExpansionBudget::Auto,
             reachable_areas: false,
         }
     }
@@ -473,7 +473,7 @@ fn plan_core(
     let search = SearchOptions::default()
         .with_max_classes(Some(options.classes))?
         .with_max_length_factor(options.max_length_factor)?
-        .with_max_expansions(options.max_expansions)?
+        .with_budget(options.max_expansions)?
         .with_simple_only(options.simple_only);
     let ctx = FeasibilityContext {
         btm: &btm,
@@ -511,7 +511,13 @@ fn plan_core(
     )?;
     pair_plan.classes = kept;
     let setting = setting_of(scenario, model, &terrain);
-    let mut outcome = outcome_of(&terrain, &pair_plan, class_count, first_failure);
+    let mut outcome = outcome_of(
+        &terrain,
+        &pair_plan,
+        class_count,
+        first_failure,
+        options.max_expansions.kind(),
+    );
     let mut friction = None;
     if let Some(spec) = &scenario.friction {
         let resolved = spec.resolve(scenario).map_err(PlanError::Friction)?;
@@ -626,6 +632,7 @@ fn outcome_of(
     pair_plan: &PairPlan,
     class_count: usize,
     first_failure: Option<String>,
+    budget: BudgetKind,
 ) -> PlanOutcome {
     let chosen = pair_plan.pair.as_ref().map(PairReport::from);
     let verdict = match (&chosen, first_failure) {
@@ -635,14 +642,20 @@ fn outcome_of(
         ),
         (None, None) => match pair_plan.termination {
             Termination::Expansions => format!(
-                "no class found: the search budget was exhausted after {} expansions before any class was found (raise --max-expansions); this does not mean start and goal are disconnected",
-                pair_plan.stats.expansions
+                "no class found: the search stopped at {} before any class was found; this does not mean start and goal are disconnected",
+                budget.describe(pair_plan.stats.expansion_limit)
             ),
             t => format!("no class found: {}", t.describe()),
         },
         (None, Some(first)) => format!(
             "no feasible class among the {class_count} found ({}); class 1: {first}",
-            pair_plan.termination.describe(),
+            match pair_plan.termination {
+                Termination::Expansions => format!(
+                    "the search stopped at {}",
+                    budget.describe(pair_plan.stats.expansion_limit)
+                ),
+                t => t.describe().to_string(),
+            }
         ),
     };
     let mut warnings = Vec::new();

@@ -1,0 +1,154 @@
+//! A validator of JSON documents against the JSON Schema documents this crate writes
+//! (`docs/schemas/`, [`crate::report::schema_files`]): the keywords schemars emits, each checked;
+//! any other keyword is an error, so a document cannot pass by a keyword being ignored. For tests
+//! and `cargo xtask journeys`, which check every report a command prints against its schema.
+
+use serde_json::Value;
+
+/// Checks `v` against the schema document `root` ([`conforms`] from its top).
+///
+/// ```
+/// use serde_json::json;
+/// let schema = json!({"type": "object", "required": ["a"], "properties": {"a": {"type": "integer"}}});
+/// assert!(rappel::schema_check::check(&json!({"a": 1}), &schema).is_ok());
+/// assert!(rappel::schema_check::check(&json!({"a": "x"}), &schema).is_err());
+/// assert!(rappel::schema_check::check(&json!({}), &schema).is_err());
+/// ```
+pub fn check(v: &Value, root: &Value) -> Result<(), String> {
+    conforms(v, root, root, "$")
+}
+
+/// `Ok` when `v` conforms to the schema `s` (resolving `$ref` against `root`), else the first
+/// violation found with its path `at`; the keywords handled are the
+/// ones schemars writes; any other keyword is an error, so the check cannot pass by ignoring one.
+pub fn conforms(v: &Value, s: &Value, root: &Value, at: &str) -> Result<(), String> {
+    let s = match s {
+        Value::Bool(true) => return Ok(()),
+        Value::Bool(false) => return Err(format!("{at}: schema `false`")),
+        Value::Object(m) => m,
+        _ => return Err(format!("{at}: schema is not an object")),
+    };
+    for (k, x) in s {
+        match k.as_str() {
+            "$schema" | "title" | "description" | "$defs" | "format" | "default" => {}
+            "$ref" => {
+                let name = x
+                    .as_str()
+                    .and_then(|r| r.strip_prefix("#/$defs/"))
+                    .ok_or_else(|| format!("{at}: unsupported $ref {x}"))?;
+                conforms(v, &root["$defs"][name], root, at)?;
+            }
+            "type" => {
+                let types: Vec<&str> = match x {
+                    Value::String(t) => vec![t.as_str()],
+                    Value::Array(a) => a.iter().filter_map(Value::as_str).collect(),
+                    _ => return Err(format!("{at}: bad type {x}")),
+                };
+                let ok = types.iter().any(|t| match *t {
+                    "object" => v.is_object(),
+                    "array" => v.is_array(),
+                    "string" => v.is_string(),
+                    "boolean" => v.is_boolean(),
+                    "null" => v.is_null(),
+                    "number" => v.is_number(),
+                    "integer" => v.is_i64() || v.is_u64(),
+                    _ => false,
+                });
+                if !ok {
+                    return Err(format!("{at}: {v} is not of type {x}"));
+                }
+            }
+            "properties" => {
+                if let (Some(o), Some(props)) = (v.as_object(), x.as_object()) {
+                    for (name, sub) in props {
+                        if let Some(val) = o.get(name) {
+                            conforms(val, sub, root, &format!("{at}.{name}"))?;
+                        }
+                    }
+                }
+            }
+            "required" => {
+                if let Some(o) = v.as_object() {
+                    for name in x.as_array().into_iter().flatten().filter_map(Value::as_str) {
+                        if !o.contains_key(name) {
+                            return Err(format!("{at}: required field {name} missing"));
+                        }
+                    }
+                }
+            }
+            "additionalProperties" => {
+                if let (Some(o), Some(props)) = (v.as_object(), s.get("properties")) {
+                    for (name, val) in o {
+                        if props.get(name).is_none() {
+                            conforms(val, x, root, &format!("{at}.{name}"))?;
+                        }
+                    }
+                }
+            }
+            "items" => {
+                if let Some(a) = v.as_array() {
+                    let skip = s
+                        .get("prefixItems")
+                        .and_then(Value::as_array)
+                        .map_or(0, Vec::len);
+                    for (i, val) in a.iter().enumerate().skip(skip) {
+                        conforms(val, x, root, &format!("{at}[{i}]"))?;
+                    }
+                }
+            }
+            "prefixItems" => {
+                if let (Some(a), Some(subs)) = (v.as_array(), x.as_array()) {
+                    for (i, (val, sub)) in a.iter().zip(subs).enumerate() {
+                        conforms(val, sub, root, &format!("{at}[{i}]"))?;
+                    }
+                }
+            }
+            "minItems" | "maxItems" => {
+                if let (Some(a), Some(n)) = (v.as_array(), x.as_u64()) {
+                    let len = a.len() as u64;
+                    if (k == "minItems" && len < n) || (k == "maxItems" && len > n) {
+                        return Err(format!("{at}: {len} items, {k} {n}"));
+                    }
+                }
+            }
+            "minimum" => {
+                if let (Some(n), Some(m)) = (v.as_f64(), x.as_f64())
+                    && n < m
+                {
+                    return Err(format!("{at}: {n} below the minimum {m}"));
+                }
+            }
+            "const" => {
+                if v != x {
+                    return Err(format!("{at}: {v} is not the constant {x}"));
+                }
+            }
+            "enum" => {
+                if !x.as_array().is_some_and(|a| a.contains(v)) {
+                    return Err(format!("{at}: {v} not among {x}"));
+                }
+            }
+            "oneOf" | "anyOf" => {
+                let subs = x.as_array().ok_or_else(|| format!("{at}: bad {k}"))?;
+                let passing = subs
+                    .iter()
+                    .filter(|sub| conforms(v, sub, root, at).is_ok())
+                    .count();
+                if passing == 0 || (k == "oneOf" && passing > 1) {
+                    return Err(format!("{at}: {passing} of the {k} branches match {v}"));
+                }
+            }
+            "allOf" => {
+                for sub in x.as_array().into_iter().flatten() {
+                    conforms(v, sub, root, at)?;
+                }
+            }
+            other => {
+                return Err(format!(
+                    "{at}: schema keyword {other} not handled by this validator"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
