@@ -184,8 +184,10 @@ fn a_route_hugging_the_star_fails_its_pair_at_the_closest_waypoint() {
                 which,
                 anchor,
                 distance,
+                clearance,
             }) => {
                 assert_eq!(which, "ascent");
+                assert_eq!(clearance, ctx.clearance);
                 assert_eq!(
                     (distance, anchor),
                     (closest.0, closest.2),
