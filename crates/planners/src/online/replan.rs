@@ -19,7 +19,8 @@
 //! SHP of the path `reverse(tau[..j]) . pi_C` (back to the start along the laid tether, then down
 //! `C`'s SHP) with its endpoints fixed: the funnel pulls it taut, so it never revisits the laid
 //! part. Only the ascent to the junction follows the travelled path itself, which is known to be
-//! traversable (the thesis' backtracking).
+//! traversable (the thesis' backtracking). The session descends along it with the clearance
+//! (`session`, [`crate::path_pair::descent_with_clearance`]).
 //!
 //! # Constraints
 //! H-signatures are homology invariants ([`rappel_homotopy::h_signature`]), as in the thesis; a

@@ -16,8 +16,13 @@
 //!    (Alg. 12); feasible, continue from the robot along it; infeasible, add its H-signature to
 //!    the constraints and replan. Reference path blocked by the new obstacle: replan.
 //! 6. Replanning ([`crate::online::replan`]): the constrained SPT search over the updated BTM;
-//!    among the feasible candidates the one with the least remaining travel (backtrack plus
-//!    continuation) is chosen.
+//!    as in Alg. 6 a feasible candidate with an ascent/descent pair comes first, and among those
+//!    the one with the least remaining travel (backtrack plus continuation) is chosen. From the
+//!    start (preplanning, Alg. 11) this is exactly Alg. 6's class and pair. The descent past the
+//!    junction keeps the clearance from the anchors of its continuation and of the class
+//!    ([`crate::path_pair::descent_with_clearance`]); where no pair or no such descent exists the
+//!    session says why ([`ClearanceShortfall`], in every outcome) instead of silently following
+//!    a taut tether.
 //! 7. After every decision, check backtrackability ([`OnlineSession::backtrackable`]): the
 //!    class's ascent is feasible (Alg. 12) and the selected ascent is in free space in the class;
 //!    [`OnlineSession::laid_tether_climbable`] is the stronger Alg. 5 check from the robot.
