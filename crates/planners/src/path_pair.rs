@@ -110,7 +110,9 @@ pub struct PathPair {
 }
 
 /// Why no pair was built for a feasible class.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, thiserror::Error)]
+#[derive(
+    Debug, Clone, PartialEq, Serialize, Deserialize, thiserror::Error, schemars::JsonSchema,
+)]
 pub enum PairFailure {
     /// A path leaves free space.
     #[error("the {which} path leaves free space: {message}")]
@@ -308,6 +310,43 @@ pub fn path_pair_evaluated(
         min_anchor_distance,
         crossings: word.clone(),
     })
+}
+
+/// The descent of [`path_pair`] alone along any taut tether (the online session's continuation
+/// from the robot, `crate::online`): each anchor rounded at the context's clearance, the corners
+/// pushed clear, the path checked in free space and with the reduced crossing sequence
+/// `crossings`. The path must also keep the clearance from the points `also` (the anchors of the
+/// class the continuation belongs to, which it may pass without touching): no corner is placed
+/// for them, so passing one too close fails. No ascent is built and the friction-cone walk is
+/// not made (the tether's anchors before the path's start are not the path's). Fails as the
+/// pair's descent would, with `which = "descent"` and anchors numbered along `taut`'s anchors
+/// and then `also`'s.
+pub fn descent_with_clearance(
+    ctx: &FeasibilityContext<'_>,
+    taut: &TautPath,
+    crossings: &CrossingSequence,
+    also: &[Point2<f64>],
+) -> Result<Vec<Point2<f64>>, PairFailure> {
+    let mut anchors: Vec<Point2<f64>> = taut.anchors.iter().map(|a| a.point).collect();
+    let own = anchors.len();
+    for p in also {
+        if !anchors.contains(p) {
+            anchors.push(*p);
+        }
+    }
+    let index = AnchorIndex::new(&anchors, 2.0 * ctx.clearance, Evaluation::Indexed);
+    let clearances = vec![ctx.clearance; anchors.len()];
+    let offsets = mitre_offsets(taut, &clearances[..own]);
+    let near = Near {
+        index: &index,
+        anchors: &anchors,
+        clearances: &clearances,
+        margin: 2.0 * ctx.clearance,
+    };
+    let rounded = rounded_tether(taut, &clearances[..own], &offsets);
+    let descent = keep_clear("descent", rounded, &near)?;
+    check_path(ctx.btm, "descent", &descent, crossings, false)?;
+    Ok(descent)
 }
 
 /// A corner of a path being built: a fixed point (start, goal, waypoint), or a point pushed off

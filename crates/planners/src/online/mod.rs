@@ -36,7 +36,7 @@ pub mod simulate;
 
 pub use change::MapChange;
 pub use classify::ChangeCase;
-pub use session::{ChangeOutcome, Decision, OnlineSession, Status};
+pub use session::{ChangeOutcome, ClearanceShortfall, Decision, OnlineSession, Status};
 pub use simulate::{SimulationOptions, SimulationReport, simulate, simulate_with};
 
 use crate::spt::{SearchError, SearchOptions};

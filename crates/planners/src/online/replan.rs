@@ -19,7 +19,8 @@
 //! SHP of the path `reverse(tau[..j]) . pi_C` (back to the start along the laid tether, then down
 //! `C`'s SHP) with its endpoints fixed: the funnel pulls it taut, so it never revisits the laid
 //! part. Only the ascent to the junction follows the travelled path itself, which is known to be
-//! traversable (the thesis' backtracking).
+//! traversable (the thesis' backtracking). The session descends along it with the clearance
+//! (`session`, [`crate::path_pair::descent_with_clearance`]).
 //!
 //! # Constraints
 //! H-signatures are homology invariants ([`rappel_homotopy::h_signature`]), as in the thesis; a
@@ -34,7 +35,7 @@ use rappel_geometry::dcel::ObstacleId;
 use rappel_homotopy::funnel::Side;
 use rappel_homotopy::h_signature::HSignature;
 use rappel_homotopy::path::Path;
-use rappel_homotopy::shp::shortest_homotopic_path;
+use rappel_homotopy::shp::{ShortestHomotopicPath, shortest_homotopic_path};
 use rappel_homotopy::{HomotopyError, TautPath};
 use serde::Serialize;
 
@@ -111,13 +112,14 @@ pub fn junction(
 }
 
 /// The taut continuation from `travelled[index]` to the goal in the class of `class_shp` (module
-/// docs): the SHP of `reverse(travelled[..=index]) . class_shp`.
+/// docs): the SHP of `reverse(travelled[..=index]) . class_shp`, with its reduced crossing
+/// sequence (what a descent with clearance along it must keep).
 pub fn continuation(
     btm: &Btm,
     travelled: &[Point2<f64>],
     index: usize,
     class_shp: &[Point2<f64>],
-) -> Result<TautPath, HomotopyError> {
+) -> Result<ShortestHomotopicPath, HomotopyError> {
     let mut pts: Vec<Point2<f64>> = travelled[..=index].iter().rev().copied().collect();
     for p in class_shp {
         if pts.last() != Some(p) {
@@ -125,7 +127,7 @@ pub fn continuation(
         }
     }
     let path = Path::new(pts)?;
-    Ok(shortest_homotopic_path(btm, &path)?.taut)
+    shortest_homotopic_path(btm, &path)
 }
 
 /// Length of a polyline, m.

@@ -16,8 +16,13 @@
 //!    (Alg. 12); feasible, continue from the robot along it; infeasible, add its H-signature to
 //!    the constraints and replan. Reference path blocked by the new obstacle: replan.
 //! 6. Replanning ([`crate::online::replan`]): the constrained SPT search over the updated BTM;
-//!    among the feasible candidates the one with the least remaining travel (backtrack plus
-//!    continuation) is chosen.
+//!    as in Alg. 6 a feasible candidate with an ascent/descent pair comes first, and among those
+//!    the one with the least remaining travel (backtrack plus continuation) is chosen. From the
+//!    start (preplanning, Alg. 11) this is exactly Alg. 6's class and pair. The descent past the
+//!    junction keeps the clearance from the anchors of its continuation and of the class
+//!    ([`crate::path_pair::descent_with_clearance`]); where no pair or no such descent exists the
+//!    session says why ([`ClearanceShortfall`], in every outcome) instead of silently following
+//!    a taut tether.
 //! 7. After every decision, check backtrackability ([`OnlineSession::backtrackable`]): the
 //!    class's ascent is feasible (Alg. 12) and the selected ascent is in free space in the class;
 //!    [`OnlineSession::laid_tether_climbable`] is the stronger Alg. 5 check from the robot.
@@ -35,7 +40,7 @@ use super::classify::{
 use super::replan::{Junction, RejectedClass, continuation, junction, polyline_length};
 use super::{OnlineError, OnlineOptions};
 use crate::feasibility::{FeasibilityContext, FeasibilityReport, check_feasibility};
-use crate::path_pair::path_pair;
+use crate::path_pair::{PairFailure, PathPair, descent_with_clearance, path_pair};
 use crate::spt::{RankedShp, SptPlanner, Termination, is_simple_class};
 use crate::terrain::PlaneSeries;
 use nalgebra::Point2;
@@ -136,6 +141,31 @@ pub struct ChangeOutcome {
     pub shorter_class: Option<ShorterClass>,
     /// The backtrackability check after the decision (module docs, step 7).
     pub backtrackable: bool,
+    /// Why the plan followed after the decision does not keep the clearance from every anchor
+    /// (`None`: it does; [`OnlineSession::clearance_shortfall`]).
+    pub clearance_shortfall: Option<ClearanceShortfall>,
+}
+
+/// Why the plan the session follows does not keep the clearance from every anchor of its class
+/// (module docs, "Clearance"). Without one, the descent still to travel is the class's Alg. 6
+/// descent (from the start) or a descent with clearance along the taut continuation (from a
+/// junction), and the selected ascent is the pair's.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum ClearanceShortfall {
+    /// No class the search examined has an Alg. 6 pair: the feasible class with the least
+    /// remaining travel is followed, its ascent and descent are its taut tether.
+    NoPair {
+        /// Why that class's pair failed.
+        failure: PairFailure,
+    },
+    /// The class has its pair, but the descent from the junction cannot keep the clearance (the
+    /// robot stands, or the continuation must pass, too close to an anchor): the robot follows
+    /// the taut continuation.
+    Continuation {
+        /// Why the descent with clearance failed.
+        failure: PairFailure,
+    },
 }
 
 /// The chosen class with what the session needs to classify changes quickly.
@@ -148,10 +178,12 @@ pub struct CurrentClass {
     /// Alg. 12 on its SHP.
     pub feasibility: FeasibilityReport,
     /// The selected ascent path, goal to start (the pair's, or the taut tether reversed when
-    /// no pair with clearance exists).
+    /// no pair with clearance exists, see `pair_failure`).
     pub ascent: Vec<Point2<f64>>,
     /// The selected descent path, start to goal (the pair's, or the taut tether).
     pub descent: Vec<Point2<f64>>,
+    /// Why Alg. 6 built no pair for this class (`None`: `ascent` and `descent` are its pair).
+    pub pair_failure: Option<PairFailure>,
     sides: SleeveSides,
     /// (triangle, sleeve position), sorted.
     positions: Vec<(TriangleId, usize)>,
@@ -177,10 +209,10 @@ impl CurrentClass {
 /// A candidate of the constrained search.
 struct Candidate {
     class: RankedShp,
-    h: HSignature,
     feasibility: FeasibilityReport,
     junction: Junction,
-    continuation: Vec<Point2<f64>>,
+    continuation: ShortestHomotopicPath,
+    pair: Result<PathPair, PairFailure>,
     cost: f64,
 }
 
@@ -196,6 +228,8 @@ pub struct OnlineSession {
     class: Option<CurrentClass>,
     travelled: Vec<Point2<f64>>,
     route: Vec<Point2<f64>>,
+    /// Why the route's descent past its junction is the taut continuation (module docs).
+    continuation_failure: Option<PairFailure>,
     backtrack_left: f64,
     constraints: Vec<RejectedClass>,
     deferred: Vec<ChangeOutcome>,
@@ -247,6 +281,7 @@ impl OnlineSession {
             class: None,
             travelled: vec![start],
             route: vec![start],
+            continuation_failure: None,
             backtrack_left: 0.0,
             constraints: Vec::new(),
             deferred: Vec::new(),
@@ -257,15 +292,9 @@ impl OnlineSession {
             scale: w.hypot(h),
         };
         session.reserve_for_updates(UPDATE_HEADROOM_VERTICES);
-        let decision = session.replan()?;
-        if let (Decision::Switched { .. }, Some(c)) = (&decision, &session.class) {
-            // At the start the robot follows the selected descent (Alg. 11: a pair chosen among
-            // the feasible ascents).
-            let descent = c.descent.clone();
-            if descent.first() == Some(&start) && descent.last() == Some(&goal) {
-                session.route = descent;
-            }
-        }
+        // Alg. 11 by Alg. 6: the first class of the search with a feasible ascent and a pair;
+        // from the start the robot follows that pair's descent (`follow`).
+        session.replan()?;
         if start == goal && session.class.is_some() {
             session.status = Status::AtGoal;
         }
@@ -345,6 +374,41 @@ impl OnlineSession {
         &self.options
     }
 
+    /// Why the plan followed now does not keep the clearance from every anchor of its class
+    /// (`None`: it does, or there is no class).
+    pub fn clearance_shortfall(&self) -> Option<ClearanceShortfall> {
+        let c = self.class.as_ref()?;
+        if let Some(failure) = &c.pair_failure {
+            return Some(ClearanceShortfall::NoPair {
+                failure: failure.clone(),
+            });
+        }
+        self.continuation_failure
+            .clone()
+            .map(|failure| ClearanceShortfall::Continuation { failure })
+    }
+
+    /// The descent along the taut continuation `cont` keeping the clearance from its anchors and
+    /// the current class's ([`descent_with_clearance`]); where it cannot, the taut continuation
+    /// itself, and the reason is kept for [`OnlineSession::clearance_shortfall`].
+    fn descent_along(&mut self, cont: &ShortestHomotopicPath) -> Vec<Point2<f64>> {
+        if self.options.clearance == 0.0 {
+            return cont.taut.points.clone();
+        }
+        let class_anchors: Vec<Point2<f64>> = self
+            .class
+            .as_ref()
+            .map(|c| c.shp.taut.anchors.iter().map(|a| a.point).collect())
+            .unwrap_or_default();
+        match descent_with_clearance(&self.ctx(), &cont.taut, &cont.crossings, &class_anchors) {
+            Ok(d) => d,
+            Err(failure) => {
+                self.continuation_failure = Some(failure);
+                cont.taut.points.clone()
+            }
+        }
+    }
+
     fn ctx(&self) -> FeasibilityContext<'_> {
         FeasibilityContext {
             btm: &self.btm,
@@ -397,20 +461,31 @@ impl OnlineSession {
         pts
     }
 
-    /// Makes `shp` the current class and selects its ascent/descent pair.
-    fn adopt(&mut self, shp: ShortestHomotopicPath, h: HSignature, feasibility: FeasibilityReport) {
-        let ranked = RankedShp {
+    /// `shp` as a ranked class with the session's H-signature `h`.
+    fn ranked(shp: ShortestHomotopicPath, h: HSignature) -> RankedShp {
+        RankedShp {
             rank: 0,
             simple: is_simple_class(&shp.taut),
             shp,
             h_signature: h,
             expansions: 0,
-        };
-        let (ascent, descent) = match path_pair(&self.ctx(), &ranked, &feasibility) {
-            Ok(pair) => (pair.ascent, pair.descent),
-            Err(_) => (
+        }
+    }
+
+    /// Makes `ranked` (its `h_signature` the session's) the current class with its Alg. 6 pair,
+    /// or its taut tether both ways when `pair` failed (the failure is kept and reported).
+    fn adopt(
+        &mut self,
+        ranked: RankedShp,
+        feasibility: FeasibilityReport,
+        pair: Result<PathPair, PairFailure>,
+    ) {
+        let (ascent, descent, pair_failure) = match pair {
+            Ok(pair) => (pair.ascent, pair.descent, None),
+            Err(failure) => (
                 ranked.shp.taut.points.iter().rev().copied().collect(),
                 ranked.shp.taut.points.clone(),
+                Some(failure),
             ),
         };
         let sides = SleeveSides::of(&self.btm, &ranked.shp.sleeve);
@@ -421,6 +496,7 @@ impl OnlineSession {
             feasibility,
             ascent,
             descent,
+            pair_failure,
             sides,
             positions,
         });
@@ -454,8 +530,14 @@ impl OnlineSession {
             self.check_cover(p)?;
         }
         match change {
-            MapChange::Add(p) => Ok(vec![self.add(p)?]),
-            MapChange::Remove(id) => Ok(vec![self.remove(*id)?]),
+            MapChange::Add(p) => {
+                let o = self.add(p)?;
+                Ok(vec![self.finish(o)])
+            }
+            MapChange::Remove(id) => {
+                let o = self.remove(*id)?;
+                Ok(vec![self.finish(o)])
+            }
             MapChange::Reshape { obstacle, polygon } => {
                 if self.btm.obstacle_polygon(*obstacle).is_none() {
                     return Err(OnlineError::Btm(
@@ -471,14 +553,25 @@ impl OnlineSession {
                 trial.obstacles.push(polygon.clone());
                 trial.validate()?;
                 let first = self.remove(*obstacle)?;
+                let first = self.finish(first);
                 let second = self.add(polygon)?;
+                let second = self.finish(second);
                 if let (Some(f), Some(new)) = (&mut self.friction, second.obstacle) {
                     f.renamed(*obstacle, ObstacleId(new));
                 }
                 Ok(vec![first, second])
             }
-            MapChange::Boundary(b) => Ok(vec![self.rebuild(b)?]),
+            MapChange::Boundary(b) => {
+                let o = self.rebuild(b)?;
+                Ok(vec![self.finish(o)])
+            }
         }
+    }
+
+    /// `o` with the clearance shortfall of the plan as it stands after it.
+    fn finish(&self, mut o: ChangeOutcome) -> ChangeOutcome {
+        o.clearance_shortfall = self.clearance_shortfall();
+        o
     }
 
     /// Refuses a new outline that covers the robot, the start or the laid tether.
@@ -518,6 +611,7 @@ impl OnlineSession {
             shp_length_m: (before, self.class.as_ref().map(|c| c.shp.taut.length)),
             shorter_class: None,
             backtrackable: true,
+            clearance_shortfall: None,
         }
     }
 
@@ -734,11 +828,23 @@ impl OnlineSession {
             self.reject(h, shp.taut.length, why);
             return self.replan();
         }
-        let points = shp.taut.points.clone();
-        self.adopt(shp, h, feasibility);
+        let ranked = Self::ranked(shp, h);
+        let pair = path_pair(&self.ctx(), &ranked, &feasibility);
+        if pair.is_err() {
+            // Alg. 6 passes over a class without a pair: the search picks the class with a pair
+            // and the least remaining travel, this one again (with its failure reported) when
+            // no class has one.
+            return self.replan();
+        }
         let last = self.travelled.len() - 1;
-        let cont = continuation(&self.btm, &self.travelled, last, &points)?;
-        self.route = cont.points;
+        let cont = continuation(&self.btm, &self.travelled, last, &ranked.shp.taut.points)?;
+        let from_start = last == 0;
+        self.adopt(ranked, feasibility, pair);
+        self.continuation_failure = None;
+        self.route = match &self.class {
+            Some(c) if from_start => c.descent.clone(),
+            _ => self.descent_along(&cont),
+        };
         self.backtrack_left = 0.0;
         Ok(Decision::NewPaths)
     }
@@ -765,7 +871,14 @@ impl OnlineSession {
             self.reject(h, shp.taut.length, feasibility.describe());
             return self.replan();
         }
-        self.adopt(shp, h, feasibility);
+        let ranked = Self::ranked(shp, h);
+        let pair = path_pair(&self.ctx(), &ranked, &feasibility);
+        if pair.is_err() {
+            // As in `take_new_shp`: a class with a pair first.
+            return self.replan();
+        }
+        // The route is unchanged (still free and in the class): only the pair is new.
+        self.adopt(ranked, feasibility, pair);
         Ok(Decision::NewPaths)
     }
 
@@ -781,10 +894,12 @@ impl OnlineSession {
             .map(|k| k + self.constraints.len());
         let opts = self.options.search.with_max_classes(k)?;
         let mut search = planner.search(self.start, self.goal, &opts)?;
+        // The best candidate with an Alg. 6 pair, and the best feasible one without.
         let mut best: Option<Candidate> = None;
+        let mut fallback: Option<Candidate> = None;
         let mut skipped = 0;
         let mut rejected = Vec::new();
-        while let Some(class) = search.next_best()? {
+        while let Some(mut class) = search.next_best()? {
             let h = HSignature::of_path(&poles, &class.shp.taut.to_path());
             if self.constrained(&h) {
                 skipped += 1;
@@ -800,15 +915,31 @@ impl OnlineSession {
                 continue;
             }
             let j = junction(&self.btm, &self.travelled, &class.shp.taut)?;
-            let cont = continuation(&self.btm, &self.travelled, j.index, &class.shp.taut.points)?;
-            let cost = j.backtrack + cont.length;
-            if best.as_ref().is_none_or(|b| cost < b.cost) {
-                best = Some(Candidate {
+            // From the start the continuation is the class's SHP itself (the same numbers, so
+            // that the costs there are the search's lengths and its order decides, as in Alg. 6).
+            let cont = if j.index == 0 {
+                class.shp.clone()
+            } else {
+                continuation(&self.btm, &self.travelled, j.index, &class.shp.taut.points)?
+            };
+            let cost = j.backtrack + cont.taut.length;
+            if best.as_ref().is_some_and(|b| cost >= b.cost) {
+                continue;
+            }
+            class.h_signature = h;
+            let pair = path_pair(&self.ctx(), &class, &feasibility);
+            let slot = if pair.is_ok() {
+                &mut best
+            } else {
+                &mut fallback
+            };
+            if slot.as_ref().is_none_or(|b| cost < b.cost) {
+                *slot = Some(Candidate {
                     class,
-                    h,
                     feasibility,
                     junction: j,
-                    continuation: cont.points,
+                    continuation: cont,
+                    pair,
                     cost,
                 });
             }
@@ -818,16 +949,23 @@ impl OnlineSession {
         for (h, length, why) in rejected {
             self.reject(h, length, why);
         }
-        Ok((best, termination, skipped))
+        Ok((best.or(fallback), termination, skipped))
     }
 
     /// Follows `c`: backtrack along the travelled path to the junction, then its continuation.
     fn follow(&mut self, c: Candidate) -> Decision {
         let j = c.junction.clone();
         let length = c.class.length();
-        self.adopt(c.class.shp, c.h, c.feasibility);
+        self.adopt(c.class, c.feasibility, c.pair);
+        self.continuation_failure = None;
+        // Back to the start: the class's own descent (its pair's, Alg. 6). From a later
+        // junction: a descent with clearance along the taut continuation.
+        let onward = match &self.class {
+            Some(k) if j.index == 0 => k.descent.clone(),
+            _ => self.descent_along(&c.continuation),
+        };
         let mut route: Vec<Point2<f64>> = self.travelled[j.index..].iter().rev().copied().collect();
-        for p in c.continuation.into_iter().skip(1) {
+        for p in onward.into_iter().skip(1) {
             if route.last() != Some(&p) {
                 route.push(p);
             }
@@ -848,6 +986,7 @@ impl OnlineSession {
             Some(c) => Ok(self.follow(c)),
             None => {
                 self.class = None;
+                self.continuation_failure = None;
                 self.route = vec![self.robot()];
                 self.status = Status::NoFeasibleClass {
                     termination,

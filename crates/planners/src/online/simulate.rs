@@ -5,12 +5,25 @@
 //!
 //! # Differences
 //! Obstacles equal in both maps (same vertices) are no difference. A prior obstacle without an
-//! equal true one is **shifted** when a true obstacle without an equal prior one lies within
-//! their combined size (the nearest such), else a **phantom**; the remaining true obstacles are
-//! **new**. A changed boundary is one difference located at the vertices the two boundaries do
-//! not share. A difference is sensed when the robot comes within the sensor range of either of
-//! its outlines; sensing a true outline also senses every prior outline whose bounding box meets
-//! it (the sensor sees that area), so removals always precede the additions that need the room.
+//! equal true one is **shifted** when a true obstacle without an equal prior one has its centre
+//! within the smaller of their two sizes (bounding-box diagonals) of the prior's centre (the
+//! nearest such), else a **phantom**; the remaining true obstacles are **new**. A long wall is
+//! thus never the "shift" of a distant rock. A changed boundary is one difference located at the
+//! vertices the two boundaries do not share.
+//!
+//! # Sensing and its order
+//! A difference is sensed when the robot comes within the sensor range of either of its
+//! outlines. The sensed set is then closed under what its changes need (the sensor sees the area
+//! of what it reports): a true outline to be added senses every prior difference whose outline's
+//! bounding box meets it, and the boundary when the outline is not inside the prior boundary; a
+//! sensed boundary senses every prior difference whose outline is not inside the true boundary;
+//! a shifted obstacle pulled in brings its own true outline, so the closure runs to a fixed point
+//! (at most one round per difference). The changes are then applied in phases: every removal
+//! (phantoms, the old outlines of shifted obstacles), the boundary, every addition (new
+//! obstacles, the new outlines). After a step, no obstacle of the map overlaps or touches a true
+//! outline to be added later except prior differences not yet sensed, which the closure removes
+//! first; so every order in which a truth reveals itself applies (staggered walls whose shifts
+//! interleave included).
 //!
 //! # Safety of the motion model
 //! The robot moves at most `step` per iteration and `step < sensor_range` is required, so every
@@ -24,7 +37,8 @@
 //! session, `session::friction`).
 
 use super::change::MapChange;
-use super::session::{ChangeOutcome, OnlineSession, Status};
+use super::classify::polygon_meets_segment;
+use super::session::{ChangeOutcome, ClearanceShortfall, OnlineSession, Status};
 use super::{OnlineError, OnlineOptions};
 use crate::feasibility::distance_to_segment;
 use crate::frictional::FrictionModel;
@@ -230,6 +244,9 @@ pub struct SimulationReport {
     pub unsensed: usize,
     /// SHP length of the class planned on the prior map, m.
     pub initial_class_length_m: Option<f64>,
+    /// Why the plan made on the prior map does not keep the clearance (`None`: it is Alg. 6's
+    /// pair, the one `rappel plan` chooses on the prior).
+    pub initial_clearance_shortfall: Option<ClearanceShortfall>,
     /// SHP length of the final class, m.
     pub final_class_length_m: Option<f64>,
     /// Length of the taut tether at the end (SHP of the laid tether), m.
@@ -291,6 +308,64 @@ fn distance_to_polygon(p: &Point2<f64>, polygon: &Polygon) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// `true` when the closed `outline` lies strictly inside `boundary` (exact).
+fn inside(boundary: &Polygon, outline: &Polygon) -> bool {
+    outline
+        .vertices
+        .iter()
+        .all(|p| boundary.locate(p) == PointInPolygon::Inside)
+        && !boundary
+            .edges()
+            .any(|(a, b)| polygon_meets_segment(outline, a, b))
+}
+
+/// Closes the differences `sensed` in one step under what their changes need (module docs,
+/// "Sensing and its order"), moving them from `pending`; returns what stays pending.
+fn close_sensed(
+    prior: &Map,
+    truth: &Map,
+    sensed: &mut Vec<Difference>,
+    mut pending: Vec<Difference>,
+) -> Vec<Difference> {
+    // How far `sensed` has been scanned for the outlines it adds.
+    let mut scanned = 0;
+    let mut additions: Vec<&Polygon> = Vec::new();
+    let mut boundary = false;
+    while scanned < sensed.len() {
+        for d in &sensed[scanned..] {
+            match d {
+                Difference::New { truth: j } | Difference::Shifted { truth: j, .. } => {
+                    additions.push(&truth.obstacles[*j]);
+                }
+                Difference::Boundary => boundary = true,
+                _ => {}
+            }
+        }
+        scanned = sensed.len();
+        let boxes: Vec<_> = additions.iter().map(|p| p.aabb()).collect();
+        let mut rest = Vec::with_capacity(pending.len());
+        for d in pending {
+            let needed = match &d {
+                Difference::Phantom { prior: i } | Difference::Shifted { prior: i, .. } => {
+                    let outline = &prior.obstacles[*i];
+                    let b = outline.aabb();
+                    boxes.iter().any(|x| x.intersects(&b))
+                        || (boundary && !inside(&truth.boundary, outline))
+                }
+                Difference::Boundary => additions.iter().any(|p| !inside(&prior.boundary, p)),
+                _ => false,
+            };
+            if needed {
+                sensed.push(d);
+            } else {
+                rest.push(d);
+            }
+        }
+        pending = rest;
+    }
+    pending
+}
+
 /// The differences between two maps (module docs).
 pub fn differences(prior: &Map, truth: &Map) -> Vec<Difference> {
     let same = |a: &Polygon, b: &Polygon| {
@@ -322,7 +397,7 @@ pub fn differences(prior: &Map, truth: &Map) -> Vec<Difference> {
         let near = (0..truth.obstacles.len())
             .filter(|&j| !truth_used[j])
             .map(|j| (j, (centre(p) - centre(&truth.obstacles[j])).norm()))
-            .filter(|&(j, d)| d <= size(p) + size(&truth.obstacles[j]))
+            .filter(|&(j, d)| d <= size(p).min(size(&truth.obstacles[j])))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         match near {
             Some((j, _)) => {
@@ -414,6 +489,7 @@ pub fn simulate_frictional(
         }
     }
     let initial_class_length_m = session.class().map(|c| c.shp.taut.length);
+    let initial_clearance_shortfall = session.clearance_shortfall();
     let boundary_points: Vec<Point2<f64>> = prior
         .boundary
         .vertices
@@ -465,45 +541,22 @@ pub fn simulate_frictional(
                 keep.push(d);
             }
         }
-        // A true outline also reveals the prior outlines its area overlaps.
-        let boxes: Vec<_> = sensed
-            .iter()
-            .filter_map(|d| match d {
-                Difference::New { truth: j } | Difference::Shifted { truth: j, .. } => {
-                    Some(truth.obstacles[*j].aabb())
-                }
-                _ => None,
-            })
-            .collect();
-        pending = Vec::new();
-        for d in keep {
-            let overlaps = match &d {
-                Difference::Phantom { prior: i } | Difference::Shifted { prior: i, .. } => {
-                    let b = prior.obstacles[*i].aabb();
-                    boxes.iter().any(|x| x.intersects(&b))
-                }
-                _ => false,
-            };
-            if overlaps {
-                sensed.push(d);
-            } else {
-                pending.push(d);
-            }
-        }
-        // Every removal (phantoms, the old outlines of shifted obstacles) before any addition
-        // (new obstacles, the new outlines), the boundary last: a shifted obstacle is removed
-        // and added again (thesis §3.5.2), and its new outline may need the room another
-        // shifted obstacle leaves.
+        pending = close_sensed(prior, truth, &mut sensed, keep);
+        // Every removal (phantoms, the old outlines of shifted obstacles) before the boundary,
+        // and the boundary before any addition (new obstacles, the new outlines): a shifted
+        // obstacle is removed and added again (thesis §3.5.2), and its new outline may need the
+        // room another one leaves (module docs).
         let mut changes: Vec<(u8, Difference)> = Vec::new();
         for d in sensed {
             match d {
                 Difference::Phantom { .. } => changes.push((0, d)),
                 Difference::Shifted { .. } => {
                     changes.push((0, d.clone()));
-                    changes.push((1, d));
+                    changes.push((2, d));
                 }
-                Difference::New { .. } | Difference::Friction { .. } => changes.push((1, d)),
-                Difference::Boundary | Difference::PriorPtfoCheck => changes.push((2, d)),
+                Difference::Boundary => changes.push((1, d)),
+                Difference::New { .. } | Difference::Friction { .. } => changes.push((2, d)),
+                Difference::PriorPtfoCheck => changes.push((3, d)),
             }
         }
         changes.sort_by_key(|(phase, _)| *phase);
@@ -584,6 +637,7 @@ pub fn simulate_frictional(
         timeline,
         unsensed: pending.len(),
         initial_class_length_m,
+        initial_clearance_shortfall,
         final_class_length_m: session.class().map(|c| c.shp.taut.length),
         tether_length_m,
         travelled_m: session.travelled_length(),

@@ -6,6 +6,7 @@ mod common;
 mod feasibility;
 mod frictional;
 mod online;
+mod online_pair;
 mod shortest_path_map;
 mod spt;
 mod terrain_trait;

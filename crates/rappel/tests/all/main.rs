@@ -14,6 +14,7 @@ mod long_obstacle;
 mod mesh_stability;
 mod navigate;
 mod online_friction;
+mod online_pair;
 mod plan_robot_models;
 mod query;
 mod render;

@@ -185,6 +185,7 @@ impl OnlineSession {
                 o.reason = why;
                 o.decision = decision;
                 o.backtrackable = self.backtrackable();
+                o.clearance_shortfall = self.clearance_shortfall();
                 out.push(o);
                 continue;
             }
