@@ -472,7 +472,7 @@ pub fn detach_height(prev: &Anchor, a: &Anchor, tip: &Point3<f64>) -> Option<f64
     let g = a.gradient;
     let z = g - x * g.dot(&x);
     let (zn, gn) = (z.norm(), g.norm());
-    if !(zn > FRAME_MIN_SINE * gn) {
+    if zn.is_nan() || zn <= FRAME_MIN_SINE * gn {
         return None;
     }
     Some((tip - a.point).dot(&(z / zn)))

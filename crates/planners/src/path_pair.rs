@@ -411,7 +411,8 @@ fn push_returns(nodes: &mut Vec<Node>, reach_back: f64, to: &Point2<f64>, reach:
     let from = nodes[nodes.len() - 1].point;
     let v = to - from;
     let len = v.norm();
-    if !(reach_back + reach < len) {
+    let used = reach_back + reach;
+    if used.is_nan() || len.is_nan() || used >= len {
         return;
     }
     let dir = v / len;
@@ -567,7 +568,7 @@ fn leg_detour(
 ) -> Option<(Vec<usize>, Vec<Corner>)> {
     let v = q - p;
     let len = v.norm();
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return None;
     }
     let dir = v / len;

@@ -65,11 +65,11 @@ fn rot90(v: &Vector2<f64>) -> Vector2<f64> {
 fn tangent(a: &Node, b: &Node) -> Option<Vector2<f64>> {
     let d = b.point - a.point;
     let l = d.norm();
-    if !(l > 0.0) {
+    if l.is_nan() || l <= 0.0 {
         return None;
     }
     let s = (a.rho - b.rho) / l;
-    if !(s.abs() < 1.0) {
+    if s.is_nan() || s.abs() >= 1.0 {
         return None;
     }
     let dh = d / l;
@@ -157,7 +157,7 @@ pub fn offset_for_clearance(
     let u = p - a;
     let cross = u.perp(n);
     let qa = cross * cross - c * c;
-    if !(qa > 0.0) {
+    if qa.is_nan() || qa <= 0.0 {
         return None;
     }
     let qb = 2.0 * c * c * u.dot(n);
