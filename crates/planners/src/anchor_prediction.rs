@@ -11,11 +11,13 @@
 //! never removed). The tether is taut and straight between consecutive anchors and from `a_N` to
 //! the tip. [`predict`] moves the tip from `from_tip` to `to_tip` along a straight segment:
 //!
-//! - **detach** (`is_detached`, `detach_line`): in Paton's frame `F_d` of the top anchor `a_N`
-//!   (`x` along `a_N - a_{N-1}`, `z` the anchor's gradient made orthogonal to `x`), the anchor is
-//!   released when the tether `tip - a_N` rises above the frame's `x y` plane, i.e. when the
-//!   tether would be straight (or bent toward the air) without it. The test is linear in the tip,
-//!   so the tip position where it happens is solved exactly and the motion is split there.
+//! - **detach** ([`detach_height`], [`is_detached`]): in Paton's frame `F_d` of the top anchor
+//!   `a_N` (`x` along `a_N - a_{N-1}`, `z` the anchor's gradient made orthogonal to `x`), the
+//!   anchor is released when the tether `tip - a_N` rises above the frame's `x y` plane, i.e.
+//!   when the tether would be bent toward the air without it; by more than [`DETACH_MIN_SINE`]
+//!   of its length, so that a straight tether (the tip on the plane) keeps its anchor whatever
+//!   the rounding of the frame. The height is linear in the tip, so the tip position where it
+//!   crosses the plane is solved in closed form and the motion is split there.
 //! - **attach** (`attach_anchors`): the tether sweeps the triangle `(a_N, tip_n, tip_end)`. It is
 //!   sampled as a fan of rays from `a_N` to tips spaced at most the sampling resolution `h`
 //!   apart along the motion, each ray sampled every `h`. A sample is an obstacle when its signed
@@ -89,6 +91,32 @@ pub const MAX_EVENTS: usize = 64;
 
 /// The default cap on distance queries in one step ([`PredictParams::max_samples`]).
 pub const DEFAULT_MAX_SAMPLES: usize = 200_000;
+
+/// The detach threshold ([`is_detached`]): the top anchor is released when the tether beyond it
+/// rises above the plane of its frame `F_d` by more than this fraction of its length (the sine of
+/// the angle it rises by). Dimensionless, so the same at every scale; far above the rounding of
+/// the frame and of the height (a few ulps, `1e-15` of the length), far below any bend the
+/// sampling at resolution `h` can see. A tip exactly on the plane (the tether straight past the
+/// anchor, or turning in the plane) keeps the anchor.
+pub const DETACH_MIN_SINE: f64 = 1e-9;
+
+/// The frame `F_d` of an anchor exists when the component of its gradient orthogonal to the
+/// incoming tether is more than this fraction of the gradient's norm (the sine of the angle
+/// between them); otherwise the anchor never detaches ([`detach_height`] is `None`).
+/// Dimensionless.
+pub const FRAME_MIN_SINE: f64 = 1e-9;
+
+/// A distance gradient with a norm at most this is treated as zero (the anchor gets a zero
+/// gradient, and so no detach frame). Relative to the unit norm of the gradient of a distance
+/// (eikonal), so dimensionless; a voxel field's gradient is that small only at a medial point.
+pub const MIN_GRADIENT_NORM: f64 = 1e-12;
+
+/// Parallel test of the closest approach between the line through the old and the new anchor and
+/// the motion: the lines count as parallel when `|u|^2 |v|^2 - (u . v)^2 <= PARALLEL_REL |u|^2
+/// |v|^2` (the squared sine of their angle at most this), where the difference is the rounding of
+/// its two products (a few `EPSILON`s of them) rather than a signal. Then the tip is put at the
+/// bracket's end where the contact is known.
+pub const PARALLEL_REL: f64 = 64.0 * f64::EPSILON;
 
 /// One anchor (Paton's `a_i`): where the tether touches the ground and the distance gradient
 /// there (pointing away from the ground).
@@ -403,7 +431,7 @@ fn first_contact<D: SignedDistance + ?Sized>(
             y: s.y,
             z: s.z,
         })?
-        .try_normalize(1e-12)
+        .try_normalize(MIN_GRADIENT_NORM)
         .unwrap_or_else(Vector3::zeros);
     // Project the deepest sample onto the surface (exact for an exact distance).
     let point = s - g * d;
@@ -413,8 +441,9 @@ fn first_contact<D: SignedDistance + ?Sized>(
     Ok(Some((Anchor { point, gradient: g }, t)))
 }
 
-/// The parameter `t` on `from -> to` of the closest approach to the line through `a` and `b`
-/// (`hi`-side fallback when parallel is handled by the caller's clamp: returns 1).
+/// The parameter `t` on `from -> to` of the closest approach to the line through `a` and `b`;
+/// 1 when they are parallel within [`PARALLEL_REL`] (the caller's clamp turns it into the
+/// bracket's `hi` end).
 fn line_segment_parameter(
     a: &Point3<f64>,
     b: &Point3<f64>,
@@ -427,19 +456,47 @@ fn line_segment_parameter(
     let (uu, uv, vv) = (u.dot(&u), u.dot(&v), v.dot(&v));
     let (uw, vw) = (u.dot(&w), v.dot(&w));
     let den = uu * vv - uv * uv;
-    if den <= 1e-300 || !den.is_finite() {
+    if !(den > PARALLEL_REL * uu * vv && den.is_finite()) {
         return 1.0;
     }
     (uv * uw - uu * vw) / den
 }
 
 /// Paton's `F_d` frame test: the signed height of `tip` above the `x y` plane of the frame of
-/// the top anchor `a` (after `prev`): positive means detached. `None` when the frame is
-/// degenerate (the gradient along the incoming tether, or a zero gradient): never detaches.
+/// the top anchor `a` (after `prev`); [`is_detached`] decides from it. `None` when the frame is
+/// degenerate (`a` and `prev` the same point, a zero gradient, or the gradient within
+/// [`FRAME_MIN_SINE`] of the incoming tether's direction): never detaches.
 pub fn detach_height(prev: &Anchor, a: &Anchor, tip: &Point3<f64>) -> Option<f64> {
-    let x = (a.point - prev.point).try_normalize(1e-12)?;
-    let z = (a.gradient - x * a.gradient.dot(&x)).try_normalize(1e-9)?;
-    Some((tip - a.point).dot(&z))
+    // Any two distinct points give a direction: no length threshold, so no scale.
+    let x = (a.point - prev.point).try_normalize(0.0)?;
+    let g = a.gradient;
+    let z = g - x * g.dot(&x);
+    let (zn, gn) = (z.norm(), g.norm());
+    if zn.is_nan() || zn <= FRAME_MIN_SINE * gn {
+        return None;
+    }
+    Some((tip - a.point).dot(&(z / zn)))
+}
+
+/// Whether the tether from `a` (after `prev`) to `tip` releases `a`: its height above the frame's
+/// plane ([`detach_height`]) exceeds [`DETACH_MIN_SINE`] of its length `|tip - a|`.
+///
+/// ```
+/// use nalgebra::{Point3, Vector3};
+/// use rappel_planners::anchor_prediction::{Anchor, is_detached};
+/// let prev = Anchor { point: Point3::origin(), gradient: Vector3::zeros() };
+/// let lip = Anchor { point: Point3::new(1.0, 0.0, 0.0), gradient: Vector3::z() };
+/// assert!(!is_detached(&prev, &lip, &Point3::new(3.0, 0.0, 0.0))); // straight on
+/// assert!(!is_detached(&prev, &lip, &Point3::new(2.0, 0.0, -1.0))); // bent over the lip
+/// assert!(is_detached(&prev, &lip, &Point3::new(2.0, 0.0, 0.5)));
+/// ```
+pub fn is_detached(prev: &Anchor, a: &Anchor, tip: &Point3<f64>) -> bool {
+    detach_height(prev, a, tip).is_some_and(|f| rises(f, &a.point, tip))
+}
+
+/// [`is_detached`]'s threshold on a height `f` already computed.
+fn rises(f: f64, a: &Point3<f64>, tip: &Point3<f64>) -> bool {
+    f > DETACH_MIN_SINE * (tip - a).norm()
 }
 
 /// One step of Paton's Alg. 1: the anchor history after the tip moves straight from `from_tip`
@@ -527,7 +584,7 @@ pub fn predict<D: SignedDistance + ?Sized>(
             if let (Some(f0), Some(f1)) = (
                 detach_height(&prev, &top, &pos),
                 detach_height(&prev, &top, to_tip),
-            ) && f1 > 0.0
+            ) && rises(f1, &top.point, to_tip)
                 && f1 > f0
             {
                 let s = if f0 <= 0.0 { f0 / (f0 - f1) } else { 0.0 };
@@ -588,4 +645,116 @@ pub fn predict_path<D: SignedDistance + ?Sized>(
         }));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Ground far below everything: no contact, no tip in the ground.
+    struct Clear;
+    impl SignedDistance for Clear {
+        fn signed_distance(&self, _: &Point3<f64>) -> Option<f64> {
+            Some(1e3)
+        }
+        fn distance_gradient(&self, _: &Point3<f64>) -> Option<Vector3<f64>> {
+            Some(Vector3::z())
+        }
+    }
+
+    fn history(points: &[(Point3<f64>, Vector3<f64>)]) -> AnchorHistory {
+        AnchorHistory {
+            anchors: points
+                .iter()
+                .map(|&(point, gradient)| Anchor { point, gradient })
+                .collect(),
+        }
+    }
+
+    /// A tip moving onto the straight continuation of the tether past its top anchor (on the
+    /// plane of `F_d` exactly: dyadic points, the tip `2 (a - prev)` beyond `a`) never detaches
+    /// it, whatever the rounding of the frame; rising above the plane does.
+    #[test]
+    fn a_tip_on_the_frame_plane_keeps_its_anchor() {
+        let mut cases = 0;
+        for i in 1..=12 {
+            for j in -6..=6 {
+                for k in -3..=3 {
+                    let prev = Point3::new(0.0, 0.0, 0.0);
+                    let a =
+                        Point3::new(f64::from(i) / 8.0, f64::from(j) / 64.0, f64::from(k) / 16.0);
+                    // A gradient leaning against the tether (not orthogonal to it).
+                    let g = Vector3::new(-0.375, 0.125, 1.0).normalize();
+                    let h = history(&[(prev, Vector3::zeros()), (a, g)]);
+                    let to = a + (a - prev) * 2.0;
+                    let from = to - g;
+                    let step = predict(&Clear, &PredictParams::new(1.0), &h, &from, &to).unwrap();
+                    assert!(step.events.is_empty(), "{a:?}: {:?}", step.events);
+                    let up = to + g * 0.25;
+                    let step = predict(&Clear, &PredictParams::new(1.0), &h, &from, &up).unwrap();
+                    assert_eq!(step.events.len(), 1, "{a:?}");
+                    cases += 1;
+                }
+            }
+        }
+        assert_eq!(cases, 12 * 13 * 7);
+    }
+
+    /// The detach test has no length scale: a scene shrunk by `2^-44` (anchors `1e-13` m apart,
+    /// below the former fixed `1e-12` m frame threshold) or grown by `2^40` detaches exactly as
+    /// the unit one does.
+    #[test]
+    fn detaching_is_the_same_at_every_scale() {
+        let g = Vector3::new(0.25, 0.0, 1.0).normalize();
+        for scale in [1.0, 2f64.powi(-44), 2f64.powi(40)] {
+            let p = |x: f64, y: f64, z: f64| Point3::new(x * scale, y * scale, z * scale);
+            let prev = Anchor {
+                point: p(0.0, 0.0, 0.5),
+                gradient: Vector3::zeros(),
+            };
+            let a = Anchor {
+                point: p(1.0, 0.0, 0.0),
+                gradient: g,
+            };
+            assert!(is_detached(&prev, &a, &p(2.0, 0.5, 0.25)), "{scale}");
+            assert!(!is_detached(&prev, &a, &p(2.0, 0.5, -1.0)), "{scale}");
+            assert!(!is_detached(&prev, &a, &p(3.0, 0.0, -1.0)), "{scale}");
+            let h = history(&[(prev.point, prev.gradient), (a.point, a.gradient)]);
+            let params = PredictParams::new(scale);
+            let step = predict(&Clear, &params, &h, &p(2.0, 0.0, -1.0), &p(2.0, 0.0, 1.0)).unwrap();
+            assert_eq!(step.history.len(), 1, "{scale}");
+            assert!(matches!(
+                step.events[..],
+                [AnchorEvent {
+                    kind: EventKind::Detach,
+                    ..
+                }]
+            ));
+        }
+    }
+
+    /// The closest approach of two parallel lines falls back to the motion's end at every scale,
+    /// whatever noise the rounding leaves in the parallel test; crossing lines give their
+    /// parameter.
+    #[test]
+    fn parallel_lines_fall_back_to_the_end_of_the_motion() {
+        for scale in [1.0, 1e-30, 1e30] {
+            let u = Vector3::new(0.1, 0.7, 0.3) * scale;
+            let a = Point3::new(0.3, 0.2, 0.1) * scale;
+            let from = Point3::new(1.1, -0.4, 0.9) * scale;
+            for k in [3.0, 0.3, -7.0] {
+                let t = line_segment_parameter(&a, &(a + u), &from, &(from + u * k));
+                assert_eq!(t, 1.0, "{scale} {k}");
+            }
+            // Crossing: the motion along x through the line's point at t = 0.25.
+            let o = Point3::origin();
+            let t = line_segment_parameter(
+                &o,
+                &(o + Vector3::z() * scale),
+                &Point3::new(-0.25 * scale, 0.0, 0.5 * scale),
+                &Point3::new(0.75 * scale, 0.0, 0.5 * scale),
+            );
+            assert_eq!(t, 0.25, "{scale}");
+        }
+    }
 }

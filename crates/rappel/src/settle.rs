@@ -18,7 +18,7 @@ use rappel_mechanics::four_wheel::{FourWheelParams, FourWheelRover};
 use rappel_mechanics::four_wheel_settle::FourWheelPose;
 use rappel_mechanics::settle::SettledPose;
 use rappel_mechanics::stability_qp::StabilityQp;
-use rappel_planners::anchor_prediction::{AnchorHistory, detach_height};
+use rappel_planners::anchor_prediction::{AnchorHistory, is_detached};
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::paton_scene::PatonScene;
 use serde::{Deserialize, Serialize};
@@ -212,9 +212,7 @@ pub fn boom_verdict<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
                 (&anchors[n].point, None),
             )
             .map_err(|e| e.to_string())?;
-            let popped = n > 0
-                && detach_height(&anchors[n - 1], &anchors[n], &placed.1.tip)
-                    .is_some_and(|h| h > 0.0);
+            let popped = n > 0 && is_detached(&anchors[n - 1], &anchors[n], &placed.1.tip);
             if !popped {
                 return Ok(placed.0);
             }
