@@ -3,22 +3,24 @@
 //! to the class's SHP, in free space and keeping a clearance around the anchors.
 //!
 //! # Construction
-//! Both paths round an anchor `a_k` by a **local detour** ([`detour`]): the path runs along its
-//! leg (a tether segment, or an ascent leg) up to a point `e_in` on the leg, out to a corner
-//! `g_k = a_k + h n` and back onto the leg at `e_out`, where `n` points from `a_k` to the leg's side
-//! (the outer side of the tether's turn for the descent) and `h` is the smallest offset for which
-//! both detour segments keep `clearance` from `a_k` (a closed form, [`offset_for_clearance`]). The
-//! detour stays within a few clearances of `a_k`: the rest of the leg is the leg itself, which is
-//! in free space (a tether segment, or a side of a sweep triangle that Alg. 5 found free), so an
-//! obstacle lying near the tether far from the anchor does not block the pair. Where a leg has no
-//! room for a detour (its ends closer than a clearance along it to the anchor's foot, or a turn too
-//! sharp), the anchor's **mitre point** `o_k = a_k + m_k b_k` is used instead, with `b_k` the unit
-//! bisector of the tether's outer angle at `a_k` and `m_k = clearance / cos(phi_k / 2)` for the
-//! turning angle `phi_k` (capped at [`MITRE_LIMIT`] times the clearance).
-//! - **Descent** `start -> goal`: the SHP with each anchor rounded so.
+//! Both paths go round anchors the same way (the private module `around`): a polyline through **nodes**, each a
+//! point passed through or an anchor kept on one side at the target clearance, made of the
+//! tangents between consecutive nodes and, round each anchor, the circumscribed polygon of the arc
+//! between its two tangent points. The path comes back onto its leg (a tether segment, or an
+//! ascent leg) [`DETOUR_REACH_CLEARANCES`] target clearances along it from each run of anchors
+//! (anchors closer than that along the leg are rounded together), so a detour stays within about
+//! a clearance of its anchors and the rest of the leg is the leg itself, which is in free space (a
+//! tether segment, or a side of a sweep triangle that Alg. 5 found free): an obstacle lying near
+//! the tether far from an anchor does not block the pair. Where no such path exists (two nodes
+//! closer than their radii allow a tangent), the anchors' **mitre points** `o_k = a_k + m_k b_k`
+//! are used instead, with `b_k` the unit bisector of the tether's outer angle at `a_k` and
+//! `m_k = clearance / cos(phi_k / 2)` for the turning angle `phi_k` (capped at [`MITRE_LIMIT`]
+//! times the clearance).
+//! - **Descent** `start -> goal`: the SHP with each anchor kept on the side the tether turns to.
 //! - **Ascent** `goal -> start`: the route of Alg. 5 (one waypoint per anchor on its visibility
-//!   edge, sometimes preceded by a via point towards the anchor), in order. A leg that passes closer than the clearance to an anchor `a_k`
-//!   it has already released is bent around it (the nearest such anchor first, each anchor at most
+//!   edge, sometimes preceded by a via point towards the anchor), in order. A leg that passes
+//!   closer than the clearance to anchors it has already released goes round them on the leg's
+//!   side (the nearest such anchor first with its neighbours along the leg, each anchor at most
 //!   once per route leg). On planes that are all tether-free any homotopic pair will do (§2.2.4):
 //!   the ascent is the descent reversed.
 //!
@@ -31,7 +33,7 @@
 //! A fixed corner (start, goal, route waypoint) closer than the clearance to an anchor fails the
 //! pair before anything is bent: no push moves it (`fixed_corners_clear`). A corner owned by an
 //! anchor and still too close to it is pushed outwards along its direction to the offset the
-//! closed form gives (at most [`PUSH_ROUNDS_PER_CORNER`] pushes per corner). Both paths lie in
+//! closed form gives (at most `PUSH_ROUNDS_PER_CORNER` pushes per corner). Both paths lie in
 //! free space ([`Path::validate`]); both have the SHP's reduced crossing sequence (the
 //! descent's, and the reversed ascent's), so they are homotopic to each other and to the tether
 //! (thesis §2.1.1); both keep at least `clearance` (less [`CLEARANCE_TOLERANCE`]) from every
@@ -78,7 +80,7 @@ pub const PLACEMENT_MARGIN: f64 = 1e-6;
 /// How far along its leg (a tether segment or an ascent leg) the path comes back onto it from an
 /// anchor's foot, in target clearances: `sqrt(2)`. Any value above one leaves a tangent to the
 /// clearance circle; larger ones give a flatter detour that runs farther beside the leg.
-const DETOUR_REACH_CLEARANCES: f64 = std::f64::consts::SQRT_2;
+pub const DETOUR_REACH_CLEARANCES: f64 = std::f64::consts::SQRT_2;
 
 /// A leg passing closer than this fraction of the clearance to a released anchor runs through it:
 /// the detour goes to the released side of `L_k` whichever side the rounded leg passes on (a leg
@@ -494,7 +496,7 @@ impl Near<'_> {
 }
 
 /// Bends every ascent leg that passes within the clearance of anchors it has already released
-/// around them: by a [`detour`] on the side of the leg away from them ([`leg_detour`]), or
+/// around them: by the path of [`leg_detour`] on the side of the leg away from them, or
 /// through the nearest one's mitre corner where the leg has no room. The nearest such anchor first
 /// (the lowest index among equally near ones) with its neighbours along the leg, then the pieces
 /// the bend leaves, each checked again; each anchor bends a route leg at most once, so a route leg

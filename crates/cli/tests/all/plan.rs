@@ -158,17 +158,33 @@ fn a_feasible_plan_exits_zero_and_output_limits_hold() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let out = stdout(&o);
     assert!(
-        out.contains("the search stopped at the given budget of 3 expansions; raise --max-expansions"),
+        out.contains(
+            "the search stopped at the given budget of 3 expansions; raise --max-expansions"
+        ),
         "{out}"
     );
     assert!(!out.contains("different connected components"), "{out}");
     // The default budget follows the map and names itself when it stops a search; `auto` and
     // a number are the values, anything else an error naming the flag.
-    let o = rappel(&["plan", &fixture("thesis-fig-2-7.ron"), "--max-expansions", "auto"]);
+    let o = rappel(&[
+        "plan",
+        &fixture("thesis-fig-2-7.ron"),
+        "--max-expansions",
+        "auto",
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(stdout(&o).contains("of 1000000 expansions"), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("of 1000000 expansions"),
+        "{}",
+        stdout(&o)
+    );
     check_error(
-        &["plan", &fixture("thesis-fig-2-7.ron"), "--max-expansions", "lots"],
+        &[
+            "plan",
+            &fixture("thesis-fig-2-7.ron"),
+            "--max-expansions",
+            "lots",
+        ],
         "--max-expansions",
     );
 }
