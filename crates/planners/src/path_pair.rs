@@ -16,7 +16,10 @@
 //! are used instead, with `b_k` the unit bisector of the tether's outer angle at `a_k` and
 //! `m_k = clearance / cos(phi_k / 2)` for the turning angle `phi_k` (capped at [`MITRE_LIMIT`]
 //! times the clearance).
-//! - **Descent** `start -> goal`: the SHP with each anchor kept on the side the tether turns to.
+//! - **Descent** `start -> goal`: the SHP with each anchor kept on the side the tether turns to,
+//!   first offset all along (no return nodes: the path runs a clearance beside the tether, away
+//!   from what touches it), else with the returns onto the tether; the first that passes every
+//!   check below.
 //! - **Ascent** `goal -> start`: the route of Alg. 5 (one waypoint per anchor on its visibility
 //!   edge, sometimes preceded by a via point towards the anchor), in order. A leg that passes
 //!   closer than the clearance to anchors it has already released goes round them on the leg's
@@ -244,15 +247,29 @@ pub fn path_pair_evaluated(
         })
         .collect();
     let offsets = mitre_offsets(taut, &clearances);
-    let descent = rounded_tether(taut, &clearances, &offsets);
     let near = Near {
         index: &index,
         anchors: &anchors,
         clearances: &clearances,
         margin,
     };
-    let descent = keep_clear("descent", descent, &near);
+    let word = input.crossings;
     let tether_free = ctx.terrain.all_tether_free();
+    // The descent: the SHP offset by the clearance all along (every anchor kept by its arc and the
+    // tangents between them), else the SHP left only round its anchors (back on the tether
+    // between them: no obstacle near the tether away from an anchor can block it). Each must keep
+    // the clearance, lie in free space in the class and, on tether-demand planes, stay in its
+    // proximal anchor's wedge.
+    let descent_of = |returns: bool| -> Result<Vec<Point2<f64>>, PairFailure> {
+        let corners = rounded_tether(taut, &clearances, &offsets, returns);
+        let d = keep_clear("descent", corners, &near)?;
+        check_path(ctx.btm, "descent", &d, word, false)?;
+        if !tether_free && let Some(anchor) = walk(ctx.terrain, taut, &d, false) {
+            return Err(PairFailure::OutsideCone { anchor });
+        }
+        Ok(d)
+    };
+    let descent = descent_of(false).or_else(|_| descent_of(true));
     let ascent = if tether_free {
         descent.clone().map(|d| d.into_iter().rev().collect())
     } else {
@@ -265,18 +282,13 @@ pub fn path_pair_evaluated(
         })
     };
     let ascent = ascent?;
-    let word = input.crossings;
     check_path(ctx.btm, "ascent", &ascent, word, true)?;
     if !tether_free && let Some(j) = walk(ctx.terrain, taut, &ascent, true) {
         return Err(PairFailure::OutsideCone { anchor: j });
     }
-    let descent_ok = descent.and_then(|d| {
-        check_path(ctx.btm, "descent", &d, word, false)?;
-        Ok((tether_free || walk(ctx.terrain, taut, &d, false).is_none()).then_some(d))
-    });
-    let (descent, reversed) = match descent_ok {
-        Ok(Some(d)) => (d, tether_free),
-        _ => (ascent.iter().rev().copied().collect(), true),
+    let (descent, reversed) = match descent {
+        Ok(d) => (d, tether_free),
+        Err(_) => (ascent.iter().rev().copied().collect(), true),
     };
     if let Some(available) = ctx.tether_length {
         for (which, path, up) in [("ascent", &ascent, true), ("descent", &descent, false)] {
@@ -345,10 +357,13 @@ pub fn descent_with_clearance(
         clearances: &clearances,
         margin: 2.0 * ctx.clearance,
     };
-    let rounded = rounded_tether(taut, &clearances[..own], &offsets);
-    let descent = keep_clear("descent", rounded, &near)?;
-    check_path(ctx.btm, "descent", &descent, crossings, false)?;
-    Ok(descent)
+    let descent_of = |returns: bool| {
+        let rounded = rounded_tether(taut, &clearances[..own], &offsets, returns);
+        let descent = keep_clear("descent", rounded, &near)?;
+        check_path(ctx.btm, "descent", &descent, crossings, false)?;
+        Ok(descent)
+    };
+    descent_of(false).or_else(|_| descent_of(true))
 }
 
 /// A corner of a path being built: a fixed point (start, goal, waypoint), or a point pushed off
@@ -405,17 +420,23 @@ fn target(clearance: f64) -> f64 {
 }
 
 /// The descent's corners before any push: the SHP from the start to the goal with each anchor of
-/// non-zero clearance kept on the side the tether turns to at the target clearance ([`around`]),
-/// and the path back on the tether [`DETOUR_REACH_CLEARANCES`] target clearances along each
-/// segment from its anchors where the segment has room for both; or the mitre points `offsets`
-/// where no such path exists. An anchor of clearance zero is passed through.
-fn rounded_tether(taut: &TautPath, clearances: &[f64], offsets: &[Corner]) -> Vec<Corner> {
+/// non-zero clearance kept on the side the tether turns to at the target clearance ([`around`]);
+/// with `returns`, the path back on the tether [`DETOUR_REACH_CLEARANCES`] target clearances along
+/// each segment from its anchors where the segment has room for both (else offset all along); or
+/// the mitre points `offsets` where no such path exists. An anchor of clearance zero is passed
+/// through.
+fn rounded_tether(
+    taut: &TautPath,
+    clearances: &[f64],
+    offsets: &[Corner],
+    returns: bool,
+) -> Vec<Corner> {
     let mut nodes = vec![Node::through(taut.start())];
     // The previous node's reach along the tether (0 for a pass-through node).
     let mut reach_back = 0.0;
     for (i, a) in taut.anchors.iter().enumerate() {
         let c = target(clearances[i]);
-        let reach = if clearances[i] > 0.0 {
+        let reach = if returns && clearances[i] > 0.0 {
             DETOUR_REACH_CLEARANCES * c
         } else {
             0.0
