@@ -115,6 +115,7 @@ fn main() {
         let (mut ours_cpu, mut theirs_cpu) = (Vec::new(), Vec::new());
         let kite_mb = KiteTable::new(&btm).held_bytes() as f64 / 1e6;
         let mut digest = None;
+        let mut their_length: Option<f64> = None;
         let mut peaks: [Option<f64>; 2] = [None, None];
         for round in 0..rounds {
             for side in [round % 2, 1 - round % 2] {
@@ -142,12 +143,21 @@ fn main() {
                         .unwrap_or_else(|| fail(format!("polyanya: no path ({n} obstacles)")));
                     theirs.push(t.elapsed());
                     theirs_cpu.extend(cpu_time().zip(c).map(|(after, before)| after - before));
-                    black_box(length);
+                    their_length = Some(f64::from(black_box(length)));
                 }
                 if let Some(mb) = peak_growth_mb(rss) {
                     peaks[side] = Some(peaks[side].map_or(mb, |p: f64| p.max(mb)));
                 }
             }
+        }
+        // A timing is a figure only when both answered the same: polyanya works in f32, so its
+        // length agrees with ours to about 1e-7 relative (1e-4 allowed, as the criterion bench).
+        if let (Some((_, ours_length, _)), Some(theirs_length)) = (&digest, their_length)
+            && (ours_length - theirs_length).abs() > 1e-4 * ours_length
+        {
+            fail(format!(
+                "{n} obstacles: rappel's first SHP is {ours_length} m, polyanya's {theirs_length} m"
+            ));
         }
         let (stats, length, crossings) = match digest {
             Some(d) => d,

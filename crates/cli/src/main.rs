@@ -66,7 +66,26 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // A usage error is one `error:` line and exit 2 like every other error (clap adds a blank
+    // line, a usage and a hint); help and version print as clap prints them.
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e)
+            if !e.use_stderr()
+                || e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand =>
+        {
+            e.exit()
+        }
+        Err(e) => {
+            let text = e.render().to_string();
+            let first = text
+                .lines()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("error: bad usage");
+            eprintln!("{first}");
+            return ExitCode::from(2);
+        }
+    };
     let yes = |r: Result<(), CliError>| r.map(|()| Answer::Yes);
     let result = match cli.command {
         Command::Validate(args) => yes(validate::run(&args)),
