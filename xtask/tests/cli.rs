@@ -50,3 +50,14 @@ fn schemas_check_exits_0_on_the_committed_documents() {
     );
     assert!(String::from_utf8_lossy(&out.stdout).contains("up to date"));
 }
+
+#[test]
+fn journeys_fail_on_a_binary_that_answers_nothing() {
+    // `true` exits 0 and prints nothing: every journey must fail (no report, no files), so the
+    // suite's checks are not satisfied by an exit code alone.
+    let out = xtask(&["journeys", "--bin", "/bin/true"]);
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("journeys: 0 passed"), "{stdout}");
+    assert!(!stdout.lines().any(|l| l.starts_with("ok ")), "{stdout}");
+}
