@@ -284,19 +284,7 @@ fn plan_steps(file: &str, exit: i32, svg: bool) -> Vec<Step> {
     }
     vec![
         plan.check(check_chosen_pair),
-        Step::new(
-            &[
-                "homotopic",
-                file,
-                "--path",
-                "descent.json",
-                "--path",
-                "ascent-reversed.json",
-                "--json",
-            ],
-            0,
-            Some("homotopic"),
-        ),
+        homotopic(file, "descent.json", "ascent-reversed.json", 0),
         Step::new(
             &["shp", file, "--path", "descent.json", "--json"],
             0,
@@ -304,6 +292,15 @@ fn plan_steps(file: &str, exit: i32, svg: bool) -> Vec<Step> {
         )
         .check(check_descent_tether),
     ]
+}
+
+/// `rappel homotopic MAP --path A --path B --json`, expecting `exit` (0 yes, 1 no).
+fn homotopic(map: &str, a: &str, b: &str, exit: i32) -> Step {
+    Step::new(
+        &["homotopic", map, "--path", a, "--path", b, "--json"],
+        exit,
+        Some("homotopic"),
+    )
 }
 
 /// Every journey of a run.
@@ -380,32 +377,8 @@ fn journeys(full: bool) -> Vec<Journey> {
         "homotopic thesis west/detour (yes) and west/east (no)".into(),
         &[&thesis, &east, &west, &detour],
         vec![
-            Step::new(
-                &[
-                    "homotopic",
-                    &thesis,
-                    "--path",
-                    &west,
-                    "--path",
-                    &detour,
-                    "--json",
-                ],
-                0,
-                Some("homotopic"),
-            ),
-            Step::new(
-                &[
-                    "homotopic",
-                    &thesis,
-                    "--path",
-                    &west,
-                    "--path",
-                    &east,
-                    "--json",
-                ],
-                1,
-                Some("homotopic"),
-            ),
+            homotopic(&thesis, &west, &detour, 0),
+            homotopic(&thesis, &west, &east, 1),
         ],
     );
     let pairs = fixture("queries/fig-2-7-pairs.json");
@@ -790,12 +763,13 @@ pub fn run(full: bool, bin: Option<PathBuf>, viewer: Viewer) -> Result<ExitCode,
             root.join("target/debug/rappel")
         }
     });
-    if !bin.exists() {
-        return Err(format!(
-            "{}: no rappel binary (build one with `cargo build --release -p rappel-cli`, or name it with --bin)",
+    // The steps run in scratch folders: a relative path would name nothing there.
+    let bin = std::fs::canonicalize(&bin).map_err(|e| {
+        format!(
+            "{}: no rappel binary ({e}; build one with `cargo build --release -p rappel-cli`, or name it with --bin)",
             bin.display()
-        ));
-    }
+        )
+    })?;
     let chromium = Command::new("chromium")
         .arg("--version")
         .output()
