@@ -134,11 +134,27 @@ fn verdict(r: &SimulationReport) -> String {
     }
 }
 
+/// A clearance shortfall as one phrase.
+fn shortfall(s: &rappel::planners::online::session::ClearanceShortfall) -> String {
+    use rappel::planners::online::session::ClearanceShortfall;
+    match s {
+        ClearanceShortfall::NoPair { failure } => {
+            format!("no class has an ascent/descent pair, the taut tether is followed ({failure})")
+        }
+        ClearanceShortfall::Continuation { failure } => {
+            format!("the descent from here cannot keep the clearance, the taut continuation is followed ({failure})")
+        }
+    }
+}
+
 fn print_text(prior: &Path, truth: &Path, r: &SimulationReport) {
     crate::outln!("prior        {}", prior.display());
     crate::outln!("truth        {}", truth.display());
     if let Some(l) = r.initial_class_length_m {
         crate::outln!("planned      class of SHP length {l:.3} m on the prior map");
+    }
+    if let Some(s) = &r.initial_clearance_shortfall {
+        crate::outln!("warning      the initial descent does not keep the clearance: {}", shortfall(s));
     }
     crate::outln!(
         "{:<5} {:<9} {:<14} {:<52} {:<22} {:>9} {:>9}",
@@ -192,6 +208,9 @@ fn print_text(prior: &Path, truth: &Path, r: &SimulationReport) {
                 s.backtrack_m,
                 if s.switched { ", switched" } else { "" }
             );
+        }
+        if let Some(s) = &e.outcome.clearance_shortfall {
+            crate::outln!("      warning: {}", shortfall(s));
         }
         if !e.outcome.backtrackable {
             crate::outln!("      warning: the backtrackability check failed after this decision");
