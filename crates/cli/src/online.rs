@@ -142,7 +142,9 @@ fn shortfall(s: &rappel::planners::online::session::ClearanceShortfall) -> Strin
             format!("no class has an ascent/descent pair, the taut tether is followed ({failure})")
         }
         ClearanceShortfall::Continuation { failure } => {
-            format!("the descent from here cannot keep the clearance, the taut continuation is followed ({failure})")
+            format!(
+                "the descent from here cannot keep the clearance, the taut continuation is followed ({failure})"
+            )
         }
     }
 }
@@ -154,7 +156,10 @@ fn print_text(prior: &Path, truth: &Path, r: &SimulationReport) {
         crate::outln!("planned      class of SHP length {l:.3} m on the prior map");
     }
     if let Some(s) = &r.initial_clearance_shortfall {
-        crate::outln!("warning      the initial descent does not keep the clearance: {}", shortfall(s));
+        crate::outln!(
+            "warning      the initial descent does not keep the clearance: {}",
+            shortfall(s)
+        );
     }
     crate::outln!(
         "{:<5} {:<9} {:<14} {:<52} {:<22} {:>9} {:>9}",
