@@ -94,14 +94,24 @@ pub struct SearchStatsReport {
     pub pruned_dominated: usize,
     /// Funnels dropped by the length bound.
     pub pruned_length: usize,
+    /// Funnels never queued because enough queued goals are at least as short.
+    #[serde(default)]
+    pub pruned_incumbent: usize,
     /// Funnels dropped because their apex chain is not simple (simple-classes mode).
     pub pruned_simple: usize,
     /// Goal lifts reached whose class was not simple (simple-classes mode).
     pub skipped_not_simple: usize,
     /// Nodes in the shortest path tree.
     pub tree_nodes: usize,
+    /// Split nodes removed because both children were dropped.
+    #[serde(default)]
+    pub nodes_discarded: usize,
     /// Largest number of queued entries.
     pub queue_peak: usize,
+    /// The expansions the search was allowed (the automatic budget of the map, or the given one;
+    /// `rappel_planners::budget`).
+    #[serde(default)]
+    pub expansion_limit: usize,
     /// Peak bytes held by the search's own structures.
     pub peak_bytes: usize,
 }
@@ -112,10 +122,13 @@ impl From<SearchStats> for SearchStatsReport {
             expansions: s.expansions,
             pruned_dominated: s.pruned_dominated,
             pruned_length: s.pruned_length,
+            pruned_incumbent: s.pruned_incumbent,
             pruned_simple: s.pruned_simple,
             skipped_not_simple: s.skipped_not_simple,
             tree_nodes: s.tree_nodes,
+            nodes_discarded: s.nodes_discarded,
             queue_peak: s.queue_peak,
+            expansion_limit: s.expansion_limit,
             peak_bytes: s.peak_bytes,
         }
     }
