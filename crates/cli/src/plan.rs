@@ -277,8 +277,12 @@ fn print_head(file: &str, r: &PlanSetting, class_count: usize, o: &PlanOutcome) 
     for w in &o.warnings {
         crate::outln!("warning      {w}");
     }
+    let bound = match o.stats.bound_expansions {
+        0 => String::new(),
+        n => format!(", and {n} for the distance bounds"),
+    };
     crate::outln!(
-        "classes      {} ({}; {} of {} expansions)",
+        "classes      {} ({}; {} of {} expansions{bound})",
         class_count,
         o.termination.describe(),
         o.stats.expansions,

@@ -112,6 +112,10 @@ pub struct SearchStatsReport {
     /// `rappel_planners::budget`).
     #[serde(default)]
     pub expansion_limit: usize,
+    /// Expansions of the reverse search that bounded the distances to the goal before a
+    /// several-class search (not in `expansions`).
+    #[serde(default)]
+    pub bound_expansions: usize,
     /// Peak bytes held by the search's own structures.
     pub peak_bytes: usize,
 }
@@ -129,6 +133,7 @@ impl From<SearchStats> for SearchStatsReport {
             nodes_discarded: s.nodes_discarded,
             queue_peak: s.queue_peak,
             expansion_limit: s.expansion_limit,
+            bound_expansions: s.bound_expansions,
             peak_bytes: s.peak_bytes,
         }
     }

@@ -392,6 +392,11 @@ pub struct SearchStats {
     /// The expansions the search was allowed ([`SearchOptions::expansion_limit`]).
     #[serde(default)]
     pub expansion_limit: usize,
+    /// Expansions of the reverse one-class search that bounded the geodesic distances to the goal
+    /// before a several-class search ([`SptPlanner::goal_distances`]; not in `expansions`, under
+    /// its own budget of the same kind).
+    #[serde(default)]
+    pub bound_expansions: usize,
     /// Peak bytes held by the search's own structures (tree nodes, queue, trail, pruning lists),
     /// counting allocated capacity where it is visible and live length for the tree.
     pub peak_bytes: usize,
@@ -662,12 +667,14 @@ impl<'b> SptPlanner<'b> {
         goal: Point2<f64>,
         options: &SearchOptions,
     ) -> Result<SptSearch<'_>, SearchError> {
-        let to_goal = if options.max_classes == Some(1) {
-            None
+        let (to_goal, bound_expansions) = if options.max_classes == Some(1) {
+            (None, 0)
         } else {
-            self.goal_distances(start, goal)?
+            self.goal_distances_within(start, goal, options.budget())?
         };
-        SptSearch::new(self, start, goal, *options, to_goal)
+        let mut search = SptSearch::new(self, start, goal, *options, to_goal)?;
+        search.stats.bound_expansions = bound_expansions;
+        Ok(search)
     }
 
     /// Lower bounds `h(v)` of the geodesic (shortest free-space path) distance from every map
@@ -678,7 +685,22 @@ impl<'b> SptPlanner<'b> {
         start: Point2<f64>,
         goal: Point2<f64>,
     ) -> Result<Option<Vec<f64>>, SearchError> {
-        let options = SearchOptions::default().with_max_classes(Some(1))?;
+        self.goal_distances_within(start, goal, ExpansionBudget::Auto)
+            .map(|(h, _)| h)
+    }
+
+    /// [`SptPlanner::goal_distances`] with the reverse search (one class) bounded by `budget`,
+    /// and the expansions it made; a reverse search stopped by its budget gives no bounds (the
+    /// straight line serves), never an error.
+    fn goal_distances_within(
+        &self,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+        budget: ExpansionBudget,
+    ) -> Result<(Option<Vec<f64>>, usize), SearchError> {
+        let options = SearchOptions::default()
+            .with_max_classes(Some(1))?
+            .with_budget(budget)?;
         // The reverse search runs from the goal: name the endpoints as the caller knows them.
         let mut reverse =
             SptSearch::new(self, goal, start, options, None).map_err(|e| match e {
@@ -694,7 +716,7 @@ impl<'b> SptPlanner<'b> {
                 other => other,
             })?;
         let Some(best) = reverse.next_best()? else {
-            return Ok(None);
+            return Ok((None, reverse.stats.expansions));
         };
         let shortest = best.length();
         let d = self.btm.dcel();
@@ -709,7 +731,7 @@ impl<'b> SptPlanner<'b> {
                 }
             })
             .collect();
-        Ok(Some(h))
+        Ok((Some(h), reverse.stats.expansions))
     }
 
     /// The globally shortest path from `start` to `goal` as a taut path (its corners, anchors

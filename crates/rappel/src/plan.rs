@@ -642,7 +642,7 @@ fn outcome_of(
         ),
         (None, None) => match pair_plan.termination {
             Termination::Expansions => format!(
-                "no class found: the search stopped at {} before any class was found; this does not mean start and goal are disconnected",
+                "no class found before the search stopped at {} (this does not mean start and goal are disconnected)",
                 budget.describe(pair_plan.stats.expansion_limit)
             ),
             t => format!("no class found: {}", t.describe()),
