@@ -7,7 +7,7 @@
 
 use crate::output::{Answer, CliError, print_report};
 use rappel::progress::Show;
-use rappel::query::{answer_with_progress, load_pairs, read_map};
+use rappel::query::{answer_with_budget, load_pairs, read_map};
 use std::path::PathBuf;
 
 /// Arguments of `rappel query`.
@@ -31,6 +31,11 @@ pub struct Args {
     /// where it is shown anyway).
     #[arg(long)]
     progress: bool,
+    /// Funnel expansion budget of each pair's search: `auto` (the default) scales it to the map's
+    /// triangles and the classes asked for, under a memory cap; a number fixes it. A pair it
+    /// stops is answered with an error naming the limit.
+    #[arg(long, value_name = "N|auto", default_value = "auto", value_parser = rappel::planners::budget::ExpansionBudget::parse)]
+    max_expansions: rappel::planners::budget::ExpansionBudget,
 }
 
 /// Runs `rappel query`.
@@ -45,8 +50,15 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     } else {
         Show::Auto
     };
-    let answers =
-        answer_with_progress(map, &pairs, args.classes, args.repeat, show).map_err(err)?;
+    let answers = answer_with_budget(
+        map,
+        &pairs,
+        args.classes,
+        args.repeat,
+        show,
+        args.max_expansions,
+    )
+    .map_err(err)?;
     if args.json {
         print_report(&rappel::query::QueryReport {
             answers: answers.clone(),

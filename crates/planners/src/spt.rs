@@ -744,7 +744,19 @@ impl<'b> SptPlanner<'b> {
         start: Point2<f64>,
         goal: Point2<f64>,
     ) -> Result<Option<TautPath>, SearchError> {
-        let options = SearchOptions::default().with_max_classes(Some(1))?;
+        self.shortest_taut_path_within(start, goal, ExpansionBudget::Auto)
+    }
+
+    /// [`SptPlanner::shortest_taut_path`] with its expansions bounded by `budget`.
+    pub fn shortest_taut_path_within(
+        &self,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+        budget: ExpansionBudget,
+    ) -> Result<Option<TautPath>, SearchError> {
+        let options = SearchOptions::default()
+            .with_max_classes(Some(1))?
+            .with_budget(budget)?;
         let mut search = SptSearch::new(self, start, goal, options, None)?;
         match search.next_goal()? {
             Some((node, _)) => Ok(Some(search.scratch.tree.taut_path(self.btm, node))),

@@ -11,6 +11,7 @@ use crate::scenario::Scenario;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::{Map, ValidMap};
+use rappel_planners::budget::ExpansionBudget;
 use rappel_planners::spt::{SearchError, SearchOptions, SptPlanner, Termination};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -188,14 +189,28 @@ pub fn answer(
     answer_with_progress(map, pairs, classes, repeat, Show::Auto)
 }
 
-/// [`answer`], with progress over the pairs on stderr as `show` says
-/// ([`crate::progress`]: a bar on a terminal; `Show::Always` writes plain lines otherwise).
+/// [`answer_with_budget`] with the automatic expansion budget.
 pub fn answer_with_progress(
     map: ValidMap<'_>,
     pairs: &[QueryPair],
     classes: usize,
     repeat: usize,
     show: Show,
+) -> Result<Vec<QueryAnswer>, QueryError> {
+    answer_with_budget(map, pairs, classes, repeat, show, ExpansionBudget::Auto)
+}
+
+/// [`answer`], with progress over the pairs on stderr as `show` says
+/// ([`crate::progress`]: a bar on a terminal; `Show::Always` writes plain lines otherwise) and
+/// each pair's search bounded by `budget` (`rappel_planners::budget`; a pair it stops is
+/// answered with an error naming the budget).
+pub fn answer_with_budget(
+    map: ValidMap<'_>,
+    pairs: &[QueryPair],
+    classes: usize,
+    repeat: usize,
+    show: Show,
+    budget: ExpansionBudget,
 ) -> Result<Vec<QueryAnswer>, QueryError> {
     if !(1..=MAX_QUERY_CLASSES).contains(&classes) {
         return Err(QueryError::Option(format!(
@@ -211,6 +226,7 @@ pub fn answer_with_progress(
     let planner = SptPlanner::new(&btm);
     let options = SearchOptions::default()
         .with_max_classes(Some(classes))
+        .and_then(|o| o.with_budget(budget))
         .map_err(|e| QueryError::Option(e.to_string()))?;
     let mut out = Vec::with_capacity(pairs.len());
     let progress = crate::progress::Progress::with(pairs.len() as u64, "pairs", show);
@@ -238,7 +254,7 @@ pub fn answer_with_progress(
             // One class: the path alone (no sleeve, crossings or H-signature to build).
             let result = if classes == 1 {
                 planner
-                    .shortest_taut_path(pair.start, pair.goal)
+                    .shortest_taut_path_within(pair.start, pair.goal, budget)
                     .map(|t| t.map(|t| t.length).into_iter().collect())
             } else {
                 planner
@@ -259,6 +275,15 @@ pub fn answer_with_progress(
             times.push(u64::try_from(t0.elapsed().as_nanos()).unwrap_or(u64::MAX));
             match result {
                 Ok(lengths) => answer.lengths_m = lengths,
+                Err(SearchError::BudgetExhausted { .. }) => {
+                    let limit = options.expansion_limit(&btm);
+                    answer.error = Some(format!(
+                        "pair {index}: no path found before the search stopped at {} (this does \
+                         not mean start and goal are disconnected)",
+                        budget.kind().describe(limit)
+                    ));
+                    break;
+                }
                 Err(e) => {
                     answer.error = Some(format!("pair {index}: {e}"));
                     break;

@@ -304,4 +304,21 @@ fn query_answers_the_shipped_pairs_and_names_a_bad_pair() {
         &["query", &map, "--pairs", &pairs, "--repeat", "0"],
         "--repeat 0",
     );
+    // A budget that stops a pair's search is named with the flag that raises it, for one class
+    // (the path alone) and for several.
+    for classes in ["1", "2"] {
+        check_error(
+            &[
+                "query",
+                &map,
+                "--pairs",
+                &pairs,
+                "--classes",
+                classes,
+                "--max-expansions",
+                "3",
+            ],
+            "the search stopped at the given budget of 3 expansions; raise --max-expansions",
+        );
+    }
 }
