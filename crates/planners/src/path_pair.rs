@@ -260,16 +260,18 @@ pub fn path_pair_evaluated(
     // between them: no obstacle near the tether away from an anchor can block it). Each must keep
     // the clearance, lie in free space in the class and, on tether-demand planes, stay in its
     // proximal anchor's wedge.
-    let descent_of = |returns: bool| -> Result<Vec<Point2<f64>>, PairFailure> {
-        let corners = rounded_tether(taut, &clearances, &offsets, returns);
-        let d = keep_clear("descent", corners, &near)?;
-        check_path(ctx.btm, "descent", &d, word, false)?;
-        if !tether_free && let Some(anchor) = walk(ctx.terrain, taut, &d, false) {
-            return Err(PairFailure::OutsideCone { anchor });
-        }
-        Ok(d)
-    };
-    let descent = descent_of(false).or_else(|_| descent_of(true));
+    let descent = rounded_descent(
+        ctx.btm,
+        taut,
+        &clearances,
+        &offsets,
+        &near,
+        word,
+        |d| match walk(ctx.terrain, taut, d, false) {
+            Some(anchor) if !tether_free => Err(PairFailure::OutsideCone { anchor }),
+            _ => Ok(()),
+        },
+    );
     let ascent = if tether_free {
         descent.clone().map(|d| d.into_iter().rev().collect())
     } else {
@@ -357,11 +359,35 @@ pub fn descent_with_clearance(
         clearances: &clearances,
         margin: 2.0 * ctx.clearance,
     };
+    rounded_descent(
+        ctx.btm,
+        taut,
+        &clearances[..own],
+        &offsets,
+        &near,
+        crossings,
+        |_| Ok(()),
+    )
+}
+
+/// The descent of [`rounded_tether`] kept clear ([`keep_clear`]), in free space and in the class
+/// of `word`, and accepted by `accept`: first offset all along, else with the returns onto the
+/// tether (module docs); the second try's failure when both fail.
+fn rounded_descent(
+    btm: &Btm,
+    taut: &TautPath,
+    clearances: &[f64],
+    offsets: &[Corner],
+    near: &Near<'_>,
+    word: &CrossingSequence,
+    accept: impl Fn(&[Point2<f64>]) -> Result<(), PairFailure>,
+) -> Result<Vec<Point2<f64>>, PairFailure> {
     let descent_of = |returns: bool| {
-        let rounded = rounded_tether(taut, &clearances[..own], &offsets, returns);
-        let descent = keep_clear("descent", rounded, &near)?;
-        check_path(ctx.btm, "descent", &descent, crossings, false)?;
-        Ok(descent)
+        let corners = rounded_tether(taut, clearances, offsets, returns);
+        let d = keep_clear("descent", corners, near)?;
+        check_path(btm, "descent", &d, word, false)?;
+        accept(&d)?;
+        Ok(d)
     };
     descent_of(false).or_else(|_| descent_of(true))
 }
@@ -769,7 +795,13 @@ fn keep_clear(
             });
         }
     }
-    unreachable!("the last round of keep_clear moves no corner, so it returns")
+    // The last round moves no corner and returns above; this is its answer should it not.
+    Err(PairFailure::TooClose {
+        which: which.to_string(),
+        anchor: 0,
+        distance: 0.0,
+        clearance: 0.0,
+    })
 }
 
 /// Free space and homotopy checks of one path (`reversed`: it runs goal to start).
