@@ -403,7 +403,6 @@ fn journeys(full: bool) -> Vec<Journey> {
         ],
     );
     // Online: the prior and the truth of each bundled case.
-    let online_example = fixture("online-example.ron");
     let cases: &[(&str, &str, i32)] = &[
         ("online-example.ron", "online-example.ron", 0),
         ("online-example.ron", "online-example-discovered.ron", 0),
@@ -437,7 +436,6 @@ fn journeys(full: bool) -> Vec<Journey> {
         }
         add(format!("online {prior} -> {truth}"), &[&p, &t], vec![step]);
     }
-    let _ = online_example;
     // Two robots on one tether (Kumar): exit 1 at the first unstable waypoint.
     let kumar = fixture("tracking/kumar.json");
     let robot2 = fixture("tracking/robot2-descent.json");
