@@ -4,7 +4,7 @@
 use crate::output::{CliError, PictureArgs, print_report, refuse_clashing_outputs};
 use rappel::btm_summary::summarize_btm;
 use rappel::scenario::Scenario;
-use rappel::svg::Picture;
+use rappel_render::Picture;
 use std::path::PathBuf;
 
 /// Arguments of `rappel btm`.

@@ -5,13 +5,14 @@
 //! draws it over a hillshade.
 
 use crate::output::{CliError, PictureArgs, print_report, refuse_clashing_outputs, write_file};
-use rappel::dem::{dem_picture, dem_scenario_with};
-use rappel::dem_ptfo::{PtfoLabelOptions, convexity_picture, label_ptfos};
+use rappel::dem::dem_scenario_with;
+use rappel::dem_ptfo::{PtfoLabelOptions, label_ptfos};
 use rappel::ptfo_spec::FrictionRange;
 use rappel::scenario::Format;
-use rappel::sticking_profile::{hill_view, phi_chart, sticking_picture, sticking_profile};
+use rappel::sticking_profile::sticking_profile;
 use rappel::terrain::dem::DemLimits;
 use rappel::terrain::ingest::IngestOptions;
+use rappel_render::dem::{convexity_picture, dem_picture, hill_view, phi_chart, sticking_picture};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `rappel dem`.

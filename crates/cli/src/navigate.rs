@@ -9,9 +9,10 @@
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
-use rappel::navigate::{DEFAULT_TIME, PATON_ITERATIONS, RoverProblem, navigate, navigate_svg};
+use rappel::navigate::{DEFAULT_TIME, PATON_ITERATIONS, RoverProblem, navigate};
 use rappel::planners::sampler::Termination;
 use rappel::settle::load_scene;
+use rappel_render::navigate::navigate_svg;
 use std::path::PathBuf;
 use std::time::Duration;
 

@@ -7,7 +7,6 @@
 //! class within the termination rule, the goal covered, or the step budget spent), 2 for errors.
 
 use crate::output::{Answer, CliError, PictureArgs, refuse_clashing_outputs, write_file};
-use rappel::online::{event_picture, picture};
 use rappel::planners::online::simulate::{
     DEFAULT_MAX_STEPS, DEFAULT_SENSOR_RANGE, DEFAULT_STEP, Ending,
 };
@@ -16,6 +15,7 @@ use rappel::planners::online::{
 };
 use rappel::planners::spt::SearchOptions;
 use rappel::scenario::Scenario;
+use rappel_render::online::{event_picture, picture};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `rappel online`.

@@ -255,7 +255,7 @@ impl PictureArgs {
             write_file(out, svg)?;
         }
         if let Some(out) = &self.html {
-            write_file(out, &rappel::viewer::html(svg, title))?;
+            write_file(out, &rappel_render::viewer::html(svg, title))?;
         }
         Ok(())
     }

@@ -194,8 +194,10 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
                 Some(p) => format!("{}: class {} (ascent/descent pair)", s.name, p.rank),
                 None => format!("{}: no feasible class", s.name),
             };
-            args.picture
-                .write(&plan.picture_in(&s, window.as_ref()), &title)?;
+            args.picture.write(
+                &rappel_render::plan::picture(&plan, &s, window.as_ref()),
+                &title,
+            )?;
             plan.report
         };
         if let Some((out, format)) = export {

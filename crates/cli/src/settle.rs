@@ -8,9 +8,7 @@
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, print_report, refuse_clashing_outputs, write_file};
-use rappel::settle::{
-    SettleRobot, four_wheel_report_with, load_ground, settle_report_with, settled_pose_picture,
-};
+use rappel::settle::{SettleRobot, four_wheel_report_with, load_ground, settle_report_with};
 use std::path::PathBuf;
 
 /// `--robot NAME` as given: `axel` or `four-wheel`; anything else is an error naming the flag.
@@ -105,7 +103,13 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             at[1],
             args.yaw
         );
-        let svg = settled_pose_picture(&ground, pose, &Default::default(), anchor, &title);
+        let svg = rappel_render::settle::settled_pose_picture(
+            &ground,
+            pose,
+            &Default::default(),
+            anchor,
+            &title,
+        );
         write_file(out, &svg)?;
     }
     if args.json {

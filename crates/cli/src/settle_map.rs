@@ -11,11 +11,12 @@
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
-use rappel::mesh_stability::{AxelMap, FourWheelMap, MapSpec, map_svg, stability_map_for};
+use rappel::mesh_stability::{AxelMap, FourWheelMap, MapSpec, stability_map_for};
 use rappel::nalgebra::Point3;
 use rappel::planners::anchor_prediction::AnchorHistory;
 use rappel::settle::SettleRobot;
 use rappel::settle::{load_ground, load_scene};
+use rappel_render::settle_map::map_svg;
 use std::path::PathBuf;
 
 /// Arguments of `rappel settle-map`.

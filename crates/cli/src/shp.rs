@@ -10,8 +10,8 @@ use rappel::homotopy::crossing::CrossingSequence;
 use rappel::homotopy::funnel::Side;
 use rappel::homotopy::homotopy::are_homotopic;
 use rappel::scenario::Scenario;
-use rappel::svg::Picture;
 use rappel::tether::{load_path, shp_report};
+use rappel_render::Picture;
 use std::path::PathBuf;
 
 /// Arguments of `rappel shp`.

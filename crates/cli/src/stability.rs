@@ -50,8 +50,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             report.stable,
             report.assessed
         );
-        args.picture
-            .write(&report.picture(&s, window.as_ref(), &title), &title)?;
+        args.picture.write(
+            &rappel_render::stability::picture(&report, &s, window.as_ref(), &title),
+            &title,
+        )?;
     }
     if args.json {
         return print_report(&report);

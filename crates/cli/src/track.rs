@@ -4,7 +4,8 @@
 //! first unstable one (named), 2 on an error.
 
 use crate::output::{CliError, PictureArgs, print_report, refuse_clashing_outputs, write_file};
-use rappel::track::{load_path, load_terrain, track, track_picture, track_picture_3d};
+use rappel::track::{load_path, load_terrain, track};
+use rappel_render::track::{track_picture, track_picture_3d};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `rappel track`.

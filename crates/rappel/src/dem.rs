@@ -5,15 +5,11 @@
 
 use crate::georeference::Georeference;
 use crate::scenario::{RobotParams, Scenario, Terrain};
-use crate::svg::{Layer, Marker, Picture};
 use rappel_terrain::dem::{DemError, DemLimits, HeightGrid, dem_crs, read_dem_with};
 use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
 use rappel_terrain::plane_class::PlaneClass;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-/// Largest number of shaded cells drawn per picture side; bigger grids are drawn subsampled.
-pub const MAX_DRAWN_CELLS_PER_SIDE: usize = 160;
 
 /// Why a DEM could not become a scenario.
 #[derive(Debug, thiserror::Error)]
@@ -268,66 +264,4 @@ pub fn block_footprint(
     .iter()
     .map(|w| d.ingested.frame.to_planning(w))
     .collect()
-}
-
-/// The picture of a DEM scenario in the planning frame: hillshade, plane edges, tether obstacles
-/// (grey), robot obstacles (orange outlines), start and goal.
-pub fn dem_picture(d: &DemScenario, title: &str) -> String {
-    let ing = &d.ingested;
-    let g = &ing.hillshade.geometry;
-    let mut pic = Picture::of_map(&d.scenario.map);
-    let step = g
-        .nrows
-        .max(g.ncols)
-        .div_ceil(MAX_DRAWN_CELLS_PER_SIDE)
-        .max(1);
-    for r in (0..g.nrows).step_by(step) {
-        for c in (0..g.ncols).step_by(step) {
-            let v = ing.hillshade.values[g.index(r, c)];
-            if !v.is_finite() {
-                continue;
-            }
-            let pts = block_footprint(d, r, c, step);
-            // A light hillshade, so the grey obstacles stand out on it.
-            let level = (v.clamp(0.0, 1.0) * 105.0 + 150.0) as u8;
-            pic.shaded_polygon(
-                Layer::Terrain,
-                &pts,
-                &format!("#{level:02x}{level:02x}{level:02x}"),
-            );
-        }
-    }
-    for o in &ing.robot_obstacles {
-        pic.polygon(Layer::RobotObstacle, &o.vertices);
-    }
-    let b = d.scenario.map.aabb();
-    for p in &d.scenario.terrain.planes {
-        for y in [p.y_top, p.y_bottom] {
-            pic.polyline(
-                Layer::PlaneEdge,
-                &[
-                    nalgebra::Point2::new(b.min.x, y),
-                    nalgebra::Point2::new(b.max.x, y),
-                ],
-            );
-        }
-    }
-    // Each plane labelled at its band's middle, by the map's left edge.
-    for (i, (p, class)) in d.classified_planes().enumerate() {
-        let kind = class.label();
-        pic.label(
-            Layer::PlaneEdge,
-            nalgebra::Point2::new(b.min.x, 0.5 * (p.y_top + p.y_bottom)),
-            &format!("plane {i}: {:.1}°, {kind}", p.slope_deg),
-        );
-    }
-    // North: the DEM's north direction in the planning frame.
-    let f = &d.ingested.frame;
-    let o = f.to_world(&d.scenario.start);
-    let north = f.to_planning(&(o + nalgebra::Vector2::new(0.0, 1.0))) - d.scenario.start;
-    pic.set_north(north);
-    pic.map(&d.scenario.map);
-    pic.marker(Layer::Start, d.scenario.start, Marker::Cross);
-    pic.marker(Layer::Goal, d.scenario.goal, Marker::Circle);
-    pic.finish(title)
 }

@@ -205,14 +205,14 @@ pub fn label_ptfos(
 
 /// The curvature tolerance in force: `min_curvature`, else [`DEFAULT_CURVATURE_PER_CELL`] over
 /// the grid's cell size.
-fn tolerance(grid: &HeightGrid, min_curvature: Option<f64>) -> f64 {
+pub fn tolerance(grid: &HeightGrid, min_curvature: Option<f64>) -> f64 {
     let g = grid.geometry();
     min_curvature.unwrap_or(DEFAULT_CURVATURE_PER_CELL / g.cell_x.max(g.cell_y))
 }
 
 /// The principal curvatures of every cell of `grid` and their convexity classes under the
 /// tolerance in force (rows north to south, as the grid's); `None` for an unusable tolerance.
-fn convexity(
+pub fn convexity(
     grid: &HeightGrid,
     min_curvature: Option<f64>,
 ) -> Option<(CurvatureMap, DMatrix<Option<Convexity>>)> {
@@ -223,80 +223,6 @@ fn convexity(
     let map = analyze_height_field(&heights, g.cell_x, g.cell_y).ok()?;
     let classes = map.classify(tolerance(grid, min_curvature)).ok()?;
     Some((map, classes))
-}
-
-/// Most cells drawn along a side of a convexity picture (larger grids are subsampled).
-const MAX_DRAWN_CELLS_PER_SIDE: usize = 300;
-/// A saddle's convex direction is drawn on every this many drawn cells along each side.
-const DIRECTION_EVERY: usize = 3;
-
-/// Thesis Figs. 3.11-3.12 on a DEM, in the planning frame: every cell coloured convex (green),
-/// concave (red) or saddle (blue) under the convexity tolerance in force (flat cells are left
-/// out), cyan segments along the convex directions of saddle cells (their axis; the directions
-/// within the half-width around it are convex too), and the scenario's obstacles over it.
-///
-/// ```
-/// use rappel::dem::dem_scenario;
-/// use rappel::dem_ptfo::convexity_picture;
-/// use rappel::terrain::ingest::IngestOptions;
-/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
-/// let d = dem_scenario(path.as_ref(), &IngestOptions::default()).unwrap();
-/// let svg = convexity_picture(&d, None, "Mars convexity");
-/// assert!(svg.contains("convex") && svg.contains("saddle"));
-/// ```
-pub fn convexity_picture(d: &DemScenario, min_curvature: Option<f64>, title: &str) -> String {
-    use crate::svg::{Layer, Picture};
-    let g = d.grid.geometry();
-    let frame = &d.ingested.frame;
-    let mut pic = Picture::of_map(&d.scenario.map);
-    let Some((map, classes)) = convexity(&d.grid, min_curvature) else {
-        return pic.finish(title);
-    };
-    let tol = tolerance(&d.grid, min_curvature);
-    let step = g
-        .nrows
-        .max(g.ncols)
-        .div_ceil(MAX_DRAWN_CELLS_PER_SIDE)
-        .max(1);
-    let mut directions = Vec::new();
-    for (i, r) in (0..g.nrows).step_by(step).enumerate() {
-        for (j, c) in (0..g.ncols).step_by(step).enumerate() {
-            let layer = match classes[(r, c)] {
-                Some(Convexity::Convex) => Layer::Convex,
-                Some(Convexity::Concave) => Layer::Concave,
-                Some(Convexity::Saddle) => Layer::Saddle,
-                _ => continue,
-            };
-            let pts = crate::dem::block_footprint(d, r, c, step);
-            pic.shaded_polygon(layer, &pts, layer.fill());
-            if layer == Layer::Saddle
-                && i % DIRECTION_EVERY == 0
-                && j % DIRECTION_EVERY == 0
-                && let Some(k) = map.get(r, c)
-                && let Ok(Some(dirs)) = k.convex_directions(tol)
-            {
-                // The axis in the grid's (column, row) frame: rows run south, so north is -y.
-                let half = 0.45 * step as f64 * g.cell_x.min(g.cell_y) * DIRECTION_EVERY as f64;
-                let axis = nalgebra::Vector2::new(dirs.axis.x, -dirs.axis.y);
-                let n = axis.norm();
-                if n > 0.0 {
-                    let centre = g.cell_center(r, c);
-                    let off = axis * (half / n);
-                    directions.push((
-                        frame.to_planning(&(centre - off)),
-                        frame.to_planning(&(centre + off)),
-                    ));
-                }
-            }
-        }
-    }
-    if !directions.is_empty() {
-        pic.segments(Layer::ConvexDirection, directions);
-    }
-    for o in &d.scenario.map.obstacles {
-        pic.polygon(Layer::Obstacle, &o.vertices);
-    }
-    pic.finish(title)
 }
 
 /// The convex cells (and with [`PtfoLabelOptions::saddles`] the saddle cells convex along the

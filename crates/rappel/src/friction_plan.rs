@@ -8,7 +8,6 @@
 use crate::plan::PairReport;
 use crate::ptfo_spec::ResolvedFriction;
 use crate::scenario::Scenario;
-use crate::svg::{Layer, Marker, Picture};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_mechanics::ptfo::PtfoClass;
@@ -211,53 +210,4 @@ pub fn plan_friction(
         termination: plan.termination,
     };
     Ok((report, plan))
-}
-
-/// Draws the frictional outcome onto `pic`: PTFOs coloured by their verdict in the shown class
-/// (solid, slides, volatile; untouched PTFOs outlined), the clipped vertices, the final SHP, its
-/// sticking points (solid friction anchors), the waypoints and the ascent/descent pair.
-pub fn draw_friction(pic: &mut Picture, scenario: &Scenario, report: &FrictionReport) {
-    let shown = report
-        .chosen
-        .and_then(|r| report.classes.iter().find(|c| c.rank == r))
-        .or_else(|| report.classes.first());
-    for &o in &report.ptfos {
-        let verdict = shown.and_then(|c| {
-            c.anchors
-                .iter()
-                .find(|a| a.obstacle == Some(o))
-                .map(|a| a.verdict.as_str())
-                .or_else(|| c.slips.iter().any(|s| s.obstacle == o).then_some("slides"))
-        });
-        let layer = match verdict {
-            Some("solid") => Layer::PtfoSolid,
-            Some("volatile") => Layer::PtfoVolatile,
-            Some(_) => Layer::PtfoSlides,
-            None => Layer::Ptfo,
-        };
-        if let Some(poly) = scenario.map.obstacles.get(o) {
-            pic.polygon(layer, &poly.vertices);
-        }
-    }
-    if let Some(c) = shown {
-        if let Some(pair) = &c.pair {
-            pic.polyline(Layer::Descent, &pair.descent);
-            pic.polyline(Layer::Ascent, &pair.ascent);
-        }
-        pic.polyline(Layer::Shp, &c.points);
-        for s in &c.slips {
-            pic.marker(Layer::Slip, s.vertex, Marker::Cross);
-        }
-        for a in &c.anchors {
-            let layer = if a.verdict == "geometric" {
-                Layer::Anchor
-            } else {
-                Layer::Sticking
-            };
-            pic.marker(layer, a.point, Marker::Square);
-        }
-        for w in &c.waypoints {
-            pic.marker(Layer::Waypoint, *w, Marker::Star);
-        }
-    }
 }

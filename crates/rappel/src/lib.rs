@@ -32,7 +32,6 @@
 //! assert!(report.outcome.chosen.is_some(), "{}", report.outcome.verdict);
 //! ```
 
-pub mod axonometric;
 pub mod btm_summary;
 pub mod dem;
 pub mod dem_ptfo;
@@ -57,11 +56,9 @@ pub mod schema_check;
 pub mod settle;
 pub mod stability;
 pub mod sticking_profile;
-pub mod svg;
 pub mod tether;
 pub mod tether_shadow;
 pub mod track;
-pub mod viewer;
 
 pub use plan::plan;
 

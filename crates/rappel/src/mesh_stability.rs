@@ -24,7 +24,6 @@ use nalgebra::{Point2, Point3, Vector3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use rappel_geometry::polygon::Aabb;
 use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::boom_contact::{BoomGround, IndexedGround};
 use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
@@ -36,7 +35,6 @@ use rappel_terrain::surface::SignedDistance;
 
 use crate::distance_source::{DistanceReport, DistanceSource, GroundDistances};
 use crate::settle::{BoomVerdict, SettleRobot, boom_verdicts, four_wheel_verdict};
-use crate::svg::{Layer, Marker, Picture};
 use rappel_mechanics::four_wheel::FourWheelParams;
 use rappel_mechanics::four_wheel_settle::FourWheelPose;
 
@@ -681,113 +679,6 @@ pub fn stability_map_for<R: MapRobot>(
         root: [r.x, r.y, r.z],
         distance_source: distances.report(),
     })
-}
-
-/// A top-down picture of a map like Paton's Fig. 8: stable cells green and unstable ones red
-/// (paler for a smaller margin), cells that did not settle left blank, the ground mesh's creases
-/// (edges between triangles more than 1° apart) as plane edges, the start, the root anchor and
-/// the distinct last anchors (squares).
-pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
-    let h = 0.5 * map.spec.step;
-    let bounds = Aabb {
-        min: Point2::new(map.spec.x.0 - h, map.spec.y.0 - h),
-        max: Point2::new(map.spec.x.1 + h, map.spec.y.1 + h),
-    };
-    let mut pic = Picture::new(bounds);
-    let best = map
-        .cells
-        .iter()
-        .filter_map(|c| c.pose.as_ref())
-        .map(|p| p.margin)
-        .fold(0.0f64, f64::max)
-        .max(1e-12);
-    for c in &map.cells {
-        let Some(p) = &c.pose else { continue };
-        let sq = [
-            Point2::new(c.ground[0] - h, c.ground[1] - h),
-            Point2::new(c.ground[0] + h, c.ground[1] - h),
-            Point2::new(c.ground[0] + h, c.ground[1] + h),
-            Point2::new(c.ground[0] - h, c.ground[1] + h),
-        ];
-        let (layer, fill) = if p.stable {
-            // Green, darker for a larger margin.
-            let s = (p.margin / best).clamp(0.0, 1.0);
-            let g = (220.0 - 100.0 * s) as u8;
-            (Layer::Stable, format!("#30{g:02x}40"))
-        } else {
-            (Layer::Unstable, "#d04030".to_string())
-        };
-        pic.shaded_polygon(layer, &sq, &fill);
-    }
-    // Creases of the ground within the picture.
-    let (v, t) = (ground.vertices(), ground.triangles());
-    if t.len() <= 20_000 {
-        let mut edges: std::collections::HashMap<(usize, usize), Vec<usize>> = Default::default();
-        for (k, tri) in t.iter().enumerate() {
-            for e in 0..3 {
-                let (a, b) = (tri[e], tri[(e + 1) % 3]);
-                edges.entry((a.min(b), a.max(b))).or_default().push(k);
-            }
-        }
-        let mut segs = Vec::new();
-        let mut keys: Vec<_> = edges.keys().copied().collect();
-        keys.sort_unstable();
-        for key in keys {
-            let f = &edges[&key];
-            let crease = f.len() != 2
-                || ground.face_normal(f[0]).dot(&ground.face_normal(f[1]))
-                    < 1f64.to_radians().cos();
-            if crease {
-                segs.push((
-                    Point2::new(v[key.0].x, v[key.0].y),
-                    Point2::new(v[key.1].x, v[key.1].y),
-                ));
-            }
-        }
-        for (a, b) in segs {
-            pic.polyline(Layer::PlaneEdge, &[a, b]);
-        }
-    }
-    let mut seen: Vec<[f64; 3]> = Vec::new();
-    for c in &map.cells {
-        if let Some(p) = &c.pose
-            && p.anchors.len() > 1
-        {
-            let a = *p.anchors.last().expect("non-empty");
-            if !seen
-                .iter()
-                .any(|s| (s[0] - a[0]).abs() + (s[1] - a[1]).abs() < map.spec.step)
-            {
-                seen.push(a);
-            }
-        }
-    }
-    for a in seen {
-        pic.titled_marker(
-            Layer::Anchor,
-            Point2::new(a[0], a[1]),
-            Marker::Square,
-            &format!("last anchor ({:.2}, {:.2}, {:.2})", a[0], a[1], a[2]),
-        );
-    }
-    pic.titled_marker(
-        Layer::Anchor,
-        Point2::new(map.root[0], map.root[1]),
-        Marker::Square,
-        &format!(
-            "root anchor ({:.2}, {:.2}, {:.2})",
-            map.root[0], map.root[1], map.root[2]
-        ),
-    );
-    pic.marker(
-        Layer::Start,
-        Point2::new(map.spec.start[0], map.spec.start[1]),
-        Marker::Circle,
-    );
-    pic.finish(&format!(
-        "stability map: {} stable, {} unstable, {} not settled or unreached",
-        map.stable, map.unstable, map.failed
-    ))
 }
 
 impl crate::report::Report for StabilityMap {

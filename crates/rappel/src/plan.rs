@@ -13,7 +13,6 @@
 
 use crate::plan_stream::PlanSummary;
 use crate::scenario::{Scenario, ValidScenario};
-use crate::svg::{Layer, Marker, Picture};
 use crate::tether::HSignatureReport;
 use nalgebra::Point2;
 use rappel_geometry::btm::{Btm, BtmError};
@@ -25,7 +24,7 @@ use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::traversability::StabilitySettings;
 use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
 use rappel_planners::budget::{BudgetKind, ExpansionBudget};
-use rappel_planners::feasibility::{self, FeasibilityContext, Passability, fill_reachable_areas};
+use rappel_planners::feasibility::{FeasibilityContext, Passability, fill_reachable_areas};
 use rappel_planners::path_pair::{ClassOutcome, PairPlan, PathPair, plan_path_pair_each};
 use rappel_planners::spt::{SearchError, SearchOptions, SearchStats, SptPlanner, Termination};
 use rappel_planners::terrain::{PlaneSeries, TerrainError};
@@ -678,153 +677,4 @@ fn outcome_of(
         warnings,
         friction: None,
     }
-}
-
-/// How far down a friction-cone wedge is drawn, in multiples of the tether segment below its
-/// anchor (the wedges of the reachable sets reach the map's edge; drawn whole they swamp a tall
-/// strip).
-pub(crate) const CONE_DRAW_FACTOR: f64 = 1.25;
-
-impl Plan {
-    /// The picture (thesis Figs. 2.31-2.44): BTM, the sleeve and SHP of the chosen class (the
-    /// shortest when none is feasible), its anchors, friction cones of the tether-demand planes,
-    /// visibility edges, waypoints, the ascent and descent paths, start and goal.
-    pub fn picture(&self, scenario: &Scenario) -> String {
-        self.picture_in(scenario, None)
-    }
-
-    /// [`Plan::picture`] cropped to `window` (map frame; `--window`), with every infeasible class
-    /// drawn as a thin red tether tagged with its rank and its blocking anchor (or the goal)
-    /// marked with the reason as hover text.
-    pub fn picture_in(
-        &self,
-        scenario: &Scenario,
-        window: Option<&rappel_geometry::polygon::Aabb>,
-    ) -> String {
-        let mut pic = Picture::of_map_in(&scenario.map, window);
-        let shown = self
-            .outcome
-            .pair
-            .as_ref()
-            .and_then(|p| self.outcome.classes.iter().find(|c| c.class.rank == p.rank))
-            .or_else(|| self.outcome.classes.first());
-        if let Some(c) = shown {
-            pic.sleeve(&self.btm, &c.class.shp.sleeve);
-        }
-        pic.btm(&self.btm);
-        pic.map(&scenario.map);
-        if let Some(c) = shown {
-            let taut = &c.class.shp.taut;
-            let corners: Vec<Point2<f64>> = std::iter::once(taut.start())
-                .chain(taut.anchors.iter().map(|a| a.point))
-                .chain(std::iter::once(taut.goal()))
-                .collect();
-            for set in &c.feasibility.reachable_sets {
-                let reach = CONE_DRAW_FACTOR * (corners[set.anchor + 1] - set.apex).norm();
-                for (poly, limit) in &set.pieces {
-                    if let TetherLimit::Cone { max_angle } = limit {
-                        pic.friction_cone(&set.apex, *max_angle, reach, &poly.vertices);
-                    }
-                }
-            }
-            for a in &c.feasibility.anchors {
-                if let Some([p, q]) = a.visibility_edge {
-                    pic.polyline(Layer::Visibility, &[p, q]);
-                }
-            }
-            if let Some(pair) = &self.outcome.pair {
-                pic.polyline(Layer::Descent, &pair.descent);
-                pic.polyline(Layer::Ascent, &pair.ascent);
-            }
-            pic.taut_path(taut);
-            for w in &c.feasibility.waypoints {
-                pic.marker(Layer::Waypoint, *w, Marker::Star);
-            }
-        }
-        for c in &self.outcome.classes {
-            let Some(b) = &c.feasibility.blockage else {
-                continue;
-            };
-            let taut = &c.class.shp.taut;
-            pic.set_tag(Some(format!("class {} (infeasible)", c.class.rank)));
-            pic.polyline(Layer::InfeasibleShp, &taut.points);
-            let at = match b.anchor {
-                Some(j) => c.feasibility.anchors.get(j - 1).map(|a| a.anchor.point),
-                None => Some(taut.goal()),
-            };
-            if let Some(p) = at {
-                let what = b
-                    .anchor
-                    .map_or("the goal".to_string(), |j| format!("anchor {j}"));
-                pic.titled_marker(
-                    Layer::Blocking,
-                    p,
-                    Marker::Circle,
-                    &format!(
-                        "class {}: {what} blocks the ascent: {}",
-                        c.class.rank,
-                        b.reason.describe()
-                    ),
-                );
-            }
-            pic.set_tag(None);
-        }
-        if let Some(f) = &self.report.outcome.friction {
-            crate::friction_plan::draw_friction(&mut pic, scenario, f);
-        }
-        pic.start_goal(scenario.start, scenario.goal);
-        let title = match &self.outcome.pair {
-            Some(p) => format!("{}: class {} (ascent/descent pair)", scenario.name, p.rank),
-            None => format!("{}: no feasible class", scenario.name),
-        };
-        pic.finish(&title)
-    }
-}
-
-impl Picture {
-    /// A friction-cone wedge of half-angle `max_angle` below `apex`, `reach` long, clipped to the
-    /// convex reachable-set piece `piece` (translucent).
-    pub fn friction_cone(
-        &mut self,
-        apex: &Point2<f64>,
-        max_angle: f64,
-        reach: f64,
-        piece: &[Point2<f64>],
-    ) {
-        let fan: Vec<Point2<f64>> = (0..=8)
-            .map(|i| {
-                let t = -1.0 + 2.0 * i as f64 / 8.0;
-                let a = t * max_angle;
-                Point2::new(apex.x + reach * a.sin(), apex.y - reach * a.cos())
-            })
-            .collect();
-        let mut wedge = vec![*apex];
-        wedge.extend(fan);
-        let clipped = clip_convex(&wedge, piece);
-        if clipped.len() >= 3 {
-            self.polygon(Layer::FrictionCone, &clipped);
-        }
-    }
-}
-
-/// The part of the convex polygon `subject` inside the convex polygon `clip` (either orientation),
-/// for drawing only.
-fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>> {
-    let n = clip.len();
-    let twice_area: f64 = (0..n)
-        .map(|i| {
-            let (a, b) = (clip[i], clip[(i + 1) % n]);
-            a.x * b.y - a.y * b.x
-        })
-        .sum();
-    let mut out = subject.to_vec();
-    for i in 0..n {
-        let (a, b) = (clip[i], clip[(i + 1) % n]);
-        let dir = if twice_area >= 0.0 { b - a } else { a - b };
-        out = feasibility::clip(&out, &a, &dir);
-        if out.is_empty() {
-            break;
-        }
-    }
-    out
 }

@@ -5,19 +5,17 @@
 //! A path file is a JSON array of `[x, y]` points in the map frame, for example
 //! `[[100.0, 290.0], [80.0, 150.0], [100.0, 5.0]]`.
 
-use crate::svg::{Layer, Marker, Picture};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::compact::Compact;
 use rappel_geometry::domain::{DOMAIN_TEXT, in_domain};
 use rappel_homotopy::crossing::CrossingSequence;
+use rappel_homotopy::funnel::Anchor;
 use rappel_homotopy::funnel::Side;
-use rappel_homotopy::funnel::{Anchor, TautPath};
 use rappel_homotopy::h_signature::{HSignature, Poles};
 use rappel_homotopy::homotopy::HomotopyError;
 use rappel_homotopy::path::{Path, PathError};
 use rappel_homotopy::shp::{ShortestHomotopicPath, shortest_homotopic_path};
-use rappel_homotopy::sleeve::Sleeve;
 use serde::{Deserialize, Serialize};
 
 /// Why a path file could not be used.
@@ -205,27 +203,4 @@ pub fn shp_report(
         },
     };
     Ok((shp, report))
-}
-
-impl Picture {
-    /// A sleeve's triangles, shaded.
-    pub fn sleeve(&mut self, btm: &Btm, sleeve: &Sleeve) {
-        let d = btm.dcel();
-        for &t in sleeve.triangles() {
-            self.polygon(Layer::Sleeve, &d.triangle_points(t));
-        }
-    }
-
-    /// A taut tether, bold, with its anchors as squares.
-    pub fn taut_path(&mut self, taut: &TautPath) {
-        self.polyline(Layer::Shp, &taut.points);
-        for a in &taut.anchors {
-            self.marker(Layer::Anchor, a.point, Marker::Square);
-        }
-    }
-
-    /// An input path, thin.
-    pub fn path(&mut self, points: &[Point2<f64>]) {
-        self.polyline(Layer::Path, points);
-    }
 }

@@ -3,12 +3,13 @@
 
 use rappel::dem::dem_scenario;
 use rappel::nalgebra::Point2;
-use rappel::sticking_profile::{HILL_VIEW_ARROWS, hill_view, sticking_profile};
+use rappel::sticking_profile::sticking_profile;
 use rappel::terrain::dem::GridGeometry;
 use rappel::terrain::esri_ascii::write_esri_ascii;
 use rappel::terrain::ingest::IngestOptions;
 use rappel::terrain::slope::FallLine;
 use rappel::terrain::synthetic::{ProfilePlane, plane_series_dem};
+use rappel_render::dem::{HILL_VIEW_ARROWS, hill_view};
 
 #[test]
 fn a_ridge_across_the_slope_holds_at_its_crest_with_the_closed_form_curvature() {

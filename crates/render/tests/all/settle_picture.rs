@@ -3,9 +3,8 @@
 //! tether, and the rendered pixels show the wheels' blue and the tether's red.
 
 use rappel::mechanics::axel::AxelParams;
-use rappel::settle::{
-    PICTURE_PATCH_TRACKS, ground_patch, load_ground, settle_report, settled_pose_picture,
-};
+use rappel::settle::{load_ground, settle_report};
+use rappel_render::settle::{PICTURE_PATCH_TRACKS, ground_patch, settled_pose_picture};
 
 fn group<'a>(svg: &'a str, id: &str) -> &'a str {
     let open = format!("<g id=\"{id}\">");
@@ -115,8 +114,8 @@ fn the_boom_is_drawn_in_the_configuration_that_holds() {
     };
     let cosine = |svg: &str, pivot: Point3<f64>, tip: Point3<f64>| {
         let (p, q) = (
-            rappel::axonometric::Axonometric::project(&pivot),
-            rappel::axonometric::Axonometric::project(&tip),
+            rappel_render::axonometric::Axonometric::project(&pivot),
+            rappel_render::axonometric::Axonometric::project(&tip),
         );
         let (a, b) = (boom_dir(svg), (q.x - p.x, q.y - p.y));
         (a.0 * b.0 + a.1 * b.1) / (a.0.hypot(a.1) * b.0.hypot(b.1))

@@ -1,5 +1,5 @@
 //! Axonometric SVG pictures of 3D scenes: the thesis' Fig. 3.14 hill view
-//! ([`crate::sticking_profile::hill_view`]) and settled rover poses
+//! ([`crate::dem::hill_view`]) and settled rover poses
 //! ([`crate::settle::settled_pose_picture`]). One view for all: from the south-west, 30° above
 //! the horizon, at true vertical scale, fitted to a 900-pixel square. Shapes are drawn in the
 //! order they are added, in named groups; callers draw surfaces back to front by sorting them on

@@ -4,7 +4,7 @@
 //! a typed error.
 
 use rappel::mesh_stability::{
-    MapSpec, MeshStabilityError, PREDICT_RESOLUTION, drive_and_check, map_svg, stability_map,
+    MapSpec, MeshStabilityError, PREDICT_RESOLUTION, drive_and_check, stability_map,
     stability_map_through_field,
 };
 use rappel::planners::anchor_prediction::AnchorHistory;
@@ -72,7 +72,7 @@ fn ledge_map_shades_like_fig_8() {
         let p = c.pose.as_ref().unwrap_or_else(|| panic!("{c:?}"));
         assert!(!p.stable && p.anchors.len() == 1, "{c:?}");
     }
-    let svg = map_svg(&one, &ground);
+    let svg = rappel_render::settle_map::map_svg(&one, &ground);
     assert!(svg.starts_with("<svg") || svg.contains("<svg"));
     assert!(svg.contains("stability map"));
 }

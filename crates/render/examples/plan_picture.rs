@@ -34,7 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(out) = args.next() {
         rappel::io::write_atomically(
             std::path::Path::new(&out),
-            plan.picture(&scenario).as_bytes(),
+            rappel_render::plan::picture(&plan, &scenario, None).as_bytes(),
         )?;
         println!("picture: {out}");
     }

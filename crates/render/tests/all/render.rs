@@ -12,7 +12,7 @@ use rappel::plan::{PlanOptions, plan_detailed};
 use rappel::scenario::Scenario;
 use rappel::stability::{StabilityOptions, stability_over_scenario};
 
-/// The obstacle grey, the tether blue and the blocking red of the legend (`rappel::svg`).
+/// The obstacle grey, the tether blue and the blocking red of the legend (`rappel_render::style`).
 const OBSTACLE: [u8; 3] = [0x8c, 0x8c, 0x8c];
 const TETHER: [u8; 3] = [0x08, 0x30, 0x6b];
 const BLOCKING: [u8; 3] = [0xcb, 0x18, 0x1d];
@@ -107,7 +107,7 @@ impl Rendered {
 fn plan_pictures_show_obstacles_the_tether_and_the_blocking_anchor() {
     let s = fixture("plan/shortest-infeasible.ron");
     let plan = plan_detailed(&s.validate().expect("valid"), &PlanOptions::default()).expect("plan");
-    let svg = plan.picture(&s);
+    let svg = rappel_render::plan::picture(&plan, &s, None);
     let r = render(&svg, "plan-shortest-infeasible");
     // The obstacle's centroid is grey, whatever lies under it (sleeve, cones, BTM edges).
     let centroid = Point2::new((40.0 + 65.0 + 45.0) / 3.0, (85.0 + 40.0 + 40.0) / 3.0);
@@ -133,7 +133,10 @@ fn plan_pictures_show_obstacles_the_tether_and_the_blocking_anchor() {
         min: Point2::new(30.0, 30.0),
         max: Point2::new(70.0, 95.0),
     };
-    let cropped = render(&plan.picture_in(&s, Some(&window)), "plan-window");
+    let cropped = render(
+        &rappel_render::plan::picture(&plan, &s, Some(&window)),
+        "plan-window",
+    );
     assert!(
         cropped.scale() > 1.5 * r.scale(),
         "{} vs {}",
@@ -157,7 +160,7 @@ fn stability_dots_are_coloured_by_margin_and_leave_obstacles_visible() {
     let report = stability_over_scenario(s.validate().expect("valid scenario"), &options)
         .expect("stability map");
     let r = render(
-        &report.picture(&s, None, "stability"),
+        &rappel_render::stability::picture(&report, &s, None, "stability"),
         "stability-online-example",
     );
     let stable: Vec<_> = report.dots.iter().filter(|d| d.margin.is_some()).collect();

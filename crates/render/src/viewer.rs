@@ -1,7 +1,7 @@
 //! The interactive viewer (issue 16): one self-contained HTML page (no network: the picture and
-//! the script are inline) around any rappel picture ([`crate::svg::Picture`]): pan by dragging
+//! the script are inline) around any rappel picture ([`crate::Picture`]): pan by dragging
 //! and zoom with the wheel (or the + / - / fit buttons), a check box per legend layer, a picker
-//! over the picture's tags (e.g. homotopy classes, [`crate::svg::Picture::set_tag`]), and hover
+//! over the picture's tags (e.g. homotopy classes, [`crate::Picture::set_tag`]), and hover
 //! details (the elements' `<title>` texts, e.g. anchors and poses) in a status line.
 //!
 //! The script marks the page when it has run (`data-viewer-ready="yes"` on `<body>`) and records
