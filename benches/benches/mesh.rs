@@ -18,7 +18,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::{Point3, Vector3};
-use rappel::mesh_stability::{pose_stability, tether_end};
+use rappel::planners::rover::stability_map::{pose_stability, tether_end};
 use rappel_mechanics::axel::{Axel, AxelParams, BoomMode};
 use rappel_mechanics::settle::{SettleParams, settle_axel};
 use rappel_mechanics::stability_qp::StabilityQp;

@@ -8,8 +8,8 @@
 //! as the CLI's `--field 0.1` does), on identical input in one run.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use rappel::distance_source::{DistanceSource, GroundDistances};
-use rappel::mesh_stability::{MapSpec, stability_map_with};
+use rappel::planners::rover::ground::{DistanceSource, GroundDistances};
+use rappel::planners::rover::stability_map::{MapSpec, stability_map_with};
 use rappel_planners::anchor_prediction::AnchorHistory;
 use rappel_terrain::paton_scene::PatonScene;
 use std::hint::black_box;

@@ -1,9 +1,9 @@
 //! `--field RES`, shared by `rappel settle`, `settle-map` and `navigate`: settle and predict
 //! anchors through the sparse distance field of the ground at `RES` metres instead of parry's
-//! exact mesh distances ([`rappel::distance_source`]). Every refusal names the flag and the value.
+//! exact mesh distances ([`rappel::planners::rover::ground`]). Every refusal names the flag and the value.
 
 use crate::output::CliError;
-use rappel::distance_source::{DistanceSource, DistanceSourceError, GroundDistances};
+use rappel::planners::rover::ground::{DistanceSource, DistanceSourceError, GroundDistances};
 use rappel::terrain::mesh::TriMesh;
 
 /// `--field RES`.

@@ -39,7 +39,7 @@ pub struct Args {
     #[arg(long)]
     held: bool,
     /// Draw a fifth of the samples from the root anchor's shadow, where the tether must wrap
-    /// (`rappel::tether_shadow`; off: Paton's uniform sampling).
+    /// (`rappel::planners::rover::shadow`; off: Paton's uniform sampling).
     #[arg(long)]
     shadow: bool,
     #[command(flatten)]

@@ -2,7 +2,7 @@
 //! (--root X,Y,Z | --test N) [--robot axel|four-wheel] [--field RES] [--svg OUT] [--html OUT]
 //! [--json]`: a stability map of settled poses on 3D ground like Paton's Fig. 8, of Axel or of the
 //! rigid four-wheel rover. Every grid cell is settled, its anchor history is predicted from the
-//! start outward (Paton Alg. 1, [`rappel::mesh_stability`]) along the robot's tether end and the
+//! start outward (Paton Alg. 1, [`rappel::planners::rover::stability_map`]) along the robot's tether end and the
 //! stability QP is solved with the tether from the last predicted anchor (Axel: boom inline or in
 //! contact; the four-wheel rover: the tether fixed to its body).
 //! `--field RES`: settling and anchor prediction read the sparse distance field at `RES` metres
@@ -11,9 +11,9 @@
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
-use rappel::mesh_stability::{AxelMap, FourWheelMap, MapSpec, stability_map_for};
 use rappel::nalgebra::Point3;
 use rappel::planners::anchor_prediction::AnchorHistory;
+use rappel::planners::rover::stability_map::{AxelMap, FourWheelMap, MapSpec, stability_map_for};
 use rappel::settle::SettleRobot;
 use rappel::settle::{load_ground, load_scene};
 use rappel_render::settle_map::map_svg;

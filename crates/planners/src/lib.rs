@@ -28,6 +28,7 @@ mod min_heap;
 pub mod online;
 pub mod path_pair;
 pub mod report_units;
+pub mod rover;
 pub mod sampler;
 pub mod search_report;
 pub mod shortest_path_map;

@@ -35,13 +35,11 @@
 pub mod btm_summary;
 pub mod dem;
 pub mod dem_ptfo;
-pub mod distance_source;
 pub mod export;
 pub mod friction_plan;
 pub mod generated;
 pub mod georeference;
 pub mod io;
-pub mod mesh_stability;
 pub mod navigate;
 pub mod online;
 pub mod plan;
@@ -54,10 +52,10 @@ pub mod robot;
 pub mod scenario;
 pub mod schema_check;
 pub mod settle;
+pub mod settle_map;
 pub mod stability;
 pub mod sticking_profile;
 pub mod tether;
-pub mod tether_shadow;
 pub mod track;
 
 pub use plan::plan;

@@ -166,10 +166,7 @@ pub fn schemas() -> Vec<(&'static str, Schema)> {
         ("online", schema_of::<crate::online::OnlineReport>()),
         ("track", schema_of::<crate::track::TrackReport>()),
         ("settle", schema_of::<crate::settle::SettleReport>()),
-        (
-            "settle_map",
-            schema_of::<crate::mesh_stability::StabilityMap>(),
-        ),
+        ("settle_map", schema_of::<crate::settle_map::StabilityMap>()),
         ("navigate", schema_of::<crate::navigate::NavigateReport>()),
     ]
 }

@@ -177,10 +177,6 @@ impl crate::report::Report for ShpReport {
 /// let (shp, report) = rappel::tether::shp_report(&btm, &path).unwrap();
 /// assert_eq!(report.anchors.len(), 2);
 /// assert_eq!(report.reduced_crossings, shp.crossings.len());
-/// let mut pic = rappel::svg::Picture::of_map(&map);
-/// pic.sleeve(&btm, &shp.sleeve);
-/// pic.taut_path(&shp.taut);
-/// assert!(pic.finish("shp").contains("anchor"));
 /// ```
 pub fn shp_report(
     btm: &Btm,

@@ -23,7 +23,7 @@ struct Shape {
 ///
 /// ```
 /// use nalgebra::Point3;
-/// use rappel::axonometric::Axonometric;
+/// use rappel_render::axonometric::Axonometric;
 /// let mut a = Axonometric::default();
 /// a.group("ground");
 /// a.polygon(

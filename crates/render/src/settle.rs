@@ -151,7 +151,7 @@ pub fn settled_pose_picture(
 ) -> String {
     use crate::axonometric::Axonometric;
     use nalgebra::Vector3;
-    let pivot = rappel::mesh_stability::tether_end(pose, params);
+    let pivot = rappel::planners::rover::stability_map::tether_end(pose, params);
     let mut faces: Vec<(f64, Vec<Point3<f64>>, f64)> =
         ground_patch(ground, pivot.xy(), PICTURE_PATCH_TRACKS * params.track)
             .into_iter()

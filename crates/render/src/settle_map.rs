@@ -2,7 +2,7 @@
 //! coloured by its margin over the mesh's outline, the root anchor, the start and the drive.
 
 use nalgebra::Point2;
-use rappel::mesh_stability::StabilityMap;
+use rappel::planners::rover::stability_map::StabilityMap;
 use rappel_geometry::polygon::Aabb;
 use rappel_terrain::mesh::TriMesh;
 

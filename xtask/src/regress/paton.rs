@@ -8,11 +8,11 @@
 //! closed-form wrap of a cylinder.
 
 use super::{Case, workspace_root};
-use rappel::mesh_stability::{
-    MapSpec, PREDICT_RESOLUTION, PoseStability, drive_and_check, stability_map,
-};
 use rappel::nalgebra::{Point3, Vector3};
 use rappel::planners::anchor_prediction::{AnchorHistory, PredictParams, predict_path};
+use rappel::planners::rover::stability_map::{
+    MapSpec, PREDICT_RESOLUTION, PoseStability, drive_and_check, stability_map,
+};
 use rappel::settle::{load_ground, load_scene, settle_report};
 use rappel::terrain::paton_scene::PatonScene;
 
@@ -75,7 +75,8 @@ pub fn suite() -> Result<Vec<Case>, String> {
     let field = rappel::terrain::sparse_sdf::SparseSdf::from_mesh(&ground, &sp)
         .map_err(|e| e.to_string())?;
     let z_top = ground.bounds().1.z + 1.0;
-    let on_field = |x: f64| rappel::mesh_stability::settle_from(&field, z_top, x, 0.0, 0.0);
+    let on_field =
+        |x: f64| rappel::planners::rover::stability_map::settle_from(&field, z_top, x, 0.0, 0.0);
     let (ft, fm) = (on_field(-1.0)?, on_field(x)?);
     cases.push(Case::new(
         SUITE,
@@ -167,7 +168,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
         } else {
             unstable_at.push(format!("{x:.2}"));
         }
-        let pose = rappel::mesh_stability::settle(&ground, x, 0.0, 0.0)?;
+        let pose = rappel::planners::rover::stability_map::settle(&ground, x, 0.0, 0.0)?;
         let s = pose.origin.x / slope.cos();
         if (pose.pitch() + slope).abs() < 1e-6 && s.hypot(axel.wheel_radius) < axel.boom_length {
             on_slope += 1;
@@ -323,7 +324,7 @@ fn table_one() -> Result<Vec<Case>, String> {
     };
     // (test, pole, root anchor, shadow sampling, reference). The first three rows are Paton's
     // set-up with his uniform sampling; the last two are ours (shadow sampling,
-    // `rappel::tether_shadow`) against the goal, and that no path is reported unsafe.
+    // `rappel::planners::rover::shadow`) against the goal, and that no path is reported unsafe.
     let tests: [(u32, bool, usize, bool, &str); 5] = [
         (1, false, 0, false, "paper 100/0, 0.29 s (0.05), 1 (0) it"),
         (2, false, 1, false, "paper 0/0"),

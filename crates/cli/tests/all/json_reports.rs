@@ -257,7 +257,7 @@ fn gen_map_and_settle_map_reports_round_trip() {
     assert_eq!(v["obstacles"], 12);
     assert!(out.exists());
     let ledge = fixture("paton/ledge.ron");
-    let v = round_trip::<rappel::mesh_stability::StabilityMap>(&[
+    let v = round_trip::<rappel::planners::rover::stability_map::StabilityMap>(&[
         "settle-map",
         &ledge,
         "--test",

@@ -1,4 +1,4 @@
-//! Settling through the sparse distance field (`rappel::distance_source`, `--field RES`) against
+//! Settling through the sparse distance field (`rappel::planners::rover::ground`, `--field RES`) against
 //! parry's exact distances on seeded poses over both ledge scenes, and the poses the vertical drop
 //! used to lose: the whole-ledge map's corner cells at the side walls (x = 2.9, y = ±5: "no ground
 //! within 6 m" through the field) and a pose whose footprint probe runs 1 cm beside the side wall
@@ -6,7 +6,7 @@
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rappel::distance_source::{DistanceSource, GroundDistances};
+use rappel::planners::rover::ground::{DistanceSource, GroundDistances};
 use rappel::terrain::paton_scene::PatonScene;
 
 fn field(h: f64) -> DistanceSource {

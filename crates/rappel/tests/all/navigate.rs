@@ -60,3 +60,24 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
         assert!(d < 1e-9, "state {got:?}, recorded {want:?}");
     }
 }
+
+#[test]
+fn the_planner_descends_in_test_1_and_its_path_revalidates() {
+    let mut one = RoverProblem::paton(&PatonScene::paper(false), 0).unwrap();
+    one.held_within_boom_reach = true;
+    let r = navigate(&one, 3, Termination::iterations(PATON_ITERATIONS)).unwrap();
+    eprintln!(
+        "{:?}",
+        (
+            r.found,
+            r.first_solution_iteration,
+            r.first_solution_s,
+            r.elapsed_s
+        )
+    );
+    assert!(r.found, "{:?}", r.unsafe_reason);
+    assert_eq!(r.anchors.len(), 2);
+    assert!(r.anchors[1][0].abs() < 0.1 && (r.anchors[1][2] - 4.0).abs() < 0.1);
+    let end = r.path.last().unwrap();
+    assert!((end[0] - one.goal.x).abs() < 1e-9 && end[2].abs() < 1e-6);
+}

@@ -3,11 +3,11 @@
 //! with the test-2 root (in front) nothing attaches and the slope is unstable. Bad map input is
 //! a typed error.
 
-use rappel::mesh_stability::{
-    MapSpec, MeshStabilityError, PREDICT_RESOLUTION, drive_and_check, stability_map,
-    stability_map_through_field,
-};
 use rappel::planners::anchor_prediction::AnchorHistory;
+use rappel::planners::rover::ground::PREDICT_RESOLUTION;
+use rappel::planners::rover::stability_map::{
+    MapSpec, MeshStabilityError, drive_and_check, stability_map, stability_map_through_field,
+};
 use rappel::terrain::paton_scene::PatonScene;
 
 fn on_lip(scene: &PatonScene, a: &[f64; 3]) -> bool {
@@ -175,8 +175,8 @@ fn field_map_agrees_with_the_exact_map() {
 /// resolutions, the target's origin within the bound; each answer names its distance source.
 #[test]
 fn a_drive_through_the_field_agrees_with_the_exact_drive() {
-    use rappel::distance_source::{DistanceSource, GroundDistances};
-    use rappel::mesh_stability::drive_and_check_with;
+    use rappel::planners::rover::ground::{DistanceSource, GroundDistances};
+    use rappel::planners::rover::stability_map::drive_and_check_with;
     let scene = PatonScene::paper(false);
     let ground = scene.mesh().unwrap();
     let h = 0.1;

@@ -1,14 +1,14 @@
-//! Diagnostics of `rappel::navigate` on Paton's Table I tests: runs ABIT* with a validator that
+//! Diagnostics of the tethered-rover problem (`rappel_planners::rover::problem`, `rappel navigate`) on Paton's Table I tests: runs ABIT* with a validator that
 //! logs every motion check (endpoints, anchors before and after, the failure reason, time) and
 //! prints the tally of outcomes (`docs/sampler.md`, "Diagnosing test 3").
 //!
-//! `cargo run --release -p rappel --example navigate_diag -- TEST SEED ITERATIONS`; environment:
+//! `cargo run --release -p rappel-planners --example rover_diag -- TEST SEED ITERATIONS`; environment:
 //! `INFL`, `COPY`, `BATCH`, `KF`, `BIAS` (shadow-sample fraction) override the settings, `EXACT` compares histories exactly,
 //! `DUMP` prints every motion, `CORE` the shadow's core fraction (`TetherShadow::with_core_fraction`).
-use rappel::navigate::{RoverProblem, RoverSpace, RoverState};
-use rappel::planners::anchor_prediction::AnchorHistory;
-use rappel::planners::sampler::{Abit, MotionValidator, Termination};
-use rappel::terrain::paton_scene::PatonScene;
+use rappel_planners::anchor_prediction::AnchorHistory;
+use rappel_planners::rover::problem::{RoverProblem, RoverSpace, RoverState};
+use rappel_planners::sampler::{Abit, MotionValidator, Termination};
+use rappel_terrain::paton_scene::PatonScene;
 use std::cell::RefCell;
 
 /// One logged motion: from, to, anchors before, anchors after or the reason, seconds.
@@ -79,7 +79,7 @@ fn main() {
     let t = std::time::Instant::now();
     let mut abit = Abit::new(&p.space, &v, p.start, p.goal, {
         let env = |k: &str, d: f64| std::env::var(k).ok().map_or(d, |v| v.parse().unwrap());
-        rappel::navigate::rover_settings(seed)
+        rappel_planners::rover::problem::rover_settings(seed)
             .with_initial_inflation(env("INFL", 1e6))
             .unwrap()
             .with_history_copy_fraction(env("COPY", 0.5))

@@ -1,8 +1,8 @@
 //! Stability of settled poses on 3D ground with their anchor histories (Paton §IV-B, §IV-C) and
 //! stability maps of mesh scenes like Paton's Fig. 8: the rover drives from a start under a root
-//! anchor, [`rappel_planners::anchor_prediction`] carries the anchor history along, and the last
+//! anchor, [`crate::anchor_prediction`] carries the anchor history along, and the last
 //! predicted anchor sets the tether's direction in the stability QP (both boom configurations,
-//! [`crate::settle::boom_verdicts`]).
+//! [`super::verdict::boom_verdicts`]).
 //!
 //! The robot is a [`MapRobot`]: Axel ([`AxelMap`]) or the rigid four-wheel rover
 //! ([`FourWheelMap`]). The tether end used for prediction is Axel's boom pivot (the axle centre):
@@ -24,23 +24,18 @@ use nalgebra::{Point2, Point3, Vector3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::anchor_prediction::{AnchorError, AnchorHistory, PredictParams, predict, predict_path};
 use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::boom_contact::{BoomGround, IndexedGround};
 use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
-use rappel_planners::anchor_prediction::{
-    AnchorError, AnchorHistory, PredictParams, predict, predict_path,
-};
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::surface::SignedDistance;
 
-use crate::distance_source::{DistanceReport, DistanceSource, GroundDistances};
-use crate::settle::{BoomVerdict, SettleRobot, boom_verdicts, four_wheel_verdict};
+pub use super::ground::PREDICT_RESOLUTION;
+use super::ground::{DistanceReport, DistanceSource, GroundDistances};
+use super::verdict::{BoomVerdict, SettleRobot, boom_verdicts, four_wheel_verdict};
 use rappel_mechanics::four_wheel::FourWheelParams;
 use rappel_mechanics::four_wheel_settle::FourWheelPose;
-
-/// Sampling resolution of anchor prediction on exact mesh distances, metres: the smallest ground
-/// feature the tether notices (contacts are found once the swept tether is this deep).
-pub const PREDICT_RESOLUTION: f64 = 0.05;
 
 /// Spacing of the settled poses along a drive from the start ([`drive_and_check`]), metres.
 pub const PATH_STEP: f64 = 0.25;
@@ -93,7 +88,7 @@ pub fn tether_end(pose: &SettledPose, axel: &AxelParams) -> Point3<f64> {
 }
 
 /// Axel settled at ground point `(x, y)` heading `yaw_deg` on `ground` (found from
-/// [`crate::distance_source::SETTLE_START_HEIGHT`] above the mesh's top; distances through the
+/// [`super::ground::SETTLE_START_HEIGHT`] above the mesh's top; distances through the
 /// mesh's parry BVH, built for this call: [`GroundDistances::settle`]), with the default
 /// [`AxelParams`] and [`SettleParams`]; the error is the
 /// [`rappel_mechanics::settle::SettleError`]'s message.
@@ -268,8 +263,8 @@ pub trait MapRobot: Sync {
 /// tether end its boom pivot ([`tether_end`]), both boom configurations ([`pose_stability`]).
 ///
 /// ```
-/// use rappel::mesh_stability::{AxelMap, MapRobot};
-/// use rappel::settle::SettleRobot;
+/// use rappel_planners::rover::stability_map::{AxelMap, MapRobot};
+/// use rappel_planners::rover::verdict::SettleRobot;
 /// assert_eq!(AxelMap.robot(), SettleRobot::Axel);
 /// ```
 #[derive(Debug, Clone, Copy, Default)]
@@ -308,8 +303,8 @@ impl MapRobot for AxelMap {
 /// distances through the BVH).
 ///
 /// ```
-/// use rappel::mesh_stability::{FourWheelMap, MapRobot};
-/// use rappel::settle::SettleRobot;
+/// use rappel_planners::rover::stability_map::{FourWheelMap, MapRobot};
+/// use rappel_planners::rover::verdict::SettleRobot;
 /// assert_eq!(FourWheelMap.robot(), SettleRobot::FourWheel);
 /// ```
 #[derive(Debug, Clone, Copy, Default)]
@@ -379,8 +374,8 @@ impl MapSpec {
     /// scene's start.
     ///
     /// ```
-    /// use rappel::mesh_stability::MapSpec;
-    /// use rappel::terrain::paton_scene::PatonScene;
+    /// use rappel_planners::rover::stability_map::MapSpec;
+    /// use rappel_terrain::paton_scene::PatonScene;
     /// let spec = MapSpec::fig8(&PatonScene::paper(false));
     /// assert_eq!(spec.step, 0.5);
     /// ```
@@ -679,8 +674,4 @@ pub fn stability_map_for<R: MapRobot>(
         root: [r.x, r.y, r.z],
         distance_source: distances.report(),
     })
-}
-
-impl crate::report::Report for StabilityMap {
-    const KIND: &'static str = "settle_map";
 }

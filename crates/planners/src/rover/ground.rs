@@ -12,18 +12,16 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use crate::anchor_prediction::PredictParams;
 use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::four_wheel::FourWheelParams;
 use rappel_mechanics::four_wheel_settle::{FourWheelPose, settle_four_wheel};
 use rappel_mechanics::settle::{SettleError, SettleParams, SettledPose, settle_axel};
-use rappel_planners::anchor_prediction::PredictParams;
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::parry_mesh::{ParryMesh, ParryMeshError};
 use rappel_terrain::sdf::SdfError;
 use rappel_terrain::sparse_sdf::{SparseSdf, SparseSdfParams};
 use rappel_terrain::surface::SignedDistance;
-
-use crate::mesh_stability::PREDICT_RESOLUTION;
 
 /// Height above the mesh's top from which settling drops to the ground, metres.
 pub const SETTLE_START_HEIGHT: f64 = 1.0;
@@ -92,8 +90,8 @@ impl GroundDistances {
     ///
     /// ```
     /// use nalgebra::Point3;
-    /// use rappel::distance_source::{DistanceSource, GroundDistances};
-    /// use rappel::terrain::mesh::TriMesh;
+    /// use rappel_planners::rover::ground::{DistanceSource, GroundDistances};
+    /// use rappel_terrain::mesh::TriMesh;
     /// let v = vec![
     ///     Point3::new(-5.0, -5.0, 0.0),
     ///     Point3::new(5.0, -5.0, 0.0),
@@ -218,3 +216,7 @@ impl GroundDistances {
         }
     }
 }
+
+/// Sampling resolution of anchor prediction on exact mesh distances, metres: the smallest ground
+/// feature the tether notices (contacts are found once the swept tether is this deep).
+pub const PREDICT_RESOLUTION: f64 = 0.05;

@@ -1,5 +1,5 @@
 //! Shadow sampling for the tethered rover: the sample-bias hook
-//! ([`rappel_planners::sampler::StateSpace::sample_biased`]) of [`crate::navigate`].
+//! ([`crate::sampler::StateSpace::sample_biased`]) of [`super::problem`].
 //!
 //! A state is *in the shadow* of the tether's root anchor when the straight segment from the
 //! anchor to the rover's tether end is blocked by the terrain: the taut tether cannot reach such
