@@ -23,7 +23,6 @@
 use crate::output::{
     Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_file,
 };
-use rappel::export::{ExportFormat, export_plan};
 use rappel::plan::{
     ClassReport, PlanOptions, PlanOutcome, PlanReport, PlanSetting, plan_detailed_each,
     plan_streamed, plan_summary,
@@ -31,6 +30,7 @@ use rappel::plan::{
 use rappel::plan_stream::{PlanStreamLine, PlanSummary};
 use rappel::progress::{Progress, Show};
 use rappel::scenario::Scenario;
+use rappel_render::export::{ExportFormat, export_plan};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `rappel plan`.

@@ -30,9 +30,7 @@ pub struct BtmSummary {
     pub build_us: u64,
 }
 
-impl crate::report::Report for BtmSummary {
-    const KIND: &'static str = "btm";
-}
+crate::report::report!(BtmSummary, "btm");
 
 /// Builds the BTM of the validated `map`, timing the build, and checks it.
 ///

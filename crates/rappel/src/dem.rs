@@ -83,9 +83,7 @@ pub struct DemReport {
     pub goal: nalgebra::Point2<f64>,
 }
 
-impl crate::report::Report for DemReport {
-    const KIND: &'static str = "dem";
-}
+crate::report::report!(DemReport, "dem");
 
 /// A scenario made from a DEM, with what ingestion found.
 pub struct DemScenario {

@@ -1,41 +1,37 @@
 //! rappel: motion planning for tethered robots on extreme terrain. This facade crate is what users
-//! embed: scenario files, a small high-level API, SVG pictures, and the layered crates re-exported.
+//! embed: the scenario schema and its loading, one module per use case (each with its options and
+//! its report), and the layered crates re-exported. Pictures are drawn by `rappel-render`.
+//!
+//! Build a scenario in code and plan it (thesis Ch. 2: homotopy classes shortest first, ascent
+//! feasibility, and the chosen ascent/descent pair):
 //!
 //! ```
-//! use rappel::scenario::Scenario;
-//! use rappel::btm_summary::summarize_btm;
-//! let s = Scenario::from_ron_str(r#"(
-//!     map: (boundary: [(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)],
-//!           obstacles: [[(4.0, 8.0), (6.0, 8.0), (5.0, 10.0)]]),
-//!     start: (5.0, 19.0), goal: (5.0, 1.0))"#).unwrap();
-//! let (btm, summary) = summarize_btm(s.validate().unwrap().map()).unwrap();
-//! assert_eq!(summary.triangles, 7);
-//! let mut pic = rappel::svg::Picture::of_map(&s.map);
-//! pic.btm(&btm);
-//! pic.map(&s.map);
-//! pic.start_goal(s.start, s.goal);
-//! assert!(pic.finish("tiny").contains("BTM edge"));
+//! use rappel::prelude::*;
+//!
+//! let scenario = Scenario::builder()
+//!     .boundary([(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)])
+//!     .obstacle([(4.0, 8.0), (6.0, 8.0), (5.0, 10.0)])
+//!     .start(5.0, 19.0)
+//!     .goal(5.0, 1.0)
+//!     .plane(20.0, 0.0, 45.0, 0.4)
+//!     .build()?;
+//! let report = plan(&scenario, &PlanOptions::default())?;
+//! let pair = report.outcome.chosen.as_ref().expect("a feasible class");
+//! assert_eq!(pair.rank, 1);
+//! assert!(report.to_json().contains("\"report\": \"plan\""));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! The Chapter-2 planner in one call ([`plan()`]): homotopy classes shortest first, ascent
-//! feasibility, and the chosen ascent/descent pair.
+//! Scenario files (RON or JSON, `docs/scenario-format.md`) load with [`Scenario::load`]. The use
+//! cases: [`plan`](mod@plan), [`query`], [`stability`], [`dem`], [`settle`], [`settle_map`],
+//! [`navigate`], [`track`], [`online`], and the taut tether of a path ([`tether`]).
 //!
-//! ```
-//! use rappel::plan::PlanOptions;
-//! let s = rappel::scenario::Scenario::from_ron_str(r#"(
-//!     map: (boundary: [(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)],
-//!           obstacles: [[(4.0, 8.0), (6.0, 8.0), (5.0, 10.0)]]),
-//!     start: (5.0, 19.0), goal: (5.0, 1.0),
-//!     terrain: (planes: [(y_top: 20.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]))"#).unwrap();
-//! let report = rappel::plan(&s, &PlanOptions::default()).unwrap();
-//! assert_eq!(report.classes[0].rank, 1);
-//! assert!(report.outcome.chosen.is_some(), "{}", report.outcome.verdict);
-//! ```
+//! [`Scenario::load`]: scenario::Scenario::load
 
 pub mod btm_summary;
+pub mod builder;
 pub mod dem;
 pub mod dem_ptfo;
-pub mod export;
 pub mod friction_plan;
 pub mod generated;
 pub mod georeference;
@@ -44,6 +40,7 @@ pub mod navigate;
 pub mod online;
 pub mod plan;
 pub mod plan_stream;
+pub mod prelude;
 pub mod progress;
 pub mod ptfo_spec;
 pub mod query;

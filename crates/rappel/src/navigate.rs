@@ -168,6 +168,4 @@ pub const PATON_ITERATIONS: u64 = 750;
 /// A default wall-time bound for one run, as a safety net beside the iteration limit.
 pub const DEFAULT_TIME: Duration = Duration::from_secs(120);
 
-impl crate::report::Report for NavigateReport {
-    const KIND: &'static str = "navigate";
-}
+crate::report::report!(NavigateReport, "navigate");

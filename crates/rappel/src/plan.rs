@@ -281,9 +281,7 @@ pub struct PlanReport {
     pub outcome: PlanOutcome,
 }
 
-impl crate::report::Report for PlanReport {
-    const KIND: &'static str = "plan";
-}
+crate::report::report!(PlanReport, "plan");
 
 /// A plan with what its picture needs.
 #[derive(Debug, Clone)]

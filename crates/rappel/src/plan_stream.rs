@@ -13,7 +13,7 @@
 //! `docs/schemas/plan_stream.json` (`docs/output-format.md`).
 
 use crate::plan::{ClassReport, PlanOutcome, PlanReport, PlanSetting};
-use crate::report::{Envelope, Report};
+use crate::report::Envelope;
 use serde::{Deserialize, Serialize};
 
 /// A plan's report without its classes: the last line of a complete stream.
@@ -54,9 +54,7 @@ pub enum PlanStreamLine {
     },
 }
 
-impl Report for PlanStreamLine {
-    const KIND: &'static str = "plan_stream";
-}
+crate::report::report!(PlanStreamLine, "plan_stream");
 
 impl PlanStreamLine {
     /// This line in its envelope as one line of compact JSON (no newline).

@@ -60,9 +60,7 @@ pub struct QueryReport {
     pub answers: Vec<QueryAnswer>,
 }
 
-impl crate::report::Report for QueryReport {
-    const KIND: &'static str = "query";
-}
+crate::report::report!(QueryReport, "query");
 
 /// Why a query run could not start.
 #[derive(Debug, thiserror::Error)]

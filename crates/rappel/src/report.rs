@@ -16,7 +16,7 @@
 //!
 //! A new report follows it in three steps: derive the three traits on its type (points as
 //! `Point2<f64>` fields with `#[schemars(with = "[f64; 2]")]`, enums with
-//! `#[serde(rename_all = "snake_case")]`), `impl Report for T { const KIND: &str = "name"; }`,
+//! `#[serde(rename_all = "snake_case")]`), `report!(T, "name")` (the [`Report`] impl and an inherent `to_json`),
 //! and add it to [`schemas`]; the CLI prints it with `print_report`, the schema test then asks for
 //! its committed document in `docs/schemas/`.
 
@@ -40,6 +40,30 @@ pub trait Report: Serialize + DeserializeOwned + JsonSchema {
         serde_json::to_string_pretty(&Envelope::new(self)).unwrap_or_default()
     }
 }
+
+/// This report in its [`Envelope`], as pretty JSON: [`Report::to_json`] without naming the
+/// trait (for report types of the lower crates, such as the online simulation's).
+pub fn to_json<T: Report>(report: &T) -> String {
+    report.to_json()
+}
+
+/// Implements [`Report`] for a facade report type with its kind, and gives the type an inherent
+/// `to_json`, so a user serialises a report without importing a trait.
+macro_rules! report {
+    ($t:ty, $kind:literal) => {
+        impl $crate::report::Report for $t {
+            const KIND: &'static str = $kind;
+        }
+        impl $t {
+            /// This report as `--json` prints it: in its envelope (`schema_version` and `report`
+            /// first), pretty JSON ([`crate::report::Report::to_json`]).
+            pub fn to_json(&self) -> String {
+                $crate::report::Report::to_json(self)
+            }
+        }
+    };
+}
+pub(crate) use report;
 
 /// A report as printed: `schema_version` and `report` first, then the report's own fields.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -228,9 +252,7 @@ pub struct ValidateReport {
     pub georeferenced: bool,
 }
 
-impl Report for ValidateReport {
-    const KIND: &'static str = "validate";
-}
+crate::report::report!(ValidateReport, "validate");
 
 /// The JSON form of `rappel gen-map`: what was written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -247,9 +269,7 @@ pub struct GenMapReport {
     pub width_m: f64,
 }
 
-impl Report for GenMapReport {
-    const KIND: &'static str = "gen_map";
-}
+crate::report::report!(GenMapReport, "gen_map");
 
 /// The JSON form of `rappel homotopic`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -262,9 +282,7 @@ pub struct HomotopicReport {
     pub reduced_crossings: [usize; 2],
 }
 
-impl Report for HomotopicReport {
-    const KIND: &'static str = "homotopic";
-}
+crate::report::report!(HomotopicReport, "homotopic");
 
 #[cfg(test)]
 mod tests {

@@ -264,6 +264,12 @@ pub enum ScenarioError {
         /// What is wrong, naming the entry.
         message: String,
     },
+    /// A [`crate::builder::ScenarioBuilder`] was not given a required part.
+    #[error("scenario builder: no {missing} given (call .{missing}(...))")]
+    Incomplete {
+        /// The missing part: `boundary`, `start` or `goal`.
+        missing: &'static str,
+    },
     /// A robot parameter is out of range.
     #[error("{}: robot: {message}", path.display())]
     Robot {

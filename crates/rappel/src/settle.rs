@@ -106,9 +106,7 @@ pub struct SettleReport {
     pub distance_source: DistanceReport,
 }
 
-impl crate::report::Report for SettleReport {
-    const KIND: &'static str = "settle";
-}
+crate::report::report!(SettleReport, "settle");
 
 /// Settle Axel (default parameters) at `(x, y)` with yaw `yaw_deg` (degrees from `+x`,
 /// counter-clockwise); with `anchor`, check stability for both boom configurations. Settling

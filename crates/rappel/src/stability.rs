@@ -116,9 +116,7 @@ pub struct StabilityReport {
     pub dots: Vec<StabilityDot>,
 }
 
-impl crate::report::Report for StabilityReport {
-    const KIND: &'static str = "stability";
-}
+crate::report::report!(StabilityReport, "stability");
 
 /// Why a stability map could not be made.
 #[derive(Debug, thiserror::Error)]

@@ -157,9 +157,7 @@ pub struct ShpReport {
     pub h_signature: HSignatureReport,
 }
 
-impl crate::report::Report for ShpReport {
-    const KIND: &'static str = "shp";
-}
+crate::report::report!(ShpReport, "shp");
 
 /// The SHP of `path` with its report.
 ///

@@ -162,9 +162,7 @@ pub struct TrackReport {
     pub verdict: String,
 }
 
-impl crate::report::Report for TrackReport {
-    const KIND: &'static str = "track";
-}
+crate::report::report!(TrackReport, "track");
 
 /// Runs Kumar Problem 1: Robot 1 along `path1` (a single point for the one-robot form: a fixed
 /// anchor), Robot 2 along `path2`; Robot 2 is the default four-wheel rover of `m_2` = 35 kg.

@@ -29,6 +29,7 @@
 
 pub mod axonometric;
 pub mod dem;
+pub mod export;
 pub mod navigate;
 pub mod online;
 pub mod picture;

@@ -8,7 +8,6 @@ mod common;
 mod dem_formats_agree;
 mod dem_ptfo_saddles;
 mod distance_source;
-mod export;
 mod fuzz_inputs;
 mod long_obstacle;
 mod navigate;

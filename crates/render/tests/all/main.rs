@@ -1,7 +1,8 @@
-//! The pictures' integration tests in one test binary: pictures rendered to pixels and checked
+//! The pictures' and exports' integration tests in one test binary: the GeoJSON and CSV exports of a plan, pictures rendered to pixels and checked
 //! for what must be visible, the settled-pose and hill views, and the stability map picture of a
 //! mesh scene.
 
+mod export;
 mod mesh_stability;
 mod render;
 mod settle_picture;

@@ -4,11 +4,11 @@
 //! the export's inverse mapping.
 
 use rappel::dem::dem_scenario;
-use rappel::export::{ExportFormat, export_plan};
 use rappel::geometry::polygon::{PointInPolygon, Polygon};
 use rappel::nalgebra::Point2;
 use rappel::plan::{PlanOptions, plan};
 use rappel::terrain::ingest::IngestOptions;
+use rappel_render::export::{ExportFormat, export_plan};
 
 #[test]
 fn exported_points_fall_on_the_dem_cells_they_came_from() {

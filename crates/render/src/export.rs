@@ -1,6 +1,6 @@
 //! Plans exported for other tools (issue 16): the chosen class's taut tether, anchors, waypoints,
 //! ascent and descent, and every other class's tether, as GeoJSON or CSV. For scenarios made from
-//! a DEM ([`crate::georeference`]) coordinates are the DEM's own `(east, north)`, so a plan lays
+//! a DEM ([`rappel::georeference`]) coordinates are the DEM's own `(east, north)`, so a plan lays
 //! over the DEM in a GIS; otherwise they are planning-frame coordinates, and the file says so.
 //!
 //! GeoJSON: a `FeatureCollection` of `LineString` and `Point` features with `layer` and `class`
@@ -10,9 +10,9 @@
 //! `rappel_crs` holding the DEM's WKT or citation (set the layer's CRS by hand). CSV: one row per
 //! vertex, `layer,class,index,x,y` and, when georeferenced, `east,north`.
 
-use crate::georeference::Georeference;
-use crate::plan::PlanReport;
 use nalgebra::Point2;
+use rappel::georeference::Georeference;
+use rappel::plan::PlanReport;
 use serde_json::{Map as JsonMap, Value, json};
 use std::fmt::Write;
 
@@ -74,7 +74,7 @@ fn line(layer: &'static str, class: Option<usize>, points: &[Point2<f64>]) -> Fe
 /// chosen pair's ascent and descent, the start and the goal.
 ///
 /// ```
-/// use rappel::export::{plan_features, Geometry};
+/// use rappel_render::export::{plan_features, Geometry};
 /// use rappel::plan::{plan, PlanOptions};
 /// use rappel::scenario::Scenario;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/thesis-fig-2-7.ron");
