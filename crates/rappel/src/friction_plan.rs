@@ -5,7 +5,7 @@
 //! anchors (Alg. 10), the capstan along the tether and the verdict; the picture colours PTFOs by
 //! verdict and marks the sticking points and the clipped vertices.
 
-use crate::plan::PairReport;
+use crate::pair::PairReport;
 use crate::ptfo_spec::ResolvedFriction;
 use crate::scenario::Scenario;
 use nalgebra::Point2;

@@ -119,7 +119,10 @@ pub fn run(
     let resolve = |s: &Scenario, which: &'static str| {
         s.friction
             .as_ref()
-            .map(|f| f.resolve(s).map(|r| r.model))
+            .map(|f| {
+                f.resolve(s.robot.mass_kg, &s.terrain.planes, s.map.obstacles.len())
+                    .map(|r| r.model)
+            })
             .transpose()
             .map_err(|message| OnlineRunError::Friction { which, message })
     };

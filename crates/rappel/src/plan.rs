@@ -11,7 +11,7 @@
 //! [`rappel_mechanics::wheeled_tether_cone`]).
 //! [`PlanReport`] is plain data (serde); [`Plan::picture`] draws it like thesis Figs. 2.31-2.44.
 
-use crate::plan_stream::PlanSummary;
+pub use crate::pair::PairReport;
 use crate::scenario::{Scenario, ValidScenario};
 use crate::tether::HSignatureReport;
 use nalgebra::Point2;
@@ -25,7 +25,7 @@ use rappel_mechanics::traversability::StabilitySettings;
 use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
 use rappel_planners::budget::{BudgetKind, ExpansionBudget};
 use rappel_planners::feasibility::{FeasibilityContext, Passability, fill_reachable_areas};
-use rappel_planners::path_pair::{ClassOutcome, PairPlan, PathPair, plan_path_pair_each};
+use rappel_planners::path_pair::{ClassOutcome, PairPlan, plan_path_pair_each};
 use rappel_planners::spt::{SearchError, SearchOptions, SearchStats, SptPlanner, Termination};
 use rappel_planners::terrain::{PlaneSeries, TerrainError};
 use serde::{Deserialize, Serialize};
@@ -182,50 +182,9 @@ pub struct ClassReport {
     pub pair_failure: Option<String>,
 }
 
-/// The chosen ascent/descent pair.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-pub struct PairReport {
-    /// The class's rank.
-    pub rank: usize,
-    /// Ascent, goal to start.
-    #[schemars(with = "Vec<[f64; 2]>")]
-    pub ascent: Vec<Point2<f64>>,
-    /// Descent, start to goal.
-    #[schemars(with = "Vec<[f64; 2]>")]
-    pub descent: Vec<Point2<f64>>,
-    /// Ascent length, m.
-    #[serde(rename = "ascent_length_m")]
-    pub ascent_length: f64,
-    /// Descent length, m.
-    #[serde(rename = "descent_length_m")]
-    pub descent_length: f64,
-    /// The descent is the ascent reversed.
-    pub descent_is_reversed_ascent: bool,
-    /// Smallest distance from either path to an anchor, m (`null` without anchors).
-    #[serde(rename = "min_anchor_distance_m")]
-    pub min_anchor_distance: Option<f64>,
-}
-
-impl From<&PathPair> for PairReport {
-    fn from(p: &PathPair) -> Self {
-        PairReport {
-            rank: p.rank,
-            ascent: p.ascent.clone(),
-            descent: p.descent.clone(),
-            ascent_length: p.ascent_length,
-            descent_length: p.descent_length,
-            descent_is_reversed_ascent: p.descent_is_reversed_ascent,
-            min_anchor_distance: p
-                .min_anchor_distance
-                .is_finite()
-                .then_some(p.min_anchor_distance),
-        }
-    }
-}
-
 /// What a plan's report says before its classes: the scenario, the model and the planes.
 /// Shared (serde-flattened, so the JSON is one flat object) by [`PlanReport`] and the streamed
-/// summary [`crate::plan_stream::PlanSummary`].
+/// summary [`PlanSummary`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PlanSetting {
     /// The scenario's name.
@@ -246,7 +205,7 @@ pub struct PlanSetting {
 
 /// What a plan's report says after its classes: the chosen pair, the verdict, the search's end
 /// and counters, warnings and the frictional plan. Shared (serde-flattened) by [`PlanReport`] and
-/// [`crate::plan_stream::PlanSummary`].
+/// [`PlanSummary`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PlanOutcome {
     /// The chosen pair (the shortest feasible class with a valid pair).
@@ -517,7 +476,13 @@ fn plan_core(
     );
     let mut friction = None;
     if let Some(spec) = &scenario.friction {
-        let resolved = spec.resolve(scenario).map_err(PlanError::Friction)?;
+        let resolved = spec
+            .resolve(
+                scenario.robot.mass_kg,
+                &scenario.terrain.planes,
+                scenario.map.obstacles.len(),
+            )
+            .map_err(PlanError::Friction)?;
         let (r, p) =
             crate::friction_plan::plan_friction(scenario, &resolved, &btm, &terrain, &search)
                 .map_err(|e| PlanError::Friction(format!("frictional planning: {e}")))?;
@@ -674,5 +639,28 @@ fn outcome_of(
         stats: pair_plan.stats,
         warnings,
         friction: None,
+    }
+}
+
+/// A plan's report without its classes: the last line of a complete stream.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct PlanSummary {
+    /// Scenario, model and planes.
+    #[serde(flatten)]
+    pub setting: PlanSetting,
+    /// How many `class` lines came before (the classes found).
+    pub class_count: usize,
+    /// Chosen pair, verdict, search counters, warnings, frictional plan.
+    #[serde(flatten)]
+    pub outcome: PlanOutcome,
+}
+
+impl From<&PlanReport> for PlanSummary {
+    fn from(r: &PlanReport) -> Self {
+        PlanSummary {
+            setting: r.setting.clone(),
+            class_count: r.classes.len(),
+            outcome: r.outcome.clone(),
+        }
     }
 }

@@ -12,32 +12,10 @@
 //! code 2) or in neither (the process was killed) is not. The schema is
 //! `docs/schemas/plan_stream.json` (`docs/output-format.md`).
 
-use crate::plan::{ClassReport, PlanOutcome, PlanReport, PlanSetting};
+use crate::plan::ClassReport;
+pub use crate::plan::PlanSummary;
 use crate::report::Envelope;
 use serde::{Deserialize, Serialize};
-
-/// A plan's report without its classes: the last line of a complete stream.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-pub struct PlanSummary {
-    /// Scenario, model and planes.
-    #[serde(flatten)]
-    pub setting: PlanSetting,
-    /// How many `class` lines came before (the classes found).
-    pub class_count: usize,
-    /// Chosen pair, verdict, search counters, warnings, frictional plan.
-    #[serde(flatten)]
-    pub outcome: PlanOutcome,
-}
-
-impl From<&PlanReport> for PlanSummary {
-    fn from(r: &PlanReport) -> Self {
-        PlanSummary {
-            setting: r.setting.clone(),
-            class_count: r.classes.len(),
-            outcome: r.outcome.clone(),
-        }
-    }
-}
 
 /// One line of `rappel plan --jsonl` (module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]

@@ -16,12 +16,12 @@
 //! * `T_min = min(m g sin η_min, T_d - ε)`: the static tension on the shallowest plane, never
 //!   above the driving band.
 
-use crate::scenario::Scenario;
 use rappel_mechanics::friction::FrictionInterval;
 use rappel_mechanics::ptfo::TensionAssumptions;
 use rappel_mechanics::ptfo_surface::PtfoSurface;
 use rappel_mechanics::tension_limit::HoldingRobot;
 use rappel_planners::frictional::{FrictionModel, Ptfo};
+use rappel_terrain::plane_series::TerrainPlane;
 use serde::{Deserialize, Serialize};
 
 /// Standard gravity used by the derived defaults, m/s² (Earth; give tensions explicitly for Mars).
@@ -109,9 +109,15 @@ pub struct ResolvedFriction {
 }
 
 impl FrictionSpec {
-    /// Resolves the section against its scenario: derived tensions, checked ranges, surfaces and
-    /// obstacle indices. Errors name the offending entry.
-    pub fn resolve(&self, scenario: &Scenario) -> Result<ResolvedFriction, String> {
+    /// Resolves the section against its scenario (the robot's mass, the terrain planes and the
+    /// number of obstacles): derived tensions, checked ranges, surfaces and obstacle indices.
+    /// Errors name the offending entry.
+    pub fn resolve(
+        &self,
+        mass_kg: f64,
+        planes: &[TerrainPlane],
+        obstacles: usize,
+    ) -> Result<ResolvedFriction, String> {
         let mut notes = Vec::new();
         let mut ptfos = Vec::with_capacity(self.ptfos.len());
         for (i, p) in self.ptfos.iter().enumerate() {
@@ -128,13 +134,8 @@ impl FrictionSpec {
             });
         }
         let t = &self.tensions;
-        let weight = scenario.robot.mass_kg * GRAVITY;
-        let slopes: Vec<f64> = scenario
-            .terrain
-            .planes
-            .iter()
-            .map(|p| p.slope_deg.to_radians())
-            .collect();
+        let weight = mass_kg * GRAVITY;
+        let slopes: Vec<f64> = planes.iter().map(|p| p.slope_deg.to_radians()).collect();
         let derive = |what: &str| {
             format!(
                 "friction.tensions.{what}: no terrain planes to derive it from; give it explicitly"
@@ -206,7 +207,7 @@ impl FrictionSpec {
             tensions,
             geometric_friction: self.geometric_friction,
         };
-        rappel_planners::frictional::validate_model(&model, scenario.map.obstacles.len())
+        rappel_planners::frictional::validate_model(&model, obstacles)
             .map_err(|e| format!("friction: {e}"))?;
         Ok(ResolvedFriction {
             model,
@@ -219,6 +220,15 @@ impl FrictionSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scenario::Scenario;
+
+    fn resolve(s: &Scenario) -> Result<ResolvedFriction, String> {
+        s.friction.as_ref().unwrap().resolve(
+            s.robot.mass_kg,
+            &s.terrain.planes,
+            s.map.obstacles.len(),
+        )
+    }
 
     const BASE: &str = r#"(
         map: (boundary: [(0.0, 0.0), (40.0, 0.0), (40.0, 100.0), (0.0, 100.0)],
@@ -233,7 +243,7 @@ mod tests {
     #[test]
     fn defaults_are_derived_from_mass_and_slopes() {
         let s = Scenario::from_ron_str(BASE).unwrap();
-        let r = s.friction.as_ref().unwrap().resolve(&s).unwrap();
+        let r = resolve(&s).unwrap();
         let w = 35.0 * GRAVITY;
         let t_d = w * 60f64.to_radians().sin();
         let t = r.model.tensions;
@@ -256,7 +266,7 @@ mod tests {
             let json = s.to_text(crate::scenario::Format::Json);
             let back = Scenario::from_json_str(&json).unwrap();
             assert_eq!(back, s);
-            assert!(back.friction.as_ref().unwrap().resolve(&back).is_ok());
+            assert!(resolve(&back).is_ok());
         }
     }
 
@@ -266,14 +276,14 @@ mod tests {
         assert!(Scenario::from_ron_str(&typo).is_err());
         let bad = BASE.replace("obstacle: 0", "obstacle: 3");
         let s = Scenario::from_ron_str(&bad).unwrap();
-        let e = s.friction.as_ref().unwrap().resolve(&s).unwrap_err();
+        let e = resolve(&s).unwrap_err();
         assert!(e.contains("obstacle 3"), "{e}");
         let empty = BASE.replace("lo: 0.3, hi: 0.4", "lo: 0.5, hi: 0.4");
         let s = Scenario::from_ron_str(&empty).unwrap();
-        assert!(s.friction.as_ref().unwrap().resolve(&s).is_err());
+        assert!(resolve(&s).is_err());
         let neg = BASE.replace("radius: 2.0", "radius: -2.0");
         let s = Scenario::from_ron_str(&neg).unwrap();
-        let e = s.friction.as_ref().unwrap().resolve(&s).unwrap_err();
+        let e = resolve(&s).unwrap_err();
         assert!(e.contains("ptfos[0].surface"), "{e}");
     }
 }

@@ -494,7 +494,12 @@ impl Scenario {
             ));
         }
         if let Some(f) = &self.friction {
-            f.resolve(self).map_err(|message| ScenarioError::Friction {
+            f.resolve(
+                self.robot.mass_kg,
+                &self.terrain.planes,
+                self.map.obstacles.len(),
+            )
+            .map_err(|message| ScenarioError::Friction {
                 path: PathBuf::new(),
                 message,
             })?;

@@ -28,7 +28,7 @@ fn model(s: &Scenario) -> FrictionModel {
     s.friction
         .as_ref()
         .expect("a friction section")
-        .resolve(s)
+        .resolve(s.robot.mass_kg, &s.terrain.planes, s.map.obstacles.len())
         .expect("resolves")
         .model
 }
