@@ -14,10 +14,10 @@ pub fn print_friction(f: &FrictionReport) {
     crate::outln!(
         "friction     PTFOs on obstacles {:?}; T_min {:.1} N, T_max {:.1} N, T_d {:.1} N, eps {:.1} N",
         f.ptfos,
-        t.t_min,
-        t.t_max,
-        t.t_d,
-        t.epsilon
+        t.t_min_n,
+        t.t_max_n,
+        t.t_d_n,
+        t.epsilon_n
     );
     for n in &f.notes {
         crate::outln!("  derived    {n}");
@@ -26,8 +26,8 @@ pub fn print_friction(f: &FrictionReport) {
         crate::outln!(
             "f-class {:<3}  length {:.3} m (searched {:.3} m), {} anchors, {} slip(s): {}",
             c.rank,
-            c.length,
-            c.searched_length,
+            c.length_m,
+            c.searched_length_m,
             c.anchors.len(),
             c.slips.len(),
             c.verdict
@@ -42,8 +42,8 @@ pub fn print_friction(f: &FrictionReport) {
                 } else {
                     ""
                 },
-                s.length_before,
-                s.length_after,
+                s.length_before_m,
+                s.length_after_m,
                 s.anchors_before.len(),
                 s.anchors_after.len()
             );
@@ -76,8 +76,8 @@ pub fn print_friction(f: &FrictionReport) {
             crate::outln!(
                 "  capstan    total exponent {:.3}: a_0 holds {:.1} N when the robot pulls T_max{}",
                 h.total_exponent,
-                h.holding_force_at_start,
-                h.tension_limit.map_or_else(String::new, |l| format!(
+                h.holding_force_at_start_n,
+                h.tension_limit_n.map_or_else(String::new, |l| format!(
                     "; robot-side limit {l:.1} N (Kumar eq. 2)"
                 ))
             );
@@ -89,14 +89,14 @@ pub fn print_friction(f: &FrictionReport) {
         if let Some(p) = &c.pair {
             crate::outln!(
                 "  pair       ascent {:.2} m, descent {:.2} m{}, {}",
-                p.ascent_length,
-                p.descent_length,
+                p.ascent_length_m,
+                p.descent_length_m,
                 if p.descent_is_reversed_ascent {
                     " (the ascent reversed)"
                 } else {
                     ""
                 },
-                p.min_anchor_distance.map_or_else(
+                p.min_anchor_distance_m.map_or_else(
                     || "no anchor kept clear".to_string(),
                     |d| format!("{d:.3} m from the nearest anchor kept clear")
                 )

@@ -265,8 +265,8 @@ fn print_head(file: &str, r: &PlanSetting, class_count: usize, o: &PlanOutcome) 
         crate::outln!(
             "plane {}      y {:.1}..{:.1}  slope {:.1}°  mu {:.2}  {}",
             p.index,
-            p.y_bottom,
-            p.y_top,
+            p.y_bottom_m,
+            p.y_top_m,
             p.slope_deg,
             p.friction,
             if p.tether_demand {
@@ -299,7 +299,7 @@ fn print_class(c: &ClassReport) {
     let mut block = format!(
         "class {:<3}    length {:.3} m, {} anchors{}: {}",
         c.rank,
-        c.length,
+        c.length_m,
         c.anchors.len(),
         if c.simple { "" } else { ", not simple" },
         c.verdict
@@ -343,10 +343,14 @@ fn print_verdict(r: &PlanSetting, o: &PlanOutcome) {
                 .collect::<Vec<_>>()
                 .join(" ")
         };
-        crate::outln!("ascent       {:.3} m: {}", p.ascent_length, fmt(&p.ascent));
+        crate::outln!(
+            "ascent       {:.3} m: {}",
+            p.ascent_length_m,
+            fmt(&p.ascent)
+        );
         crate::outln!(
             "descent      {:.3} m{}: {}",
-            p.descent_length,
+            p.descent_length_m,
             if p.descent_is_reversed_ascent {
                 " (the ascent reversed)"
             } else {
@@ -354,7 +358,7 @@ fn print_verdict(r: &PlanSetting, o: &PlanOutcome) {
             },
             fmt(&p.descent)
         );
-        if let Some(d) = p.min_anchor_distance {
+        if let Some(d) = p.min_anchor_distance_m {
             crate::outln!(
                 "clearance    {d:.3} m from the nearest anchor (asked {:.3} m)",
                 r.clearance_m

@@ -117,7 +117,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     } else {
         let o = report.origin;
         let clearance = report
-            .body_clearance
+            .body_clearance_m
             .map(|c| format!(", body clearance {c:.3} m"))
             .unwrap_or_default();
         crate::outln!(

@@ -63,11 +63,11 @@ pub fn run(args: &Args) -> Result<bool, CliError> {
             "{:>8}  {:>7}  {:>8.1}  {:>12.1}  {:>6}  {:>6}  {}",
             w.waypoint,
             w.surface,
-            w.t2max,
+            w.t2max_n,
             w.total_winding.to_degrees(),
             if w.ground_anchored { "yes" } else { "no" },
             if w.stable { "yes" } else { "no" },
-            w.required_tension
+            w.required_tension_n
                 .map_or("-".to_string(), |t| format!("{t:.1}"))
         );
     }

@@ -11,7 +11,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for class in &report.classes {
         println!(
             "class {}: {:.1} m, feasible: {}",
-            class.rank, class.length, class.feasible
+            class.rank, class.length_m, class.feasible
         );
     }
     let pair = report.outcome.chosen.ok_or("no feasible class")?;

@@ -26,17 +26,13 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TensionReport {
     /// `T_min`.
-    #[serde(rename = "t_min_n")]
-    pub t_min: f64,
+    pub t_min_n: f64,
     /// `T_max`.
-    #[serde(rename = "t_max_n")]
-    pub t_max: f64,
+    pub t_max_n: f64,
     /// `T_d`.
-    #[serde(rename = "t_d_n")]
-    pub t_d: f64,
+    pub t_d_n: f64,
     /// `ε`.
-    #[serde(rename = "epsilon_n")]
-    pub epsilon: f64,
+    pub epsilon_n: f64,
 }
 
 /// One anchor of a class after Alg. 8.
@@ -63,11 +59,9 @@ pub struct FrictionClassReport {
     /// Rank in the frictionless search.
     pub rank: usize,
     /// Length as searched, m.
-    #[serde(rename = "searched_length_m")]
-    pub searched_length: f64,
+    pub searched_length_m: f64,
     /// Length after the slips, m.
-    #[serde(rename = "length_m")]
-    pub length: f64,
+    pub length_m: f64,
     /// The final SHP.
     #[schemars(with = "Vec<[f64; 2]>")]
     pub points: Vec<Point2<f64>>,
@@ -144,8 +138,8 @@ pub fn plan_friction(
         .iter()
         .map(|c| FrictionClassReport {
             rank: c.rank,
-            searched_length: c.searched_length,
-            length: c.check.taut.length,
+            searched_length_m: c.searched_length,
+            length_m: c.check.taut.length,
             points: c.check.taut.points.clone(),
             anchors: c
                 .check
@@ -183,7 +177,7 @@ pub fn plan_friction(
             let c = classes.iter().find(|c| c.rank == rank).expect("chosen");
             format!(
                 "class {rank} is the first feasible class with friction: {:.2} m, {} slip(s)",
-                c.length,
+                c.length_m,
                 c.slips.len()
             )
         }
@@ -197,10 +191,10 @@ pub fn plan_friction(
     let t = resolved.model.tensions;
     let report = FrictionReport {
         tensions: TensionReport {
-            t_min: t.t_min(),
-            t_max: t.t_max(),
-            t_d: t.t_d(),
-            epsilon: t.epsilon(),
+            t_min_n: t.t_min(),
+            t_max_n: t.t_max(),
+            t_d_n: t.t_d(),
+            epsilon_n: t.epsilon(),
         },
         notes: resolved.notes.clone(),
         ptfos: resolved.model.ptfos.iter().map(|p| p.obstacle).collect(),

@@ -17,16 +17,13 @@ pub struct PairReport {
     #[schemars(with = "Vec<[f64; 2]>")]
     pub descent: Vec<Point2<f64>>,
     /// Ascent length, m.
-    #[serde(rename = "ascent_length_m")]
-    pub ascent_length: f64,
+    pub ascent_length_m: f64,
     /// Descent length, m.
-    #[serde(rename = "descent_length_m")]
-    pub descent_length: f64,
+    pub descent_length_m: f64,
     /// The descent is the ascent reversed.
     pub descent_is_reversed_ascent: bool,
     /// Smallest distance from either path to an anchor, m (`null` without anchors).
-    #[serde(rename = "min_anchor_distance_m")]
-    pub min_anchor_distance: Option<f64>,
+    pub min_anchor_distance_m: Option<f64>,
 }
 
 impl From<&PathPair> for PairReport {
@@ -35,10 +32,10 @@ impl From<&PathPair> for PairReport {
             rank: p.rank,
             ascent: p.ascent.clone(),
             descent: p.descent.clone(),
-            ascent_length: p.ascent_length,
-            descent_length: p.descent_length,
+            ascent_length_m: p.ascent_length,
+            descent_length_m: p.descent_length,
             descent_is_reversed_ascent: p.descent_is_reversed_ascent,
-            min_anchor_distance: p
+            min_anchor_distance_m: p
                 .min_anchor_distance
                 .is_finite()
                 .then_some(p.min_anchor_distance),

@@ -103,11 +103,9 @@ pub struct PlaneReport {
     /// Index, 0 at the top.
     pub index: usize,
     /// Band top, m.
-    #[serde(rename = "y_top_m")]
-    pub y_top: f64,
+    pub y_top_m: f64,
     /// Band bottom, m.
-    #[serde(rename = "y_bottom_m")]
-    pub y_bottom: f64,
+    pub y_bottom_m: f64,
     /// Slope, degrees.
     pub slope_deg: f64,
     /// Wheel friction.
@@ -156,8 +154,7 @@ pub struct ClassReport {
     /// 1 for the shortest.
     pub rank: usize,
     /// SHP length, m.
-    #[serde(rename = "length_m")]
-    pub length: f64,
+    pub length_m: f64,
     /// Simple (no tether winds around an obstacle).
     pub simple: bool,
     /// The SHP polyline.
@@ -511,7 +508,7 @@ fn class_report(c: &ClassOutcome, areas: bool) -> ClassReport {
     let h = &c.class.h_signature;
     ClassReport {
         rank: c.class.rank,
-        length: taut.length,
+        length_m: taut.length,
         simple: c.class.simple,
         points: taut.points.clone(),
         anchors: f
@@ -569,8 +566,8 @@ fn setting_of(
         .enumerate()
         .map(|(index, (p, l))| PlaneReport {
             index,
-            y_top: p.y_top,
-            y_bottom: p.y_bottom,
+            y_top_m: p.y_top,
+            y_bottom_m: p.y_bottom,
             slope_deg: p.slope_deg,
             friction: p.friction,
             tether_demand: l.is_tether_demand(),
@@ -600,7 +597,7 @@ fn outcome_of(
     let verdict = match (&chosen, first_failure) {
         (Some(p), _) => format!(
             "class {} is the shortest feasible class: ascent {:.2} m, descent {:.2} m",
-            p.rank, p.ascent_length, p.descent_length
+            p.rank, p.ascent_length_m, p.descent_length_m
         ),
         (None, None) => match pair_plan.termination {
             Termination::Expansions => format!(

@@ -97,8 +97,7 @@ pub struct SettleReport {
     pub support: Option<Vec<usize>>,
     /// Smallest body clearance along the axle, metres (Axel; `None` for the four-wheel rover,
     /// which has no body geometry).
-    #[serde(rename = "body_clearance_m")]
-    pub body_clearance: Option<f64>,
+    pub body_clearance_m: Option<f64>,
     /// The verdict per boom configuration when an anchor was given (Axel: `inline` and
     /// `in-contact`; the four-wheel rover: one, boom [`NO_BOOM`]).
     pub stability: Vec<BoomVerdict>,
@@ -166,7 +165,7 @@ pub fn settle_report_with(
         pitch_deg: crate::report::deg(pose.pitch()),
         contacts: pose.contacts.iter().map(p).collect(),
         support: None,
-        body_clearance: Some(pose.body_clearance),
+        body_clearance_m: Some(pose.body_clearance),
         stability,
         distance_source: distances.report(),
     };
@@ -229,7 +228,7 @@ pub fn four_wheel_report_with(
             .map(|&w| p(&pose.ground_points[w]))
             .collect(),
         support: Some(pose.support.clone()),
-        body_clearance: None,
+        body_clearance_m: None,
         stability,
         distance_source: distances.report(),
     };

@@ -197,7 +197,7 @@ pub fn track(
                 w.position.y,
                 w.surface,
                 terrain.slope_rad(w.surface).to_degrees(),
-                w.t2max,
+                w.t2max_n,
                 w.total_winding.to_degrees(),
                 if w.ground_anchored {
                     ", last anchor on the ground"

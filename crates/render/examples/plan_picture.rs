@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!(
             "class {}: {:.3} m, {} anchors, {}",
             c.rank,
-            c.length,
+            c.length_m,
             c.anchors.len(),
             c.verdict
         );

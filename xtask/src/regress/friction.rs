@@ -287,7 +287,7 @@ fn slip_paths() -> Result<Vec<Case>, String> {
             cases.push(Case::new(
                 SUITE,
                 format!("{name} class {}: {} slip(s)", c.rank, c.slips.len()),
-                format!("{:.6} m, {} corners", c.length, c.points.len()),
+                format!("{:.6} m, {} corners", c.length_m, c.points.len()),
                 match same {
                     Some(k) => format!("scratch rebuild: class {} {:.6} m", k.rank, k.length()),
                     None => "scratch rebuild: no equal class".to_string(),
@@ -302,7 +302,7 @@ fn slip_paths() -> Result<Vec<Case>, String> {
             let t = &f.tensions;
             let mu_lo = spec.ptfos[0].friction.lo;
             for s in &c.sweeps {
-                let exact = ((t.t_d + t.epsilon) / t.t_d).ln() / mu_lo;
+                let exact = ((t.t_d_n + t.epsilon_n) / t.t_d_n).ln() / mu_lo;
                 cases.push(Case::new(
                     SUITE,
                     format!("{name}: Alg. 10 release turn at a{}", s.index),
@@ -323,13 +323,13 @@ fn slip_paths() -> Result<Vec<Case>, String> {
                         }
                     })
                     .sum();
-                let exact = t.t_max * (-sum).exp();
+                let exact = t.t_max_n * (-sum).exp();
                 cases.push(Case::new(
                     SUITE,
                     format!("{name}: holding force at a_0"),
-                    format!("{:.6} N", h.holding_force_at_start),
+                    format!("{:.6} N", h.holding_force_at_start_n),
                     format!("T_max e^(-sum mu theta) = {exact:.6} N"),
-                    (h.holding_force_at_start - exact).abs() < 1e-9 * exact.max(1.0),
+                    (h.holding_force_at_start_n - exact).abs() < 1e-9 * exact.max(1.0),
                 ));
             }
         }

@@ -47,7 +47,10 @@ fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
     let offline = plan(&truth, &PlanOptions::default()).map_err(|e| format!("{name}: {e}"))?;
     let reference = offline.outcome.friction.as_ref().and_then(|f| {
         let rank = f.chosen?;
-        f.classes.iter().find(|c| c.rank == rank).map(|c| c.length)
+        f.classes
+            .iter()
+            .find(|c| c.rank == rank)
+            .map(|c| c.length_m)
     });
     let measured = report.final_class_length_m;
     let same =
@@ -388,7 +391,7 @@ fn completeness(cases: &mut Vec<Case>) -> Result<(), String> {
             .classes
             .iter()
             .find(|c| c.feasible)
-            .map(|c| c.length)
+            .map(|c| c.length_m)
         else {
             continue;
         };

@@ -87,11 +87,11 @@ fn oracle_case(
     length_case(
         cases,
         format!("{file}: first SHP length"),
-        first.length,
+        first.length_m,
         oracle.length,
         "visibility graph + Dijkstra",
     );
-    let ordered = r.classes.windows(2).all(|w| w[0].length <= w[1].length);
+    let ordered = r.classes.windows(2).all(|w| w[0].length_m <= w[1].length_m);
     cases.push(Case::new(
         SUITE,
         format!("{file}: {} classes non-decreasing", r.classes.len()),
@@ -133,7 +133,7 @@ fn garni(cases: &mut Vec<Case>) -> Result<(), String> {
     length_case(
         cases,
         format!("{file}: SHP length"),
-        r.classes[0].length,
+        r.classes[0].length_m,
         straight,
         "straight line, Fig. 2.31",
     );
@@ -165,7 +165,7 @@ fn golden_queen(cases: &mut Vec<Case>) -> Result<(), String> {
     length_case(
         cases,
         format!("{file}: SHP length"),
-        r.classes[0].length,
+        r.classes[0].length_m,
         dist(st, a1) + dist(a1, a2) + dist(a2, g),
         "closed form via (52, 130), (48, 60)",
     );
@@ -206,7 +206,7 @@ fn pair_case(file: &str, r: &PlanReport, rank: usize, clearance: f64, cases: &mu
         .outcome
         .chosen
         .as_ref()
-        .and_then(|p| p.min_anchor_distance)
+        .and_then(|p| p.min_anchor_distance_m)
         .unwrap_or(0.0);
     cases.push(Case::new(
         SUITE,
@@ -227,14 +227,14 @@ fn shortest_infeasible(cases: &mut Vec<Case>) -> Result<(), String> {
     length_case(
         cases,
         format!("{file}: class 1 length"),
-        r.classes[0].length,
+        r.classes[0].length_m,
         dist(st, w1) + dist(w1, w2) + dist(w2, g),
         "west of the triangle",
     );
     length_case(
         cases,
         format!("{file}: class 2 length"),
-        r.classes[1].length,
+        r.classes[1].length_m,
         dist(st, e1) + dist(e1, g),
         "east of the triangle",
     );

@@ -62,7 +62,7 @@ fn run_pipeline(grid: &str) -> Result<(Golden, Scenario), String> {
         shortest_mm: report
             .classes
             .first()
-            .map(|c| (c.length * 1000.0).round() as i64)
+            .map(|c| (c.length_m * 1000.0).round() as i64)
             .unwrap_or(-1),
     };
     Ok((golden, d.scenario))

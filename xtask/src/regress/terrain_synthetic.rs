@@ -194,7 +194,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
     let dp = b - a;
     let dh = slope.to_radians().tan() * dp.dot(&planted_downhill());
     let distance_3d = (dp.norm_squared() + dh * dh).sqrt();
-    let length = report.classes.first().map(|c| c.length);
+    let length = report.classes.first().map(|c| c.length_m);
     cases.push(Case::new(
         SUITE,
         format!("{scene}: shortest SHP, m"),

@@ -109,8 +109,8 @@ fn classify(
         if !r.stable {
             c.red += 1;
         } else if r
-            .required_tension
-            .is_some_and(|t| t > r.t2max_obstacles && r.ground_anchored)
+            .required_tension_n
+            .is_some_and(|t| t > r.t2max_obstacles_n && r.ground_anchored)
         {
             c.yellow += 1;
         } else {
@@ -168,7 +168,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
                 && (len - shp.taut.length).abs() <= 1e-9 * shp.taut.length,
         ));
         let at_start = two.run(&path1, &[start2]).map_err(|e| e.to_string())?;
-        let t2 = at_start[0].t2max;
+        let t2 = at_start[0].t2max_n;
         cases.push(Case::new(
             SUITE,
             format!("Kumar Fig. {name}: T2max from Robot 1's windings (eq. 2), Robot 2 at start"),

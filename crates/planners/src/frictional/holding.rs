@@ -22,11 +22,9 @@ pub struct HoldingReport {
     /// `Σ I_j`.
     pub total_exponent: f64,
     /// The force `a_0` must hold when the robot pulls `T_max`: `T_max e^{-Σ I_j}`, N.
-    #[serde(rename = "holding_force_at_start_n")]
-    pub holding_force_at_start: f64,
+    pub holding_force_at_start_n: f64,
     /// Kumar eq. 2: the largest robot-side tension, when a holding limit is given, N.
-    #[serde(rename = "tension_limit_n")]
-    pub tension_limit: Option<f64>,
+    pub tension_limit_n: Option<f64>,
 }
 
 /// The capstan along the tether of `check` (module docs).
@@ -56,9 +54,9 @@ pub fn holding(
         })
         .transpose()?;
     Ok(HoldingReport {
-        holding_force_at_start: model.tensions.t_max() * (-total).exp(),
+        holding_force_at_start_n: model.tensions.t_max() * (-total).exp(),
         exponents,
         total_exponent: total,
-        tension_limit: limit,
+        tension_limit_n: limit,
     })
 }

@@ -34,11 +34,9 @@ pub struct SlipEvent {
     /// `true` when the PTFO disappeared (fewer than three vertices left).
     pub obstacle_removed: bool,
     /// SHP length before and after, m.
-    #[serde(rename = "length_before_m")]
-    pub length_before: f64,
+    pub length_before_m: f64,
     /// SHP length after the slip, m.
-    #[serde(rename = "length_after_m")]
-    pub length_after: f64,
+    pub length_after_m: f64,
     /// Anchor points before the slip.
     #[schemars(with = "Vec<[f64; 2]>")]
     pub anchors_before: Vec<Point2<f64>>,
@@ -189,8 +187,8 @@ impl<'a> SlipState<'a> {
             vertex: anchor.point,
             obstacle,
             obstacle_removed: removed,
-            length_before: taut.length,
-            length_after: traced.length,
+            length_before_m: taut.length,
+            length_after_m: traced.length,
             anchors_before: points(taut),
             anchors_after: points(&traced),
         };

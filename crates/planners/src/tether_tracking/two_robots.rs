@@ -69,21 +69,17 @@ pub struct WaypointReport {
     #[schemars(with = "f64")]
     pub total_winding: f64,
     /// `T_1` limit `F_0 + mu_s0 m_1 g` (eq. 1), N.
-    #[serde(rename = "t1_limit_n")]
-    pub t1_limit: f64,
+    pub t1_limit_n: f64,
     /// `T_2max` from the obstacle windings only (the paper's depicted values), N.
-    #[serde(rename = "t2max_obstacles_n")]
-    pub t2max_obstacles: f64,
+    pub t2max_obstacles_n: f64,
     /// `T_2max` from all windings, ground anchors included (eq. 2), N.
-    #[serde(rename = "t2max_n")]
-    pub t2max: f64,
+    pub t2max_n: f64,
     /// Whether a ground anchor lies between Robot 2 and its last obstacle anchor.
     pub ground_anchored: bool,
     /// The LP's verdict.
     pub stable: bool,
     /// The least tension that holds Robot 2, when stable.
-    #[serde(rename = "required_tension_n")]
-    pub required_tension: Option<f64>,
+    pub required_tension_n: Option<f64>,
 }
 
 /// Kumar's two robots.
@@ -161,12 +157,12 @@ impl<'a, T: Terrain + ?Sized> TwoRobots<'a, T> {
                 surface,
                 configuration,
                 total_winding,
-                t1_limit,
-                t2max_obstacles,
-                t2max,
+                t1_limit_n: t1_limit,
+                t2max_obstacles_n: t2max_obstacles,
+                t2max_n: t2max,
                 ground_anchored,
                 stable,
-                required_tension,
+                required_tension_n: required_tension,
             });
         }
         Ok(out)

@@ -131,7 +131,7 @@ fn slip_path_equals_the_frictionless_shp_on_the_clipped_map() {
         );
     }
     // The SHP only gets shorter when an obstacle shrinks.
-    assert!(slip.length_after <= slip.length_before);
+    assert!(slip.length_after_m <= slip.length_before_m);
 }
 
 #[test]
@@ -237,8 +237,8 @@ fn capstan_anchor_classes_follow_exp_mu_theta() {
             seen.insert(format!("{expected:?}"));
             if let Some(h) = &class.holding {
                 let total: f64 = h.exponents.iter().sum();
-                assert!((h.holding_force_at_start - 400.0 * (-total).exp()).abs() < 1e-9);
-                assert!((h.tension_limit.unwrap() - 100.0 * total.exp()).abs() < 1e-9);
+                assert!((h.holding_force_at_start_n - 400.0 * (-total).exp()).abs() < 1e-9);
+                assert!((h.tension_limit_n.unwrap() - 100.0 * total.exp()).abs() < 1e-9);
             }
         } else {
             assert!(

@@ -33,11 +33,11 @@ fn mars_asc_and_tif_agree_class_by_class() {
     for (a, t) in asc.classes.iter().zip(&tif.classes) {
         // float32 elevations move the obstacle corners by ~1e-6 m.
         assert!(
-            (a.length - t.length).abs() < 1e-4,
+            (a.length_m - t.length_m).abs() < 1e-4,
             "class {}: {} vs {}",
             a.rank,
-            a.length,
-            t.length
+            a.length_m,
+            t.length_m
         );
         assert_eq!(a.anchors.len(), t.anchors.len(), "class {}", a.rank);
         assert_eq!(

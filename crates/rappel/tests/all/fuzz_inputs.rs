@@ -240,7 +240,7 @@ proptest! {
         let (a, b) = (rappel::plan(&s, &options).expect("plan"), rappel::plan(&t, &options).expect("plan"));
         prop_assert_eq!(a.classes.len(), b.classes.len());
         for (x, y) in a.classes.iter().zip(&b.classes) {
-            prop_assert!((x.length * f - y.length).abs() <= 1e-9 * y.length, "{} vs {}", x.length * f, y.length);
+            prop_assert!((x.length_m * f - y.length_m).abs() <= 1e-9 * y.length_m, "{} vs {}", x.length_m * f, y.length_m);
             prop_assert_eq!(x.feasible, y.feasible, "class {}: {} vs {}", x.rank, &x.verdict, &y.verdict);
         }
         prop_assert_eq!(a.outcome.chosen.is_some(), b.outcome.chosen.is_some());

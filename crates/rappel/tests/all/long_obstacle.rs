@@ -63,10 +63,10 @@ fn a_long_star_plans_as_its_circle_says() {
     let [first, second, third] = [&report.classes[0], &report.classes[1], &report.classes[2]];
     for (class, arc) in [(first, arc_right), (second, arc_left)] {
         assert!(
-            (class.length - (legs + r * arc)).abs() < tolerance,
+            (class.length_m - (legs + r * arc)).abs() < tolerance,
             "class {}: {} m, circle {} m",
             class.rank,
-            class.length,
+            class.length_m,
             legs + r * arc
         );
         // The anchors: consecutive hull vertices (radius 20) spanning the arc, one per step.
@@ -94,10 +94,10 @@ fn a_long_star_plans_as_its_circle_says() {
     }
     // Once more round the hull: the first class plus the hull's perimeter.
     assert!(
-        (third.length - (first.length + perimeter)).abs() < tolerance,
+        (third.length_m - (first.length_m + perimeter)).abs() < tolerance,
         "class 3: {} m, class 1 + perimeter {} m",
-        third.length,
-        first.length + perimeter
+        third.length_m,
+        first.length_m + perimeter
     );
     assert!(!third.simple);
     // psi of an anchor on the right side, tether running clockwise: the tangent's direction
