@@ -265,7 +265,7 @@ pub struct Plan {
 ///     terrain: (planes: [(y_top: 100.0, y_bottom: 0.0, slope_deg: 45.0, friction: 0.4)]))"#).unwrap();
 /// let report = rappel::plan(&s, &PlanOptions { classes: 3, ..Default::default() }).unwrap();
 /// assert_eq!(report.classes.len(), 3);
-/// assert!(report.classes[0].length <= report.classes[1].length);
+/// assert!(report.classes[0].length_m <= report.classes[1].length_m);
 /// let pair = report.outcome.chosen.expect("the shortest class is feasible");
 /// assert_eq!(pair.rank, 1);
 /// ```

@@ -10,7 +10,7 @@ use rappel::sticking_profile::StickingSample;
 use rappel_mechanics::curvature::Convexity;
 
 use crate::axonometric::Axonometric;
-use crate::{Layer, Marker, Picture};
+use crate::{Layer, Picture};
 
 /// Largest number of shaded cells drawn per picture side; bigger grids are drawn subsampled.
 pub const MAX_DRAWN_CELLS_PER_SIDE: usize = 160;
@@ -77,8 +77,8 @@ pub fn dem_picture(d: &DemScenario, title: &str) -> String {
     let north = f.to_planning(&(o + nalgebra::Vector2::new(0.0, 1.0))) - d.scenario.start;
     pic.set_north(north);
     pic.map(&d.scenario.map);
-    pic.marker(Layer::Start, d.scenario.start, Marker::Cross);
-    pic.marker(Layer::Goal, d.scenario.goal, Marker::Circle);
+    pic.marker(Layer::Start, d.scenario.start);
+    pic.marker(Layer::Goal, d.scenario.goal);
     pic.finish(title)
 }
 
@@ -167,7 +167,7 @@ pub fn sticking_picture(
         } else {
             Layer::WillSlip
         };
-        pic.marker(layer, s.at, Marker::Circle);
+        pic.marker(layer, s.at);
     }
     pic.finish(title)
 }

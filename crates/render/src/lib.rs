@@ -20,7 +20,7 @@
 //!     .plane(20.0, 0.0, 45.0, 0.4)
 //!     .build()
 //!     .unwrap();
-//! let plan = rappel::plan::plan_detailed(&scenario, &PlanOptions::default()).unwrap();
+//! let plan = plan_detailed(&scenario.validate().unwrap(), &PlanOptions::default()).unwrap();
 //! let svg = rappel_render::plan::picture(&plan, &scenario, None);
 //! assert!(svg.contains("taut tether (SHP)"));
 //! let page = rappel_render::viewer::html(&svg, "tiny");
@@ -34,6 +34,7 @@ pub mod navigate;
 pub mod online;
 pub mod picture;
 pub mod plan;
+pub mod relief;
 pub mod settle;
 pub mod settle_map;
 pub mod stability;

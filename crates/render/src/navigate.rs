@@ -3,7 +3,7 @@
 
 use rappel::navigate::{NavigateReport, RoverProblem};
 
-use crate::{Layer, Marker, Picture};
+use crate::{Layer, Picture};
 
 /// A top-down picture of a run: the sampled region's outline, the path (settled origins), the
 /// tether from the root through the anchors to the path's end, the anchors (squares), the
@@ -18,6 +18,8 @@ pub fn navigate_svg(problem: &RoverProblem, report: &NavigateReport) -> String {
         max: Point2::new(hi[0].max(r.x) + 0.5, hi[1].max(r.y) + 0.5),
     };
     let mut pic = Picture::new(bounds);
+    crate::relief::draw_relief(&mut pic, &problem.ground, &bounds);
+    pic.set_fall_line(crate::relief::fall_line(&problem.ground));
     let outline = [
         Point2::new(lo[0], lo[1]),
         Point2::new(hi[0], lo[1]),
@@ -38,7 +40,6 @@ pub fn navigate_svg(problem: &RoverProblem, report: &NavigateReport) -> String {
         pic.titled_marker(
             Layer::Anchor,
             flat(a),
-            Marker::Square,
             &format!("anchor {k} ({:.2}, {:.2}, {:.2})", a[0], a[1], a[2]),
         );
     }
@@ -46,13 +47,12 @@ pub fn navigate_svg(problem: &RoverProblem, report: &NavigateReport) -> String {
         pic.titled_marker(
             Layer::Anchor,
             Point2::new(r.x, r.y),
-            Marker::Square,
             &format!("root anchor ({:.2}, {:.2}, {:.2})", r.x, r.y, r.z),
         );
     }
     let (s, g) = (problem.start, problem.goal);
-    pic.marker(Layer::Start, Point2::new(s.x, s.y), Marker::Circle);
-    pic.marker(Layer::Goal, Point2::new(g.x, g.y), Marker::Star);
+    pic.marker(Layer::Start, Point2::new(s.x, s.y));
+    pic.marker(Layer::Goal, Point2::new(g.x, g.y));
     pic.finish(&if report.found {
         format!(
             "rover path, seed {}: cost {:.2}, {} anchors",

@@ -4,7 +4,7 @@
 use rappel_planners::online::OnlineSession;
 use rappel_planners::online::simulate::TimelineEvent;
 
-use crate::{Layer, Marker, Picture};
+use crate::{Layer, Picture};
 
 /// The picture of a session: the true map's obstacles as known now, the BTM, the current sleeve
 /// and SHP with its anchors, the travelled descent and the selected ascent, start and goal.
@@ -24,7 +24,7 @@ pub fn picture(session: &OnlineSession, title: &str) -> String {
     if session.route().len() > 1 {
         pic.polyline(Layer::Path, session.route());
     }
-    pic.marker(Layer::Path, session.robot(), Marker::Circle);
+    pic.marker(Layer::Robot, session.robot());
     pic.start_goal(session.start(), session.goal());
     pic.finish(title)
 }

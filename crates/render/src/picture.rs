@@ -17,7 +17,7 @@ use rappel_homotopy::sleeve::Sleeve;
 use rappel_planners::feasibility;
 use std::fmt::Write;
 
-use crate::style::{Layer, Marker, scale_colour};
+use crate::style::{Glyph, Layer, Marker, scale_colour};
 
 /// A picture being drawn.
 ///
@@ -26,7 +26,7 @@ use crate::style::{Layer, Marker, scale_colour};
 /// use rappel_render::{Layer, Marker, Picture};
 /// use rappel_geometry::polygon::Aabb;
 /// let mut pic = Picture::new(Aabb { min: Point2::new(0.0, 0.0), max: Point2::new(10.0, 20.0) });
-/// pic.marker(Layer::Start, Point2::new(5.0, 19.0), Marker::Cross);
+/// pic.marker(Layer::Start, Point2::new(5.0, 19.0));
 /// let svg = pic.finish("example");
 /// assert!(svg.starts_with("<svg") && svg.contains("start"));
 /// ```
@@ -40,6 +40,8 @@ pub struct Picture {
     tag: Option<String>,
     /// Where north points in the map frame, when the picture has a georeference.
     north: Option<nalgebra::Vector2<f64>>,
+    /// The downhill direction in the map frame (`-y` in the planning frame), if known.
+    fall_line: Option<nalgebra::Vector2<f64>>,
     /// A colour scale drawn in the panel: its title and the values at its ends.
     scale: Option<(String, f64, f64)>,
     used: Vec<Layer>,
@@ -89,6 +91,7 @@ impl Picture {
             body: Vec::new(),
             tag: None,
             north: None,
+            fall_line: Some(nalgebra::Vector2::new(0.0, -1.0)),
             scale: None,
             used: Vec::new(),
         }
@@ -151,6 +154,15 @@ impl Picture {
         self.body.push((layer, s));
     }
 
+    /// Sets the fall-line arrow of the panel to `direction` (downhill, map frame), or removes it
+    /// (`None`: ground with no one downhill direction). The default is `-y`, the planning frame's
+    /// downhill.
+    pub fn set_fall_line(&mut self, direction: Option<nalgebra::Vector2<f64>>) {
+        self.fall_line = direction
+            .filter(|d| d.norm().is_finite() && d.norm() > 0.0)
+            .map(|d| d / d.norm());
+    }
+
     /// Draws a north arrow in the panel pointing along `direction` (map frame; e.g. a DEM's north
     /// in the planning frame).
     pub fn set_north(&mut self, direction: nalgebra::Vector2<f64>) {
@@ -175,10 +187,11 @@ impl Picture {
         self.push(layer, s);
     }
 
-    /// A marker with a hover text (an SVG `<title>`: browsers and the viewer show it).
-    pub fn titled_marker(&mut self, layer: Layer, p: Point2<f64>, shape: Marker, title: &str) {
+    /// A marker of its layer's shape ([`Layer::glyph`]) with a hover text (an SVG `<title>`:
+    /// browsers and the viewer show it).
+    pub fn titled_marker(&mut self, layer: Layer, p: Point2<f64>, title: &str) {
         self.use_layer(layer);
-        let s = self.marker_svg(layer, p, shape, 5.0 * self.unit);
+        let s = marker_svg(layer, p, 5.0 * self.unit, 1.0, self.unit);
         self.push(layer, format!("<g><title>{}</title>{s}</g>", escape(title)));
     }
 
@@ -189,12 +202,7 @@ impl Picture {
     }
 
     fn style(&self, layer: Layer) -> String {
-        let (fill, stroke, width, opacity) = layer.look();
-        format!(
-            "fill=\"{fill}\" fill-opacity=\"{}\" stroke=\"{stroke}\" stroke-width=\"{}\" stroke-linejoin=\"round\" stroke-linecap=\"round\"",
-            fmt(opacity),
-            fmt(width * self.unit)
-        )
+        style_at(layer, self.unit)
     }
 
     fn points(pts: &[Point2<f64>]) -> String {
@@ -250,56 +258,11 @@ impl Picture {
         self.push(layer, s);
     }
 
-    /// A marker of fixed on-screen size at `p`.
-    pub fn marker(&mut self, layer: Layer, p: Point2<f64>, shape: Marker) {
+    /// A marker of fixed on-screen size at `p`, of its layer's shape ([`Layer::glyph`]).
+    pub fn marker(&mut self, layer: Layer, p: Point2<f64>) {
         self.use_layer(layer);
-        let s = self.marker_svg(layer, p, shape, 5.0 * self.unit);
+        let s = marker_svg(layer, p, 5.0 * self.unit, 1.0, self.unit);
         self.push(layer, s);
-    }
-
-    fn marker_svg(&self, layer: Layer, p: Point2<f64>, shape: Marker, r: f64) -> String {
-        let style = self.style(layer);
-        match shape {
-            Marker::Circle => format!(
-                "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" {style}/>",
-                fmt(p.x),
-                fmt(p.y),
-                fmt(r)
-            ),
-            Marker::Square => format!(
-                "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" {style}/>",
-                fmt(p.x - r * 0.8),
-                fmt(p.y - r * 0.8),
-                fmt(1.6 * r),
-                fmt(1.6 * r)
-            ),
-            Marker::Star => {
-                let pts: Vec<Point2<f64>> = (0..10)
-                    .map(|i| {
-                        let a = std::f64::consts::FRAC_PI_2 + i as f64 * std::f64::consts::PI / 5.0;
-                        let rr = if i % 2 == 0 { 1.3 * r } else { 0.55 * r };
-                        Point2::new(p.x + rr * a.cos(), p.y + rr * a.sin())
-                    })
-                    .collect();
-                format!("<polygon points=\"{}\" {style}/>", Self::points(&pts))
-            }
-            Marker::Cross => {
-                let w = 1.6 * r;
-                let (_, stroke, _, _) = layer.look();
-                format!(
-                    "<path d=\"M{} {}L{} {}M{} {}L{} {}\" stroke=\"{stroke}\" stroke-width=\"{}\" fill=\"none\"/>",
-                    fmt(p.x - w / 2.0),
-                    fmt(p.y - w / 2.0),
-                    fmt(p.x + w / 2.0),
-                    fmt(p.y + w / 2.0),
-                    fmt(p.x - w / 2.0),
-                    fmt(p.y + w / 2.0),
-                    fmt(p.x + w / 2.0),
-                    fmt(p.y - w / 2.0),
-                    fmt(2.5 * self.unit)
-                )
-            }
-        }
     }
 
     /// The map: boundary outline and grey obstacles.
@@ -324,8 +287,8 @@ impl Picture {
 
     /// Start (cross) and goal (circle) markers.
     pub fn start_goal(&mut self, start: Point2<f64>, goal: Point2<f64>) {
-        self.marker(Layer::Start, start, Marker::Cross);
-        self.marker(Layer::Goal, goal, Marker::Circle);
+        self.marker(Layer::Start, start);
+        self.marker(Layer::Goal, goal);
     }
 
     /// The finished SVG document, titled `title`.
@@ -368,7 +331,7 @@ impl Picture {
             fmt(h)
         );
         let _ = writeln!(out, "<g transform=\"scale(1,-1)\">");
-        self.body.sort_by_key(|(layer, _)| draw_order(*layer));
+        self.body.sort_by_key(|(layer, _)| layer.draw_order());
         // One group per run of a layer, named for the viewer's layer toggles.
         let mut open: Option<Layer> = None;
         for (layer, s) in &self.body {
@@ -403,53 +366,24 @@ impl Picture {
             fmt(y)
         );
         let mut used = self.used.clone();
-        used.sort_by_key(|l| draw_order(*l));
+        used.sort_by_key(|l| l.draw_order());
         for layer in used {
             y += 20.0;
             let (fill, stroke, width, opacity) = layer.look();
-            let swatch = match layer {
-                Layer::Anchor => format!(
-                    "<rect x=\"{}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
-                    fmt(x + 5.0),
-                    fmt(y - 10.0)
+            let swatch = match layer.glyph() {
+                Glyph::Mark(_) => marker_svg(layer, Point2::new(x + 10.0, y - 5.0), 5.0, -1.0, 1.0),
+                Glyph::Disc => format!(
+                    "<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
+                    fmt(x + 10.0),
+                    fmt(y - 5.0)
                 ),
-                Layer::Start => format!(
-                    "<path d=\"M{} {}l10 10m0 -10l-10 10\" stroke=\"{stroke}\" stroke-width=\"2.5\"/>",
-                    fmt(x + 5.0),
-                    fmt(y - 10.0)
-                ),
-                Layer::Waypoint => {
-                    let star: Vec<String> = (0..10)
-                        .map(|i| {
-                            let a =
-                                std::f64::consts::FRAC_PI_2 + i as f64 * std::f64::consts::PI / 5.0;
-                            let r = if i % 2 == 0 { 6.5 } else { 2.75 };
-                            format!(
-                                "{},{}",
-                                fmt(x + 10.0 + r * a.cos()),
-                                fmt(y - 5.0 - r * a.sin())
-                            )
-                        })
-                        .collect();
-                    format!(
-                        "<polygon points=\"{}\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
-                        star.join(" ")
-                    )
-                }
-                Layer::Goal | Layer::Stable | Layer::Unstable | Layer::Blocking => {
-                    format!(
-                        "<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"{fill}\" stroke=\"{stroke}\"/>",
-                        fmt(x + 10.0),
-                        fmt(y - 5.0)
-                    )
-                }
-                _ if fill != "none" => format!(
+                Glyph::Area => format!(
                     "<rect x=\"{}\" y=\"{}\" width=\"20\" height=\"10\" fill=\"{fill}\" fill-opacity=\"{}\" stroke=\"{stroke}\"/>",
                     fmt(x),
                     fmt(y - 10.0),
                     fmt(opacity.max(0.3))
                 ),
-                _ => format!(
+                Glyph::Line => format!(
                     "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{stroke}\" stroke-width=\"{}\"/>",
                     fmt(x),
                     fmt(y - 5.0),
@@ -528,16 +462,23 @@ impl Picture {
             fmt(y + 16.0),
             fmt(len)
         );
-        // Fall-line arrow: downhill is -y in the map frame, down in the picture.
-        y += 40.0;
-        let _ = writeln!(
-            out,
-            "<path d=\"M{} {}v60m-7 -12l7 12l7 -12\" stroke=\"black\" stroke-width=\"2\" fill=\"none\"/><text x=\"{}\" y=\"{}\">fall line</text>",
-            fmt(x + 10.0),
-            fmt(y),
-            fmt(x + 28.0),
-            fmt(y + 34.0)
-        );
+        // Fall-line arrow: downhill in the map frame (y up in the picture).
+        if let Some(f) = self.fall_line {
+            y += 40.0;
+            let (cx, cy) = (x + 30.0, y + 30.0);
+            let (dx, dy) = (f.x * 28.0, -f.y * 28.0);
+            let _ = writeln!(
+                out,
+                "<path d=\"M{} {}L{} {}\" stroke=\"black\" stroke-width=\"2\" marker-end=\"url(#rappel-arrow)\"/><text x=\"{}\" y=\"{}\">fall line</text>",
+                fmt(cx - dx),
+                fmt(cy - dy),
+                fmt(cx + dx),
+                fmt(cy + dy),
+                fmt(x + 66.0),
+                fmt(cy + 4.0)
+            );
+            y += 30.0;
+        }
         if let Some(n) = self.north {
             // North arrow: the map's y axis points up in the picture.
             y += 80.0;
@@ -557,38 +498,6 @@ impl Picture {
             );
         }
         let _ = writeln!(out, "</g>");
-    }
-}
-
-/// Back-to-front drawing order.
-fn draw_order(layer: Layer) -> u8 {
-    match layer {
-        Layer::Terrain | Layer::Convex | Layer::Concave | Layer::Saddle => 0,
-        Layer::ConvexDirection => 1,
-        Layer::RobotObstacle => 1,
-        Layer::PlaneEdge => 5,
-        Layer::Sleeve => 0,
-        Layer::FrictionCone => 1,
-        Layer::BtmEdge => 2,
-        Layer::Obstacle => 3,
-        Layer::Boundary => 4,
-        Layer::Visibility => 5,
-        Layer::Path => 6,
-        Layer::Descent => 7,
-        Layer::Ascent => 8,
-        Layer::Shp => 9,
-        Layer::Anchor => 10,
-        Layer::Waypoint => 11,
-        // Below the obstacles: a dot near an edge never hides one.
-        Layer::Stable => 2,
-        Layer::Unstable => 2,
-        Layer::Start => 14,
-        Layer::Goal => 15,
-        Layer::Ptfo | Layer::PtfoSolid | Layer::PtfoSlides | Layer::PtfoVolatile => 4,
-        Layer::Sticking | Layer::MayStick | Layer::WillSlip => 11,
-        Layer::Slip => 11,
-        Layer::InfeasibleShp => 8,
-        Layer::Blocking => 12,
     }
 }
 
@@ -635,7 +544,7 @@ impl Picture {
     pub fn taut_path(&mut self, taut: &TautPath) {
         self.polyline(Layer::Shp, &taut.points);
         for a in &taut.anchors {
-            self.marker(Layer::Anchor, a.point, Marker::Square);
+            self.marker(Layer::Anchor, a.point);
         }
     }
 
@@ -665,4 +574,66 @@ fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>
         }
     }
     out
+}
+
+/// The SVG attributes of `layer`'s look with stroke widths in units of `unit` per pixel.
+fn style_at(layer: Layer, unit: f64) -> String {
+    let (fill, stroke, width, opacity) = layer.look();
+    format!(
+        "fill=\"{fill}\" fill-opacity=\"{}\" stroke=\"{stroke}\" stroke-width=\"{}\" stroke-linejoin=\"round\" stroke-linecap=\"round\"",
+        fmt(opacity),
+        fmt(width * unit)
+    )
+}
+
+/// The marker of `layer` ([`Layer::glyph`]; a layer drawn as a marker always has a marker glyph,
+/// others fall back to a circle) centred at `p` with radius `r`, strokes in units of `unit` per
+/// pixel; `y_up` is 1 in the map frame (y up) and -1 in the legend (pixels, y down).
+fn marker_svg(layer: Layer, p: Point2<f64>, r: f64, y_up: f64, unit: f64) -> String {
+    let shape = match layer.glyph() {
+        Glyph::Mark(m) => m,
+        _ => Marker::Circle,
+    };
+    let style = style_at(layer, unit);
+    match shape {
+        Marker::Circle => format!(
+            "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" {style}/>",
+            fmt(p.x),
+            fmt(p.y),
+            fmt(r)
+        ),
+        Marker::Square => format!(
+            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" {style}/>",
+            fmt(p.x - r * 0.8),
+            fmt(p.y - r * 0.8),
+            fmt(1.6 * r),
+            fmt(1.6 * r)
+        ),
+        Marker::Star => {
+            let pts: Vec<Point2<f64>> = (0..10)
+                .map(|i| {
+                    let a = std::f64::consts::FRAC_PI_2 + i as f64 * std::f64::consts::PI / 5.0;
+                    let rr = if i % 2 == 0 { 1.3 * r } else { 0.55 * r };
+                    Point2::new(p.x + rr * a.cos(), p.y + y_up * rr * a.sin())
+                })
+                .collect();
+            format!("<polygon points=\"{}\" {style}/>", Picture::points(&pts))
+        }
+        Marker::Cross => {
+            let w = 1.6 * r;
+            let (_, stroke, _, _) = layer.look();
+            format!(
+                "<path d=\"M{} {}L{} {}M{} {}L{} {}\" stroke=\"{stroke}\" stroke-width=\"{}\" fill=\"none\"/>",
+                fmt(p.x - w / 2.0),
+                fmt(p.y - w / 2.0),
+                fmt(p.x + w / 2.0),
+                fmt(p.y + w / 2.0),
+                fmt(p.x - w / 2.0),
+                fmt(p.y + w / 2.0),
+                fmt(p.x + w / 2.0),
+                fmt(p.y - w / 2.0),
+                fmt(2.5 * unit)
+            )
+        }
+    }
 }

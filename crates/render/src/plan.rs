@@ -10,7 +10,7 @@ use rappel::scenario::Scenario;
 use rappel_geometry::polygon::Aabb;
 use rappel_mechanics::anchor_traversability::TetherLimit;
 
-use crate::{Layer, Marker, Picture};
+use crate::{Layer, Picture};
 
 /// How far down a friction-cone wedge is drawn, in multiples of the tether segment below its
 /// anchor (the wedges of the reachable sets reach the map's edge; drawn whole they swamp a tall
@@ -61,7 +61,7 @@ pub fn picture(plan: &Plan, scenario: &Scenario, window: Option<&Aabb>) -> Strin
         }
         pic.taut_path(taut);
         for w in &c.feasibility.waypoints {
-            pic.marker(Layer::Waypoint, *w, Marker::Star);
+            pic.marker(Layer::Waypoint, *w);
         }
     }
     for c in &plan.outcome.classes {
@@ -82,7 +82,6 @@ pub fn picture(plan: &Plan, scenario: &Scenario, window: Option<&Aabb>) -> Strin
             pic.titled_marker(
                 Layer::Blocking,
                 p,
-                Marker::Circle,
                 &format!(
                     "class {}: {what} blocks the ascent: {}",
                     c.class.rank,
@@ -136,7 +135,7 @@ pub fn draw_friction(pic: &mut Picture, scenario: &Scenario, report: &FrictionRe
         }
         pic.polyline(Layer::Shp, &c.points);
         for s in &c.slips {
-            pic.marker(Layer::Slip, s.vertex, Marker::Cross);
+            pic.marker(Layer::Slip, s.vertex);
         }
         for a in &c.anchors {
             let layer = if a.verdict == "geometric" {
@@ -144,10 +143,10 @@ pub fn draw_friction(pic: &mut Picture, scenario: &Scenario, report: &FrictionRe
             } else {
                 Layer::Sticking
             };
-            pic.marker(layer, a.point, Marker::Square);
+            pic.marker(layer, a.point);
         }
         for w in &c.waypoints {
-            pic.marker(Layer::Waypoint, *w, Marker::Star);
+            pic.marker(Layer::Waypoint, *w);
         }
     }
 }

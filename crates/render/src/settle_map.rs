@@ -6,10 +6,12 @@ use rappel::planners::rover::stability_map::StabilityMap;
 use rappel_geometry::polygon::Aabb;
 use rappel_terrain::mesh::TriMesh;
 
-use crate::{Layer, Marker, Picture};
+use crate::style::scale_colour;
+use crate::{Layer, Picture};
 
-/// A top-down picture of a map like Paton's Fig. 8: stable cells green and unstable ones red
-/// (paler for a smaller margin), cells that did not settle left blank, the ground mesh's creases
+/// A top-down picture of a map like Paton's Fig. 8: stable cells coloured by their margin on the
+/// colour scale of every stability picture ([`crate::style::SCALE_STOPS`], drawn in the panel),
+/// unstable ones grey, cells that did not settle left blank, the ground mesh's creases
 /// (edges between triangles more than 1° apart) as plane edges, the start, the root anchor and
 /// the distinct last anchors (squares).
 pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
@@ -19,13 +21,16 @@ pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
         max: Point2::new(map.spec.x.1 + h, map.spec.y.1 + h),
     };
     let mut pic = Picture::new(bounds);
-    let best = map
+    crate::relief::draw_relief(&mut pic, ground, &bounds);
+    pic.set_fall_line(crate::relief::fall_line(ground));
+    let margins = map
         .cells
         .iter()
         .filter_map(|c| c.pose.as_ref())
-        .map(|p| p.margin)
-        .fold(0.0f64, f64::max)
-        .max(1e-12);
+        .filter(|p| p.stable)
+        .map(|p| p.margin);
+    let lo = margins.clone().fold(f64::INFINITY, f64::min);
+    let hi = margins.fold(f64::NEG_INFINITY, f64::max);
     for c in &map.cells {
         let Some(p) = &c.pose else { continue };
         let sq = [
@@ -34,15 +39,19 @@ pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
             Point2::new(c.ground[0] + h, c.ground[1] + h),
             Point2::new(c.ground[0] - h, c.ground[1] + h),
         ];
-        let (layer, fill) = if p.stable {
-            // Green, darker for a larger margin.
-            let s = (p.margin / best).clamp(0.0, 1.0);
-            let g = (220.0 - 100.0 * s) as u8;
-            (Layer::Stable, format!("#30{g:02x}40"))
+        if p.stable {
+            let t = if hi > lo {
+                (p.margin - lo) / (hi - lo)
+            } else {
+                1.0
+            };
+            pic.shaded_polygon(Layer::StableCell, &sq, &scale_colour(t));
         } else {
-            (Layer::Unstable, "#d04030".to_string())
-        };
-        pic.shaded_polygon(layer, &sq, &fill);
+            pic.polygon(Layer::UnstableCell, &sq);
+        }
+    }
+    if lo.is_finite() && hi.is_finite() {
+        pic.set_colour_scale("stability margin, N", lo, hi);
     }
     // Creases of the ground within the picture.
     let (v, t) = (ground.vertices(), ground.triangles());
@@ -91,14 +100,12 @@ pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
         pic.titled_marker(
             Layer::Anchor,
             Point2::new(a[0], a[1]),
-            Marker::Square,
             &format!("last anchor ({:.2}, {:.2}, {:.2})", a[0], a[1], a[2]),
         );
     }
     pic.titled_marker(
         Layer::Anchor,
         Point2::new(map.root[0], map.root[1]),
-        Marker::Square,
         &format!(
             "root anchor ({:.2}, {:.2}, {:.2})",
             map.root[0], map.root[1], map.root[2]
@@ -107,7 +114,6 @@ pub fn map_svg(map: &StabilityMap, ground: &TriMesh) -> String {
     pic.marker(
         Layer::Start,
         Point2::new(map.spec.start[0], map.spec.start[1]),
-        Marker::Circle,
     );
     pic.finish(&format!(
         "stability map: {} stable, {} unstable, {} not settled or unreached",

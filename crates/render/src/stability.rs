@@ -6,7 +6,7 @@ use rappel::stability::StabilityReport;
 use rappel_geometry::polygon::Aabb;
 
 use crate::style::scale_colour;
-use crate::{Layer, Marker, Picture};
+use crate::{Layer, Picture};
 
 /// The picture of the map (cropped to `window`, map frame, when given): each stable pose a
 /// disc sized to the grid step and coloured by its margin on the colour scale
@@ -52,6 +52,6 @@ pub fn picture(
     if lo.is_finite() && hi.is_finite() {
         pic.set_colour_scale("stability margin", lo, hi);
     }
-    pic.marker(Layer::Start, scenario.start, Marker::Cross);
+    pic.marker(Layer::Start, scenario.start);
     pic.finish(title)
 }

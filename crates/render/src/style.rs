@@ -71,6 +71,26 @@ pub enum Layer {
     InfeasibleShp,
     /// The anchor (or the goal) that blocks a class's ascent.
     Blocking,
+    /// Where the robot is (online runs), a circle.
+    Robot,
+    /// A stable cell of a mesh stability map, filled by its margin on the colour scale.
+    StableCell,
+    /// An unstable cell of a mesh stability map, grey.
+    UnstableCell,
+}
+
+/// How a layer is drawn, and so how its legend entry looks: the picture and the legend both
+/// read it here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Glyph {
+    /// Filled areas (polygons), shown as a filled box.
+    Area,
+    /// Lines, shown as a line of the layer's width.
+    Line,
+    /// A marker of fixed on-screen size at a point, shown as that marker.
+    Mark(Marker),
+    /// A disc sized in map units (stability dots), shown as a disc.
+    Disc,
 }
 
 impl Layer {
@@ -122,6 +142,80 @@ impl Layer {
             Layer::WillSlip => "tether slips",
             Layer::InfeasibleShp => "infeasible class (SHP)",
             Layer::Blocking => "blocking anchor",
+            Layer::Robot => "robot",
+            Layer::StableCell => "stable cell",
+            Layer::UnstableCell => "unstable cell",
+        }
+    }
+
+    /// How the layer is drawn (and its legend entry): the one place a marker's shape is chosen.
+    pub fn glyph(self) -> Glyph {
+        match self {
+            Layer::Start | Layer::Slip => Glyph::Mark(Marker::Cross),
+            Layer::Goal | Layer::Blocking | Layer::Robot | Layer::MayStick | Layer::WillSlip => {
+                Glyph::Mark(Marker::Circle)
+            }
+            Layer::Anchor | Layer::Sticking => Glyph::Mark(Marker::Square),
+            Layer::Waypoint => Glyph::Mark(Marker::Star),
+            Layer::Stable | Layer::Unstable => Glyph::Disc,
+            Layer::Boundary
+            | Layer::BtmEdge
+            | Layer::Shp
+            | Layer::Visibility
+            | Layer::Ascent
+            | Layer::Descent
+            | Layer::Path
+            | Layer::PlaneEdge
+            | Layer::Ptfo
+            | Layer::ConvexDirection
+            | Layer::InfeasibleShp => Glyph::Line,
+            Layer::Obstacle
+            | Layer::Sleeve
+            | Layer::FrictionCone
+            | Layer::Terrain
+            | Layer::RobotObstacle
+            | Layer::PtfoSolid
+            | Layer::PtfoSlides
+            | Layer::PtfoVolatile
+            | Layer::Convex
+            | Layer::Concave
+            | Layer::Saddle
+            | Layer::StableCell
+            | Layer::UnstableCell => Glyph::Area,
+        }
+    }
+
+    /// Drawing order, lowest first (the legend lists layers in the same order).
+    pub(crate) fn draw_order(self) -> u8 {
+        match self {
+            Layer::Terrain | Layer::Convex | Layer::Concave | Layer::Saddle => 0,
+            Layer::StableCell | Layer::UnstableCell => 0,
+            Layer::ConvexDirection => 1,
+            Layer::RobotObstacle => 1,
+            Layer::PlaneEdge => 5,
+            Layer::Sleeve => 0,
+            Layer::FrictionCone => 1,
+            Layer::BtmEdge => 2,
+            Layer::Obstacle => 3,
+            Layer::Boundary => 4,
+            Layer::Visibility => 5,
+            Layer::Path => 6,
+            Layer::Descent => 7,
+            Layer::Ascent => 8,
+            Layer::Shp => 9,
+            Layer::Anchor => 10,
+            Layer::Waypoint => 11,
+            // Below the obstacles: a dot near an edge never hides one.
+            Layer::Stable => 2,
+            Layer::Unstable => 2,
+            Layer::Robot => 13,
+            Layer::Start => 14,
+            Layer::Goal => 15,
+            Layer::Ptfo | Layer::PtfoSolid | Layer::PtfoSlides | Layer::PtfoVolatile => 4,
+            Layer::Sticking | Layer::MayStick | Layer::WillSlip => 11,
+            Layer::Slip => 11,
+            Layer::InfeasibleShp => 8,
+            Layer::Blocking => 12,
         }
     }
 
@@ -166,6 +260,9 @@ impl Layer {
             Layer::WillSlip => ("#de2d26", "#67000d", 0.3, 1.0),
             Layer::InfeasibleShp => ("none", "#cb181d", 1.4, 0.0),
             Layer::Blocking => ("#cb181d", "#000000", 1.2, 1.0),
+            Layer::Robot => ("#ff7f00", "#7f2704", 1.0, 1.0),
+            Layer::StableCell => ("#21918c", "none", 0.0, 1.0),
+            Layer::UnstableCell => ("#bdbdbd", "#636363", 0.3, 1.0),
         }
     }
 }

@@ -116,7 +116,7 @@ fn escape(s: &str) -> String {
 /// use rappel_render::{Layer, Marker, Picture};
 /// use rappel::geometry::polygon::Aabb;
 /// let mut pic = Picture::new(Aabb { min: Point2::new(0.0, 0.0), max: Point2::new(10.0, 20.0) });
-/// pic.titled_marker(Layer::Anchor, Point2::new(5.0, 10.0), Marker::Square, "anchor 1: psi 12°");
+/// pic.titled_marker(Layer::Anchor, Point2::new(5.0, 10.0), "anchor 1: psi 12°");
 /// let page = rappel_render::viewer::html(&pic.finish("example"), "example");
 /// assert!(page.starts_with("<!DOCTYPE html>"));
 /// assert!(page.contains("data-layer=\"anchor\"") && page.contains("anchor 1: psi 12°"));
