@@ -57,7 +57,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Regress { suite, full } => {
-            regress::set_full(full);
+            regress::case::set_full(full);
             regress::run(suite.as_deref())
         }
         Command::Journeys { full, bin, viewer } => journeys::run(
@@ -83,7 +83,7 @@ fn main() -> ExitCode {
 
 /// `cargo xtask schemas [--check]`.
 fn schemas(check: bool) -> Result<ExitCode, String> {
-    let dir = regress::workspace_root().join("docs/schemas");
+    let dir = regress::case::workspace_root().join("docs/schemas");
     if check {
         let stale = rappel::schemas::stale_schema_files(&dir);
         if stale.is_empty() {

@@ -7,7 +7,7 @@
 //! inside its obstacle, on a single plane the planned length against the 3D distance on the
 //! planted plane, and a planted dome labelled as the one PTFO with its apex height.
 
-use super::Case;
+use super::case::Case;
 use rappel::dem::{DemScenario, dem_scenario};
 use rappel::geometry::polygon::{PointInPolygon, Polygon};
 use rappel::nalgebra::{Point2, Vector2};
