@@ -13,7 +13,7 @@
 //!   `{..}` trees, `self`, globs and aliases, `pub use` re-exports included) and paths in
 //!   expressions, types and patterns, written from `crate::` (or `$crate::`), `self::`,
 //!   `super::`, a child module's name, or a name a `use` brought into scope. The edge goes to the
-//!   deepest module the path names (`crate::sampler::abit::Stop` is `sampler::abit`,
+//!   deepest module the path names (`crate::sampler::abit::Abit` is `sampler::abit`,
 //!   `crate::svg::Layer` is `svg`); a name a module only re-exports (`pub use dem::HeightGrid` in
 //!   `lib.rs`, then `crate::HeightGrid` elsewhere) is followed to the module that defines it, so a
 //!   crate root's re-exports do not tie every module to the root. A path to an item of another
