@@ -165,10 +165,13 @@ fn crate_roots(files: &BTreeMap<String, String>) -> Vec<(String, String)> {
 pub struct Circle {
     /// The modules of the circle (`crate` for the root) with their files, in module order.
     pub modules: Vec<(String, String)>,
-    /// `(from, to, names)`: the names module `from` takes from module `to`, both in the circle,
-    /// each with the line of its first use in `from`'s file.
-    pub takes: Vec<(String, String, Vec<(String, usize)>)>,
+    /// The names each module of the circle takes from another ([`Take`]).
+    pub takes: Vec<Take>,
 }
+
+/// `(from, to, names)`: the names module `from` takes from module `to`, each with the line of its
+/// first use in `from`'s file.
+pub type Take = (String, String, Vec<(String, usize)>);
 
 impl fmt::Display for Circle {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
