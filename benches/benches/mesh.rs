@@ -174,9 +174,9 @@ fn mesh(c: &mut Criterion) {
     // The boom sweep on a large DEM mesh (400 x 400 cell centres 0.25 m apart, 318 402
     // triangles, a 20° ramp with bumps): every triangle (the brute force) against the BVH's
     // candidates (`boom_contact::IndexedGround`), the same contact.
-    let geometry =
-        rappel_terrain::dem::GridGeometry::new(400, 400, 0.25, 0.25, 0.0, 0.0).expect("valid grid");
-    let dem = rappel_terrain::dem::HeightGrid::from_fn(geometry, |_, _, q| {
+    let geometry = rappel_terrain::grid::GridGeometry::new(400, 400, 0.25, 0.25, 0.0, 0.0)
+        .expect("valid grid");
+    let dem = rappel_terrain::grid::HeightGrid::from_fn(geometry, |_, _, q| {
         Some(20f64.to_radians().tan() * q.x + 0.5 * (0.7 * q.x).sin() * (0.9 * q.y).cos())
     })
     .expect("finite heights");

@@ -6,8 +6,9 @@
 //! stages are timed alone: Horn slopes, the plane series, obstacle detection.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use rappel_terrain::dem::{HeightGrid, read_dem};
+use rappel_terrain::dem::read_dem;
 use rappel_terrain::frame::PlanningFrame;
+use rappel_terrain::grid::HeightGrid;
 use rappel_terrain::ingest::{IngestOptions, ingest};
 use rappel_terrain::obstacle_detection::{ObstacleOptions, ReferencePlane, detect_obstacles};
 use rappel_terrain::plane_fit::{PlaneFitOptions, fit_plane_series};

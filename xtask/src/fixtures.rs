@@ -3,7 +3,7 @@
 //! terrain golden counts after a deliberate change. The regression suite compares the committed
 //! files with a fresh generation.
 
-use crate::regress::workspace_root;
+use crate::regress::case::workspace_root;
 use std::path::PathBuf;
 use std::process::ExitCode;
 

@@ -23,7 +23,7 @@
 //! Two journeys run at a time (the machines have two cores). The binary is `target/release/rappel`
 //! when it exists, else `target/debug/rappel` (`--bin` names another).
 
-use crate::regress::workspace_root;
+use crate::regress::case::workspace_root;
 use rappel::schemas as schema_check;
 use serde_json::Value;
 use std::path::{Path, PathBuf};

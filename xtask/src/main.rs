@@ -7,6 +7,7 @@
 mod fixtures;
 mod journeys;
 mod regress;
+mod tidy;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -51,13 +52,20 @@ enum Command {
         #[arg(long)]
         check: bool,
     },
+    /// Check that no module imports another that imports it back, inside any crate; prints each
+    /// circle with the names each module takes from the others, exit 1 if there is any.
+    Tidy {
+        /// Also the crates not checked yet (tidy::NOT_YET_CHECKED: the facade and the binary).
+        #[arg(long)]
+        all: bool,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Regress { suite, full } => {
-            regress::set_full(full);
+            regress::case::set_full(full);
             regress::run(suite.as_deref())
         }
         Command::Journeys { full, bin, viewer } => journeys::run(
@@ -71,6 +79,7 @@ fn main() -> ExitCode {
         ),
         Command::GenFixtures => fixtures::generate(),
         Command::Schemas { check } => schemas(check),
+        Command::Tidy { all } => tidy::run(all),
     };
     match result {
         Ok(code) => code,
@@ -83,7 +92,7 @@ fn main() -> ExitCode {
 
 /// `cargo xtask schemas [--check]`.
 fn schemas(check: bool) -> Result<ExitCode, String> {
-    let dir = regress::workspace_root().join("docs/schemas");
+    let dir = regress::case::workspace_root().join("docs/schemas");
     if check {
         let stale = rappel::schemas::stale_schema_files(&dir);
         if stale.is_empty() {

@@ -10,7 +10,7 @@ use rappel::dem_ptfo::{PtfoLabelOptions, label_ptfos};
 use rappel::ptfo_spec::FrictionRange;
 use rappel::scenario::Format;
 use rappel::sticking_profile::sticking_profile;
-use rappel::terrain::dem::DemLimits;
+use rappel::terrain::grid::DemLimits;
 use rappel::terrain::ingest::IngestOptions;
 use rappel_render::dem::{convexity_picture, dem_picture, hill_view, phi_chart, sticking_picture};
 use std::path::{Path, PathBuf};

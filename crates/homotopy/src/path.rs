@@ -9,7 +9,6 @@
 //! interior or leave the map; such a path is a [`PathError::LeavesFreeSpace`] naming the segment.
 
 use nalgebra::Point2;
-use rappel_geometry::btm::Btm;
 use rappel_geometry::dcel::ObstacleId;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -169,28 +168,6 @@ impl Path {
     /// `true` when the path ends where it starts (a loop, thesis §2.2.1).
     pub fn is_closed(&self) -> bool {
         self.start() == self.end()
-    }
-
-    /// Checks that the path stays in the closed free space of `btm`.
-    ///
-    /// ```
-    /// use nalgebra::Point2;
-    /// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
-    /// use rappel_homotopy::path::{Path, PathError};
-    /// let p = |x, y| Point2::new(x, y);
-    /// let map = Map::new(
-    ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
-    ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
-    /// );
-    /// let btm = Btm::from_map(&map).unwrap();
-    /// assert!(Path::new(vec![p(1., 1.), p(9., 1.), p(9., 9.)]).unwrap().validate(&btm).is_ok());
-    /// // Along the obstacle's bottom edge: touching is allowed.
-    /// assert!(Path::new(vec![p(1., 4.), p(9., 4.)]).unwrap().validate(&btm).is_ok());
-    /// let through = Path::new(vec![p(1., 5.), p(9., 5.)]).unwrap();
-    /// assert!(matches!(through.validate(&btm), Err(PathError::LeavesFreeSpace { segment: 0, .. })));
-    /// ```
-    pub fn validate(&self, btm: &Btm) -> Result<(), PathError> {
-        crate::crossing::CrossingSequence::of_path(btm, self).map(|_| ())
     }
 }
 

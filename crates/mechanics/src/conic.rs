@@ -9,7 +9,7 @@
 //! separate steps ([`ConicProblem::setup`], [`PreparedSolver::solve`]) so that benchmarks can time
 //! them apart; clarabel has no warm start, so each check sets up afresh.
 
-use crate::traversability::StabilityError;
+use crate::stability_error::StabilityError;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,

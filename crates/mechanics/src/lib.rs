@@ -19,7 +19,8 @@
 //! | [`robot`] | the robot-model trait, planes, poses, placement | Paton §IV-A |
 //! | [`axel`] | the Axel model and its tether-tension estimate | eq. 3.32 |
 //! | [`four_wheel`] | a generic four-wheel rover | Kumar §II |
-//! | [`traversability`] | the stability-criterion seam, errors, settings | GUIDE §2 |
+//! | [`traversability`] | the stability-criterion seam, settings | GUIDE §2 |
+//! | [`stability_error`] | why a stability question could not be answered | GUIDE §3 |
 //! | [`conic`] | the clarabel adapter and status mapping | GUIDE §3 |
 //! | [`dense_qp`] | dense Goldfarb-Idnani QP (diagonal Hessian) | Goldfarb-Idnani 1983 |
 //! | [`stability_qp`] | wheel/tether stability QP | Paton eqs. 1-9 |
@@ -54,6 +55,7 @@ pub mod ptfo;
 pub mod ptfo_surface;
 pub mod robot;
 pub mod settle;
+pub mod stability_error;
 pub mod stability_map;
 pub mod stability_qp;
 mod statics;

@@ -40,10 +40,11 @@
 use crate::conic::{ConicBuilder, ConicOutcome, ConicProblem};
 use crate::dense_qp::{DenseOutcome, DenseQpError};
 use crate::robot::PlacedRobot;
+use crate::stability_error::StabilityError;
 use crate::statics::{
     Layout, add_equilibrium, add_friction_pyramids, add_moment_bounds, add_tether_bounds, weight,
 };
-use crate::traversability::{Assessment, StabilityCriterion, StabilityError, StabilitySettings};
+use crate::traversability::{Assessment, StabilityCriterion, StabilitySettings};
 use nalgebra::Vector3;
 
 /// Friction coefficients at or below this are treated as frictionless: their tangential forces

@@ -24,7 +24,7 @@
 
 use crate::conic::ConicBuilder;
 use crate::robot::PlacedRobot;
-use crate::traversability::StabilityError;
+use crate::stability_error::StabilityError;
 use nalgebra::{Matrix3, Vector3};
 
 /// Index layout of the decision variables.

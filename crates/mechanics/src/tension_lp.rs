@@ -15,8 +15,9 @@
 
 use crate::conic::{ConicBuilder, ConicOutcome, ConicProblem};
 use crate::robot::PlacedRobot;
+use crate::stability_error::StabilityError;
 use crate::statics::{Layout, add_equilibrium, add_friction_pyramids, add_tether_bounds, weight};
-use crate::traversability::{Assessment, StabilityCriterion, StabilityError, StabilitySettings};
+use crate::traversability::{Assessment, StabilityCriterion, StabilitySettings};
 
 /// How the friction cone `sqrt(F_X² + F_Y²) <= μ F_Z` is linearised.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -5,28 +5,9 @@
 //! without touching the planners.
 
 use crate::conic::SolverSettings;
-use crate::robot::{PlacedRobot, RobotError, STANDARD_GRAVITY};
+use crate::robot::{PlacedRobot, STANDARD_GRAVITY};
+use crate::stability_error::StabilityError;
 use serde::{Deserialize, Serialize};
-use thiserror::Error;
-
-/// Why a stability question could not be answered. "Not stable" is **not** an error: it is an
-/// [`Assessment`] with `stable == false`.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum StabilityError {
-    /// An input is out of range or not finite; the message names it.
-    #[error("invalid stability input: {0}")]
-    Input(&'static str),
-    /// The robot could not be placed.
-    #[error(transparent)]
-    Robot(#[from] RobotError),
-    /// clarabel rejected the problem data or settings.
-    #[error("solver setup failed: {0}")]
-    Setup(String),
-    /// clarabel stopped without a verdict (iteration or time limit, numerical error, lack of
-    /// progress, or an unbounded problem). Retry with more iterations; report if it persists.
-    #[error("solver trouble: {0}")]
-    Trouble(String),
-}
 
 /// A stability verdict with a margin a planner can compare (larger is safer; margins are
 /// comparable only between assessments by the same criterion).

@@ -67,11 +67,11 @@ use rappel_homotopy::path::{Path, PathError};
 use serde::{Deserialize, Serialize};
 
 mod around;
+mod corner;
 pub use around::{ARC_STEP, offset_for_clearance};
 use around::{Node, around};
-
-/// Largest mitre offset, in clearances (a sharp turn would push the mitre point far away).
-pub const MITRE_LIMIT: f64 = 4.0;
+use corner::Corner;
+pub use corner::MITRE_LIMIT;
 
 /// Relative margin by which the corners a pair places around an anchor clear its clearance: they
 /// aim at `clearance * (1 + PLACEMENT_MARGIN)` (0.5 µm beyond a 0.5 m clearance), so that the check
@@ -390,30 +390,6 @@ fn rounded_descent(
         Ok(d)
     };
     descent_of(false).or_else(|_| descent_of(true))
-}
-
-/// A corner of a path being built: a fixed point (start, goal, waypoint), or a point pushed off
-/// anchor `k` along the unit direction `dir` by `m` metres.
-#[derive(Debug, Clone, Copy)]
-struct Corner {
-    base: Point2<f64>,
-    owner: Option<(usize, Vector2<f64>, f64)>,
-}
-
-impl Corner {
-    fn fixed(p: Point2<f64>) -> Corner {
-        Corner {
-            base: p,
-            owner: None,
-        }
-    }
-
-    fn point(&self) -> Point2<f64> {
-        match self.owner {
-            Some((_, dir, m)) => self.base + dir * m,
-            None => self.base,
-        }
-    }
 }
 
 /// The mitre corners `o_j` (module docs), owned by their anchors.

@@ -5,7 +5,8 @@
 
 use crate::georeference::Georeference;
 use crate::scenario::{RobotParams, Scenario, Terrain};
-use rappel_terrain::dem::{DemError, DemLimits, HeightGrid, dem_crs, read_dem_with};
+use rappel_terrain::dem::{DemError, dem_crs, read_dem_with};
+use rappel_terrain::grid::{DemLimits, HeightGrid};
 use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
 use rappel_terrain::plane_class::PlaneClass;
 use serde::{Deserialize, Serialize};
@@ -167,7 +168,7 @@ pub fn dem_scenario(path: &Path, options: &IngestOptions) -> Result<DemScenario,
 ///
 /// ```
 /// use rappel::dem::dem_scenario_with;
-/// use rappel::terrain::dem::DemLimits;
+/// use rappel::terrain::grid::DemLimits;
 /// use rappel::terrain::ingest::IngestOptions;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
 /// let tight = DemLimits::with_max_cells(100).unwrap();

@@ -39,7 +39,7 @@ use nalgebra::{DMatrix, Point2};
 use rappel_geometry::polygon::{PointInPolygon, Polygon, convex_hull};
 use rappel_mechanics::curvature::{Convexity, CurvatureMap, analyze_height_field};
 use rappel_mechanics::ptfo_surface::{HeightPatch, PtfoSurface};
-use rappel_terrain::dem::HeightGrid;
+use rappel_terrain::grid::HeightGrid;
 use rappel_terrain::plane_fit::FittedPlane;
 use serde::{Deserialize, Serialize};
 

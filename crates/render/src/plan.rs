@@ -10,12 +10,8 @@ use rappel::scenario::Scenario;
 use rappel_geometry::polygon::Aabb;
 use rappel_mechanics::anchor_traversability::TetherLimit;
 
+use crate::style::CONE_DRAW_FACTOR;
 use crate::{Layer, Picture};
-
-/// How far down a friction-cone wedge is drawn, in multiples of the tether segment below its
-/// anchor (the wedges of the reachable sets reach the map's edge; drawn whole they swamp a tall
-/// strip).
-pub const CONE_DRAW_FACTOR: f64 = 1.25;
 
 /// The picture of a plan (thesis Figs. 2.31-2.44), cropped to `window` (map frame; `--window`)
 /// when given: BTM, the sleeve and SHP of the chosen class (the shortest when none is feasible),

@@ -98,10 +98,7 @@ impl Layer {
     /// friction cones' drawn radius).
     pub(crate) fn legend_note(self) -> Option<String> {
         match self {
-            Layer::FrictionCone => Some(format!(
-                "radius {}x the tether below",
-                crate::plan::CONE_DRAW_FACTOR
-            )),
+            Layer::FrictionCone => Some(format!("radius {}x the tether below", CONE_DRAW_FACTOR)),
             _ => None,
         }
     }
@@ -279,6 +276,11 @@ pub enum Marker {
     /// A cross.
     Cross,
 }
+
+/// How far down a friction-cone wedge is drawn, in multiples of the tether segment below its
+/// anchor (the wedges of the reachable sets reach the map's edge; drawn whole they swamp a tall
+/// strip).
+pub const CONE_DRAW_FACTOR: f64 = 1.25;
 
 /// The colour scale of margins (viridis at five stops, from low to high): perceptually uniform
 /// and readable by colour-blind readers, unlike red against green.

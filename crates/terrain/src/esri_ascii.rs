@@ -18,7 +18,7 @@
 
 use std::fmt::Write as _;
 
-use crate::dem::{DemLimits, GridError, GridGeometry, HeightGrid};
+use crate::grid::{DemLimits, GridError, GridGeometry, HeightGrid};
 
 /// Longest excerpt of offending text quoted in an error.
 const MAX_QUOTED_CHARS: usize = 40;
@@ -197,7 +197,7 @@ pub fn parse_esri_ascii(bytes: &[u8]) -> Result<HeightGrid, EsriAsciiError> {
 /// work cap is refused before any height is read.
 ///
 /// ```
-/// use rappel_terrain::dem::DemLimits;
+/// use rappel_terrain::grid::DemLimits;
 /// use rappel_terrain::esri_ascii::parse_esri_ascii_with;
 /// let text = "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3 4 5 6\n";
 /// assert!(parse_esri_ascii_with(text.as_bytes(), &DemLimits::with_max_cells(6).unwrap()).is_ok());
@@ -375,7 +375,7 @@ pub fn parse_esri_ascii_with(
 /// their shortest exact form, so [`parse_esri_ascii`] reads back the same grid.
 ///
 /// ```
-/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::grid::{GridGeometry, HeightGrid};
 /// use rappel_terrain::esri_ascii::{parse_esri_ascii, write_esri_ascii};
 /// let g = GridGeometry::new(2, 2, 0.5, 0.5, 10.0, 20.0).unwrap();
 /// let dem = HeightGrid::new(g, vec![1.25, f64::NAN, 3.0, -4.5]).unwrap();
@@ -566,7 +566,7 @@ mod tests {
             })
         ));
         // Within a raised cap but far more than the file holds: an error, quickly.
-        let all = DemLimits::with_max_cells(crate::dem::MAX_CELLS).unwrap();
+        let all = DemLimits::with_max_cells(crate::grid::MAX_CELLS).unwrap();
         assert!(matches!(
             parse_esri_ascii_with(text.as_bytes(), &all),
             Err(EsriAsciiError::TooFewValues { found: 1, .. })

@@ -22,7 +22,7 @@
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use crate::dem::GridGeometry;
+use crate::grid::GridGeometry;
 use crate::slope::FallLine;
 
 /// One piece of the unfolding: from horizontal distance `s_start` up to the next piece's start,

@@ -23,7 +23,7 @@ use tiff::ColorType;
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::tags::Tag;
 
-use crate::dem::{DemLimits, GridError, GridGeometry, HeightGrid};
+use crate::grid::{DemLimits, GridError, GridGeometry, HeightGrid};
 
 /// `GTRasterTypeGeoKey` in the GeoKey directory.
 const GT_RASTER_TYPE_GEO_KEY: u16 = 1025;
@@ -421,7 +421,7 @@ pub fn decode_geotiff<R: Read + Seek>(reader: R) -> Result<HeightGrid, GeoTiffEr
 /// the declared size) before the samples are allocated.
 ///
 /// ```
-/// use rappel_terrain::dem::DemLimits;
+/// use rappel_terrain::grid::DemLimits;
 /// use rappel_terrain::geotiff::decode_geotiff_with;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.tif");
 /// let bytes = std::fs::read(path).unwrap();

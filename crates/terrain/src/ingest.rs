@@ -27,8 +27,8 @@
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use crate::dem::{GridGeometry, HeightGrid, Raster};
 use crate::frame::PlanningFrame;
+use crate::grid::{GridGeometry, HeightGrid, Raster};
 use crate::obstacle_detection::{
     ObstacleDetection, ObstacleError, ObstacleOptions, ReferencePlane, detect_obstacles,
 };
@@ -160,7 +160,7 @@ pub const MAX_RELIEF_RATIO: f64 = 100.0;
 /// Refuses a grid whose relief is implausible (see [`IngestError::ImplausibleRelief`]).
 ///
 /// ```
-/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::grid::{GridGeometry, HeightGrid};
 /// use rappel_terrain::ingest::{check_relief, IngestError};
 /// let g = GridGeometry::new(10, 12, 1.0, 1.0, 0.0, 10.0).unwrap();
 /// let mut v = vec![0.0; 120];
@@ -391,7 +391,7 @@ fn suggest(
 /// Turns a DEM into the ingredients of a planning scenario (see the module docs).
 ///
 /// ```
-/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::grid::GridGeometry;
 /// use rappel_terrain::ingest::{ingest, IngestOptions};
 /// use rappel_terrain::plane_class::PlaneClass;
 /// use rappel_terrain::slope::FallLine;

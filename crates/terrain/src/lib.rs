@@ -4,8 +4,9 @@
 //! Terrain models (thesis §2.1.2): the convex series of planes down a crater wall in the unfolded
 //! planning frame, and (from DEMs) height fields and the obstacles detected on them.
 //!
-//! DEM ingestion (thesis §2.1.3, §2.5.1-2.5.5), one concept per module: [`dem`] (height grids and
-//! [`dem::read_dem`]), [`esri_ascii`] and [`geotiff`] (the readers), [`slope`] (Horn's slope and
+//! DEM ingestion (thesis §2.1.3, §2.5.1-2.5.5), one concept per module: [`grid`] (height grids,
+//! their geometry and limits), [`esri_ascii`] and [`geotiff`] (the readers), [`dem`]
+//! ([`dem::read_dem`], the reader chosen by extension), [`slope`] (Horn's slope and
 //! aspect, the fall line, hillshade), [`least_squares`] (plane fits by sufficient statistics),
 //! [`plane_fit`] (the convex plane series), [`frame`] (the unfolded planning frame),
 //! [`obstacle_detection`] (Manduchi's rule on slopes, positive and negative obstacles),
@@ -17,6 +18,7 @@ pub mod dem;
 pub mod esri_ascii;
 pub mod frame;
 pub mod geotiff;
+pub mod grid;
 pub mod ingest;
 pub mod kumar;
 pub mod least_squares;

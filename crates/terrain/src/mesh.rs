@@ -16,7 +16,7 @@ use std::collections::HashMap;
 
 use nalgebra::{Point3, Vector3};
 
-use crate::dem::HeightGrid;
+use crate::grid::HeightGrid;
 
 /// The most triangles a mesh may have (memory bound: about 100 bytes per triangle with its
 /// pseudo-normals, so 400 MB). Larger meshes are a [`MeshError::TooLarge`].
@@ -275,7 +275,7 @@ impl TriMesh {
     /// holes. [`MeshError::Empty`] when no 2 x 2 block is fully known.
     ///
     /// ```
-    /// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+    /// use rappel_terrain::grid::{GridGeometry, HeightGrid};
     /// use rappel_terrain::mesh::TriMesh;
     /// let g = GridGeometry::new(3, 3, 1.0, 1.0, 0.0, 3.0).unwrap();
     /// let dem = HeightGrid::from_fn(g, |_, _, _| Some(2.0)).unwrap();
@@ -596,7 +596,7 @@ pub fn closest_point_triangle(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dem::GridGeometry;
+    use crate::grid::GridGeometry;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 

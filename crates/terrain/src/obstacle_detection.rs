@@ -41,7 +41,7 @@
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
-use crate::dem::{GridGeometry, HeightGrid};
+use crate::grid::{GridGeometry, HeightGrid};
 use crate::least_squares::PlaneStats;
 
 /// Default `H_min`, metres (thesis §2.5.2): smaller height differences are not obstacles.
@@ -205,7 +205,7 @@ impl ObstacleDetection {
 /// row-major order of their first cell.
 ///
 /// ```
-/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::grid::GridGeometry;
 /// use rappel_terrain::obstacle_detection::connected_components;
 /// let g = GridGeometry::new(3, 4, 1.0, 1.0, 0.0, 3.0).unwrap();
 /// // x . . x
@@ -373,7 +373,7 @@ fn height_above_ground(
 ///
 /// ```
 /// use nalgebra::Vector2;
-/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::grid::GridGeometry;
 /// use rappel_terrain::obstacle_detection::{detect_obstacles, ObstacleOptions, ReferencePlane};
 /// use rappel_terrain::slope::FallLine;
 /// use rappel_terrain::synthetic::{plane_series_dem, with_box, ProfilePlane};

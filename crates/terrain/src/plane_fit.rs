@@ -30,8 +30,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::dem::HeightGrid;
 use crate::frame::PlanningFrame;
+use crate::grid::HeightGrid;
 use crate::least_squares::{LsqPlane, PlaneStats};
 
 /// Default width of the bands, in cells (of the larger cell size).
@@ -228,7 +228,7 @@ fn cheapest_pair(
 /// Fits the convex plane series of `dem` along the fall line of `frame` (see the module docs).
 ///
 /// ```
-/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::grid::GridGeometry;
 /// use rappel_terrain::frame::PlanningFrame;
 /// use rappel_terrain::plane_fit::{fit_plane_series, PlaneFitOptions};
 /// use rappel_terrain::slope::FallLine;

@@ -762,7 +762,7 @@ pub(crate) fn saturating_count(f: f64) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dem::{GridGeometry, HeightGrid};
+    use crate::grid::{GridGeometry, HeightGrid};
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 

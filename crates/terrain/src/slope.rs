@@ -25,7 +25,7 @@
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
-use crate::dem::{GridGeometry, HeightGrid, Raster};
+use crate::grid::{GridGeometry, HeightGrid, Raster};
 
 /// Below this slope (degrees) of the mean gradient the terrain has no fall line: it is flat on the
 /// whole, and any direction is as good as another. Give the fall line explicitly for such terrain.
@@ -155,7 +155,7 @@ impl SlopeField {
     /// The gradient of every cell of `dem` by Horn's method (see the module docs).
     ///
     /// ```
-    /// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+    /// use rappel_terrain::grid::{GridGeometry, HeightGrid};
     /// use rappel_terrain::slope::SlopeField;
     /// // z = 0.5 * north: a 26.57 degree slope facing south.
     /// let g = GridGeometry::new(5, 5, 1.0, 1.0, 0.0, 5.0).unwrap();
@@ -271,7 +271,7 @@ impl SlopeField {
     /// `[0, 1]` (0 in shadow); NaN where the gradient is unknown.
     ///
     /// ```
-    /// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+    /// use rappel_terrain::grid::{GridGeometry, HeightGrid};
     /// use rappel_terrain::slope::{HillshadeOptions, SlopeField};
     /// let g = GridGeometry::new(3, 3, 1.0, 1.0, 0.0, 3.0).unwrap();
     /// let flat = HeightGrid::from_fn(g, |_, _, _| Some(7.0)).unwrap();

@@ -6,8 +6,8 @@
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
-use crate::dem::{GridError, GridGeometry, HeightGrid};
 use crate::frame::PlanningFrame;
+use crate::grid::{GridError, GridGeometry, HeightGrid};
 use crate::least_squares::PlaneStats;
 use crate::slope::FallLine;
 
@@ -59,7 +59,7 @@ pub fn profile_drop(planes: &[ProfilePlane], d: f64) -> f64 {
 /// planning frame of [`crate::frame`]).
 ///
 /// ```
-/// use rappel_terrain::dem::GridGeometry;
+/// use rappel_terrain::grid::GridGeometry;
 /// use rappel_terrain::slope::FallLine;
 /// use rappel_terrain::synthetic::{plane_series_dem, ProfilePlane};
 /// let g = GridGeometry::new(10, 10, 1.0, 1.0, 0.0, 10.0).unwrap();
@@ -92,7 +92,7 @@ pub fn plane_series_dem(
 /// Errors when a raised height is not finite.
 ///
 /// ```
-/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::grid::{GridGeometry, HeightGrid};
 /// use rappel_terrain::synthetic::with_box;
 /// let g = GridGeometry::new(4, 4, 1.0, 1.0, 0.0, 4.0).unwrap();
 /// let flat = HeightGrid::from_fn(g, |_, _, _| Some(0.0)).unwrap();
@@ -138,7 +138,7 @@ pub fn detrended(dem: &HeightGrid) -> Option<HeightGrid> {
 /// is continuous. Cells where either is unknown are unknown. Errors when a sum is not finite.
 ///
 /// ```
-/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::grid::{GridGeometry, HeightGrid};
 /// use rappel_terrain::synthetic::tiled_texture;
 /// let g = GridGeometry::new(2, 3, 1.0, 1.0, 0.0, 2.0).unwrap();
 /// let tex = HeightGrid::new(g, vec![1., 2., 3., 4., 5., 6.]).unwrap();
@@ -171,7 +171,7 @@ pub const TEXTURED_WALL_SLOPES_DEG: [f64; 3] = [15.0, 25.0, 35.0];
 /// fittable plane or the size is unusable.
 ///
 /// ```
-/// use rappel_terrain::dem::{GridGeometry, HeightGrid};
+/// use rappel_terrain::grid::{GridGeometry, HeightGrid};
 /// use rappel_terrain::synthetic::textured_wall;
 /// let g = GridGeometry::new(8, 8, 1.0, 1.0, 0.0, 8.0).unwrap();
 /// let bumpy = HeightGrid::from_fn(g, |r, c, _| Some(((r * 3 + c * 5) % 7) as f64 * 0.1)).unwrap();

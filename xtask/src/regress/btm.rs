@@ -3,7 +3,7 @@
 //! generated fixtures match their seeds; and a long sequence of local updates on the big map keeps
 //! the invariants and the ids of untouched triangles.
 
-use super::{Case, workspace_root};
+use super::case::{Case, workspace_root};
 use crate::fixtures::{GENERATED, generated_path};
 use rappel::btm_summary::summarize_btm;
 use rappel::geometry::btm::Btm;

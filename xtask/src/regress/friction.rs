@@ -4,7 +4,7 @@
 //! conservative-interval rule, and for slips the frictionless planner on the clipped map built
 //! from scratch.
 
-use super::{Case, workspace_root};
+use super::case::{Case, workspace_root};
 use rappel::geometry::btm::Btm;
 use rappel::geometry::map::Map;
 use rappel::geometry::polygon::Polygon;

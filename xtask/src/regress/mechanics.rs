@@ -4,7 +4,7 @@
 //! obtained independently (a closed form or the papers' stated result). The geometry the papers do
 //! not give numerically is chosen here and documented in `docs/mechanics.md`.
 
-use super::Case;
+use super::case::Case;
 use rappel::mechanics::axel::{Axel, AxelParams, BoomMode, tether_tension_estimate};
 use rappel::mechanics::four_wheel::FourWheelRover;
 use rappel::mechanics::heavy_rope::{HeavyRope, RopeOutcome, TensionBranch};

@@ -14,6 +14,7 @@
 //!   fail the run.
 
 mod btm;
+pub mod case;
 mod friction;
 mod mechanics;
 mod online;
@@ -23,24 +24,8 @@ pub mod terrain;
 pub mod terrain_synthetic;
 mod tracking;
 
-use std::path::PathBuf;
+use case::Case;
 use std::process::ExitCode;
-
-/// One regression case: what was measured, what it is compared with, and whether it passed.
-pub struct Case {
-    /// The suite's name, e.g. `btm`.
-    pub suite: &'static str,
-    /// What the case checks, e.g. `fixtures/thesis-fig-2-7.ron: triangle count`.
-    pub name: String,
-    /// The measured value, formatted.
-    pub measured: String,
-    /// The reference value or condition it is compared with, formatted.
-    pub reference: String,
-    /// Whether the measured value meets the reference.
-    pub pass: bool,
-    /// `true` for a drift check against a golden file our own code wrote.
-    pub drift: bool,
-}
 
 /// A known difference from a paper: the row (`suite`, exact case name), why our model differs,
 /// and where the derivation is written down.
@@ -126,41 +111,6 @@ fn judge(cases: &[Case], known: &[KnownDifference]) -> (Vec<Verdict>, Vec<String
     (verdicts, stale)
 }
 
-impl Case {
-    /// A case that passes when `pass` holds.
-    pub fn new(
-        suite: &'static str,
-        name: impl Into<String>,
-        measured: impl Into<String>,
-        reference: impl Into<String>,
-        pass: bool,
-    ) -> Self {
-        Case {
-            suite,
-            name: name.into(),
-            measured: measured.into(),
-            reference: reference.into(),
-            pass,
-            drift: false,
-        }
-    }
-
-    /// A drift check: the measured value against a golden file our own code wrote (not a
-    /// reproduction; printed as `drift`): the terrain suite's golden rows.
-    pub fn drift(
-        suite: &'static str,
-        name: impl Into<String>,
-        measured: impl Into<String>,
-        golden: impl Into<String>,
-        pass: bool,
-    ) -> Self {
-        Case {
-            drift: true,
-            ..Case::new(suite, name, measured, golden, pass)
-        }
-    }
-}
-
 /// A suite: a name and the function that runs it.
 type Suite = (&'static str, fn() -> Result<Vec<Case>, String>);
 
@@ -174,26 +124,6 @@ const SUITES: &[Suite] = &[
     ("friction", friction::suite),
     ("paton", paton::suite),
 ];
-
-static FULL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Asks the suites for their full-size runs (`cargo xtask regress --full`).
-pub fn set_full(full: bool) {
-    FULL.store(full, std::sync::atomic::Ordering::Relaxed);
-}
-
-/// `true` when the full-size runs were asked for.
-pub fn full() -> bool {
-    FULL.load(std::sync::atomic::Ordering::Relaxed)
-}
-
-/// The workspace root (the parent of `xtask/`).
-pub fn workspace_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("xtask lives in the workspace")
-        .to_path_buf()
-}
 
 /// Runs every suite whose name contains `filter` and prints the table.
 pub fn run(filter: Option<&str>) -> Result<ExitCode, String> {

@@ -5,7 +5,7 @@
 //! true map, the independent reference) finds a feasible class, the online run reaches the goal.
 //! 20 pairs by default, 200 with `--full`.
 
-use super::{Case, full, workspace_root};
+use super::case::{Case, full, workspace_root};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rappel::geometry::map::Map;

@@ -7,7 +7,7 @@
 //! with the boom inline or in contact. Test 3: the tether swept around the pole against the
 //! closed-form wrap of a cylinder.
 
-use super::{Case, workspace_root};
+use super::case::{Case, workspace_root};
 use rappel::nalgebra::{Point3, Vector3};
 use rappel::planners::anchor_prediction::{AnchorHistory, PredictParams, predict_path};
 use rappel::planners::rover::stability_map::{
@@ -286,7 +286,7 @@ fn table_seeds(test: u32, shadow: bool) -> Vec<u64> {
         (_, false) => 10,
         (_, true) => CI_SHADOW_TEST_3_SEEDS,
     };
-    (0..if super::full() { 100 } else { ci }).collect()
+    (0..if super::case::full() { 100 } else { ci }).collect()
 }
 
 /// CI seeds of the shadow-sampling test-3 row. The row passes only if every seed finds the
@@ -317,7 +317,7 @@ fn table_one() -> Result<Vec<Case>, String> {
         PATON_ITERATIONS, RoverProblem, SHADOW_SAMPLE_FRACTION, navigate_seeds,
     };
     use rappel::planners::sampler::Termination;
-    let term = if super::full() {
+    let term = if super::case::full() {
         Termination::iterations(PATON_ITERATIONS)
     } else {
         Termination::iterations(PATON_ITERATIONS).or_cost_at_most(f64::MAX)

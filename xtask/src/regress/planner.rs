@@ -6,7 +6,7 @@
 //! paper's worked example has a feasible path, §IV; Garni's best SHP is straight, Fig. 2.31;
 //! Golden Queen's wraps two small obstacles and is feasible at mu 0.4 on 45 degrees, Fig. 2.44).
 
-use super::{Case, workspace_root};
+use super::case::{Case, workspace_root};
 use rappel::plan::{PlanOptions, PlanReport};
 use rappel::planners::visibility_graph;
 use rappel::scenario::Scenario;

@@ -7,7 +7,7 @@
 //! Those golden rows are drift checks; the suite's reproductions are the synthetic DEMs of known
 //! geometry in [`super::terrain_synthetic`].
 
-use super::{Case, workspace_root};
+use super::case::{Case, workspace_root};
 use rappel::btm_summary::summarize_btm;
 use rappel::dem::dem_scenario;
 use rappel::plan::{PlanOptions, plan};

@@ -7,13 +7,13 @@
 //! inside its obstacle, on a single plane the planned length against the 3D distance on the
 //! planted plane, and a planted dome labelled as the one PTFO with its apex height.
 
-use super::Case;
+use super::case::Case;
 use rappel::dem::{DemScenario, dem_scenario};
 use rappel::geometry::polygon::{PointInPolygon, Polygon};
 use rappel::nalgebra::{Point2, Vector2};
 use rappel::plan::{PlanOptions, plan};
-use rappel::terrain::dem::{GridGeometry, HeightGrid};
 use rappel::terrain::esri_ascii::write_esri_ascii;
+use rappel::terrain::grid::{GridGeometry, HeightGrid};
 use rappel::terrain::ingest::IngestOptions;
 use rappel::terrain::slope::FallLine;
 use rappel::terrain::synthetic::{ProfilePlane, plane_series_dem, with_box};

@@ -15,7 +15,7 @@
 //! tether as the paper describes. `F_0 = 0`: Robot 1 holds with its wheels' friction only, so
 //! `T_1 <= mu m1 g = 137.3 N` (eq. 1).
 
-use super::Case;
+use super::case::Case;
 use rappel::geometry::btm::Btm;
 use rappel::geometry::map::Map;
 use rappel::geometry::polygon::Polygon;

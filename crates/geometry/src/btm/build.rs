@@ -26,7 +26,8 @@
 //! faces seeded in Hilbert order too.
 
 use super::{Btm, BtmError, ObstacleRecord};
-use crate::btm::locate::{Locator, RawLocation, WalkRng};
+use crate::btm::locate::{RawLocation, WalkRng};
+use crate::btm::locator::Locator;
 use crate::dcel::{Dcel, EdgeKind, FaceKind, HalfEdgeId, NONE, ObstacleId, RingLink};
 use crate::map::{Map, ValidMap};
 use crate::polygon::{Aabb, Polygon};

@@ -17,6 +17,7 @@
 mod build;
 mod invariants;
 mod locate;
+mod locator;
 mod ops;
 mod update;
 
@@ -37,7 +38,7 @@ pub struct Btm {
     pub(crate) boundary: Vec<u32>,
     /// Obstacles by id (`None` once removed).
     pub(crate) obstacles: Vec<Option<ObstacleRecord>>,
-    pub(crate) locator: locate::Locator,
+    pub(crate) locator: locator::Locator,
 }
 
 /// An obstacle's vertices, clockwise (free space on the left of each edge).

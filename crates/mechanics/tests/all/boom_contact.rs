@@ -254,7 +254,7 @@ fn place_boom_inline_ok(
 /// bumps on a 20° ramp (a real-DEM-sized mesh, `2 (n - 1)²` triangles).
 fn rough_dem(n: usize, h: f64, seed: u64) -> TriMesh {
     use rand::{RngExt, SeedableRng};
-    use rappel_terrain::dem::{GridGeometry, HeightGrid};
+    use rappel_terrain::grid::{GridGeometry, HeightGrid};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let bumps: Vec<(f64, f64, f64, f64)> = (0..40)
         .map(|_| {

@@ -8,8 +8,9 @@ use rappel_mechanics::four_wheel::FourWheelRover;
 use rappel_mechanics::robot::{
     PlacedRobot, PlanarPose, RobotModel, STANDARD_GRAVITY, SlopePlane, TetherSpec, place,
 };
+use rappel_mechanics::stability_error::StabilityError;
 use rappel_mechanics::stability_qp::{QpReport, StabilityQp};
-use rappel_mechanics::traversability::{StabilityError, StabilitySettings};
+use rappel_mechanics::traversability::StabilitySettings;
 use std::f64::consts::PI;
 
 fn placed(model: &dyn RobotModel, deg: f64, mu: f64, tether: Option<&TetherSpec>) -> PlacedRobot {

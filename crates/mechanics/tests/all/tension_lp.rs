@@ -4,8 +4,8 @@
 use nalgebra::Point3;
 use rappel_mechanics::four_wheel::FourWheelRover;
 use rappel_mechanics::robot::{PlanarPose, STANDARD_GRAVITY, SlopePlane, TetherSpec, place};
+use rappel_mechanics::stability_error::StabilityError;
 use rappel_mechanics::tension_lp::{LpReport, TensionLimitedLp};
-use rappel_mechanics::traversability::StabilityError;
 use std::f64::consts::PI;
 
 /// The four-wheel rover facing downhill at the origin of a slope `deg` with friction `mu`, its

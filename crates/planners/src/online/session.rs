@@ -32,6 +32,7 @@
 //! session switches when the saving exceeds the cost of backtracking.
 
 mod friction;
+mod session_friction;
 
 use super::change::{MapChange, covers, interior_point, outside_boundary};
 use super::classify::{
@@ -235,7 +236,7 @@ pub struct OnlineSession {
     deferred: Vec<ChangeOutcome>,
     status: Status,
     /// The PTFOs and tension model, when the session plans with tether friction.
-    friction: Option<friction::SessionFriction>,
+    friction: Option<session_friction::SessionFriction>,
     travelled_length: f64,
     backtracked_length: f64,
     scale: f64,

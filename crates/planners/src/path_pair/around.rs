@@ -25,7 +25,7 @@
 //! The polygon's vertices belong to their anchor ([`Corner`] with an owner), so that a later push
 //! ([`super::keep_clear`]) can move them radially; the pass-through nodes are fixed corners.
 
-use super::{Corner, MITRE_LIMIT};
+use super::corner::{Corner, MITRE_LIMIT};
 use nalgebra::{Point2, Vector2};
 
 /// Largest angle one edge of an arc's circumscribed polygon turns through: 22.5°, so that the

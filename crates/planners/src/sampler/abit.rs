@@ -38,6 +38,7 @@ use thiserror::Error;
 use super::graph::{Graph, IndexError};
 use super::settings::{AbitSettings, SettingsError};
 use super::space::{Informed, StateSpace};
+use super::stop::Stop;
 use super::termination::Termination;
 use super::validator::MotionValidator;
 
@@ -101,17 +102,6 @@ pub struct PlannerStatus<S, H> {
     /// Which budget or condition ended the last [`Abit::solve`] (`None` from [`Abit::status`]
     /// outside `solve`).
     pub stopped_by: Option<Stop>,
-}
-
-/// Why [`Abit::solve`] returned.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Stop {
-    /// The iteration budget ran out.
-    Iterations,
-    /// The wall-time budget ran out (checked between edge evaluations and between samples).
-    Time,
-    /// A solution at most the cost threshold was found.
-    CostThreshold,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -7,6 +7,7 @@
 //! | [`validator`] | the [`MotionValidator`] trait: state validity and lazy, history-extending motion checks |
 //! | [`settings`] | [`AbitSettings`], the validated builder of the planner's options |
 //! | [`termination`] | [`Termination`]: iterations, wall time, cost threshold (OMPL's termination conditions) |
+//! | [`stop`] | [`Stop`]: which of them ended a run |
 //! | [`graph`] | the edge-implicit random geometric graph: states, search tree, k-nearest neighbours |
 //! | [`abit`] | the [`Abit`] planner itself: batches, inflated edge queue, truncation, anytime solutions |
 //! | [`real_vector`] | [`RealVectorSpace`], the box-bounded Euclidean space in D dimensions with informed sampling |
@@ -23,6 +24,7 @@ pub mod peer_worlds;
 pub mod real_vector;
 pub mod settings;
 pub mod space;
+pub mod stop;
 pub mod termination;
 pub mod validator;
 
@@ -33,10 +35,11 @@ mod tests_geometric;
 #[cfg(test)]
 mod tests_history;
 
-pub use abit::{Abit, PlannerStatus, Solution, SolutionEvent, Stop};
+pub use abit::{Abit, PlannerStatus, Solution, SolutionEvent};
 pub use obstacle_world::{Obstacle, ObstacleWorld, WorldError, WorldFile};
 pub use real_vector::RealVectorSpace;
 pub use settings::{AbitSettings, SettingsError};
 pub use space::{Informed, StateSpace};
+pub use stop::Stop;
 pub use termination::Termination;
 pub use validator::MotionValidator;

@@ -4,8 +4,8 @@
 
 use std::time::Duration;
 
-use super::abit::Stop;
 use super::settings::SettingsError;
+use super::stop::Stop;
 
 /// A termination condition. At least one of iterations or time must be set so that the planning
 /// loop is bounded; a cost threshold alone is rejected by [`Termination::validate`].

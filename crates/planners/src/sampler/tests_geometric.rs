@@ -250,7 +250,7 @@ fn termination_by_cost_threshold_and_bad_inputs() {
         1,
         "stops at the first solution below the threshold"
     );
-    assert_eq!(st.stopped_by, Some(super::abit::Stop::CostThreshold));
+    assert_eq!(st.stopped_by, Some(super::stop::Stop::CostThreshold));
     assert!(
         p.solve(Termination::default().or_cost_at_most(3.0))
             .is_err(),
@@ -302,7 +302,7 @@ impl super::validator::MotionValidator<RealVectorSpace<2>, 2> for SlowWorld {
 
 #[test]
 fn a_time_budget_interrupts_a_batch_and_says_so() {
-    use super::abit::Stop;
+    use super::stop::Stop;
     let w = SlowWorld(boxes_2d(), std::cell::Cell::new(false));
     let settings = AbitSettings::default().with_batch_size(1000).unwrap();
     let mut p = Abit::new(&w.0.space, &w, w.0.start, w.0.goal, settings).unwrap();

@@ -11,9 +11,9 @@
 use super::{AnchorKind, TetherAnchor, TetherTracker, TrackError, windings_of};
 use nalgebra::{Point2, Point3};
 use rappel_mechanics::robot::{PlanarPose, RobotModel, SlopePlane, TetherSpec, place};
+use rappel_mechanics::stability_error::StabilityError;
 use rappel_mechanics::tension_limit::{HoldingRobot, TensionLimitError, tension_limit};
 use rappel_mechanics::tension_lp::TensionLimitedLp;
-use rappel_mechanics::traversability::StabilityError;
 use rappel_terrain::surface::Terrain;
 use serde::{Deserialize, Serialize};
 

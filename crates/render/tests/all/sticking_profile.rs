@@ -4,8 +4,8 @@
 use rappel::dem::dem_scenario;
 use rappel::nalgebra::Point2;
 use rappel::sticking_profile::sticking_profile;
-use rappel::terrain::dem::GridGeometry;
 use rappel::terrain::esri_ascii::write_esri_ascii;
+use rappel::terrain::grid::GridGeometry;
 use rappel::terrain::ingest::IngestOptions;
 use rappel::terrain::slope::FallLine;
 use rappel::terrain::synthetic::{ProfilePlane, plane_series_dem};

@@ -5,9 +5,9 @@
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rappel_terrain::dem::{GridGeometry, HeightGrid};
 use rappel_terrain::esri_ascii::parse_esri_ascii;
 use rappel_terrain::geotiff::decode_geotiff;
+use rappel_terrain::grid::{GridGeometry, HeightGrid};
 use rappel_terrain::ingest::{IngestError, IngestOptions, ingest};
 use std::io::Cursor;
 use std::time::{Duration, Instant};
@@ -213,8 +213,8 @@ fn bomb_tiff(width: u32, height: u32, t: u32, shared: bool) -> Vec<u8> {
 
 #[test]
 fn a_small_file_declaring_a_huge_raster_is_refused_before_allocating() {
-    use rappel_terrain::dem::{DemLimits, GridError, MAX_CELLS};
     use rappel_terrain::geotiff::{GeoTiffError, decode_geotiff_with};
+    use rappel_terrain::grid::{DemLimits, GridError, MAX_CELLS};
     let start = Instant::now();
     // 11,000 x 12,000 cells (the case): over the default work cap.
     let bomb = bomb_tiff(11_000, 12_000, 256, true);

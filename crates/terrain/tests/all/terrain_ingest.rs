@@ -5,7 +5,8 @@
 
 use nalgebra::Point2;
 use rappel_geometry::map::MapError;
-use rappel_terrain::dem::{GridGeometry, HeightGrid, read_dem};
+use rappel_terrain::dem::read_dem;
+use rappel_terrain::grid::{GridGeometry, HeightGrid};
 use rappel_terrain::ingest::{IngestError, IngestOptions, Ingested, ingest};
 use rappel_terrain::obstacle_detection::{ObstacleError, ObstacleOptions};
 use rappel_terrain::plane_class::PlaneClass;

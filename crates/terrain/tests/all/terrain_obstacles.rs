@@ -8,7 +8,7 @@
 use nalgebra::Point2;
 use proptest::prelude::*;
 use rappel_geometry::polygon::{Polygon, convex_hull};
-use rappel_terrain::dem::{GridGeometry, HeightGrid};
+use rappel_terrain::grid::{GridGeometry, HeightGrid};
 use rappel_terrain::ingest::{IngestOptions, Ingested, UnknownPolicy, ingest};
 use rappel_terrain::obstacle_detection::{CellClass, ObstacleOptions};
 use rappel_terrain::slope::FallLine;

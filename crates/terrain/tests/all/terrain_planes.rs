@@ -4,8 +4,8 @@
 //! documentation says, and the unfolded frame is an isometry on each plane.
 
 use nalgebra::Point2;
-use rappel_terrain::dem::{GridGeometry, HeightGrid};
 use rappel_terrain::frame::PlanningFrame;
+use rappel_terrain::grid::{GridGeometry, HeightGrid};
 use rappel_terrain::plane_fit::{PlaneFitOptions, PlaneSeriesFit, fit_plane_series};
 use rappel_terrain::slope::{FallLine, SlopeField};
 use rappel_terrain::synthetic::{ProfilePlane, plane_series_dem};

@@ -8,9 +8,10 @@ use std::io::Cursor;
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rappel_terrain::dem::{DemError, GridGeometry, HeightGrid, read_dem};
+use rappel_terrain::dem::{DemError, read_dem};
 use rappel_terrain::esri_ascii::{EsriAsciiError, parse_esri_ascii};
 use rappel_terrain::geotiff::{GeoTiffError, decode_geotiff};
+use rappel_terrain::grid::{GridGeometry, HeightGrid};
 use tiff::encoder::colortype::{self, ColorType};
 use tiff::encoder::compression::{CompressionAlgorithm, Deflate, Lzw};
 use tiff::encoder::{Compression, DeflateLevel, Predictor, TiffEncoder, TiffValue};

@@ -16,10 +16,11 @@
 //! Bound: each round clips one PTFO vertex or rejects one class; rounds beyond the PTFO vertices
 //! present plus [`MAX_FRICTION_REJECTIONS`] are an internal error, never a hang.
 
+use super::session_friction::SessionFriction;
 use super::{ChangeOutcome, OnlineSession};
 use crate::frictional::anchor_check::{AnchorVerdict, decide_anchor_with};
 use crate::frictional::slip::{Clipped, clip_vertex};
-use crate::frictional::{FrictionModel, original_index, validate_model};
+use crate::frictional::{FrictionModel, validate_model};
 use crate::online::OnlineError;
 use crate::online::change::MapChange;
 use crate::online::classify::ChangeCase;
@@ -31,26 +32,6 @@ use rappel_mechanics::ptfo::PtfoClass;
 /// Most classes one settling may reject as volatile (the CLI's class cap): with the search's
 /// own class budget the replanning ends long before.
 pub const MAX_FRICTION_REJECTIONS: usize = 1000;
-
-/// The session's PTFOs: the model (obstacles by their index in the session's initial map) and
-/// the renaming of obstacles re-inserted by reshapes.
-#[derive(Debug, Clone)]
-pub(in crate::online) struct SessionFriction {
-    model: FrictionModel,
-    renamed: Vec<(ObstacleId, usize)>,
-}
-
-impl SessionFriction {
-    /// Obstacle `new` replaces `old` (a reshape): it stands for the same PTFO, if any.
-    pub(super) fn renamed(&mut self, old: ObstacleId, new: ObstacleId) {
-        let index = original_index(&self.renamed, old);
-        self.renamed.push((new, index));
-    }
-
-    fn original(&self, id: ObstacleId) -> usize {
-        original_index(&self.renamed, id)
-    }
-}
 
 impl OnlineSession {
     /// Plans with tether friction from now on: `model`'s PTFOs name obstacles by their index in
