@@ -86,7 +86,7 @@ impl ExpansionBudget {
 }
 
 /// Which kind of budget stopped a search, with the words a report uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum BudgetKind {
     /// The automatic budget of the map.

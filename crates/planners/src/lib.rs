@@ -14,6 +14,7 @@
 //! | [`anchor_index`] | the anchors of a class near a move, a leg or an edge (a grid superset) | issue 10 (long obstacles) |
 //! | [`path_pair`] | homotopic ascent/descent path pairs, next class on failure | Alg. 6, §2.2.4 |
 //! | [`online`] | map changes, sleeve update, H-constrained replanning, backtracking, simulator | §3.5, Alg. 11-13 |
+//! | [`stop`] | when a long call stops early: expansions, a time limit, a cancel flag, combined | OMPL's termination conditions |
 //! | [`visibility_graph`] | brute-force Euclidean shortest paths, the independent test oracle | Lozano-Pérez and Wesley |
 //!
 //! The robot enters only through the [`rappel_mechanics::anchor_traversability::AnchorTraversability`]
@@ -33,6 +34,7 @@ pub mod sampler;
 pub mod search_report;
 pub mod shortest_path_map;
 pub mod spt;
+pub mod stop;
 pub mod terrain;
 pub mod tether_tracking;
 pub mod visibility_graph;

@@ -16,6 +16,10 @@ pub enum TerminationName {
     LengthFactor,
     /// [`Termination::Expansions`].
     Expansions,
+    /// [`Termination::TimeLimit`].
+    TimeLimit,
+    /// [`Termination::Cancelled`].
+    Cancelled,
     /// [`Termination::Exhausted`].
     Exhausted,
     /// [`Termination::Disconnected`].
@@ -28,6 +32,8 @@ impl From<Termination> for TerminationName {
             Termination::ClassCount => TerminationName::ClassCount,
             Termination::LengthFactor => TerminationName::LengthFactor,
             Termination::Expansions => TerminationName::Expansions,
+            Termination::TimeLimit => TerminationName::TimeLimit,
+            Termination::Cancelled => TerminationName::Cancelled,
             Termination::Exhausted => TerminationName::Exhausted,
             Termination::Disconnected => TerminationName::Disconnected,
         }
@@ -40,6 +46,8 @@ impl From<TerminationName> for Termination {
             TerminationName::ClassCount => Termination::ClassCount,
             TerminationName::LengthFactor => Termination::LengthFactor,
             TerminationName::Expansions => Termination::Expansions,
+            TerminationName::TimeLimit => Termination::TimeLimit,
+            TerminationName::Cancelled => Termination::Cancelled,
             TerminationName::Exhausted => Termination::Exhausted,
             TerminationName::Disconnected => Termination::Disconnected,
         }
@@ -149,6 +157,8 @@ mod tests {
             Termination::ClassCount,
             Termination::LengthFactor,
             Termination::Expansions,
+            Termination::TimeLimit,
+            Termination::Cancelled,
             Termination::Exhausted,
             Termination::Disconnected,
         ] {

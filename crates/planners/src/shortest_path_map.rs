@@ -49,15 +49,19 @@
 //! The expansion stops with [`SearchError::BudgetExhausted`] after
 //! [`ShortestPathMap::build_with_budget`]'s budget of expansions (by default
 //! [`ShortestPathMap::default_budget`]: the automatic budget of [`crate::budget`] for one class,
-//! at least [`DEFAULT_MAX_EXPANSIONS`]). Each expansion adds at most one tree node (48 bytes), one record (20 bytes, 16 once
+//! at least [`DEFAULT_MAX_EXPANSIONS`]); [`ShortestPathMap::build_until`] also stops at a
+//! [`StopCondition`]'s time limit or cancel flag ([`SearchError::Stopped`], read every
+//! [`crate::stop::CHECK_INTERVAL`] expansions). Each expansion adds at most one tree node (48 bytes), one record (20 bytes, 16 once
 //! packed per triangle, plus an 8-byte bound) and two queue entries (24 bytes each), so the map
 //! holds at most about 130 bytes per expansion: [`DEFAULT_MAX_EXPANSIONS`] bounds it near 1 GB,
 //! [`crate::budget::AUTO_MAX_EXPANSIONS`] near 13 GB. A query costs
 //! `O(f log n)` for the `f` funnels recorded in its triangle (each sector search is logarithmic in
 //! the chain length, funnel module docs).
 
+use crate::budget::ExpansionBudget;
 use crate::min_heap::{MinEntry, Rank};
 use crate::spt::{SearchError, canonical_triangle};
+use crate::stop::{StopCondition, StopReason};
 use nalgebra::Point2;
 use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::dcel::{TriangleId, VertexId};
@@ -158,9 +162,44 @@ impl<'b> ShortestPathMap<'b> {
         start: Point2<f64>,
         max_expansions: usize,
     ) -> Result<Self, SearchError> {
-        if max_expansions == 0 {
-            return Err(SearchError::Option("max_expansions must be at least 1"));
-        }
+        Self::build_until(btm, start, &StopCondition::expansions(max_expansions))
+    }
+
+    /// The map of `start` stopped by `stop`: its fixed budget (at least 1), or the default
+    /// budget ([`ShortestPathMap::default_budget`]) when it has the automatic one, is
+    /// [`SearchError::BudgetExhausted`]; its time limit (from the build's start unless `stop`
+    /// was [started](StopCondition::started)) and cancel flags are [`SearchError::Stopped`].
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::{btm::Btm, map::Map, polygon::Polygon};
+    /// use rappel_planners::shortest_path_map::ShortestPathMap;
+    /// use rappel_planners::spt::SearchError;
+    /// use rappel_planners::stop::{CancelFlag, StopCondition, StopReason};
+    /// let p = |x, y| Point2::new(x, y);
+    /// let map = Map::new(
+    ///     Polygon::new(vec![p(0., 0.), p(10., 0.), p(10., 10.), p(0., 10.)]),
+    ///     vec![Polygon::new(vec![p(4., 4.), p(6., 4.), p(6., 6.), p(4., 6.)])],
+    /// );
+    /// let btm = Btm::from_map(&map).unwrap();
+    /// let flag = CancelFlag::new();
+    /// flag.cancel();
+    /// let e = ShortestPathMap::build_until(&btm, p(5., 9.), &StopCondition::cancel(flag));
+    /// assert!(matches!(e, Err(SearchError::Stopped { reason: StopReason::Cancelled, .. })));
+    /// ```
+    pub fn build_until(
+        btm: &'b Btm,
+        start: Point2<f64>,
+        stop: &StopCondition,
+    ) -> Result<Self, SearchError> {
+        let max_expansions = match stop.budget() {
+            ExpansionBudget::Fixed(0) => {
+                return Err(SearchError::Option("max_expansions must be at least 1"));
+            }
+            ExpansionBudget::Fixed(n) => n,
+            ExpansionBudget::Auto => Self::default_budget(btm),
+        };
+        let mut watch = stop.watch(max_expansions);
         let start_triangle =
             canonical_triangle(btm, start).map_err(|source| SearchError::Endpoint {
                 which: "start",
@@ -200,10 +239,19 @@ impl<'b> ShortestPathMap<'b> {
                 stats.pruned_dominated += 1;
                 continue;
             }
-            if stats.expansions >= max_expansions {
-                return Err(SearchError::BudgetExhausted {
-                    expansions: stats.expansions,
-                });
+            match watch.check(stats.expansions) {
+                None => {}
+                Some(StopReason::Expansions { .. } | StopReason::Iterations { .. }) => {
+                    return Err(SearchError::BudgetExhausted {
+                        expansions: stats.expansions,
+                    });
+                }
+                Some(reason) => {
+                    return Err(SearchError::Stopped {
+                        reason,
+                        expansions: stats.expansions,
+                    });
+                }
             }
             stats.expansions += 1;
             let next = funnel.next_triangle(btm).ok_or_else(|| {

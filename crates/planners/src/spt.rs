@@ -34,6 +34,10 @@
 //! - **count**: `max_classes` classes found;
 //! - **length**: the next candidate is longer than `max_length_factor` times the first SHP;
 //! - **expansions**: `max_expansions` funnels expanded;
+//! - **time limit** and **cancel**: the options' [`StopCondition`] ([`SearchOptions::with_stop`]:
+//!   a wall-clock limit from the search's start, or a [`crate::stop::CancelFlag`] another thread
+//!   sets), read every [`crate::stop::CHECK_INTERVAL`] expansions ([`crate::stop`], "Check
+//!   cadence"); which one fired is [`SptSearch::stop_reason`];
 //! - **exhausted**: no funnel left (the cover is finite only without obstacles, or when a length
 //!   bound or the simple-classes mode cuts it);
 //! - **disconnected**: start and goal lie in different connected components of free space. This
@@ -133,6 +137,7 @@
 
 use crate::budget::ExpansionBudget;
 use crate::min_heap::{ArenaHeap, Rank};
+use crate::stop::{StopCondition, StopReason, StopWatch};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::compact::Compact;
@@ -182,6 +187,17 @@ pub enum SearchError {
         /// Funnel expansions made.
         expansions: usize,
     },
+    /// The time limit ran out, or the search was cancelled, before it could answer (the
+    /// expansion budget is [`SearchError::BudgetExhausted`]).
+    #[error(
+        "the search stopped at {reason} after {expansions} expansions before a path was found (this does not mean start and goal are disconnected)"
+    )]
+    Stopped {
+        /// The condition that fired ([`StopReason::TimeLimit`] or [`StopReason::Cancelled`]).
+        reason: StopReason,
+        /// Funnel expansions made.
+        expansions: usize,
+    },
     /// A search option is out of range; the message says which and the valid range.
     #[error("invalid search option: {0}")]
     Option(&'static str),
@@ -213,11 +229,15 @@ impl From<SleeveError> for SearchError {
 /// assert_eq!(o.max_classes(), Some(3));
 /// assert!(SearchOptions::default().with_max_length_factor(Some(0.5)).is_err());
 /// ```
+///
+/// The expansion budget, a time limit and cancel flags are one [`StopCondition`]
+/// ([`SearchOptions::with_stop`]); serialized as `max_expansions` (and `time_limit_s` when set).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SearchOptions {
     max_classes: Option<usize>,
     max_length_factor: Option<f64>,
-    max_expansions: ExpansionBudget,
+    #[serde(flatten)]
+    stop: StopCondition,
     simple_only: bool,
     #[serde(default = "default_trail_limit")]
     trail_limit: usize,
@@ -234,7 +254,7 @@ impl Default for SearchOptions {
         SearchOptions {
             max_classes: Some(DEFAULT_MAX_CLASSES),
             max_length_factor: None,
-            max_expansions: ExpansionBudget::Auto,
+            stop: StopCondition::none(),
             simple_only: false,
             trail_limit: TRAIL_MAX_ENTRIES,
         }
@@ -270,19 +290,47 @@ impl SearchOptions {
         if n == 0 {
             return Err(SearchError::Option("max_expansions must be at least 1"));
         }
-        self.max_expansions = ExpansionBudget::Fixed(n);
+        self.stop = self.stop.with_budget(ExpansionBudget::Fixed(n));
         Ok(self)
     }
 
-    /// Bound the expansions as `budget` says ([`ExpansionBudget::Fixed`] at least 1).
+    /// Bound the expansions as `budget` says ([`ExpansionBudget::Fixed`] at least 1), keeping
+    /// the time limit and cancel flags.
     pub fn with_budget(self, budget: ExpansionBudget) -> Result<Self, SearchError> {
         match budget {
             ExpansionBudget::Fixed(n) => self.with_max_expansions(n),
             ExpansionBudget::Auto => Ok(SearchOptions {
-                max_expansions: ExpansionBudget::Auto,
+                stop: self.stop.with_budget(ExpansionBudget::Auto),
                 ..self
             }),
         }
+    }
+
+    /// Stop as `stop` says (replacing the budget, time limit and cancel flags; a fixed budget
+    /// at least 1).
+    ///
+    /// ```
+    /// use std::time::Duration;
+    /// use rappel_planners::spt::SearchOptions;
+    /// use rappel_planners::stop::{CancelFlag, StopCondition};
+    /// let flag = CancelFlag::new();
+    /// let o = SearchOptions::default()
+    ///     .with_stop(StopCondition::time(Duration::from_secs(2)).or_cancel(flag))
+    ///     .unwrap();
+    /// assert_eq!(o.stop().time_limit(), Some(Duration::from_secs(2)));
+    /// assert!(SearchOptions::default().with_stop(StopCondition::expansions(0)).is_err());
+    /// ```
+    pub fn with_stop(mut self, stop: StopCondition) -> Result<Self, SearchError> {
+        if stop.budget() == ExpansionBudget::Fixed(0) {
+            return Err(SearchError::Option("max_expansions must be at least 1"));
+        }
+        self.stop = stop;
+        Ok(self)
+    }
+
+    /// The stop condition: expansion budget, time limit, cancel flags.
+    pub fn stop(&self) -> &StopCondition {
+        &self.stop
     }
 
     /// Return simple classes only (module docs, "Simple classes").
@@ -316,13 +364,13 @@ impl SearchOptions {
 
     /// The expansion budget.
     pub fn budget(&self) -> ExpansionBudget {
-        self.max_expansions
+        self.stop.budget()
     }
 
     /// The expansions this search may make on `btm` ([`ExpansionBudget::limit`] with the class
     /// count, [`DEFAULT_MAX_CLASSES`] when there is none).
     pub fn expansion_limit(&self, btm: &Btm) -> usize {
-        self.max_expansions.limit(
+        self.stop.expansion_limit(
             btm.triangle_count(),
             self.max_classes.unwrap_or(DEFAULT_MAX_CLASSES),
         )
@@ -343,6 +391,10 @@ pub enum Termination {
     LengthFactor,
     /// The expansion budget ran out.
     Expansions,
+    /// The time limit of the options' [`StopCondition`] ran out.
+    TimeLimit,
+    /// A cancel flag of the options' [`StopCondition`] was set.
+    Cancelled,
     /// No funnel is left: every class (within the bounds) has been returned.
     Exhausted,
     /// Start and goal lie in different connected components of free space: no path exists.
@@ -356,10 +408,26 @@ impl Termination {
             Termination::ClassCount => "the requested number of classes was found",
             Termination::LengthFactor => "the next class would exceed the length factor",
             Termination::Expansions => "the search budget ran out (raise it)",
+            Termination::TimeLimit => "the time limit ran out",
+            Termination::Cancelled => "the search was cancelled",
             Termination::Exhausted => "no further class exists within the bounds",
             Termination::Disconnected => {
                 "start and goal lie in different connected components of free space"
             }
+        }
+    }
+}
+
+impl From<StopReason> for Termination {
+    /// [`Termination::Expansions`] for an expansion (or iteration) budget,
+    /// [`Termination::TimeLimit`], [`Termination::Cancelled`].
+    fn from(r: StopReason) -> Self {
+        match r {
+            StopReason::Expansions { .. } | StopReason::Iterations { .. } => {
+                Termination::Expansions
+            }
+            StopReason::TimeLimit { .. } => Termination::TimeLimit,
+            StopReason::Cancelled => Termination::Cancelled,
         }
     }
 }
@@ -432,6 +500,10 @@ pub struct SearchOutcome {
     pub classes: Vec<RankedShp>,
     /// Why the search stopped.
     pub termination: Termination,
+    /// Which condition of the options' [`StopCondition`] stopped it (`None`: the search ended
+    /// by its own rules, class count, length factor, exhaustion or disconnection).
+    #[serde(default)]
+    pub stop_reason: Option<StopReason>,
     /// Its counters.
     pub stats: SearchStats,
 }
@@ -667,12 +739,17 @@ impl<'b> SptPlanner<'b> {
         goal: Point2<f64>,
         options: &SearchOptions,
     ) -> Result<SptSearch<'_>, SearchError> {
+        // One clock for the reverse search and the search itself.
+        let options = SearchOptions {
+            stop: options.stop.started(),
+            ..*options
+        };
         let (to_goal, bound_expansions) = if options.max_classes == Some(1) {
             (None, 0)
         } else {
-            self.goal_distances_within(start, goal, options.budget())?
+            self.goal_distances_within(start, goal, &options.stop)?
         };
-        let mut search = SptSearch::new(self, start, goal, *options, to_goal)?;
+        let mut search = SptSearch::new(self, start, goal, options, to_goal)?;
         search.stats.bound_expansions = bound_expansions;
         Ok(search)
     }
@@ -685,22 +762,22 @@ impl<'b> SptPlanner<'b> {
         start: Point2<f64>,
         goal: Point2<f64>,
     ) -> Result<Option<Vec<f64>>, SearchError> {
-        self.goal_distances_within(start, goal, ExpansionBudget::Auto)
+        self.goal_distances_within(start, goal, &StopCondition::none())
             .map(|(h, _)| h)
     }
 
-    /// [`SptPlanner::goal_distances`] with the reverse search (one class) bounded by `budget`,
-    /// and the expansions it made; a reverse search stopped by its budget gives no bounds (the
-    /// straight line serves), never an error.
+    /// [`SptPlanner::goal_distances`] with the reverse search (one class) stopped by `stop`, and
+    /// the expansions it made; a reverse search stopped early gives no bounds (the straight line
+    /// serves), never an error.
     fn goal_distances_within(
         &self,
         start: Point2<f64>,
         goal: Point2<f64>,
-        budget: ExpansionBudget,
+        stop: &StopCondition,
     ) -> Result<(Option<Vec<f64>>, usize), SearchError> {
         let options = SearchOptions::default()
             .with_max_classes(Some(1))?
-            .with_budget(budget)?;
+            .with_stop(*stop)?;
         // The reverse search runs from the goal: name the endpoints as the caller knows them.
         let mut reverse =
             SptSearch::new(self, goal, start, options, None).map_err(|e| match e {
@@ -754,18 +831,28 @@ impl<'b> SptPlanner<'b> {
         goal: Point2<f64>,
         budget: ExpansionBudget,
     ) -> Result<Option<TautPath>, SearchError> {
+        self.shortest_taut_path_until(start, goal, &StopCondition::budget_of(budget))
+    }
+
+    /// [`SptPlanner::shortest_taut_path`] stopped by `stop`: its expansion budget is
+    /// [`SearchError::BudgetExhausted`], its time limit or cancel flags
+    /// [`SearchError::Stopped`].
+    pub fn shortest_taut_path_until(
+        &self,
+        start: Point2<f64>,
+        goal: Point2<f64>,
+        stop: &StopCondition,
+    ) -> Result<Option<TautPath>, SearchError> {
         let options = SearchOptions::default()
             .with_max_classes(Some(1))?
-            .with_budget(budget)?;
+            .with_stop(*stop)?;
         let mut search = SptSearch::new(self, start, goal, options, None)?;
         match search.next_goal()? {
             Some((node, _)) => Ok(Some(search.scratch.tree.taut_path(self.btm, node))),
-            None if search.termination == Some(Termination::Expansions) => {
-                Err(SearchError::BudgetExhausted {
-                    expansions: search.stats.expansions,
-                })
-            }
-            None => Ok(None),
+            None => match search.stopped_error() {
+                Some(e) => Err(e),
+                None => Ok(None),
+            },
         }
     }
 
@@ -780,10 +867,10 @@ impl<'b> SptPlanner<'b> {
         let options = SearchOptions::default().with_max_classes(Some(1))?;
         let mut search = self.search(start, goal, &options)?;
         let best = search.next_best()?;
-        if best.is_none() && search.termination() == Some(Termination::Expansions) {
-            return Err(SearchError::BudgetExhausted {
-                expansions: search.stats().expansions,
-            });
+        if best.is_none()
+            && let Some(e) = search.stopped_error()
+        {
+            return Err(e);
         }
         Ok(best)
     }
@@ -1138,6 +1225,10 @@ pub struct SptSearch<'a> {
     emitted: usize,
     shortest: Option<f64>,
     termination: Option<Termination>,
+    /// The check of the options' stop condition, its clock started with the search.
+    watch: StopWatch,
+    /// Which condition of the stop condition ended the search, if one did.
+    stop_reason: Option<StopReason>,
     stats: SearchStats,
 }
 
@@ -1168,6 +1259,8 @@ impl<'a> SptSearch<'a> {
             }
             _ => false,
         };
+        let expansion_limit = options.expansion_limit(btm);
+        let watch = options.stop.watch(expansion_limit);
         let mut search = SptSearch {
             planner,
             goal,
@@ -1180,8 +1273,10 @@ impl<'a> SptSearch<'a> {
             emitted: 0,
             shortest: None,
             termination: None,
+            watch,
+            stop_reason: None,
             stats: SearchStats {
-                expansion_limit: options.expansion_limit(btm),
+                expansion_limit,
                 ..SearchStats::default()
             },
         };
@@ -1222,6 +1317,26 @@ impl<'a> SptSearch<'a> {
     /// Why the search stopped (`None` while it can go on).
     pub fn termination(&self) -> Option<Termination> {
         self.termination
+    }
+
+    /// Which condition of the options' [`StopCondition`] stopped the search (`None` while it
+    /// runs, and when it ended by its own rules): the expansion budget with its limit, the time
+    /// limit, or a cancel flag.
+    pub fn stop_reason(&self) -> Option<StopReason> {
+        self.stop_reason
+    }
+
+    /// The error of a search that the stop condition ended: the expansion budget is
+    /// [`SearchError::BudgetExhausted`], the time limit and a cancel flag are
+    /// [`SearchError::Stopped`].
+    fn stopped_error(&self) -> Option<SearchError> {
+        let expansions = self.stats.expansions;
+        match self.stop_reason? {
+            StopReason::Expansions { .. } | StopReason::Iterations { .. } => {
+                Some(SearchError::BudgetExhausted { expansions })
+            }
+            reason => Some(SearchError::Stopped { reason, expansions }),
+        }
     }
 
     /// The search's counters so far.
@@ -1282,8 +1397,9 @@ impl<'a> SptSearch<'a> {
                         self.stats.pruned_dominated += 1;
                         continue;
                     }
-                    if self.stats.expansions >= self.stats.expansion_limit {
-                        self.termination = Some(Termination::Expansions);
+                    if let Some(reason) = self.watch.check(self.stats.expansions) {
+                        self.termination = Some(reason.into());
+                        self.stop_reason = Some(reason);
                         return Ok(None);
                     }
                     self.expand(key, funnel, apex, trail)?;
@@ -1301,6 +1417,7 @@ impl<'a> SptSearch<'a> {
         Ok(SearchOutcome {
             classes,
             termination: self.termination.unwrap_or(Termination::Exhausted),
+            stop_reason: self.stop_reason,
             stats: self.stats(),
         })
     }

@@ -29,6 +29,9 @@
 //! The robot moves at most `step` per iteration and `step < sensor_range` is required, so every
 //! true obstacle a move could touch was within range before the move and is already in the map.
 //! Each loop is bounded: the run by `max_steps`, sensing by the number of differences.
+//! A time limit or cancel flag of the session's search options ([`crate::stop::StopCondition`])
+//! bounds the whole run: its clock starts with the run, every search shares it, and it is also
+//! read between steps ([`SimulationReport::stopped_by`]).
 //!
 //! # PTFOs ([`simulate_frictional`])
 //! The prior and the truth label the same obstacles as PTFOs; a PTFO whose true friction
@@ -236,6 +239,13 @@ pub struct TimelineEvent {
 pub struct SimulationReport {
     /// How it ended.
     pub ending: Ending,
+    /// The time limit or cancel flag of the search options' [`crate::stop::StopCondition`] that
+    /// ended the run, counted over the whole run and read between steps and inside every search
+    /// (`None`: it ended otherwise). Between steps the run then ends as
+    /// [`Ending::StepBudget`]; inside a search as [`Ending::NoFeasibleClass`] with a
+    /// [`Termination::TimeLimit`] or [`Termination::Cancelled`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stopped_by: Option<crate::stop::StopReason>,
     /// Iterations used.
     pub steps: usize,
     /// Every change handled, in order.
@@ -469,8 +479,15 @@ pub fn simulate_frictional(
     truth
         .validate()
         .map_err(|e| at_start(OnlineError::Map(e)))?;
+    // One clock for the whole run: every search of the session shares its deadline.
+    let stop = options.session.search.stop().started();
+    let mut session_options = options.session;
+    session_options.search = session_options
+        .search
+        .with_stop(stop)
+        .map_err(|e| at_start(OnlineError::Search(e)))?;
     let mut session =
-        OnlineSession::new(prior, start, goal, terrain, options.session).map_err(at_start)?;
+        OnlineSession::new(prior, start, goal, terrain, session_options).map_err(at_start)?;
     let mut timeline = Vec::new();
     let mut true_frictions = Vec::new();
     if let Some(pair) = friction {
@@ -522,6 +539,7 @@ pub fn simulate_frictional(
             .map(|&(prior, _)| Difference::Friction { prior }),
     );
     let mut steps = 0;
+    let mut stopped_by = None;
     let ending = loop {
         let robot = session.robot();
         let r = options.sensor_range;
@@ -623,9 +641,21 @@ pub fn simulate_frictional(
         if steps == options.max_steps {
             break Ending::StepBudget;
         }
+        if let Some(reason) = stop.poll() {
+            stopped_by = Some(reason);
+            break Ending::StepBudget;
+        }
         session.advance(options.step);
         steps += 1;
     };
+    if stopped_by.is_none()
+        && let Ending::NoFeasibleClass {
+            termination: Termination::TimeLimit | Termination::Cancelled,
+        } = ending
+    {
+        // A search of the session was stopped by the run's clock or a cancel.
+        stopped_by = stop.poll();
+    }
     let tether_length_m = session
         .laid_tether()
         .map(|t| t.taut.length)
@@ -633,6 +663,7 @@ pub fn simulate_frictional(
     let homotopic = ending.reached() && session.ascent_descent_homotopic().unwrap_or(false);
     let report = SimulationReport {
         ending,
+        stopped_by,
         steps,
         timeline,
         unsensed: pending.len(),

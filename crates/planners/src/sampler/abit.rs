@@ -41,6 +41,8 @@ use super::space::{Informed, StateSpace};
 use super::stop::Stop;
 use super::termination::Termination;
 use super::validator::MotionValidator;
+use crate::budget::ExpansionBudget;
+use crate::stop::{CancelFlag, StopCondition, StopReason};
 
 /// Why the planner could not be set up or run.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -102,6 +104,10 @@ pub struct PlannerStatus<S, H> {
     /// Which budget or condition ended the last [`Abit::solve`] (`None` from [`Abit::status`]
     /// outside `solve`).
     pub stopped_by: Option<Stop>,
+    /// The shared reason ([`crate::stop`]) when an iteration limit, a time limit or a cancel
+    /// flag ended the last [`Abit::solve_until`] (`None` for the cost threshold, and outside
+    /// `solve`). A cancel has no [`Stop`] (`stopped_by` is then `None`).
+    pub stop_reason: Option<StopReason>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -158,6 +164,8 @@ where
     created: Instant,
     /// The wall-time limit of the running [`Abit::solve`], checked between samples of a batch.
     deadline: Option<Instant>,
+    /// The cancel flags of the running [`Abit::solve_until`], checked with the deadline.
+    cancel: Vec<CancelFlag>,
 }
 
 impl<'a, S, V, const K: usize> Abit<'a, S, V, K>
@@ -208,6 +216,7 @@ where
             events: Vec::new(),
             created: Instant::now(),
             deadline: None,
+            cancel: Vec::new(),
         };
         me.new_batch()?;
         me.restart_search();
@@ -219,21 +228,88 @@ where
         &mut self,
         termination: Termination,
     ) -> Result<PlannerStatus<S::State, V::History>, AbitError> {
+        self.solve_until(termination, &StopCondition::none())
+    }
+
+    /// [`Abit::solve`] that also stops at `stop`, the condition shared with the other planners
+    /// ([`crate::stop`]): its cancel flags and time limit are read on every iteration and
+    /// between the samples of a batch, and a fixed expansion budget counts iterations (the
+    /// automatic budget, made for funnel expansions on a map, does not apply). Its time limit
+    /// counts from this call unless `stop` was [started](StopCondition::started).
+    /// [`PlannerStatus::stop_reason`] says which condition fired.
+    ///
+    /// ```
+    /// use rappel_planners::sampler::{Abit, AbitSettings, ObstacleWorld, RealVectorSpace, Termination};
+    /// use rappel_planners::stop::{CancelFlag, StopCondition, StopReason};
+    /// let world = ObstacleWorld {
+    ///     space: RealVectorSpace::new([0.0, 0.0], [1.0, 1.0]).unwrap(),
+    ///     obstacles: Vec::new(),
+    ///     start: [0.1, 0.1],
+    ///     goal: [0.9, 0.9],
+    ///     resolution: 0.01,
+    /// };
+    /// let mut abit =
+    ///     Abit::new(&world.space, &world, world.start, world.goal, AbitSettings::default())
+    ///         .unwrap();
+    /// let flag = CancelFlag::new();
+    /// flag.cancel();
+    /// let st = abit
+    ///     .solve_until(Termination::iterations(1_000_000), &StopCondition::cancel(flag))
+    ///     .unwrap();
+    /// assert_eq!(st.stop_reason, Some(StopReason::Cancelled));
+    /// ```
+    pub fn solve_until(
+        &mut self,
+        termination: Termination,
+        stop: &StopCondition,
+    ) -> Result<PlannerStatus<S::State, V::History>, AbitError> {
+        let mut termination = termination;
+        if let ExpansionBudget::Fixed(n) = stop.budget() {
+            let n = n as u64;
+            termination.max_iterations = Some(termination.max_iterations.map_or(n, |m| m.min(n)));
+        }
+        if let Some(t) = stop.time_limit() {
+            termination.max_time = Some(termination.max_time.map_or(t, |u| u.min(t)));
+        }
         termination.validate()?;
+        let stop = stop.started();
         let began = Instant::now();
-        self.deadline = termination.max_time.and_then(|t| began.checked_add(t));
+        self.deadline = match (
+            termination.max_time.and_then(|t| began.checked_add(t)),
+            stop.deadline(),
+        ) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        self.cancel = stop.cancel_flags().collect();
         let first = self.iterations;
-        let stop = loop {
-            if let Some(stop) =
+        let (stopped_by, stop_reason) = loop {
+            if let Some(s) =
                 termination.reason(self.iterations - first, began.elapsed(), self.best_cost)
             {
-                break stop;
+                let reason = match s {
+                    Stop::Iterations => termination
+                        .max_iterations
+                        .map(|limit| StopReason::Iterations { limit }),
+                    Stop::Time => termination
+                        .max_time
+                        .map(|limit| StopReason::TimeLimit { limit }),
+                    Stop::CostThreshold => None,
+                };
+                break (Some(s), reason);
+            }
+            // A cancel, or the clock of a condition started before this call.
+            if let Some(r) = stop.poll() {
+                let s = matches!(r, StopReason::TimeLimit { .. }).then_some(Stop::Time);
+                break (s, Some(r));
             }
             self.iterate()?;
         };
         self.deadline = None;
+        self.cancel.clear();
         let mut status = self.status();
-        status.stopped_by = Some(stop);
+        status.stopped_by = stopped_by;
+        status.stop_reason = stop_reason;
         Ok(status)
     }
 
@@ -268,6 +344,7 @@ where
             biased_samples: self.biased_samples,
             events: self.events.clone(),
             stopped_by: None,
+            stop_reason: None,
         }
     }
 
@@ -525,8 +602,10 @@ where
         self.inflation = self.settings.initial_inflation;
         let start_state = self.graph.nodes[self.start as usize].state.clone();
         for _ in 0..self.settings.batch_size {
-            // A time budget interrupts a batch (the rest of it is not sampled).
-            if self.deadline.is_some_and(|d| Instant::now() >= d) {
+            // A time budget or a cancel interrupts a batch (the rest of it is not sampled).
+            if self.deadline.is_some_and(|d| Instant::now() >= d)
+                || self.cancel.iter().any(CancelFlag::is_cancelled)
+            {
                 break;
             }
             let copy = self.rng.random::<f64>() < self.settings.history_copy_fraction;

@@ -9,5 +9,6 @@ mod online;
 mod online_pair;
 mod shortest_path_map;
 mod spt;
+mod stop;
 mod terrain_trait;
 mod tether_tracking;
