@@ -46,15 +46,15 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.json {
         print_report(&summary)?;
     } else {
-        crate::outln!("scenario              {}", args.file.display());
-        crate::outln!("vertices              {}", summary.vertices);
-        crate::outln!("holes                 {}", summary.holes);
-        crate::outln!(
+        crate::output::outln!("scenario              {}", args.file.display());
+        crate::output::outln!("vertices              {}", summary.vertices);
+        crate::output::outln!("holes                 {}", summary.holes);
+        crate::output::outln!(
             "triangles             {} (n + 2h - 2 = {})",
             summary.triangles,
             summary.expected_triangles
         );
-        crate::outln!(
+        crate::output::outln!(
             "constrained Delaunay  {}",
             if summary.constrained_delaunay {
                 "yes (checked)"
@@ -62,20 +62,20 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 "NO"
             }
         );
-        crate::outln!(
+        crate::output::outln!(
             "invariants            {}",
             summary.invariant_violation.as_deref().unwrap_or("all hold")
         );
-        crate::outln!(
+        crate::output::outln!(
             "free area             {} m²",
             crate::output::quantity(summary.free_area_m2)
         );
-        crate::outln!(
+        crate::output::outln!(
             "build time            {:.2} ms",
             summary.build_us as f64 / 1e3
         );
         for (_, out) in args.picture.outputs() {
-            crate::outln!("picture               {}", out.display());
+            crate::output::outln!("picture               {}", out.display());
         }
     }
     if summary.invariants_hold {

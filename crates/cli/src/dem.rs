@@ -226,14 +226,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.json {
         return print_report(&d.report(&args.file, &args.out, labels));
     }
-    crate::outln!("dem                {}", args.file.display());
-    crate::outln!("scenario           {}", args.out.display());
-    crate::outln!(
+    crate::output::outln!("dem                {}", args.file.display());
+    crate::output::outln!("scenario           {}", args.out.display());
+    crate::output::outln!(
         "fall line          azimuth {:.1} deg",
         d.ingested.frame.fall_line_azimuth_deg()
     );
     for (i, (p, class)) in d.classified_planes().enumerate() {
-        crate::outln!(
+        crate::output::outln!(
             "plane {i}            {:.2} deg, y {:.1} .. {:.1} m, {}",
             p.slope_deg,
             p.y_bottom,
@@ -241,18 +241,20 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             class.label()
         );
     }
-    crate::outln!(
+    crate::output::outln!(
         "tether obstacles   {} (from {} clusters)",
         s.tether_obstacles,
         s.tether_clusters
     );
-    crate::outln!("robot obstacles    {}", s.robot_obstacles);
+    crate::output::outln!("robot obstacles    {}", s.robot_obstacles);
     match &labels {
         None => {
-            crate::outln!("PTFOs              not labelled (give --ptfo-friction to label them)")
+            crate::output::outln!(
+                "PTFOs              not labelled (give --ptfo-friction to label them)"
+            )
         }
         Some(l) => {
-            crate::outln!(
+            crate::output::outln!(
                 "PTFOs              {} (from {} convex patches of {} convex cells{})",
                 l.ptfos,
                 l.patches,
@@ -267,17 +269,17 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 }
             );
             for why in &l.dropped {
-                crate::outln!("  dropped          {why}");
+                crate::output::outln!("  dropped          {why}");
             }
         }
     }
-    crate::outln!("unknown regions    {}", s.unknown_regions);
-    crate::outln!(
+    crate::output::outln!("unknown regions    {}", s.unknown_regions);
+    crate::output::outln!(
         "start              ({:.2}, {:.2})",
         d.scenario.start.x,
         d.scenario.start.y
     );
-    crate::outln!(
+    crate::output::outln!(
         "goal               ({:.2}, {:.2})",
         d.scenario.goal.x,
         d.scenario.goal.y

@@ -11,7 +11,7 @@ fn pt(p: &rappel::nalgebra::Point2<f64>) -> String {
 /// Prints the frictional report.
 pub fn print_friction(f: &FrictionReport) {
     let t = &f.tensions;
-    crate::outln!(
+    crate::output::outln!(
         "friction     PTFOs on obstacles {:?}; T_min {:.1} N, T_max {:.1} N, T_d {:.1} N, eps {:.1} N",
         f.ptfos,
         t.t_min_n,
@@ -20,10 +20,10 @@ pub fn print_friction(f: &FrictionReport) {
         t.epsilon_n
     );
     for n in &f.notes {
-        crate::outln!("  derived    {n}");
+        crate::output::outln!("  derived    {n}");
     }
     for c in &f.classes {
-        crate::outln!(
+        crate::output::outln!(
             "f-class {:<3}  length {:.3} m (searched {:.3} m), {} anchors, {} slip(s): {}",
             c.rank,
             c.length_m,
@@ -33,7 +33,7 @@ pub fn print_friction(f: &FrictionReport) {
             c.verdict
         );
         for s in &c.slips {
-            crate::outln!(
+            crate::output::outln!(
                 "  slip       vertex {} of obstacle {}{}: length {:.3} -> {:.3} m, anchors {} -> {}",
                 pt(&s.vertex),
                 s.obstacle,
@@ -52,7 +52,7 @@ pub fn print_friction(f: &FrictionReport) {
             let on = a
                 .obstacle
                 .map_or_else(|| "boundary".to_string(), |o| format!("obstacle {o}"));
-            crate::outln!(
+            crate::output::outln!(
                 "  anchor     {} {on}: {}, turn {:.1}°, int omega ds {:.3}{}",
                 pt(&a.point),
                 a.verdict,
@@ -64,7 +64,7 @@ pub fn print_friction(f: &FrictionReport) {
             );
         }
         for s in &c.sweeps {
-            crate::outln!(
+            crate::output::outln!(
                 "  sweep      a{}: holds for turns >= {:.2}° (SHP turn {:.2}°), early release {}",
                 s.index,
                 s.release_turn.to_degrees(),
@@ -73,7 +73,7 @@ pub fn print_friction(f: &FrictionReport) {
             );
         }
         if let Some(h) = &c.holding {
-            crate::outln!(
+            crate::output::outln!(
                 "  capstan    total exponent {:.3}: a_0 holds {:.1} N when the robot pulls T_max{}",
                 h.total_exponent,
                 h.holding_force_at_start_n,
@@ -84,10 +84,10 @@ pub fn print_friction(f: &FrictionReport) {
         }
         if !c.waypoints.is_empty() {
             let list: Vec<String> = c.waypoints.iter().map(pt).collect();
-            crate::outln!("  waypoints  {}", list.join(" "));
+            crate::output::outln!("  waypoints  {}", list.join(" "));
         }
         if let Some(p) = &c.pair {
-            crate::outln!(
+            crate::output::outln!(
                 "  pair       ascent {:.2} m, descent {:.2} m{}, {}",
                 p.ascent_length_m,
                 p.descent_length_m,
@@ -103,5 +103,5 @@ pub fn print_friction(f: &FrictionReport) {
             );
         }
     }
-    crate::outln!("f-verdict    {}", f.verdict);
+    crate::output::outln!("f-verdict    {}", f.verdict);
 }

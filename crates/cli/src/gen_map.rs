@@ -45,7 +45,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.json {
         return crate::output::print_report(&report);
     }
-    crate::outln!(
+    crate::output::outln!(
         "{}: {} obstacles, {} vertices, seed {}",
         report.file,
         report.obstacles,

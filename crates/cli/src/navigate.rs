@@ -108,7 +108,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         print_report(&report)?;
     } else {
         if report.found {
-            crate::outln!(
+            crate::output::outln!(
                 "path found: cost {:.3}, {} states, first solution after {} iterations ({:.2} s)",
                 report.cost.unwrap_or(f64::NAN),
                 report.path.len(),
@@ -116,7 +116,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
                 report.first_solution_s.unwrap_or(0.0)
             );
             for (p, y) in report.path.iter().zip(&report.yaw_deg) {
-                crate::outln!(
+                crate::output::outln!(
                     "  state ({:.3}, {:.3}, {:.3}) yaw {y:.1}°",
                     p[0],
                     p[1],
@@ -124,18 +124,18 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
                 );
             }
             for (k, a) in report.anchors.iter().enumerate() {
-                crate::outln!("  anchor {k} ({:.3}, {:.3}, {:.3})", a[0], a[1], a[2]);
+                crate::output::outln!("  anchor {k} ({:.3}, {:.3}, {:.3})", a[0], a[1], a[2]);
             }
-            crate::outln!(
+            crate::output::outln!(
                 "  stability margin along the path: min {:.2} N over {} poses; max roll {:.1}°",
                 report.min_margin_n.unwrap_or(f64::NAN),
                 report.poses.len(),
                 report.max_roll_deg.unwrap_or(f64::NAN)
             );
         } else if let Some(why) = &report.unsafe_reason {
-            crate::outln!("the planner's path failed re-validation: {why}");
+            crate::output::outln!("the planner's path failed re-validation: {why}");
         } else {
-            crate::outln!(
+            crate::output::outln!(
                 "no path within the budget{}",
                 if budget_out {
                     format!(" (the {} budget ran out)", report.stopped_by)
@@ -144,7 +144,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
                 }
             );
         }
-        crate::outln!(
+        crate::output::outln!(
             "search: {} iterations, {} batches, {} states, {} motions checked, {:.2} s, stopped by {}",
             report.iterations,
             report.batches,

@@ -96,10 +96,10 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     } else {
         print_text(&args.prior, &args.truth, r);
         for (_, out) in args.picture.outputs() {
-            crate::outln!("picture      {}", out.display());
+            crate::output::outln!("picture      {}", out.display());
         }
         if let Some(dir) = &args.frames {
-            crate::outln!("frames       {} in {}", frames.len(), dir.display());
+            crate::output::outln!("frames       {} in {}", frames.len(), dir.display());
         }
     }
     if r.ending.reached() && !r.homotopic {
@@ -150,18 +150,18 @@ fn shortfall(s: &rappel::planners::online::session::ClearanceShortfall) -> Strin
 }
 
 fn print_text(prior: &Path, truth: &Path, r: &SimulationReport) {
-    crate::outln!("prior        {}", prior.display());
-    crate::outln!("truth        {}", truth.display());
+    crate::output::outln!("prior        {}", prior.display());
+    crate::output::outln!("truth        {}", truth.display());
     if let Some(l) = r.initial_class_length_m {
-        crate::outln!("planned      class of SHP length {l:.3} m on the prior map");
+        crate::output::outln!("planned      class of SHP length {l:.3} m on the prior map");
     }
     if let Some(s) = &r.initial_clearance_shortfall {
-        crate::outln!(
+        crate::output::outln!(
             "warning      the initial descent does not keep the clearance: {}",
             shortfall(s)
         );
     }
-    crate::outln!(
+    crate::output::outln!(
         "{:<5} {:<9} {:<14} {:<52} {:<22} {:>9} {:>9}",
         "step",
         "change",
@@ -194,7 +194,7 @@ fn print_text(prior: &Path, truth: &Path, r: &SimulationReport) {
             }
             d => format!("{d:?}").to_lowercase(),
         };
-        crate::outln!(
+        crate::output::outln!(
             "{:<5} {:<9} {:<14} {:<52} {:<22} {:>9.3} {:>9.3}",
             e.step,
             e.outcome.change,
@@ -204,9 +204,9 @@ fn print_text(prior: &Path, truth: &Path, r: &SimulationReport) {
             e.travelled_m,
             e.backtracked_m
         );
-        crate::outln!("      {}", e.outcome.reason);
+        crate::output::outln!("      {}", e.outcome.reason);
         if let Some(s) = &e.outcome.shorter_class {
-            crate::outln!(
+            crate::output::outln!(
                 "      a shorter class opened: {:.3} m remaining instead of {:.3} m ({:.3} m backtracking){}",
                 s.remaining_m,
                 s.current_remaining_m,
@@ -215,24 +215,26 @@ fn print_text(prior: &Path, truth: &Path, r: &SimulationReport) {
             );
         }
         if let Some(s) = &e.outcome.clearance_shortfall {
-            crate::outln!("      warning: {}", shortfall(s));
+            crate::output::outln!("      warning: {}", shortfall(s));
         }
         if !e.outcome.backtrackable {
-            crate::outln!("      warning: the backtrackability check failed after this decision");
+            crate::output::outln!(
+                "      warning: the backtrackability check failed after this decision"
+            );
         }
     }
-    crate::outln!("verdict      {}", verdict(r));
-    crate::outln!(
+    crate::output::outln!("verdict      {}", verdict(r));
+    crate::output::outln!(
         "travelled    {:.3} m in {} steps, {:.3} m of it backtracking",
         r.travelled_m,
         r.steps,
         r.backtracked_m
     );
     if let Some(l) = r.final_class_length_m {
-        crate::outln!("final class  SHP length {l:.3} m");
+        crate::output::outln!("final class  SHP length {l:.3} m");
     }
-    crate::outln!("tether       {:.3} m (taut)", r.tether_length_m);
-    crate::outln!(
+    crate::output::outln!("tether       {:.3} m (taut)", r.tether_length_m);
+    crate::output::outln!(
         "kept         {} change(s) outside the sleeve; {} class(es) rejected; {} difference(s) never sensed",
         r.deferred,
         r.rejected,

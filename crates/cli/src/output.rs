@@ -37,7 +37,7 @@ pub enum Answer {
 /// through here.
 pub fn print_report<T: rappel::report::Report>(report: &T) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(&rappel::report::Envelope::new(report))?;
-    crate::outln!("{text}");
+    crate::output::outln!("{text}");
     Ok(())
 }
 
@@ -165,7 +165,6 @@ pub fn finish_stdout() -> Result<(), CliError> {
 
 /// Prints a line on stdout. A failed write (a full disk, a closed pipe) is recorded and later
 /// lines are skipped; [`finish_stdout`] turns it into an error and exit code 2.
-#[macro_export]
 macro_rules! outln {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
@@ -177,6 +176,8 @@ macro_rules! outln {
         }
     }};
 }
+
+pub(crate) use outln;
 
 #[cfg(test)]
 mod tests {

@@ -87,7 +87,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     let result = run_marked(args, &mut began);
     if let Err(e) = &result {
         if args.jsonl {
-            crate::outln!(
+            crate::output::outln!(
                 "{}",
                 PlanStreamLine::Error {
                     message: e.0.clone()
@@ -95,7 +95,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
                 .to_line()
             );
         } else if began {
-            crate::outln!("{}", error_marker(&e.0));
+            crate::output::outln!("{}", error_marker(&e.0));
         }
     }
     result
@@ -171,7 +171,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
         progress.inc(1);
         if jsonl {
             *began = true;
-            crate::outln!("{}", PlanStreamLine::Class(c.clone()).to_line());
+            crate::output::outln!("{}", PlanStreamLine::Class(c.clone()).to_line());
         } else if !json {
             *began = true;
             print_class(c);
@@ -219,7 +219,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
     let answer = if feasible { Answer::Yes } else { Answer::No };
     if args.jsonl {
         let line = PlanStreamLine::Summary(Box::new(summary));
-        crate::outln!("{}", line.to_line());
+        crate::output::outln!("{}", line.to_line());
     } else if !args.json {
         if streamed {
             let file = args.file.display().to_string();
@@ -235,7 +235,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
             crate::friction_out::print_friction(f);
         }
         for (_, out) in args.picture.outputs() {
-            crate::outln!("picture      {}", out.display());
+            crate::output::outln!("picture      {}", out.display());
         }
     }
     Ok(answer)
@@ -256,13 +256,13 @@ fn print_text(file: &str, r: &PlanReport) {
 
 /// The scenario, model, planes, warnings and class count.
 fn print_head(file: &str, r: &PlanSetting, class_count: usize, o: &PlanOutcome) {
-    crate::outln!("scenario     {file}");
-    crate::outln!("model        {}", r.traversability);
+    crate::output::outln!("scenario     {file}");
+    crate::output::outln!("model        {}", r.traversability);
     if r.planes.is_empty() {
-        crate::outln!("planes       none (flat, tether-free ground)");
+        crate::output::outln!("planes       none (flat, tether-free ground)");
     }
     for p in &r.planes {
-        crate::outln!(
+        crate::output::outln!(
             "plane {}      y {:.1}..{:.1}  slope {:.1}°  mu {:.2}  {}",
             p.index,
             p.y_bottom_m,
@@ -277,13 +277,13 @@ fn print_head(file: &str, r: &PlanSetting, class_count: usize, o: &PlanOutcome) 
         );
     }
     for w in &o.warnings {
-        crate::outln!("warning      {w}");
+        crate::output::outln!("warning      {w}");
     }
     let bound = match o.stats.bound_expansions {
         0 => String::new(),
         n => format!(", and {n} for the distance bounds"),
     };
-    crate::outln!(
+    crate::output::outln!(
         "classes      {} ({}; {} of {} expansions{bound})",
         class_count,
         o.termination.describe(),
@@ -330,12 +330,12 @@ fn print_class(c: &ClassReport) {
     if let Some(f) = &c.pair_failure {
         let _ = write!(block, "\n  no pair    {f}");
     }
-    crate::outln!("{block}");
+    crate::output::outln!("{block}");
 }
 
 /// The verdict and the chosen pair.
 fn print_verdict(r: &PlanSetting, o: &PlanOutcome) {
-    crate::outln!("verdict      {}", o.verdict);
+    crate::output::outln!("verdict      {}", o.verdict);
     if let Some(p) = &o.chosen {
         let fmt = |pts: &[rappel::nalgebra::Point2<f64>]| {
             pts.iter()
@@ -343,12 +343,12 @@ fn print_verdict(r: &PlanSetting, o: &PlanOutcome) {
                 .collect::<Vec<_>>()
                 .join(" ")
         };
-        crate::outln!(
+        crate::output::outln!(
             "ascent       {:.3} m: {}",
             p.ascent_length_m,
             fmt(&p.ascent)
         );
-        crate::outln!(
+        crate::output::outln!(
             "descent      {:.3} m{}: {}",
             p.descent_length_m,
             if p.descent_is_reversed_ascent {
@@ -359,7 +359,7 @@ fn print_verdict(r: &PlanSetting, o: &PlanOutcome) {
             fmt(&p.descent)
         );
         if let Some(d) = p.min_anchor_distance_m {
-            crate::outln!(
+            crate::output::outln!(
                 "clearance    {d:.3} m from the nearest anchor (asked {:.3} m)",
                 r.clearance_m
             );

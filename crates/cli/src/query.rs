@@ -64,7 +64,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             answers: answers.clone(),
         })?;
     } else {
-        crate::outln!("pair  length(s) m                      median us");
+        crate::output::outln!("pair  length(s) m                      median us");
         for a in &answers {
             let lengths = match (&a.error, a.lengths_m.is_empty()) {
                 (Some(e), _) => format!("error: {e}"),
@@ -79,7 +79,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             let median = a
                 .median_ns
                 .map_or_else(|| "-".to_string(), |ns| format!("{:.1}", ns as f64 / 1e3));
-            crate::outln!("{:>4}  {:<32} {:>9}", a.index, lengths, median);
+            crate::output::outln!("{:>4}  {:<32} {:>9}", a.index, lengths, median);
         }
     }
     if let Some(bad) = answers.iter().find_map(|a| a.error.clone()) {

@@ -91,7 +91,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             return Err(CliError(e.to_string()));
         }
         Err(e) => {
-            crate::outln!("not settled: {e}");
+            crate::output::outln!("not settled: {e}");
             return Ok(Answer::No);
         }
     };
@@ -120,7 +120,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             .body_clearance_m
             .map(|c| format!(", body clearance {c:.3} m"))
             .unwrap_or_default();
-        crate::outln!(
+        crate::output::outln!(
             "settled      origin ({:.3}, {:.3}, {:.3}), roll {:.2}°, pitch {:.2}°{clearance}",
             o[0],
             o[1],
@@ -137,7 +137,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
                 .collect(),
         };
         for (name, c) in names.iter().zip(&report.contacts) {
-            crate::outln!(
+            crate::output::outln!(
                 "  {name:<11} contact ({:.3}, {:.3}, {:.3})",
                 c[0],
                 c[1],
@@ -146,13 +146,13 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         }
         for v in &report.stability {
             match (v.stable, &v.error) {
-                (Some(s), _) => crate::outln!(
+                (Some(s), _) => crate::output::outln!(
                     "  boom {:<10} {} (margin {:.3})",
                     v.boom,
                     if s { "stable" } else { "not stable" },
                     v.margin
                 ),
-                (None, e) => crate::outln!(
+                (None, e) => crate::output::outln!(
                     "  boom {:<10} not checked: {}",
                     v.boom,
                     e.as_deref().unwrap_or("unknown")

@@ -161,7 +161,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     if args.json {
         print_report(&map)?;
     } else {
-        crate::outln!(
+        crate::output::outln!(
             "stability map {} x {} cells of {} m: {} stable, {} unstable, {} not settled or unreached",
             map.nx,
             map.ny,
@@ -176,7 +176,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             .filter_map(|c| c.pose.as_ref())
             .map(|p| p.margin)
             .fold(0.0f64, f64::max);
-        crate::outln!("best margin  {best:.3}");
+        crate::output::outln!("best margin  {best:.3}");
     }
     Ok(Answer::Yes)
 }

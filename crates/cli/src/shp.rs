@@ -75,31 +75,31 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.json {
         return print_report(&report);
     }
-    crate::outln!("scenario             {}", args.file.display());
-    crate::outln!(
+    crate::output::outln!("scenario             {}", args.file.display());
+    crate::output::outln!(
         "path                 {} ({} points, {:.3} m)",
         args.path.display(),
         report.path_points,
         report.path_length_m
     );
-    crate::outln!("SHP length           {:.3} m", report.length_m);
-    crate::outln!(
+    crate::output::outln!("SHP length           {:.3} m", report.length_m);
+    crate::output::outln!(
         "crossing sequence    {} crossings, {} after reduction",
         report.crossings,
         report.reduced_crossings
     );
-    crate::outln!(
+    crate::output::outln!(
         "H-signature          {} ({} obstacles with non-zero winding)",
         report.h_signature.digest,
         report.h_signature.windings.len()
     );
-    crate::outln!("SHP                  {} points", report.points.len());
+    crate::output::outln!("SHP                  {} points", report.points.len());
     for (i, q) in report.points.iter().enumerate() {
-        crate::outln!("  {i:>4}  ({:.3}, {:.3})", q.x, q.y);
+        crate::output::outln!("  {i:>4}  ({:.3}, {:.3})", q.x, q.y);
     }
-    crate::outln!("anchors              {}", report.anchors.len());
+    crate::output::outln!("anchors              {}", report.anchors.len());
     if !report.anchors.is_empty() {
-        crate::outln!("     #  vertex  obstacle  side   turning   position");
+        crate::output::outln!("     #  vertex  obstacle  side   turning   position");
         for (i, a) in report.anchors.iter().enumerate() {
             let obstacle = a
                 .obstacle
@@ -108,7 +108,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 Side::Left => "left",
                 Side::Right => "right",
             };
-            crate::outln!(
+            crate::output::outln!(
                 "  {:>4}  {:>6}  {:>8}  {:<5}  {:>6.2}°   ({:.3}, {:.3})",
                 i + 1,
                 a.vertex,
@@ -121,7 +121,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
     }
     for (_, out) in args.picture.outputs() {
-        crate::outln!("picture              {}", out.display());
+        crate::output::outln!("picture              {}", out.display());
     }
     Ok(())
 }
@@ -151,6 +151,6 @@ pub fn run_homotopic(args: &HomotopicArgs) -> Result<Answer, CliError> {
         })?;
         return Ok(if same { Answer::Yes } else { Answer::No });
     }
-    crate::outln!("{}", if same { "homotopic" } else { "not homotopic" });
+    crate::output::outln!("{}", if same { "homotopic" } else { "not homotopic" });
     Ok(if same { Answer::Yes } else { Answer::No })
 }

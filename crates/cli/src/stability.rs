@@ -58,32 +58,32 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.json {
         return print_report(&report);
     }
-    crate::outln!("scenario    {}", args.file.display());
-    crate::outln!("robot       {} ({})", report.robot, report.criterion);
+    crate::output::outln!("scenario    {}", args.file.display());
+    crate::output::outln!("robot       {} ({})", report.robot, report.criterion);
     if let Some(what) = &report.stand_in_for {
-        crate::outln!(
+        crate::output::outln!(
             "stand-in    the {} model is judged in place of {what}",
             report.robot
         );
     }
     if let Some(l) = report.tether_length_m {
         let beyond = report.dots.iter().filter(|d| d.beyond_tether).count();
-        crate::outln!("tether      {l} m: {beyond} poses beyond its reach (unstable)");
+        crate::output::outln!("tether      {l} m: {beyond} poses beyond its reach (unstable)");
     }
-    crate::outln!("grid step   {} m", report.grid_step_m);
+    crate::output::outln!("grid step   {} m", report.grid_step_m);
     if let Some(t) = report.tension_limit_n {
-        crate::outln!("tension     <= {t} N");
+        crate::output::outln!("tension     <= {t} N");
     }
     for (i, p) in s.terrain.planes.iter().enumerate() {
         let on: Vec<_> = report.dots.iter().filter(|d| d.plane == i).collect();
         let stable = on.iter().filter(|d| d.stable).count();
-        crate::outln!(
+        crate::output::outln!(
             "plane {i}     {:.1} deg, mu {}: {stable} of {} poses stable",
             p.slope_deg,
             p.friction,
             on.len()
         );
     }
-    crate::outln!("stable      {} of {} poses", report.stable, report.assessed);
+    crate::output::outln!("stable      {} of {} poses", report.stable, report.assessed);
     Ok(())
 }

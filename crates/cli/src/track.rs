@@ -56,10 +56,10 @@ pub fn run(args: &Args) -> Result<bool, CliError> {
         print_report(&report)?;
         return Ok(stable);
     }
-    crate::outln!("scenario      {}", args.scenario.display());
-    crate::outln!("waypoint  surface  T2max(N)  winding(deg)  ground  stable  required(N)");
+    crate::output::outln!("scenario      {}", args.scenario.display());
+    crate::output::outln!("waypoint  surface  T2max(N)  winding(deg)  ground  stable  required(N)");
     for w in &report.waypoints {
-        crate::outln!(
+        crate::output::outln!(
             "{:>8}  {:>7}  {:>8.1}  {:>12.1}  {:>6}  {:>6}  {}",
             w.waypoint,
             w.surface,
@@ -71,6 +71,6 @@ pub fn run(args: &Args) -> Result<bool, CliError> {
                 .map_or("-".to_string(), |t| format!("{t:.1}"))
         );
     }
-    crate::outln!("verdict       {}", report.verdict);
+    crate::output::outln!("verdict       {}", report.verdict);
     Ok(stable)
 }

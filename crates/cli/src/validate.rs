@@ -30,7 +30,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             georeferenced: s.georeference.is_some(),
         });
     }
-    crate::outln!(
+    crate::output::outln!(
         "{}: valid: {} obstacles, {} vertices, {} terrain planes, free area {} m²",
         args.file.display(),
         s.map.obstacles.len(),

@@ -6,7 +6,7 @@
 //! `valgrind --tool=callgrind`, and a drift check of every seed's result before and after a
 //! change that must keep them (`diff` of two runs' outputs without the time column).
 //!
-//! `cargo run --release -p rappel --example navigate_first -- [FIRST_SEED [SEEDS]]` (default seed
+//! `cargo run --release -p rappel-benches --example navigate_first -- [FIRST_SEED [SEEDS]]` (default seed
 //! 0, one seed); `TEST=1` plans Paton's test 1 instead.
 use rappel::navigate::{PATON_ITERATIONS, RoverProblem, SHADOW_SAMPLE_FRACTION, navigate};
 use rappel::planners::sampler::Termination;
