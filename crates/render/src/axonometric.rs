@@ -36,6 +36,8 @@ struct Shape {
 #[derive(Debug, Clone, Default)]
 pub struct Axonometric {
     groups: Vec<(String, Vec<Shape>)>,
+    /// Legend entries: a label and the SVG attributes its swatch is drawn with.
+    legend: Vec<(String, String)>,
 }
 
 impl Axonometric {
@@ -86,6 +88,13 @@ impl Axonometric {
         );
     }
 
+    /// A legend entry: `label` beside a swatch drawn with the same SVG `attributes` as its shapes
+    /// (a filled box when they fill, a line otherwise), so the legend shows what is drawn.
+    pub fn legend(&mut self, label: &str, attributes: &str) {
+        self.legend
+            .push((label.to_string(), attributes.to_string()));
+    }
+
     /// An open polyline (not filled) with the SVG `attributes` (e.g. `stroke="…"`).
     pub fn polyline(&mut self, points: &[Point3<f64>], attributes: &str) {
         self.push(points, false, attributes);
@@ -108,7 +117,11 @@ impl Axonometric {
             (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
         }
         let scale = SIZE_PX / (x1 - x0).max(y1 - y0).max(1e-9);
-        let (w, h) = ((x1 - x0) * scale + 40.0, (y1 - y0) * scale + 70.0);
+        let legend_h = 20.0 * self.legend.len() as f64;
+        let (w, h) = (
+            (x1 - x0) * scale + 40.0,
+            (y1 - y0) * scale + 110.0 + legend_h,
+        );
         let tx = |q: &Point3<f64>| {
             let p = Self::project(q);
             format!(
@@ -149,7 +162,52 @@ impl Axonometric {
             }
             let _ = writeln!(out, "</g>");
         }
+        // The legend and a scale bar along the x axis, below the drawing.
+        let mut y = (y1 - y0) * scale + 80.0;
+        let _ = writeln!(
+            out,
+            "<g id=\"legend\" font-family=\"sans-serif\" font-size=\"13\">"
+        );
+        for (label, attributes) in &self.legend {
+            let swatch = if attributes.contains("fill=") && !attributes.contains("fill=\"none\"") {
+                format!(
+                    "<rect x=\"20\" y=\"{:.0}\" width=\"20\" height=\"10\" {attributes}/>",
+                    y - 10.0
+                )
+            } else {
+                format!(
+                    "<line x1=\"20\" y1=\"{0:.0}\" x2=\"40\" y2=\"{0:.0}\" {attributes}/>",
+                    y - 5.0
+                )
+            };
+            let _ = writeln!(
+                out,
+                "{swatch}<text x=\"48\" y=\"{y:.0}\">{}</text>",
+                label.replace('&', "&amp;").replace('<', "&lt;")
+            );
+            y += 20.0;
+        }
+        let (len, px) = scale_bar(scale * Self::project(&Point3::new(1.0, 0.0, 0.0)).coords.norm());
+        let _ = writeln!(
+            out,
+            "<path d=\"M20 {y:.0}v-6v6h{px:.1}v-6\" stroke=\"black\" stroke-width=\"2\" fill=\"none\"/><text x=\"{:.0}\" y=\"{y:.0}\">{len} m along x (true vertical scale)</text>",
+            28.0 + px
+        );
+        let _ = writeln!(out, "</g>");
         let _ = writeln!(out, "</svg>");
         out
     }
+}
+
+/// A round scale-bar length for a drawing of `px_per_m` pixels per metre: the largest of 1, 2 or
+/// 5 times a power of ten that is at most 150 px long, with its length in pixels.
+fn scale_bar(px_per_m: f64) -> (f64, f64) {
+    let target = 150.0 / px_per_m.max(1e-12);
+    let p = 10f64.powf(target.log10().floor());
+    let len = [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|k| k * p)
+        .find(|l| *l <= target)
+        .unwrap_or(p);
+    (len, len * px_per_m)
 }

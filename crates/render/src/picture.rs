@@ -121,6 +121,9 @@ impl Picture {
     /// A disc of radius `r` in map units (e.g. sized to a grid step) filled with `fill` (`None`:
     /// the layer's own look, e.g. a hollow ring), with a hover text.
     pub fn disc(&mut self, layer: Layer, p: Point2<f64>, r: f64, fill: Option<&str>, title: &str) {
+        if !self.shows(&[p]) {
+            return;
+        }
         self.use_layer(layer);
         let mut style = self.style(layer);
         if let Some(f) = fill {
@@ -190,9 +193,24 @@ impl Picture {
     /// A marker of its layer's shape ([`Layer::glyph`]) with a hover text (an SVG `<title>`:
     /// browsers and the viewer show it).
     pub fn titled_marker(&mut self, layer: Layer, p: Point2<f64>, title: &str) {
+        if !self.shows(&[p]) {
+            return;
+        }
         self.use_layer(layer);
         let s = marker_svg(layer, p, 5.0 * self.unit, 1.0, self.unit);
         self.push(layer, format!("<g><title>{}</title>{s}</g>", escape(title)));
+    }
+
+    /// Whether anything of the shape with these points can be seen: its bounding box, grown by
+    /// 20 pixels (markers and strokes), meets the framed box. What cannot be seen (outside a
+    /// `--window`) is not written at all, so a crop of a large map stays small.
+    fn shows(&self, pts: &[Point2<f64>]) -> bool {
+        let b = Aabb::of_points(pts);
+        let m = 20.0 * self.unit;
+        b.min.x <= self.bounds.max.x + m
+            && b.max.x >= self.bounds.min.x - m
+            && b.min.y <= self.bounds.max.y + m
+            && b.max.y >= self.bounds.min.y - m
     }
 
     fn use_layer(&mut self, layer: Layer) {
@@ -214,6 +232,9 @@ impl Picture {
 
     /// A closed filled polygon on `layer`.
     pub fn polygon(&mut self, layer: Layer, pts: &[Point2<f64>]) {
+        if !self.shows(pts) {
+            return;
+        }
         self.use_layer(layer);
         let s = format!(
             "<polygon points=\"{}\" {}/>",
@@ -225,6 +246,9 @@ impl Picture {
 
     /// A filled polygon on `layer` with its own fill colour (`#rrggbb`), for shaded terrain.
     pub fn shaded_polygon(&mut self, layer: Layer, pts: &[Point2<f64>], fill: &str) {
+        if !self.shows(pts) {
+            return;
+        }
         self.use_layer(layer);
         let s = format!(
             "<polygon points=\"{}\" fill=\"{fill}\" stroke=\"{fill}\" stroke-width=\"{}\"/>",
@@ -236,6 +260,9 @@ impl Picture {
 
     /// An open polyline on `layer`.
     pub fn polyline(&mut self, layer: Layer, pts: &[Point2<f64>]) {
+        if !self.shows(pts) {
+            return;
+        }
         self.use_layer(layer);
         let mut style = self.style(layer);
         style = style.replacen(&format!("fill=\"{}\"", layer.look().0), "fill=\"none\"", 1);
@@ -251,7 +278,7 @@ impl Picture {
     ) {
         self.use_layer(layer);
         let mut d = String::new();
-        for (a, b) in segs {
+        for (a, b) in segs.into_iter().filter(|(a, b)| self.shows(&[*a, *b])) {
             let _ = write!(d, "M{} {}L{} {}", fmt(a.x), fmt(a.y), fmt(b.x), fmt(b.y));
         }
         let s = format!("<path d=\"{d}\" {}/>", self.style(layer));
@@ -260,6 +287,9 @@ impl Picture {
 
     /// A marker of fixed on-screen size at `p`, of its layer's shape ([`Layer::glyph`]).
     pub fn marker(&mut self, layer: Layer, p: Point2<f64>) {
+        if !self.shows(&[p]) {
+            return;
+        }
         self.use_layer(layer);
         let s = marker_svg(layer, p, 5.0 * self.unit, 1.0, self.unit);
         self.push(layer, s);

@@ -77,6 +77,12 @@ pub enum Layer {
     StableCell,
     /// An unstable cell of a mesh stability map, grey.
     UnstableCell,
+    /// The holding robot's path (Kumar's Robot 1).
+    HoldingPath,
+    /// The descending robot's path (Kumar's Robot 2).
+    DescendingPath,
+    /// A terrain surface of a multi-slope terrain, shaded by its slope.
+    Surface,
 }
 
 /// How a layer is drawn, and so how its legend entry looks: the picture and the legend both
@@ -142,6 +148,9 @@ impl Layer {
             Layer::Robot => "robot",
             Layer::StableCell => "stable cell",
             Layer::UnstableCell => "unstable cell",
+            Layer::HoldingPath => "robot 1 path (holding)",
+            Layer::DescendingPath => "robot 2 path",
+            Layer::Surface => "surface (darker: steeper)",
         }
     }
 
@@ -165,7 +174,9 @@ impl Layer {
             | Layer::PlaneEdge
             | Layer::Ptfo
             | Layer::ConvexDirection
-            | Layer::InfeasibleShp => Glyph::Line,
+            | Layer::InfeasibleShp
+            | Layer::HoldingPath
+            | Layer::DescendingPath => Glyph::Line,
             Layer::Obstacle
             | Layer::Sleeve
             | Layer::FrictionCone
@@ -178,7 +189,8 @@ impl Layer {
             | Layer::Concave
             | Layer::Saddle
             | Layer::StableCell
-            | Layer::UnstableCell => Glyph::Area,
+            | Layer::UnstableCell
+            | Layer::Surface => Glyph::Area,
         }
     }
 
@@ -186,7 +198,8 @@ impl Layer {
     pub(crate) fn draw_order(self) -> u8 {
         match self {
             Layer::Terrain | Layer::Convex | Layer::Concave | Layer::Saddle => 0,
-            Layer::StableCell | Layer::UnstableCell => 0,
+            Layer::StableCell | Layer::UnstableCell | Layer::Surface => 0,
+            Layer::HoldingPath | Layer::DescendingPath => 6,
             Layer::ConvexDirection => 1,
             Layer::RobotObstacle => 1,
             Layer::PlaneEdge => 5,
@@ -260,6 +273,9 @@ impl Layer {
             Layer::Robot => ("#ff7f00", "#7f2704", 1.0, 1.0),
             Layer::StableCell => ("#21918c", "none", 0.0, 1.0),
             Layer::UnstableCell => ("#bdbdbd", "#636363", 0.3, 1.0),
+            Layer::HoldingPath => ("none", "#1f77b4", 2.0, 0.0),
+            Layer::DescendingPath => ("none", "#2ca02c", 2.0, 0.0),
+            Layer::Surface => ("#c8c8c8", "#888888", 0.6, 1.0),
         }
     }
 }

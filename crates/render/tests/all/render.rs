@@ -195,3 +195,56 @@ fn stability_dots_are_coloured_by_margin_and_leave_obstacles_visible() {
         assert!(r.shows_near(c, 0, OBSTACLE, 2), "obstacle grey at {c}");
     }
 }
+
+/// A `--window` crop writes only what can be seen: on the 1,000-obstacle strip a 20 m window
+/// round the 500th obstacle holds a few, not all of them, and every obstacle that does meet the window is
+/// drawn (its vertices appear in the SVG).
+#[test]
+fn a_window_writes_only_the_obstacles_it_shows() {
+    let s = fixture("generated/crater-strip-1000.ron");
+    let btm = rappel::geometry::btm::Btm::from_map(&s.map).unwrap();
+    let b = Aabb::of_points(&s.map.obstacles[500].vertices);
+    let c = Point2::new(0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y));
+    let window = Aabb {
+        min: Point2::new(c.x - 10.0, c.y - 10.0),
+        max: Point2::new(c.x + 10.0, c.y + 10.0),
+    };
+    let draw = |w: Option<&Aabb>| {
+        let mut pic = match w {
+            Some(w) => rappel_render::Picture::new(*w),
+            None => rappel_render::Picture::of_map(&s.map),
+        };
+        pic.btm(&btm);
+        pic.map(&s.map);
+        pic.finish("crop")
+    };
+    let (whole, crop) = (draw(None), draw(Some(&window)));
+    let count = |svg: &str| svg.matches("<polygon").count();
+    assert!(count(&whole) > s.map.obstacles.len(), "{}", count(&whole));
+    assert!(
+        count(&crop) < count(&whole) / 10,
+        "{} of {}",
+        count(&crop),
+        count(&whole)
+    );
+    assert!(
+        crop.len() * 10 < whole.len(),
+        "{} bytes of {}",
+        crop.len(),
+        whole.len()
+    );
+    let meets = |o: &rappel::geometry::polygon::Polygon| {
+        let b = Aabb::of_points(&o.vertices);
+        b.min.x <= window.max.x
+            && b.max.x >= window.min.x
+            && b.min.y <= window.max.y
+            && b.max.y >= window.min.y
+    };
+    let shown = s.map.obstacles.iter().filter(|o| meets(o)).count();
+    assert!(shown > 0);
+    assert!(
+        count(&crop) >= shown + 1,
+        "{} drawn, {shown} meet the window",
+        count(&crop)
+    );
+}
