@@ -12,6 +12,9 @@ use crate::{Layer, Picture};
 /// stays small enough to open).
 pub const MAX_RELIEF_TRIANGLES: usize = 20_000;
 
+/// Steepest triangle counted as ground by [`fall_line`], degrees: steeper faces are walls.
+pub const MAX_GROUND_SLOPE_DEG: f64 = 80.0;
+
 /// The direction of the light, from the north-west, 45° above the horizon (map frame: y north).
 fn light() -> Vector3<f64> {
     Vector3::new(-1.0, 1.0, std::f64::consts::SQRT_2).normalize()
@@ -25,9 +28,11 @@ pub fn shade(n: &Vector3<f64>) -> String {
     format!("#{g:02x}{g:02x}{g:02x}")
 }
 
-/// The mean downhill direction of `mesh` seen from above: the area-weighted mean of its upward
-/// triangle normals' horizontal parts (a surface with normal `n` descends along `(n.x, n.y)`),
-/// or `None` when the ground is flat on the whole (within 1e-6 of its area).
+/// The mean downhill direction of `mesh` seen from above: the area-weighted mean of the
+/// horizontal parts of its ground triangles' normals (a surface with normal `n` descends along
+/// `(n.x, n.y)`). Ground triangles face up, at most [`MAX_GROUND_SLOPE_DEG`] from level: a
+/// closed mesh's underside and its walls (a box's end faces) would otherwise cancel the slope.
+/// `None` when the ground is flat on the whole (within 1e-6 of its area).
 ///
 /// ```
 /// use nalgebra::Point3;
@@ -43,13 +48,20 @@ pub fn shade(n: &Vector3<f64>) -> String {
 pub fn fall_line(mesh: &TriMesh) -> Option<Vector2<f64>> {
     let v = mesh.vertices();
     let (mut sum, mut area) = (Vector2::zeros(), 0.0);
-    for t in mesh.triangles() {
-        let mut n = (v[t[1]] - v[t[0]]).cross(&(v[t[2]] - v[t[0]]));
-        if n.z < 0.0 {
-            n = -n;
+    let min_cos = MAX_GROUND_SLOPE_DEG.to_radians().cos();
+    // Upward faces first; a mesh wound the other way round (all its ground facing down) is read
+    // with its normals flipped.
+    for sign in [1.0, -1.0] {
+        for t in mesh.triangles() {
+            let n = sign * (v[t[1]] - v[t[0]]).cross(&(v[t[2]] - v[t[0]]));
+            if n.z > min_cos * n.norm() {
+                sum += Vector2::new(n.x, n.y);
+                area += n.norm();
+            }
         }
-        sum += Vector2::new(n.x, n.y);
-        area += n.norm();
+        if area > 0.0 {
+            break;
+        }
     }
     (sum.norm() > 1e-6 * area).then(|| sum / sum.norm())
 }
