@@ -35,17 +35,10 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// Crates `cargo xtask tidy` (and the workspace test below) does not check yet, relative to the
-/// workspace root. The facade (`crates/rappel`) and the binary (`crates/cli`) are being
-/// redesigned in parallel (issue 32); their circles are broken there, and this list is emptied
-/// (and the constant removed) when that lands. `cargo xtask tidy --all` checks them anyway.
-pub const NOT_YET_CHECKED: &[&str] = &["crates/rappel", "crates/cli"];
-
-/// `cargo xtask tidy [--all]`: prints every circle, exit 1 if there is any.
-pub fn run(all: bool) -> Result<ExitCode, String> {
+/// `cargo xtask tidy`: prints every circle, exit 1 if there is any.
+pub fn run() -> Result<ExitCode, String> {
     let root = crate::regress::case::workspace_root();
-    let skip: &[&str] = if all { &[] } else { NOT_YET_CHECKED };
-    let reports = check_workspace(&root, skip)?;
+    let reports = check_workspace(&root, &[])?;
     let mut circles = 0;
     for report in &reports {
         for circle in &report.circles {
@@ -59,12 +52,6 @@ pub fn run(all: bool) -> Result<ExitCode, String> {
         checked.len(),
         checked.join(", ")
     );
-    if !skip.is_empty() {
-        println!(
-            "tidy: not yet checked: {} (tidy::NOT_YET_CHECKED)",
-            skip.join(", ")
-        );
-    }
     if circles > 0 {
         println!("tidy: {circles} module import circle(s)");
         return Ok(ExitCode::from(1));
@@ -1213,17 +1200,12 @@ mod tests {
         assert!(err.contains("src/gone.rs"), "{err}");
     }
 
-    /// The workspace's crates have no circles (the facade and the binary wait for their redesign:
-    /// [`NOT_YET_CHECKED`]).
+    /// The workspace's crates have no circles, the facade and the binary included.
     #[test]
     fn the_workspace_has_no_module_import_circles() {
         let root = crate::regress::case::workspace_root();
-        let reports = check_workspace(&root, NOT_YET_CHECKED).unwrap();
-        assert!(
-            reports
-                .iter()
-                .any(|r| r.name.starts_with("crates/planners"))
-        );
+        let reports = check_workspace(&root, &[]).unwrap();
+        assert!(reports.iter().any(|r| r.name.starts_with("crates/rappel")));
         let circles: Vec<String> = reports
             .iter()
             .flat_map(|r| r.circles.iter().map(move |c| format!("{}: {c}", r.name)))

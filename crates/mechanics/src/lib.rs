@@ -16,6 +16,8 @@
 //! | [`friction`] | friction intervals used conservatively | §3.6.1 |
 //! | [`ptfo`] | solid / slides / volatile PTFO classes | §3.4.1, Alg. 9 |
 //! | [`ptfo_surface`] | PTFO surfaces and the tether's wrap contact on them | §3.3.5, §3.4 |
+//! | [`ptfo_detection`] | PTFOs on a DEM: convex patches, hulls, height patches | §3.1.1, §3.3.3, §3.4 |
+//! | [`sticking_profile`] | where a tether draped over a DEM may stick along its length | §3.3.5, Figs. 3.13-3.15 |
 //! | [`robot`] | the robot-model trait, planes, poses, placement | Paton §IV-A |
 //! | [`axel`] | the Axel model and its tether-tension estimate | eq. 3.32 |
 //! | [`four_wheel`] | a generic four-wheel rover | Kumar §II |
@@ -52,6 +54,7 @@ pub mod friction_cone;
 pub mod heavy_rope;
 pub mod ode;
 pub mod ptfo;
+pub mod ptfo_detection;
 pub mod ptfo_surface;
 pub mod robot;
 pub mod settle;
@@ -60,6 +63,7 @@ pub mod stability_map;
 pub mod stability_qp;
 mod statics;
 pub mod sticking;
+pub mod sticking_profile;
 pub mod surface_curve;
 pub mod tension_limit;
 pub mod tension_lp;

@@ -9,6 +9,7 @@
 //! |---|---|---|
 //! | [`spt`] | SHPs in non-decreasing length, one per homotopy class; termination rules | Alg. 3-4, eq. 2.5 |
 //! | [`shortest_path_map`] | geodesic length and last anchor of every point from one start, built once | Mitchell's continuous Dijkstra, Polyanya's root pruning |
+//! | [`tether_anchors`] | a stability map's plane bands, free poses and each pose's taut tether (an `AnchorSource`) | Kumar Fig. 5, §2.1.2 |
 //! | [`terrain`] | the plane series under the map and each plane's tether limit | §2.1.2, §2.4.4 |
 //! | [`feasibility`] | anchors, anchor reachable sets, passability, waypoints | Alg. 5, Defs. 2.1-2.4, eq. 2.7 |
 //! | [`anchor_index`] | the anchors of a class near a move, a leg or an edge (a grid superset) | issue 10 (long obstacles) |
@@ -36,5 +37,6 @@ pub mod shortest_path_map;
 pub mod spt;
 pub mod stop;
 pub mod terrain;
+pub mod tether_anchors;
 pub mod tether_tracking;
 pub mod visibility_graph;

@@ -75,7 +75,7 @@ pub struct DemReport {
     /// The ingestion's counts.
     pub counts: IngestSummary,
     /// PTFO labelling, when asked for (`--ptfo-friction`).
-    pub ptfos: Option<crate::dem_ptfo::PtfoLabels>,
+    pub ptfos: Option<PtfoLabels>,
     /// The start, `[x, y]` in the planning frame.
     #[schemars(with = "[f64; 2]")]
     pub start: nalgebra::Point2<f64>,
@@ -115,12 +115,7 @@ impl DemScenario {
 
     /// The report of `rappel dem`: the DEM `dem` turned into the scenario file `scenario`, with
     /// the PTFO labelling `ptfos` when it was asked for.
-    pub fn report(
-        &self,
-        dem: &Path,
-        scenario: &Path,
-        ptfos: Option<crate::dem_ptfo::PtfoLabels>,
-    ) -> DemReport {
+    pub fn report(&self, dem: &Path, scenario: &Path, ptfos: Option<PtfoLabels>) -> DemReport {
         let s = &self.scenario;
         DemReport {
             dem: dem.display().to_string(),
@@ -263,4 +258,21 @@ pub fn block_footprint(
     .iter()
     .map(|w| d.ingested.frame.to_planning(w))
     .collect()
+}
+
+/// What [`crate::dem_ptfo::label_ptfos`] did.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct PtfoLabels {
+    /// Convex cells in free space.
+    pub convex_cells: usize,
+    /// Saddle cells in free space convex along the fall line (counted only with
+    /// [`PtfoLabelOptions::saddles`]; they join the convex cells' patches).
+    pub saddle_cells: usize,
+    /// Patches of at least `min_cells` cells.
+    pub patches: usize,
+    /// PTFOs added to the scenario.
+    pub ptfos: usize,
+    /// Patches dropped because their hull would make the map invalid, or beyond [`MAX_PTFOS`],
+    /// or without a usable height patch; with the reason.
+    pub dropped: Vec<String>,
 }

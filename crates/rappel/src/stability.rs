@@ -10,8 +10,9 @@
 //! tether lies on the ground, so in the robot's plane it pulls along the unfolded direction to
 //! that anchor). Each pose's last anchor is reported. Poses inside obstacles are skipped. Every
 //! free pose's last anchor and tether length come from one shortest path map from the start
-//! ([`rappel_planners::shortest_path_map`]: the funnel expansion of the shortest path tree over the
-//! BTM, computed once), looked up for all poses in parallel (rayon) before the assessment. At the
+//! ([`rappel_planners::shortest_path_map`]: the funnel expansion of the shortest path tree over
+//! the BTM, computed once), looked up for all poses in parallel (rayon) before the assessment
+//! ([`rappel_planners::tether_anchors`]: the plane bands, the free poses and their tethers). At the
 //! start itself no tether pulls. The tension limit, when given, applies at the robot: capstan
 //! friction at wrapped anchors (Kumar eq. 2) would raise it, and is not modelled here.
 //!
@@ -22,20 +23,18 @@
 //! [`MAX_SCENARIO_POSES`] poses.
 
 use crate::scenario::ValidScenario;
-use nalgebra::{Point2, Point3};
-use rappel_geometry::btm::{Btm, Location};
-use rappel_mechanics::robot::{SlopePlane, TetherSpec};
+use nalgebra::Point2;
+use rappel_geometry::btm::Btm;
 use rappel_mechanics::stability_map::{
-    AnchorSource, GridSpec, Heading, MapPlane, PoseOutcome, grid_positions, stability_map,
+    GridSpec, Heading, PoseOutcome, grid_positions, stability_map,
 };
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
 use rappel_planners::shortest_path_map::ShortestPathMap;
 use rappel_planners::spt::SearchError;
-use rayon::prelude::*;
+use rappel_planners::tether_anchors::{TetherTable, free_positions, is_strictly_free, plane_bands};
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
 
 /// The most poses one stability map may assess. Measured on the 1,000-obstacle crater strip at
 /// 1 m (149,515 free poses, release build): about 85 us of CPU per pose in all (the QP solve
@@ -134,74 +133,6 @@ pub enum StabilityError {
     Grid(#[from] rappel_mechanics::stability_map::MapError),
 }
 
-/// What the tether search says about one pose: the last anchor and the tether's length, `None`
-/// when no path reaches it, or why the search could not tell.
-type Taut = Result<Option<(Point2<f64>, f64)>, String>;
-
-/// The taut tether of every free pose of the grid, looked up once per pose in the shortest path
-/// map (in parallel, rayon) and then read both by the stability assessment and by the report.
-struct TetherTable {
-    /// Keyed by the pose's coordinates' bits (grid positions are produced by one function, so
-    /// equal positions have equal bits).
-    taut: HashMap<(u64, u64), Taut>,
-    exit_height: f64,
-    limit: Option<f64>,
-}
-
-fn key(p: &Point2<f64>) -> (u64, u64) {
-    (p.x.to_bits(), p.y.to_bits())
-}
-
-impl TetherTable {
-    /// Looks up the tether of every position in `positions` (at most [`MAX_SCENARIO_POSES`]) in
-    /// `spm`: its last anchor and length.
-    fn new(
-        spm: &ShortestPathMap<'_>,
-        positions: &[Point2<f64>],
-        exit_height: f64,
-        limit: Option<f64>,
-    ) -> Self {
-        // A bar on stderr when it is a terminal.
-        let progress = crate::progress::Progress::new(positions.len() as u64, "tethers");
-        let taut = positions
-            .par_iter()
-            .map(|p| {
-                // At the start itself there is no tether to pull (as when it was searched).
-                let t = spm
-                    .query(*p)
-                    .map(|g| {
-                        g.filter(|g| g.last_anchor != *p)
-                            .map(|g| (g.last_anchor, g.length))
-                    })
-                    .map_err(|e| e.to_string());
-                progress.inc(1);
-                (key(p), t)
-            })
-            .collect();
-        progress.finish();
-        TetherTable {
-            taut,
-            exit_height,
-            limit,
-        }
-    }
-
-    /// The searched tether at `position` (`Ok(None)` for a position not in the table: not free).
-    fn taut(&self, position: &Point2<f64>) -> Taut {
-        self.taut.get(&key(position)).cloned().unwrap_or(Ok(None))
-    }
-}
-
-impl AnchorSource for TetherTable {
-    fn tether_at(&self, _: usize, position: &Point2<f64>) -> Option<TetherSpec> {
-        let (a, _) = self.taut(position).ok().flatten()?;
-        Some(TetherSpec {
-            anchor: Point3::new(a.x, a.y, self.exit_height),
-            max_tension: self.limit,
-        })
-    }
-}
-
 /// The stability map of `scenario` (see the module docs). It takes the [`ValidScenario`] proof,
 /// so the map is validated once by the caller and its BTM built without validating it again.
 ///
@@ -243,20 +174,8 @@ pub fn stability_over_scenario(
             "paton-qp",
         ),
     };
-    let b = scenario.map.aabb();
-    let mut planes = Vec::with_capacity(scenario.terrain.planes.len());
-    for p in &scenario.terrain.planes {
-        let plane = SlopePlane::new(p.slope_rad(), p.friction)
-            .map_err(|e| StabilityError::Setting(e.to_string()))?;
-        let (y0, y1) = (p.y_bottom.max(b.min.y), p.y_top.min(b.max.y));
-        if y0 <= y1 {
-            planes.push(MapPlane {
-                plane,
-                x_range: [b.min.x, b.max.x],
-                y_range: [y0, y1],
-            });
-        }
-    }
+    let planes = plane_bands(&scenario.terrain.planes, &scenario.map.aabb())
+        .map_err(|e| StabilityError::Setting(e.to_string()))?;
     let exit_height = robot
         .configuration(None)
         .map_err(|e| StabilityError::Setting(e.to_string()))?
@@ -271,21 +190,10 @@ pub fn stability_over_scenario(
             "the grid has {poses} poses, more than the limit {MAX_SCENARIO_POSES} of a scenario's stability map; use a larger grid step"
         )));
     }
-    // Free space strictly (not on a ring), located in the BTM: logarithmic-ish per pose instead of
-    // a scan over every obstacle (50,000 tiny obstacles made the scan the bottleneck).
-    let free = |p: &Point2<f64>| match btm.locate(p) {
-        Location::Triangle(_) => true,
-        Location::Edge(h) => btm.dcel().twin(h).is_some(),
-        Location::Vertex(_) | Location::Obstacle(_) | Location::Outside => false,
-    };
-    // The tether of each free pose, looked up once (poses inside obstacles are not).
-    let mut free_positions: Vec<Point2<f64>> = positions
-        .iter()
-        .map(|(_, p)| *p)
-        .filter(|p| free(p))
-        .collect();
-    free_positions.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    free_positions.dedup();
+    // Free space strictly (not on a ring), located in the BTM; the tether of each free pose is
+    // looked up once (poses inside obstacles are not).
+    let free = |p: &Point2<f64>| is_strictly_free(&btm, p);
+    let free_positions = free_positions(&btm, &positions);
     // One shortest path map from the start answers every pose's tether.
     let spm = ShortestPathMap::build(&btm, scenario.start).map_err(|e| {
         StabilityError::Setting(match e {
@@ -295,7 +203,12 @@ pub fn stability_over_scenario(
             e => format!("the shortest path map from the start: {e}"),
         })
     })?;
-    let anchors = TetherTable::new(&spm, &free_positions, exit_height, options.tension_limit);
+    // A bar on stderr when it is a terminal.
+    let progress = crate::progress::Progress::new(free_positions.len() as u64, "tethers");
+    let limit = options.tension_limit;
+    let inc = |n| progress.inc(n);
+    let anchors = TetherTable::new(&spm, &free_positions, exit_height, limit, &inc);
+    progress.finish();
     let verdicts = stability_map(robot.as_ref(), criterion.as_ref(), &planes, &anchors, &grid)?;
     // A pose on the edge between two planes lies on the grid of both: keep the first (upper).
     let mut seen = std::collections::HashSet::new();

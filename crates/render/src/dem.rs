@@ -5,7 +5,7 @@
 
 use nalgebra::{Point2, Point3};
 use rappel::dem::{DemScenario, block_footprint};
-use rappel::dem_ptfo::{convexity, tolerance};
+use rappel::mechanics::ptfo_detection::{convexity, tolerance};
 use rappel::sticking_profile::StickingSample;
 use rappel_mechanics::curvature::Convexity;
 

@@ -301,7 +301,7 @@ pub struct RoverProblem {
     /// Fraction of the planner's samples drawn from the root anchor's shadow
     /// ([`TetherShadow`], ABIT*'s `biased_sample_fraction`). 0 (the default of
     /// [`RoverProblem::paton`]) is Paton's uniform sampling; [`SHADOW_SAMPLE_FRACTION`] is ours,
-    /// which [`navigate`] pairs with [`SHADOW_RGG_K_FACTOR`].
+    /// which `rappel::navigate` pairs with [`SHADOW_RGG_K_FACTOR`].
     pub shadow_sample_fraction: f64,
     /// Height from which states are settled: 1 m above the mesh's top.
     z_top: f64,

@@ -58,7 +58,7 @@ pub struct BoomVerdict {
 ///   ([`place_boom_in_contact`]: on its tip or its shaft, e.g. resting on a ledge's lip). The
 ///   tether leaves from the boom's tip, which is not the pivot the history was predicted for:
 ///   while the tip lies above the last anchor's `F_d` plane (Paton's detach test,
-///   [`rappel_planners::anchor_prediction::is_detached`]) that anchor is popped and the boom swept again toward the one before
+///   [`crate::anchor_prediction::is_detached`]) that anchor is popped and the boom swept again toward the one before
 ///   (at most once per anchor). Attaching anchors between the pivot and the tip is not
 ///   searched (the boom is at most `L_c` long).
 pub fn boom_verdicts<G: rappel_mechanics::boom_contact::BoomGround + ?Sized>(
