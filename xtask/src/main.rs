@@ -6,6 +6,7 @@
 
 mod fixtures;
 mod journeys;
+mod readme;
 mod regress;
 mod tidy;
 
@@ -55,6 +56,13 @@ enum Command {
     /// Check that no module imports another that imports it back, inside any crate; prints each
     /// circle with the names each module takes from the others, exit 1 if there is any.
     Tidy,
+    /// Run every `rappel` command of the README's examples (checking the exit code each states)
+    /// and check the command table against the binary's subcommands and flags.
+    Readme {
+        /// The rappel binary (default: target/debug/rappel).
+        #[arg(long)]
+        bin: Option<std::path::PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -76,6 +84,7 @@ fn main() -> ExitCode {
         Command::GenFixtures => fixtures::generate(),
         Command::Schemas { check } => schemas(check),
         Command::Tidy => tidy::run(),
+        Command::Readme { bin } => readme::run(bin),
     };
     match result {
         Ok(code) => code,
