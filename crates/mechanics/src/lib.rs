@@ -41,6 +41,7 @@ pub use nalgebra;
 
 pub mod anchor_traversability;
 pub mod axel;
+#[cfg(feature = "mesh")]
 pub mod boom_contact;
 pub mod capstan;
 pub mod conic;

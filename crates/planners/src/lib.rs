@@ -30,6 +30,7 @@ mod min_heap;
 pub mod online;
 pub mod path_pair;
 pub mod report_units;
+#[cfg(feature = "mesh")]
 pub mod rover;
 pub mod sampler;
 pub mod search_report;

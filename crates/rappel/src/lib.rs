@@ -36,6 +36,7 @@ pub mod friction_plan;
 pub mod generated;
 pub mod georeference;
 pub mod io;
+#[cfg(feature = "mesh")]
 pub mod navigate;
 pub mod online;
 pub mod pair;
@@ -49,7 +50,9 @@ pub mod report;
 pub mod robot;
 pub mod scenario;
 pub mod schemas;
+#[cfg(feature = "mesh")]
 pub mod settle;
+#[cfg(feature = "mesh")]
 pub mod settle_map;
 pub mod stability;
 pub mod sticking_profile;

@@ -9,13 +9,16 @@
 
 pub use crate::builder::{IntoPoint, ScenarioBuilder};
 pub use crate::dem::{DemScenario, dem_scenario};
+#[cfg(feature = "mesh")]
 pub use crate::navigate::{RoverProblem, navigate};
 pub use crate::online::OnlineRun;
 pub use crate::plan::{Plan, PlanError, PlanOptions, PlanReport, plan, plan_detailed};
 pub use crate::query::{QueryPair, QueryReport};
 pub use crate::report::Report;
 pub use crate::scenario::{RobotModel, RobotParams, Scenario, ScenarioError};
+#[cfg(feature = "mesh")]
 pub use crate::settle::{SettleReport, settle_report};
+#[cfg(feature = "mesh")]
 pub use crate::settle_map::{MapSpec, StabilityMap};
 pub use crate::stability::{StabilityOptions, StabilityReport, stability_over_scenario};
 pub use crate::track::{TrackReport, track};

@@ -164,7 +164,8 @@ pub fn conforms(v: &Value, s: &Value, root: &Value, at: &str) -> Result<(), Stri
 pub fn schemas() -> Vec<(&'static str, schemars::Schema)> {
     let mut scenario = SchemaGenerator::default().root_schema_for::<crate::scenario::Scenario>();
     scenario.insert("title".into(), "rappel scenario file".into());
-    vec![
+    #[allow(unused_mut)] // without `mesh` nothing is added
+    let mut all = vec![
         ("scenario", scenario),
         ("validate", schema_of::<ValidateReport>()),
         ("btm", schema_of::<crate::btm_summary::BtmSummary>()),
@@ -184,10 +185,14 @@ pub fn schemas() -> Vec<(&'static str, schemars::Schema)> {
         ("query", schema_of::<crate::query::QueryReport>()),
         ("online", schema_of::<crate::online::OnlineReport>()),
         ("track", schema_of::<crate::track::TrackReport>()),
+    ];
+    #[cfg(feature = "mesh")]
+    all.extend([
         ("settle", schema_of::<crate::settle::SettleReport>()),
         ("settle_map", schema_of::<crate::settle_map::StabilityMap>()),
         ("navigate", schema_of::<crate::navigate::NavigateReport>()),
-    ]
+    ]);
+    all
 }
 
 /// The files of `docs/schemas/`: `(file name, pretty JSON text ending in a newline)` for each of

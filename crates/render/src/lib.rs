@@ -30,12 +30,15 @@
 pub mod axonometric;
 pub mod dem;
 pub mod export;
+#[cfg(feature = "mesh")]
 pub mod navigate;
 pub mod online;
 pub mod picture;
 pub mod plan;
 pub mod relief;
+#[cfg(feature = "mesh")]
 pub mod settle;
+#[cfg(feature = "mesh")]
 pub mod settle_map;
 pub mod stability;
 pub mod style;

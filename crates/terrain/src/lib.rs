@@ -23,9 +23,11 @@ pub mod ingest;
 pub mod kumar;
 pub mod least_squares;
 pub mod mesh;
+#[cfg(feature = "mesh")]
 pub mod mesh_file;
 pub mod multi_slope;
 pub mod obstacle_detection;
+#[cfg(feature = "mesh")]
 pub mod parry_mesh;
 pub mod paton_scene;
 pub mod plane_class;
