@@ -216,38 +216,3 @@ pub struct HomotopicReport {
 }
 
 crate::report::report!(HomotopicReport, "homotopic");
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_report_of_another_kind_or_version_is_refused() {
-        let r = ValidateReport {
-            file: "s.ron".into(),
-            valid: true,
-            obstacles: 1,
-            vertices: 7,
-            terrain_planes: 0,
-            free_area_m2: 12.5,
-            ptfos: 0,
-            georeferenced: false,
-        };
-        let text = r.to_json();
-        assert!(
-            text.trim_start()
-                .starts_with("{\n  \"schema_version\": 1,\n  \"report\": \"validate\"")
-        );
-        let (a, b) = round_trip(&r).unwrap();
-        assert_eq!(a, b);
-        assert!(matches!(
-            read_report::<HomotopicReport>(&text),
-            Err(ReadReportError::Parse { .. } | ReadReportError::Kind { .. })
-        ));
-        let old = text.replace("\"schema_version\": 1", "\"schema_version\": 0");
-        assert!(matches!(
-            read_report::<ValidateReport>(&old),
-            Err(ReadReportError::Version { found: 0 })
-        ));
-    }
-}

@@ -17,3 +17,6 @@ mod plan_robot_models;
 mod query;
 mod schemas;
 mod stability_tethers;
+mod unit_builder;
+mod unit_ptfo_spec;
+mod unit_report;
