@@ -56,6 +56,26 @@ const MAX_H: f64 = 1400.0;
 const MIN_NARROW: f64 = 360.0;
 /// ...unless its long side would then exceed this many (the picture stays openable).
 const MAX_LONG: f64 = 16_000.0;
+/// About how far apart coordinate ticks are, px.
+const TICK_SPACING_PX: f64 = 120.0;
+/// Most coordinate ticks along one edge (a bound on the picture's size).
+const MAX_TICKS: i64 = 200;
+
+/// A round step (1, 2 or 5 times a power of ten) at least `target`.
+fn nice_step(target: f64) -> f64 {
+    let target = if target.is_finite() && target > 0.0 {
+        target
+    } else {
+        1.0
+    };
+    let p = 10f64.powf(target.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|k| k * p)
+        .find(|s| *s >= target)
+        .unwrap_or(10.0 * p)
+}
+
 /// Height of the title line above the map, px.
 const TITLE_H: f64 = 26.0;
 
@@ -378,10 +398,62 @@ impl Picture {
         if open.is_some() {
             out.push_str("</g>\n");
         }
+        self.ticks(&mut out);
         let _ = writeln!(out, "</g></svg>");
         self.panel(&mut out, pw);
         out.push_str("</svg>\n");
         out
+    }
+
+    /// Coordinate ticks along the framed box's bottom and left edges, in the map frame (so they
+    /// pan and zoom with the map in the viewer): a round step about [`TICK_SPACING_PX`] apart,
+    /// each labelled with its coordinate in metres.
+    fn ticks(&self, out: &mut String) {
+        let step = nice_step(TICK_SPACING_PX * self.unit);
+        let (b, u) = (&self.bounds, self.unit);
+        let _ = writeln!(
+            out,
+            "<g id=\"rappel-ticks\" stroke=\"#333333\" stroke-width=\"{}\" font-size=\"{}\" fill=\"#333333\">",
+            fmt(u),
+            fmt(10.0 * u)
+        );
+        let label = |out: &mut String, x: f64, y: f64, text: &str| {
+            let _ = writeln!(
+                out,
+                "<g transform=\"translate({} {}) scale(1,-1)\"><text stroke=\"white\" stroke-width=\"{}\" paint-order=\"stroke\">{text}</text></g>",
+                fmt(x),
+                fmt(y),
+                fmt(2.0 * u)
+            );
+        };
+        // At most MAX_TICKS per axis (the step makes it about the frame over the spacing).
+        let first = |lo: f64| (lo / step).ceil() as i64;
+        let last = |hi: f64| (hi / step).floor() as i64;
+        let (x0, x1) = (first(b.min.x), last(b.max.x).min(first(b.min.x) + MAX_TICKS));
+        for k in x0..=x1 {
+            let x = k as f64 * step;
+            let _ = writeln!(
+                out,
+                "<path d=\"M{} {}v{}\"/>",
+                fmt(x),
+                fmt(b.min.y),
+                fmt(6.0 * u)
+            );
+            label(out, x + 2.0 * u, b.min.y + 8.0 * u, &fmt(x));
+        }
+        let (y0, y1) = (first(b.min.y), last(b.max.y).min(first(b.min.y) + MAX_TICKS));
+        for k in y0..=y1 {
+            let y = k as f64 * step;
+            let _ = writeln!(
+                out,
+                "<path d=\"M{} {}h{}\"/>",
+                fmt(b.min.x),
+                fmt(y),
+                fmt(6.0 * u)
+            );
+            label(out, b.min.x + 8.0 * u, y + 2.0 * u, &fmt(y));
+        }
+        let _ = writeln!(out, "</g>");
     }
 
     /// Legend, scale bar and fall-line arrow, in pixels right of the map.
