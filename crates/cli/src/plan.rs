@@ -194,8 +194,26 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
                 Some(p) => format!("{}: class {} (ascent/descent pair)", s.name, p.rank),
                 None => format!("{}: no feasible class", s.name),
             };
+            // A scenario made from a DEM is drawn over the DEM's hillshade; a DEM that cannot be
+            // read leaves the picture without it, and says so.
+            let ground = match rappel_render::dem::scenario_hillshade(&s) {
+                Some(Ok(g)) => Some(g),
+                Some(Err(e)) => {
+                    eprintln!(
+                        "warning: {}: {e}; the picture has no hillshade",
+                        args.file.display()
+                    );
+                    None
+                }
+                None => None,
+            };
             args.picture.write(
-                &rappel_render::plan::picture(&plan, &s, window.as_ref()),
+                &rappel_render::plan::picture_over(
+                    &plan,
+                    &s,
+                    window.as_ref(),
+                    ground.as_ref().map(|(shade, frame)| (shade, frame)),
+                ),
                 &title,
             )?;
             plan.report

@@ -8,6 +8,9 @@ use rappel::dem::{DemScenario, block_footprint};
 use rappel::mechanics::ptfo_detection::{convexity, tolerance};
 use rappel::sticking_profile::StickingSample;
 use rappel_mechanics::curvature::Convexity;
+use rappel_terrain::frame::PlanningFrame;
+use rappel_terrain::grid::Raster;
+use rappel_terrain::slope::{HillshadeOptions, SlopeField};
 
 use crate::axonometric::Axonometric;
 use crate::{Layer, Picture};
@@ -20,12 +23,12 @@ const CONVEXITY_CELLS_PER_SIDE: usize = 300;
 /// A saddle's convex direction is drawn on every this many drawn cells along each side.
 const DIRECTION_EVERY: usize = 3;
 
-/// The picture of a DEM scenario in the planning frame: hillshade, plane edges, tether obstacles
-/// (grey), robot obstacles (orange outlines), start and goal.
-pub fn dem_picture(d: &DemScenario, title: &str) -> String {
-    let ing = &d.ingested;
-    let g = &ing.hillshade.geometry;
-    let mut pic = Picture::of_map(&d.scenario.map);
+/// Draws `hillshade` (values in `[0, 1]`, a raster on the DEM's grid) in the planning `frame`
+/// on [`Layer::Terrain`], light so that grey obstacles stand out on it; at most
+/// [`MAX_DRAWN_CELLS_PER_SIDE`] blocks of cells along each side (larger grids are drawn in
+/// blocks). Cells outside the picture's frame are not written.
+pub fn draw_hillshade(pic: &mut Picture, hillshade: &Raster, frame: &PlanningFrame) {
+    let g = &hillshade.geometry;
     let step = g
         .nrows
         .max(g.ncols)
@@ -33,12 +36,23 @@ pub fn dem_picture(d: &DemScenario, title: &str) -> String {
         .max(1);
     for r in (0..g.nrows).step_by(step) {
         for c in (0..g.ncols).step_by(step) {
-            let v = ing.hillshade.values[g.index(r, c)];
+            let v = hillshade.values[g.index(r, c)];
             if !v.is_finite() {
                 continue;
             }
-            let pts = block_footprint(d, r, c, step);
-            // A light hillshade, so the grey obstacles stand out on it.
+            let (r1, c1) = (
+                (r + step - 1).min(g.nrows - 1),
+                (c + step - 1).min(g.ncols - 1),
+            );
+            let pts: Vec<Point2<f64>> = [
+                g.cell_corners(r, c)[0],
+                g.cell_corners(r, c1)[1],
+                g.cell_corners(r1, c1)[2],
+                g.cell_corners(r1, c)[3],
+            ]
+            .iter()
+            .map(|w| frame.to_planning(w))
+            .collect();
             let level = (v.clamp(0.0, 1.0) * 105.0 + 150.0) as u8;
             pic.shaded_polygon(
                 Layer::Terrain,
@@ -47,6 +61,31 @@ pub fn dem_picture(d: &DemScenario, title: &str) -> String {
             );
         }
     }
+}
+
+/// The hillshade of the DEM a scenario was made from ([`rappel::georeference::Georeference`]:
+/// the DEM file and the planning frame), for drawing under a plan: `None` when the scenario has
+/// no georeference; an error naming the file when the DEM cannot be read.
+pub fn scenario_hillshade(
+    scenario: &rappel::scenario::Scenario,
+) -> Option<Result<(Raster, PlanningFrame), String>> {
+    let geo = scenario.georeference.as_ref()?;
+    Some(
+        rappel_terrain::dem::read_dem(&geo.dem)
+            .map_err(|e| format!("the scenario's DEM for the hillshade: {e}"))
+            .map(|grid| {
+                let shade = SlopeField::horn(&grid).hillshade(&HillshadeOptions::default());
+                (shade, geo.frame.clone())
+            }),
+    )
+}
+
+/// The picture of a DEM scenario in the planning frame: hillshade, plane edges, tether obstacles
+/// (grey), robot obstacles (orange outlines), start and goal.
+pub fn dem_picture(d: &DemScenario, title: &str) -> String {
+    let ing = &d.ingested;
+    let mut pic = Picture::of_map(&d.scenario.map);
+    draw_hillshade(&mut pic, &ing.hillshade, &ing.frame);
     for o in &ing.robot_obstacles {
         pic.polygon(Layer::RobotObstacle, &o.vertices);
     }

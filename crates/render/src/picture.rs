@@ -429,7 +429,10 @@ impl Picture {
         // At most MAX_TICKS per axis (the step makes it about the frame over the spacing).
         let first = |lo: f64| (lo / step).ceil() as i64;
         let last = |hi: f64| (hi / step).floor() as i64;
-        let (x0, x1) = (first(b.min.x), last(b.max.x).min(first(b.min.x) + MAX_TICKS));
+        let (x0, x1) = (
+            first(b.min.x),
+            last(b.max.x).min(first(b.min.x) + MAX_TICKS),
+        );
         for k in x0..=x1 {
             let x = k as f64 * step;
             let _ = writeln!(
@@ -441,7 +444,10 @@ impl Picture {
             );
             label(out, x + 2.0 * u, b.min.y + 8.0 * u, &fmt(x));
         }
-        let (y0, y1) = (first(b.min.y), last(b.max.y).min(first(b.min.y) + MAX_TICKS));
+        let (y0, y1) = (
+            first(b.min.y),
+            last(b.max.y).min(first(b.min.y) + MAX_TICKS),
+        );
         for k in y0..=y1 {
             let y = k as f64 * step;
             let _ = writeln!(

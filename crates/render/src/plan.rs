@@ -9,6 +9,8 @@ use rappel::plan::Plan;
 use rappel::scenario::Scenario;
 use rappel_geometry::polygon::Aabb;
 use rappel_mechanics::anchor_traversability::TetherLimit;
+use rappel_terrain::frame::PlanningFrame;
+use rappel_terrain::grid::Raster;
 
 use crate::style::CONE_DRAW_FACTOR;
 use crate::{Layer, Picture};
@@ -20,7 +22,23 @@ use crate::{Layer, Picture};
 /// tagged with its rank and its blocking anchor (or the goal) marked with the reason as hover
 /// text; the frictional outcome when the scenario has one.
 pub fn picture(plan: &Plan, scenario: &Scenario, window: Option<&Aabb>) -> String {
+    picture_over(plan, scenario, window, None)
+}
+
+/// [`picture`] over a hillshade of the ground (a scenario made from a DEM:
+/// [`crate::dem::scenario_hillshade`]) and its planning frame.
+pub fn picture_over(
+    plan: &Plan,
+    scenario: &Scenario,
+    window: Option<&Aabb>,
+    ground: Option<(&Raster, &PlanningFrame)>,
+) -> String {
     let mut pic = Picture::of_map_in(&scenario.map, window);
+    if let Some((shade, frame)) = ground {
+        crate::dem::draw_hillshade(&mut pic, shade, frame);
+        let o = frame.to_world(&scenario.start);
+        pic.set_north(frame.to_planning(&(o + nalgebra::Vector2::new(0.0, 1.0))) - scenario.start);
+    }
     let shown = plan
         .outcome
         .pair
