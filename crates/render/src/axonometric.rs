@@ -199,15 +199,9 @@ impl Axonometric {
     }
 }
 
-/// A round scale-bar length for a drawing of `px_per_m` pixels per metre: the largest of 1, 2 or
-/// 5 times a power of ten that is at most 150 px long, with its length in pixels.
+/// A round scale-bar length for a drawing of `px_per_m` pixels per metre, at most 150 px long,
+/// with its length in pixels.
 fn scale_bar(px_per_m: f64) -> (f64, f64) {
-    let target = 150.0 / px_per_m.max(1e-12);
-    let p = 10f64.powf(target.log10().floor());
-    let len = [5.0, 2.0, 1.0]
-        .into_iter()
-        .map(|k| k * p)
-        .find(|l| *l <= target)
-        .unwrap_or(p);
+    let len = crate::picture::round_length(150.0 / px_per_m.max(1e-12), false);
     (len, len * px_per_m)
 }

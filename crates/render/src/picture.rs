@@ -61,19 +61,24 @@ const TICK_SPACING_PX: f64 = 120.0;
 /// Most coordinate ticks along one edge (a bound on the picture's size).
 const MAX_TICKS: i64 = 200;
 
-/// A round step (1, 2 or 5 times a power of ten) at least `target`.
-fn nice_step(target: f64) -> f64 {
+/// A round length (1, 2 or 5 times a power of ten): the smallest at least `target` when
+/// `at_least`, else the largest at most `target` (scale bars, tick steps).
+pub(crate) fn round_length(target: f64, at_least: bool) -> f64 {
     let target = if target.is_finite() && target > 0.0 {
         target
     } else {
         1.0
     };
     let p = 10f64.powf(target.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|k| k * p)
-        .find(|s| *s >= target)
-        .unwrap_or(10.0 * p)
+    let candidates = [1.0, 2.0, 5.0, 10.0].map(|k| k * p);
+    if at_least {
+        candidates
+            .into_iter()
+            .find(|s| *s >= target)
+            .unwrap_or(10.0 * p)
+    } else {
+        candidates.into_iter().rfind(|s| *s <= target).unwrap_or(p)
+    }
 }
 
 /// Height of the title line above the map, px.
@@ -409,7 +414,7 @@ impl Picture {
     /// pan and zoom with the map in the viewer): a round step about [`TICK_SPACING_PX`] apart,
     /// each labelled with its coordinate in metres.
     fn ticks(&self, out: &mut String) {
-        let step = nice_step(TICK_SPACING_PX * self.unit);
+        let step = round_length(TICK_SPACING_PX * self.unit, true);
         let (b, u) = (&self.bounds, self.unit);
         let _ = writeln!(
             out,
@@ -552,13 +557,7 @@ impl Picture {
         }
         // Scale bar: a round length near 120 px.
         y += 40.0;
-        let target = 120.0 * self.unit;
-        let mag = 10f64.powf(target.log10().floor());
-        let len = [1.0, 2.0, 5.0, 10.0]
-            .iter()
-            .map(|m| m * mag)
-            .filter(|l| *l <= target)
-            .fold(mag, f64::max);
+        let len = round_length(120.0 * self.unit, false);
         let px = len / self.unit;
         let _ = writeln!(
             out,
