@@ -129,7 +129,7 @@ impl DemScenario {
                 .enumerate()
                 .map(|(index, (p, class))| DemPlaneReport {
                     index,
-                    slope_deg: p.slope_deg,
+                    slope_deg: crate::report::round_to(p.slope_deg, crate::report::ANGLE_DECIMALS),
                     y_top_m: p.y_top,
                     y_bottom_m: p.y_bottom,
                     friction: p.friction,

@@ -5,6 +5,7 @@
 
 use std::time::Duration;
 
+use crate::report::deg;
 use nalgebra::Point3;
 use serde::{Deserialize, Serialize};
 
@@ -112,24 +113,20 @@ pub fn navigate(
         return Ok(report);
     };
     report.cost = Some(sol.cost);
-    report.yaw_deg = sol.path.iter().map(|s| s.yaw.to_degrees()).collect();
+    report.yaw_deg = sol.path.iter().map(|s| deg(s.yaw)).collect();
     match problem.revalidate(&sol.path) {
         Ok(w) => {
             report.found = true;
             let p = |q: &Point3<f64>| [q.x, q.y, q.z];
             report.anchors = w.history.anchors().iter().map(|a| p(&a.point)).collect();
             report.min_margin_n = w.poses.iter().map(|q| q.2).reduce(f64::min);
-            report.max_roll_deg = w
-                .poses
-                .iter()
-                .map(|q| q.1.abs().to_degrees())
-                .reduce(f64::max);
+            report.max_roll_deg = w.poses.iter().map(|q| deg(q.1.abs())).reduce(f64::max);
             report.poses = w
                 .poses
                 .iter()
                 .map(|q| NavigatePose {
                     origin: q.0,
-                    roll_deg: q.1.to_degrees(),
+                    roll_deg: deg(q.1),
                     margin_n: q.2,
                 })
                 .collect();

@@ -12,6 +12,7 @@
 //! [`PlanReport`] is plain data (serde); [`Plan::picture`] draws it like thesis Figs. 2.31-2.44.
 
 pub use crate::pair::PairReport;
+use crate::report::deg;
 use crate::scenario::{Scenario, ValidScenario};
 use crate::tether::HSignatureReport;
 use nalgebra::Point2;
@@ -498,7 +499,7 @@ fn plan_core(
 }
 
 fn degrees(limit: TetherLimit) -> Option<f64> {
-    limit.max_angle().map(f64::to_degrees)
+    limit.max_angle().map(deg)
 }
 
 /// The report of one class (`areas`: its reachable areas were computed).
@@ -521,7 +522,7 @@ fn class_report(c: &ClassOutcome, areas: bool) -> ClassReport {
                 point: a.anchor.point,
                 side: a.anchor.side,
                 plane: a.plane,
-                psi_deg: a.psi.to_degrees(),
+                psi_deg: deg(a.psi),
                 theta_max_deg: degrees(a.limit),
                 previous_theta_max_deg: degrees(a.previous_limit),
                 passability: match a.passability {
@@ -545,7 +546,7 @@ fn class_report(c: &ClassOutcome, areas: bool) -> ClassReport {
             digest: format!("{:016x}", h.digest()),
             windings: h.windings().iter().map(|&(o, n)| (o.0, n)).collect(),
         },
-        goal_psi_deg: f.goal_psi.to_degrees(),
+        goal_psi_deg: deg(f.goal_psi),
         feasible: f.feasible(),
         verdict: f.describe(),
         waypoints: f.waypoints.clone(),
