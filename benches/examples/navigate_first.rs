@@ -10,6 +10,7 @@
 //! 0, one seed); `TEST=1` plans Paton's test 1 instead.
 use rappel::navigate::{PATON_ITERATIONS, RoverProblem, SHADOW_SAMPLE_FRACTION, navigate};
 use rappel::planners::sampler::Termination;
+use rappel::planners::stop::StopCondition;
 use rappel::terrain::paton_scene::PatonScene;
 
 fn main() -> Result<(), String> {
@@ -28,7 +29,7 @@ fn main() -> Result<(), String> {
     let mut times = Vec::new();
     // `count` runs, bounded by the caller's argument.
     for seed in first..first.saturating_add(count) {
-        let r = navigate(&problem, seed, term)?;
+        let r = navigate(&problem, seed, term, &StopCondition::none())?;
         let path: Vec<String> = r
             .path
             .iter()

@@ -18,6 +18,7 @@ mod settle;
 mod settle_map;
 mod shp;
 mod stability;
+mod stop;
 mod track;
 mod validate;
 

@@ -1,4 +1,5 @@
-//! `rappel navigate SCENE --seed S [--test N] [--iterations N] [--time T] [--held] [--shadow]
+//! `rappel navigate SCENE --seed S [--test N] [--iterations N] [--time T] [--time-limit SECONDS]
+//! [--held] [--shadow]
 //! [--field RES] [--json] [--svg OUT] [--html OUT]`: plans the tethered rover's path on a Paton scene with ABIT*
 //! ([`rappel::navigate`]): the start on the ledge, the goal on the ground beyond the slope, the
 //! root anchor of the scene's test N. Prints the path, its anchor history, the stability margin
@@ -6,6 +7,10 @@
 //! predict anchors through the sparse distance field ([`crate::field_arg`]); the reported path is
 //! re-validated on the exact mesh either way. Exit 0 when a re-validated path was found, 1 when none
 //! was found within the budget (or the planner's path failed re-validation), 2 on errors.
+//! `--time T` is the sampler's own wall-time budget (default 120 s; `stopped by time`);
+//! `--time-limit SECONDS` is the stop condition every long command takes ([`crate::stop`];
+//! `stopped by time_limit`), and Ctrl-C stops the search too (`stopped by cancelled`): the
+//! tighter limit holds, and a path found before the stop is still reported.
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
@@ -31,9 +36,14 @@ pub struct Args {
     /// Iteration budget (one iteration processes one edge; Paton ran 750).
     #[arg(long, default_value_t = PATON_ITERATIONS)]
     iterations: u64,
-    /// Wall-time budget, seconds (default 120).
+    /// The sampler's wall-time budget, seconds (default 120): a run it ends is `stopped by
+    /// time`.
     #[arg(long, value_name = "T")]
     time: Option<f64>,
+    /// The command's time limit (as every long command's; Ctrl-C stops it too): a run it ends
+    /// is `stopped by time_limit`. With `--time` the tighter holds.
+    #[command(flatten)]
+    time_limit: crate::stop::TimeLimitArg,
     /// Count poses whose last anchor is within the boom's reach as held by the boom (see
     /// `RoverProblem::held_within_boom_reach`; off: the faithful model).
     #[arg(long)]
@@ -82,6 +92,10 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             )));
         }
     };
+    let stop = crate::stop::condition(
+        rappel::planners::budget::ExpansionBudget::Auto,
+        &args.time_limit,
+    )?;
     let mut problem = RoverProblem::paton(&scene, anchor).map_err(at)?;
     if args.field.field.is_some() {
         problem
@@ -96,14 +110,16 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     // A search checks motions for seconds to minutes: say so on a terminal.
     let progress = rappel::progress::Progress::spinner("navigate");
     progress.message("sampling and checking motions");
-    let report = navigate(&problem, args.seed, term).map_err(at);
+    let report = navigate(&problem, args.seed, term, &stop).map_err(at);
     progress.finish();
     let report = report?;
     if args.picture.wanted() {
         args.picture
             .write(&navigate_svg(&problem, &report), "rappel navigate")?;
     }
+    crate::stop::say(report.stop_reason);
     let budget_out = report.stopped_by != "cost_threshold";
+    let stopped = matches!(report.stopped_by.as_str(), "time_limit" | "cancelled");
     if args.json {
         print_report(&report)?;
     } else {
@@ -137,7 +153,9 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         } else {
             crate::output::outln!(
                 "no path within the budget{}",
-                if budget_out {
+                if let (true, Some(r)) = (stopped, report.stop_reason) {
+                    format!(" (the search stopped at {r})")
+                } else if budget_out {
                     format!(" (the {} budget ran out)", report.stopped_by)
                 } else {
                     String::new()

@@ -1,10 +1,13 @@
 //! `rappel online PRIOR.ron --truth TRUE.ron [--sensor-range R] [--step S] [--max-steps N]
-//! [--classes K] [--switch-to-shorter] [--json] [--svg OUT] [--html OUT] [--frames DIR]`: the online planner
+//! [--classes K] [--switch-to-shorter] [--time-limit SECONDS] [--json] [--svg OUT] [--html OUT] [--frames DIR]`: the online planner
 //! (thesis Alg. 11-13) simulated. The robot descends by the plan made on the prior map; every
 //! difference from the true map that comes within sensor range is a map change. Prints the
 //! timeline (event, case, decision, distance travelled and backtracked) and the end state.
 //! Exit code 0 at the goal with ascent and descent homotopic, 1 for a clean "no" (no feasible
 //! class within the termination rule, the goal covered, or the step budget spent), 2 for errors.
+//! `--time-limit SECONDS` bounds the whole run (every search shares its clock) and Ctrl-C stops it
+//! ([`crate::stop`]): the run ends where it stands, the verdict says "the run stopped at the time
+//! limit of SECONDS s" (or "... at a cancel request"), and the exit code is 1.
 
 use crate::output::{Answer, CliError, PictureArgs, refuse_clashing_outputs, write_file};
 use rappel::planners::online::simulate::{
@@ -41,6 +44,9 @@ pub struct Args {
     /// Switch to a shorter class a removal opens when it saves more than the backtracking costs.
     #[arg(long)]
     switch_to_shorter: bool,
+    /// The time limit of the whole run (Ctrl-C stops it too).
+    #[command(flatten)]
+    time_limit: crate::stop::TimeLimitArg,
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
@@ -59,6 +65,10 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     if args.classes == 0 {
         return Err(CliError("--classes 0: examine at least one class".into()));
     }
+    let stop = crate::stop::condition(
+        rappel::planners::budget::ExpansionBudget::Auto,
+        &args.time_limit,
+    )?;
     let prior = Scenario::load(&args.prior)?;
     let truth = Scenario::load(&args.truth)?;
     let options = SimulationOptions {
@@ -66,7 +76,9 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         step: args.step,
         max_steps: args.max_steps,
         session: OnlineOptions {
-            search: SearchOptions::default().with_max_classes(Some(args.classes))?,
+            search: SearchOptions::default()
+                .with_max_classes(Some(args.classes))?
+                .with_stop(stop)?,
             switch_to_shorter: args.switch_to_shorter,
             ..Default::default()
         },
@@ -86,6 +98,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         }
     }
     let r = &result.report;
+    crate::stop::say(r.stopped_by);
     if args.picture.wanted() {
         let title = format!("{}: {}", truth.name, verdict(r));
         args.picture
@@ -117,6 +130,14 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
 }
 
 fn verdict(r: &SimulationReport) -> String {
+    if let Some(reason) = r.stopped_by {
+        return match &r.ending {
+            Ending::NoFeasibleClass { .. } => {
+                format!("no feasible class (the search stopped at {reason})")
+            }
+            _ => format!("the run stopped at {reason}"),
+        };
+    }
     match &r.ending {
         Ending::Goal => format!(
             "goal reached, ascent and descent {}",

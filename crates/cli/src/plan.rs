@@ -1,5 +1,5 @@
-//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--json | --jsonl]
-//! [--reachable-areas] [--svg OUT] [--html OUT] [--window XMIN,YMIN,XMAX,YMAX]
+//! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--max-expansions N|auto]
+//! [--time-limit SECONDS] [--json | --jsonl] [--reachable-areas] [--svg OUT] [--html OUT] [--window XMIN,YMIN,XMAX,YMAX]
 //! [--export OUT.geojson|OUT.csv] [--progress]`:
 //! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
@@ -17,6 +17,10 @@
 //! incomplete)`; with `--jsonl` every failed run's last object has `"type": "error"`; the exit
 //! code is 2 and the usual `error:` line goes to stderr. A complete text report ends with its `verdict` (and
 //! friction) lines, a complete `--jsonl` stream with its `summary` object.
+//! `--time-limit SECONDS` bounds the whole plan and Ctrl-C stops it ([`crate::stop`]): the
+//! classes found so far are reported, the verdict names the condition ("the search stopped at
+//! the time limit of 0.5 s"), stderr says `stopped: ...`, and without a feasible class the exit
+//! code is 1 as for any "no".
 //! `--progress` forces the progress over the K classes on stderr (`rappel::progress`), which is
 //! otherwise shown only when stderr is a terminal.
 
@@ -52,6 +56,10 @@ pub struct Args {
     /// out the report says which limit stopped the search and how to raise it.
     #[arg(long, value_name = "N|auto", default_value = "auto", value_parser = rappel::planners::budget::ExpansionBudget::parse)]
     max_expansions: rappel::planners::budget::ExpansionBudget,
+    /// The time limit of the whole plan (Ctrl-C stops it too): the verdict then says "the
+    /// search stopped at the time limit of SECONDS s".
+    #[command(flatten)]
+    time_limit: crate::stop::TimeLimitArg,
     /// Print the report as JSON.
     #[arg(long, conflicts_with = "jsonl")]
     json: bool,
@@ -143,6 +151,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
             "--max-length-factor {f}: must be a number >= 1"
         )));
     }
+    let stop = crate::stop::condition(args.max_expansions, &args.time_limit)?;
     // Read, then validated once: the proof carries the valid map to the BTM build.
     let s = Scenario::read(&args.file)?;
     let s = s.validate_at(&args.file)?;
@@ -150,7 +159,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
         classes: args.classes,
         max_length_factor: args.max_length_factor,
         simple_only: args.simple_only,
-        max_expansions: args.max_expansions,
+        stop,
         reachable_areas: args.reachable_areas,
     };
     // Without a picture the classes are streamed: each class's block is printed as soon as it
@@ -235,6 +244,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
         None => summary.outcome.chosen.is_some(),
     };
     let answer = if feasible { Answer::Yes } else { Answer::No };
+    crate::stop::say(summary.outcome.stop_reason);
     if args.jsonl {
         let line = PlanStreamLine::Summary(Box::new(summary));
         crate::output::outln!("{}", line.to_line());

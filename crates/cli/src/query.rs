@@ -1,13 +1,16 @@
-//! `rappel query MAP --pairs PAIRS.json [--classes K] [--repeat N] [--json] [--progress]`: many start/goal
+//! `rappel query MAP --pairs PAIRS.json [--classes K] [--repeat N] [--max-expansions N|auto]
+//! [--time-limit SECONDS] [--json] [--progress]`: many start/goal
 //! pairs on one map (a scenario file or a map-only file), the BTM built once; each pair's
 //! shortest length (or its K shortest classes) and the median time of its query. Exit 0 when
 //! every pair is connected, 1 when some pair is not, 2 when a pair or a file is bad. Progress
 //! over the pairs goes to stderr when it is a terminal, or always with `--progress`
-//! (`rappel::progress`).
+//! (`rappel::progress`). `--time-limit SECONDS` bounds the whole run and Ctrl-C stops it
+//! ([`crate::stop`]): the pair being searched and every later one are answered with an error
+//! naming the condition (exit 2, as for a spent budget), the answers before are printed.
 
 use crate::output::{Answer, CliError, print_report};
 use rappel::progress::Show;
-use rappel::query::{answer_with_budget, load_pairs, read_map};
+use rappel::query::{answer_until, load_pairs, read_map};
 use std::path::PathBuf;
 
 /// Arguments of `rappel query`.
@@ -36,11 +39,15 @@ pub struct Args {
     /// stops is answered with an error naming the limit.
     #[arg(long, value_name = "N|auto", default_value = "auto", value_parser = rappel::planners::budget::ExpansionBudget::parse)]
     max_expansions: rappel::planners::budget::ExpansionBudget,
+    /// The time limit of the whole run, all pairs together (Ctrl-C stops it too).
+    #[command(flatten)]
+    time_limit: crate::stop::TimeLimitArg,
 }
 
 /// Runs `rappel query`.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
     let err = |e: rappel::query::QueryError| CliError(e.to_string());
+    let stop = crate::stop::condition(args.max_expansions, &args.time_limit)?;
     // Read, then validated once: the proof carries the valid map to the BTM build.
     let file = read_map(&args.map).map_err(err)?;
     let map = file.validate().map_err(err)?;
@@ -50,15 +57,8 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     } else {
         Show::Auto
     };
-    let answers = answer_with_budget(
-        map,
-        &pairs,
-        args.classes,
-        args.repeat,
-        show,
-        args.max_expansions,
-    )
-    .map_err(err)?;
+    let answers = answer_until(map, &pairs, args.classes, args.repeat, show, &stop).map_err(err)?;
+    crate::stop::say(answers.iter().find_map(|a| a.stop_reason));
     if args.json {
         print_report(&rappel::query::QueryReport {
             answers: answers.clone(),

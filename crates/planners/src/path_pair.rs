@@ -932,6 +932,11 @@ pub struct PairPlan {
     pub pair: Option<PathPair>,
     /// Why the SPT search stopped.
     pub termination: Termination,
+    /// Which condition of the options' [`crate::stop::StopCondition`] stopped the search (the
+    /// expansion budget with its limit, the time limit, a cancel flag; `None` when it ended by
+    /// its own rules).
+    #[serde(default)]
+    pub stop_reason: Option<crate::stop::StopReason>,
     /// The search's counters.
     pub stats: crate::spt::SearchStats,
 }
@@ -1023,6 +1028,7 @@ pub fn plan_path_pair_each(
         classes: Vec::new(),
         pair,
         termination: search.termination().unwrap_or(Termination::ClassCount),
+        stop_reason: search.stop_reason(),
         stats: search.stats(),
     })
 }

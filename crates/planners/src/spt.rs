@@ -232,7 +232,7 @@ impl From<SleeveError> for SearchError {
 ///
 /// The expansion budget, a time limit and cancel flags are one [`StopCondition`]
 /// ([`SearchOptions::with_stop`]); serialized as `max_expansions` (and `time_limit_s` when set).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SearchOptions {
     max_classes: Option<usize>,
     max_length_factor: Option<f64>,
@@ -777,7 +777,7 @@ impl<'b> SptPlanner<'b> {
     ) -> Result<(Option<Vec<f64>>, usize), SearchError> {
         let options = SearchOptions::default()
             .with_max_classes(Some(1))?
-            .with_stop(*stop)?;
+            .with_stop(stop.clone())?;
         // The reverse search runs from the goal: name the endpoints as the caller knows them.
         let mut reverse =
             SptSearch::new(self, goal, start, options, None).map_err(|e| match e {
@@ -845,7 +845,7 @@ impl<'b> SptPlanner<'b> {
     ) -> Result<Option<TautPath>, SearchError> {
         let options = SearchOptions::default()
             .with_max_classes(Some(1))?
-            .with_stop(*stop)?;
+            .with_stop(stop.clone())?;
         let mut search = SptSearch::new(self, start, goal, options, None)?;
         match search.next_goal()? {
             Some((node, _)) => Ok(Some(search.scratch.tree.taut_path(self.btm, node))),

@@ -13,13 +13,11 @@
 //!
 //! The work reports which condition fired as a [`StopReason`].
 //!
-//! # Copy
-//! A [`StopCondition`] is `Copy`, so that the options that hold it (the SPT search's
-//! [`crate::spt::SearchOptions`], the online session's options) stay `Copy`. A [`CancelFlag`] is
-//! therefore a `Copy` handle to a flag that lives as long as the program (one byte, allocated by
-//! [`CancelFlag::new`] and never freed): make one per job that may be cancelled (and
-//! [`CancelFlag::reset`] it to reuse it), not one per expansion. A condition holds at most
-//! [`MAX_CANCEL_FLAGS`] flags.
+//! # Sharing a flag
+//! A [`CancelFlag`] is a cheap [`Clone`] of one shared atomic boolean (an [`Arc`]): clone it into
+//! the thread (or signal handler) that cancels and into the condition that watches it; the flag
+//! is freed when the last clone goes. A condition holds any number of flags; [`Clone`]ing a
+//! condition (or the options that hold it) shares its flags, it does not copy them.
 //!
 //! # Check cadence and determinism
 //! Reading the clock on every expansion would cost more than some expansions. A running check
@@ -41,7 +39,7 @@
 //! let flag = CancelFlag::new();
 //! let stop = StopCondition::expansions(1_000_000)
 //!     .or_time(Duration::from_secs(60))
-//!     .or_cancel(flag);
+//!     .or_cancel(flag.clone());
 //! let mut watch = stop.watch(stop.expansion_limit(1_000, 1));
 //! assert_eq!(watch.check(10), None);
 //! // Another thread (here the same one) cancels: seen at the next clock reading.
@@ -52,6 +50,7 @@
 //! ```
 
 use std::fmt;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -63,23 +62,20 @@ use crate::budget::{BudgetKind, ExpansionBudget};
 /// cadence").
 pub const CHECK_INTERVAL: usize = 1024;
 
-/// Most cancel flags one [`StopCondition`] holds.
-pub const MAX_CANCEL_FLAGS: usize = 4;
-
-/// A flag another thread sets to stop the work: a `Copy` handle to one shared atomic boolean
-/// that lives as long as the program (module docs, "Copy").
+/// A flag another thread sets to stop the work: a [`Clone`]able handle to one shared atomic
+/// boolean (module docs, "Sharing a flag").
 ///
 /// ```
 /// use rappel_planners::stop::CancelFlag;
 /// let flag = CancelFlag::new();
-/// let other = flag;
+/// let other = flag.clone();
 /// std::thread::spawn(move || other.cancel()).join().unwrap();
 /// assert!(flag.is_cancelled());
 /// flag.reset();
 /// assert!(!flag.is_cancelled());
 /// ```
-#[derive(Debug, Clone, Copy)]
-pub struct CancelFlag(&'static AtomicBool);
+#[derive(Debug, Clone)]
+pub struct CancelFlag(Arc<AtomicBool>);
 
 impl Default for CancelFlag {
     fn default() -> Self {
@@ -88,9 +84,9 @@ impl Default for CancelFlag {
 }
 
 impl CancelFlag {
-    /// A new flag, not set (one byte that is never freed: module docs, "Copy").
+    /// A new flag, not set.
     pub fn new() -> Self {
-        CancelFlag(Box::leak(Box::new(AtomicBool::new(false))))
+        CancelFlag(Arc::new(AtomicBool::new(false)))
     }
 
     /// Sets the flag (from any thread); the work sees it at its next check.
@@ -110,9 +106,9 @@ impl CancelFlag {
 }
 
 impl PartialEq for CancelFlag {
-    /// The same flag (copies of one another), not merely the same state.
+    /// The same flag (clones of one another), not merely the same state.
     fn eq(&self, other: &Self) -> bool {
-        std::ptr::eq(self.0, other.0)
+        Arc::ptr_eq(&self.0, &other.0)
     }
 }
 
@@ -226,7 +222,7 @@ mod option_secs {
 /// assert_eq!(s.budget(), ExpansionBudget::Fixed(300));
 /// assert_eq!(s.cancel_flags().count(), 1);
 /// ```
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct StopCondition {
     #[serde(rename = "max_expansions")]
     budget: ExpansionBudget,
@@ -238,7 +234,7 @@ pub struct StopCondition {
     )]
     time_limit: Option<Duration>,
     #[serde(skip)]
-    cancel: [Option<CancelFlag>; MAX_CANCEL_FLAGS],
+    cancel: Vec<CancelFlag>,
     /// When the time limit runs out, once [started](StopCondition::started).
     #[serde(skip)]
     deadline: Option<Instant>,
@@ -306,18 +302,10 @@ impl StopCondition {
         self
     }
 
-    /// Also stop once `flag` is set.
-    ///
-    /// # Panics
-    /// When the condition already holds [`MAX_CANCEL_FLAGS`] other flags (a programming error:
-    /// combine a job's flags into one).
+    /// Also stop once `flag` is set (a flag the condition already holds is not added twice).
     pub fn or_cancel(mut self, flag: CancelFlag) -> Self {
-        if self.cancel.contains(&Some(flag)) {
-            return self;
-        }
-        match self.cancel.iter_mut().find(|f| f.is_none()) {
-            Some(slot) => *slot = Some(flag),
-            None => panic!("a stop condition holds at most {MAX_CANCEL_FLAGS} cancel flags"),
+        if !self.cancel.contains(&flag) {
+            self.cancel.push(flag);
         }
         self
     }
@@ -329,7 +317,7 @@ impl StopCondition {
         if let Some(t) = other.time_limit {
             self = self.or_time(t);
         }
-        for flag in other.cancel.into_iter().flatten() {
+        for flag in other.cancel {
             self = self.or_cancel(flag);
         }
         self.deadline = match (self.deadline, other.deadline) {
@@ -350,8 +338,8 @@ impl StopCondition {
     }
 
     /// The cancel flags.
-    pub fn cancel_flags(&self) -> impl Iterator<Item = CancelFlag> + '_ {
-        self.cancel.iter().flatten().copied()
+    pub fn cancel_flags(&self) -> impl Iterator<Item = &CancelFlag> + '_ {
+        self.cancel.iter()
     }
 
     /// When the time limit runs out, once started ([`StopCondition::started`]).
@@ -369,7 +357,7 @@ impl StopCondition {
     /// time limit): pass it to several pieces of work so that they share one deadline instead
     /// of each counting the time limit from its own start.
     pub fn started(&self) -> Self {
-        let mut s = *self;
+        let mut s = self.clone();
         if s.deadline.is_none() {
             s.deadline = s.time_limit.and_then(|t| Instant::now().checked_add(t));
         }
@@ -388,7 +376,7 @@ impl StopCondition {
     /// started before.
     pub fn watch(&self, expansion_limit: usize) -> StopWatch {
         let started = self.started();
-        let polls = started.deadline.is_some() || started.cancel.iter().any(Option::is_some);
+        let polls = started.deadline.is_some() || !started.cancel.is_empty();
         StopWatch {
             limit: expansion_limit,
             budget: self.budget.kind(),
@@ -401,11 +389,11 @@ impl StopCondition {
 }
 
 fn poll(
-    cancel: &[Option<CancelFlag>],
+    cancel: &[CancelFlag],
     deadline: Option<Instant>,
     time_limit: Option<Duration>,
 ) -> Option<StopReason> {
-    if cancel.iter().flatten().any(CancelFlag::is_cancelled) {
+    if cancel.iter().any(CancelFlag::is_cancelled) {
         return Some(StopReason::Cancelled);
     }
     match (deadline, time_limit) {
@@ -416,13 +404,13 @@ fn poll(
 
 /// The running check of one piece of work ([`StopCondition::watch`]): the expansion count
 /// exactly, the clock and the cancel flags every [`CHECK_INTERVAL`] expansions (module docs).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct StopWatch {
     limit: usize,
     budget: BudgetKind,
     time_limit: Option<Duration>,
     deadline: Option<Instant>,
-    cancel: [Option<CancelFlag>; MAX_CANCEL_FLAGS],
+    cancel: Vec<CancelFlag>,
     /// The expansion count at which the clock and flags are read next (`usize::MAX`: never,
     /// nothing to read).
     next_poll: usize,
@@ -498,10 +486,30 @@ mod tests {
         flag.cancel();
         let s = StopCondition::expansions(3)
             .or_time(Duration::ZERO)
-            .or_cancel(flag);
+            .or_cancel(flag.clone());
         let mut w = s.watch(3);
         assert_eq!(w.check(0), Some(StopReason::Cancelled));
         assert!(matches!(w.check(3), Some(StopReason::Expansions { .. })));
+    }
+
+    #[test]
+    fn any_number_of_flags_and_each_is_seen() {
+        let flags: Vec<CancelFlag> = (0..10).map(|_| CancelFlag::new()).collect();
+        let s = flags
+            .iter()
+            .fold(StopCondition::none(), |s, f| s.or_cancel(f.clone()))
+            .or_cancel(flags[3].clone());
+        assert_eq!(s.cancel_flags().count(), 10);
+        assert_eq!(s.poll(), None);
+        flags[9].cancel();
+        assert_eq!(s.poll(), Some(StopReason::Cancelled));
+        // A clone of the condition shares the flags.
+        let c = s.clone();
+        flags[9].reset();
+        assert_eq!(c.poll(), None);
+        drop(s);
+        flags[0].cancel();
+        assert_eq!(c.watch(10).check(0), Some(StopReason::Cancelled));
     }
 
     #[test]

@@ -14,6 +14,7 @@ pub use rappel_planners::rover::problem::{
     RoverProblem, RoverState, SHADOW_RGG_K_FACTOR, SHADOW_SAMPLE_FRACTION,
 };
 use rappel_planners::sampler::{Stop, Termination};
+use rappel_planners::stop::{StopCondition, StopReason};
 /// A planning run's outcome.
 #[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct NavigateReport {
@@ -52,8 +53,14 @@ pub struct NavigateReport {
     pub first_solution_s: Option<f64>,
     /// Total wall time, seconds.
     pub elapsed_s: f64,
-    /// What ended the search: `iterations` or `time` (a budget ran out) or `cost_threshold`.
+    /// What ended the search: `iterations` or `time` (the sampler's budgets ran out),
+    /// `cost_threshold`, or the stop condition of the call: `time_limit` (its time limit) or
+    /// `cancelled` (a cancel request).
     pub stopped_by: String,
+    /// Which condition stopped the search, typed: the iteration limit, a time limit (the
+    /// sampler's or the stop condition's), a cancel request (`null` for the cost threshold).
+    #[serde(default)]
+    pub stop_reason: Option<StopReason>,
     /// Every settled pose along the re-validated path: origin and margin.
     pub poses: Vec<NavigatePose>,
     /// Where the planner's motion checks read their distances (re-validation reads the exact
@@ -72,15 +79,22 @@ pub struct NavigatePose {
     pub margin_n: f64,
 }
 
-/// Plans on `problem` with `seed` until `termination`; the best path is re-validated
-/// ([`RoverProblem::revalidate`]) before it counts as found.
+/// Plans on `problem` with `seed` until `termination` (the sampler's own iteration, time and
+/// cost budgets) or `stop` (the stop condition shared by every long call,
+/// [`rappel_planners::stop`]: its time limit, counted from this call unless `stop` was
+/// [started](StopCondition::started), and cancel flags another thread sets; a fixed expansion
+/// budget counts iterations), whichever fires first ([`RoverProblem::solve_until`]); the best
+/// path is re-validated ([`RoverProblem::revalidate`]) before it counts as found. A stopped run
+/// is a report, not an error: `stopped_by` says `time_limit` or `cancelled` and `found` whether
+/// a path was found before.
 pub fn navigate(
     problem: &RoverProblem,
     seed: u64,
     termination: Termination,
+    stop: &StopCondition,
 ) -> Result<NavigateReport, String> {
     let began = std::time::Instant::now();
-    let status = problem.solve(seed, termination)?;
+    let status = problem.solve_until(seed, termination, stop)?;
     let first = status.events.first();
     let mut report = NavigateReport {
         seed,
@@ -100,12 +114,8 @@ pub fn navigate(
         first_solution_iteration: first.map(|e| e.iteration),
         first_solution_s: first.map(|e| e.elapsed.as_secs_f64()),
         elapsed_s: began.elapsed().as_secs_f64(),
-        stopped_by: match status.stopped_by {
-            Some(Stop::Iterations) | None => "iterations",
-            Some(Stop::Time) => "time",
-            Some(Stop::CostThreshold) => "cost_threshold",
-        }
-        .into(),
+        stopped_by: stopped_by(status.stopped_by, status.stop_reason, stop).into(),
+        stop_reason: status.stop_reason,
         poses: Vec::new(),
         distance_source: problem.distance_report(),
     };
@@ -146,16 +156,38 @@ pub fn navigate(
     Ok(report)
 }
 
-/// Runs [`navigate`] for every seed in `seeds`, in parallel (rayon); reports in seed order.
+/// The report's `stopped_by`: a cancel is `cancelled`; a time limit is `time_limit` when it is
+/// the stop condition's (the tighter of the two, or equal to the sampler's own) and `time` when
+/// it is the sampler's [`Termination::max_time`].
+fn stopped_by(
+    stop: Option<Stop>,
+    reason: Option<StopReason>,
+    condition: &StopCondition,
+) -> &'static str {
+    match (reason, stop) {
+        (Some(StopReason::Cancelled), _) => "cancelled",
+        (Some(StopReason::TimeLimit { limit }), _) if condition.time_limit() == Some(limit) => {
+            "time_limit"
+        }
+        (_, Some(Stop::Time)) => "time",
+        (_, Some(Stop::CostThreshold)) => "cost_threshold",
+        (_, Some(Stop::Iterations) | None) => "iterations",
+    }
+}
+
+/// Runs [`navigate`] for every seed in `seeds`, in parallel (rayon), all stopped by `stop` (one
+/// clock for the whole call); reports in seed order.
 pub fn navigate_seeds(
     problem: &RoverProblem,
     seeds: &[u64],
     termination: Termination,
+    stop: &StopCondition,
 ) -> Result<Vec<NavigateReport>, String> {
     use rayon::prelude::*;
+    let stop = stop.started();
     seeds
         .par_iter()
-        .map(|&s| navigate(problem, s, termination))
+        .map(|&s| navigate(problem, s, termination, &stop))
         .collect()
 }
 

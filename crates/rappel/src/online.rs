@@ -133,7 +133,7 @@ pub fn run(
         (None, Some(_)) => return Err(OnlineRunError::FrictionOnOneSide { which: "true" }),
     };
     let terrain = plane_series(prior)?;
-    let mut options = *options;
+    let mut options = options.clone();
     options.session.clearance = prior.robot.clearance_m;
     options.session.tether_length = prior.robot.tether_length_m;
     let (report, session) = simulate_frictional(

@@ -24,10 +24,12 @@ use rappel_mechanics::friction_cone::TetherFrictionCone;
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::traversability::StabilitySettings;
 use rappel_mechanics::wheeled_tether_cone::WheeledTetherCone;
-use rappel_planners::budget::{BudgetKind, ExpansionBudget};
+#[cfg(doc)]
+use rappel_planners::budget::ExpansionBudget;
 use rappel_planners::feasibility::{FeasibilityContext, Passability, fill_reachable_areas};
 use rappel_planners::path_pair::{ClassOutcome, PairPlan, plan_path_pair_each};
 use rappel_planners::spt::{SearchError, SearchOptions, SearchStats, SptPlanner, Termination};
+use rappel_planners::stop::{StopCondition, StopReason};
 use rappel_planners::terrain::{PlaneSeries, TerrainError};
 use serde::{Deserialize, Serialize};
 
@@ -41,7 +43,7 @@ pub const DEFAULT_CLASSES: usize = 5;
 pub const MAX_CLASSES: usize = 1000;
 
 /// Options of [`plan`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PlanOptions {
     /// How many classes to list (at least 1).
     pub classes: usize,
@@ -49,9 +51,13 @@ pub struct PlanOptions {
     pub max_length_factor: Option<f64>,
     /// List only simple classes (no tether winds around an obstacle; see `docs/planner.md`).
     pub simple_only: bool,
-    /// Funnel expansion budget of the search: scaled to the map by default
-    /// ([`ExpansionBudget::Auto`]).
-    pub max_expansions: ExpansionBudget,
+    /// When to stop the search ([`rappel_planners::stop`]): its funnel expansion budget
+    /// (scaled to the map by default, [`ExpansionBudget::Auto`]), a time limit, cancel flags.
+    /// The time limit counts from the start of the call (the map's triangulation included) and
+    /// bounds the whole plan: the search of the classes and the frictional planning share it,
+    /// unless the condition was [started](StopCondition::started) earlier. The report says which
+    /// condition stopped the search ([`PlanOutcome::stop_reason`]).
+    pub stop: StopCondition,
     /// Cut every anchor reachable set to free space and report its area
     /// ([`AnchorReport::reachable_area_m2`]): a polygon overlay per anchor of every class, for
     /// reports only (feasibility never needs it), so off by default.
@@ -59,13 +65,14 @@ pub struct PlanOptions {
 }
 
 impl Default for PlanOptions {
-    /// [`DEFAULT_CLASSES`] classes, no length bound, every class, the automatic budget.
+    /// [`DEFAULT_CLASSES`] classes, no length bound, every class, the automatic budget alone
+    /// ([`StopCondition::none`]).
     fn default() -> Self {
         PlanOptions {
             classes: DEFAULT_CLASSES,
             max_length_factor: None,
             simple_only: false,
-            max_expansions: ExpansionBudget::Auto,
+            stop: StopCondition::none(),
             reachable_areas: false,
         }
     }
@@ -214,6 +221,11 @@ pub struct PlanOutcome {
     #[serde(with = "rappel_planners::search_report::termination_serde")]
     #[schemars(with = "rappel_planners::search_report::TerminationName")]
     pub termination: Termination,
+    /// Which condition of the stop condition ([`PlanOptions::stop`]) stopped the search: the
+    /// expansion budget with its limit, the time limit, a cancel request (`null` when the search
+    /// ended by its own rules: the classes asked for, the length factor, no class left).
+    #[serde(default)]
+    pub stop_reason: Option<StopReason>,
     /// The search's counters.
     #[schemars(with = "rappel_planners::search_report::SearchStatsReport")]
     pub stats: SearchStats,
@@ -411,6 +423,8 @@ fn plan_core(
             asked: options.classes,
         });
     }
+    // One clock for the whole plan (triangulation, search, frictional planning).
+    let stop = options.stop.started();
     let btm = Btm::build(map)?;
     // The point robot uses the thesis' friction cone (eq. 2.7); a wheeled robot the cone its own
     // stability QP allows (Paton §IV-C), through the same trait.
@@ -427,7 +441,7 @@ fn plan_core(
     let search = SearchOptions::default()
         .with_max_classes(Some(options.classes))?
         .with_max_length_factor(options.max_length_factor)?
-        .with_budget(options.max_expansions)?
+        .with_stop(stop)?
         .with_simple_only(options.simple_only);
     let ctx = FeasibilityContext {
         btm: &btm,
@@ -465,13 +479,7 @@ fn plan_core(
     )?;
     pair_plan.classes = kept;
     let setting = setting_of(scenario, model, &terrain);
-    let mut outcome = outcome_of(
-        &terrain,
-        &pair_plan,
-        class_count,
-        first_failure,
-        options.max_expansions.kind(),
-    );
+    let mut outcome = outcome_of(&terrain, &pair_plan, class_count, first_failure);
     let mut friction = None;
     if let Some(spec) = &scenario.friction {
         let resolved = spec
@@ -587,35 +595,44 @@ fn setting_of(
 
 /// The report's [`PlanOutcome`] (without the frictional plan): `class_count` classes were found,
 /// and `first_failure` is the first one's pair failure or verdict.
+///
+/// The verdict names the condition that stopped the search, if one did ("the search stopped at
+/// the time limit of 0.1 s", "... at a cancel request", "... at the automatic budget of N
+/// expansions; raise --max-expansions"): after the chosen class's lengths, before "no class
+/// found" (which then does not mean that start and goal are disconnected), or in the parenthesis
+/// of "no feasible class among the N found".
 fn outcome_of(
     terrain: &PlaneSeries,
     pair_plan: &PairPlan,
     class_count: usize,
     first_failure: Option<String>,
-    budget: BudgetKind,
 ) -> PlanOutcome {
     let chosen = pair_plan.pair.as_ref().map(PairReport::from);
+    let stopped = pair_plan
+        .stop_reason
+        .map(|r| format!("the search stopped at {r}"));
     let verdict = match (&chosen, first_failure) {
-        (Some(p), _) => format!(
-            "class {} is the shortest feasible class: ascent {:.2} m, descent {:.2} m",
-            p.rank, p.ascent_length_m, p.descent_length_m
-        ),
-        (None, None) => match pair_plan.termination {
-            Termination::Expansions => format!(
-                "no class found before the search stopped at {} (this does not mean start and goal are disconnected)",
-                budget.describe(pair_plan.stats.expansion_limit)
+        (Some(p), _) => {
+            let mut v = format!(
+                "class {} is the shortest feasible class: ascent {:.2} m, descent {:.2} m",
+                p.rank, p.ascent_length_m, p.descent_length_m
+            );
+            if let Some(r) = pair_plan.stop_reason {
+                v.push_str(&format!(
+                    "; after {class_count} classes the search stopped at {r}"
+                ));
+            }
+            v
+        }
+        (None, None) => match &stopped {
+            Some(s) => format!(
+                "no class found before {s} (this does not mean start and goal are disconnected)"
             ),
-            t => format!("no class found: {}", t.describe()),
+            None => format!("no class found: {}", pair_plan.termination.describe()),
         },
         (None, Some(first)) => format!(
             "no feasible class among the {class_count} found ({}); class 1: {first}",
-            match pair_plan.termination {
-                Termination::Expansions => format!(
-                    "the search stopped at {}",
-                    budget.describe(pair_plan.stats.expansion_limit)
-                ),
-                t => t.describe().to_string(),
-            }
+            stopped.unwrap_or_else(|| pair_plan.termination.describe().to_string())
         ),
     };
     let mut warnings = Vec::new();
@@ -634,6 +651,7 @@ fn outcome_of(
         chosen,
         verdict,
         termination: pair_plan.termination,
+        stop_reason: pair_plan.stop_reason,
         stats: pair_plan.stats,
         warnings,
         friction: None,

@@ -12,7 +12,8 @@ use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::{Map, ValidMap};
 use rappel_planners::budget::ExpansionBudget;
-use rappel_planners::spt::{SearchError, SearchOptions, SptPlanner, Termination};
+use rappel_planners::spt::{SearchError, SearchOptions, SptPlanner};
+use rappel_planners::stop::{StopCondition, StopReason};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::time::Instant;
@@ -51,6 +52,11 @@ pub struct QueryAnswer {
     pub median_ns: Option<u64>,
     /// Why the pair could not be answered (a point outside free space, a spent budget...).
     pub error: Option<String>,
+    /// Which condition of the stop condition stopped the pair's search, or kept it from being
+    /// searched ([`answer_until`]): its expansion budget, the time limit, a cancel request.
+    /// Absent when the search ended by its own rules.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop_reason: Option<StopReason>,
 }
 
 /// What `rappel query --json` prints: the answers in file order.
@@ -187,7 +193,7 @@ pub fn answer(
     answer_with_progress(map, pairs, classes, repeat, Show::Auto)
 }
 
-/// [`answer_with_budget`] with the automatic expansion budget.
+/// [`answer_until`] with the automatic expansion budget alone.
 pub fn answer_with_progress(
     map: ValidMap<'_>,
     pairs: &[QueryPair],
@@ -195,13 +201,10 @@ pub fn answer_with_progress(
     repeat: usize,
     show: Show,
 ) -> Result<Vec<QueryAnswer>, QueryError> {
-    answer_with_budget(map, pairs, classes, repeat, show, ExpansionBudget::Auto)
+    answer_until(map, pairs, classes, repeat, show, &StopCondition::none())
 }
 
-/// [`answer`], with progress over the pairs on stderr as `show` says
-/// ([`crate::progress`]: a bar on a terminal; `Show::Always` writes plain lines otherwise) and
-/// each pair's search bounded by `budget` (`rappel_planners::budget`; a pair it stops is
-/// answered with an error naming the budget).
+/// [`answer_until`] with each pair's search bounded by `budget` alone.
 pub fn answer_with_budget(
     map: ValidMap<'_>,
     pairs: &[QueryPair],
@@ -209,6 +212,53 @@ pub fn answer_with_budget(
     repeat: usize,
     show: Show,
     budget: ExpansionBudget,
+) -> Result<Vec<QueryAnswer>, QueryError> {
+    answer_until(
+        map,
+        pairs,
+        classes,
+        repeat,
+        show,
+        &StopCondition::budget_of(budget),
+    )
+}
+
+/// [`answer`], with progress over the pairs on stderr as `show` says
+/// ([`crate::progress`]: a bar on a terminal; `Show::Always` writes plain lines otherwise),
+/// stopped by `stop` ([`rappel_planners::stop`]).
+///
+/// The expansion budget bounds each pair's search (each repeat's). The time limit bounds the
+/// whole call (its clock starts here unless `stop` was [started](StopCondition::started)), and
+/// the time limit and cancel flags are shared by every pair: once one fires, the pair being
+/// searched and every later pair are answered with an error naming the condition ("pair 3: the
+/// search stopped at the time limit of 0.5 s after ...", "pair 4: not searched: the query
+/// stopped at a cancel request"); the answers before are kept. A pair that found some of its
+/// classes before the time limit or a cancel keeps their lengths, with an error saying it was
+/// stopped. A pair whose expansion budget runs out is answered with an error naming the budget,
+/// as before.
+///
+/// ```
+/// use nalgebra::Point2;
+/// use rappel::progress::Show;
+/// use rappel::query::{answer_until, QueryPair};
+/// use rappel::geometry::{map::Map, polygon::Polygon};
+/// use rappel::planners::stop::{CancelFlag, StopCondition};
+/// let map = Map::new(Polygon::rectangle(0.0, 0.0, 10.0, 10.0), vec![]);
+/// let pair = QueryPair { start: Point2::new(1.0, 1.0), goal: Point2::new(4.0, 5.0) };
+/// let flag = CancelFlag::new();
+/// flag.cancel();
+/// let stop = StopCondition::cancel(flag);
+/// let out = answer_until(map.validate().unwrap(), &[pair, pair], 1, 1, Show::Auto, &stop).unwrap();
+/// assert!(out[0].error.as_ref().unwrap().contains("a cancel request"));
+/// assert!(out[1].error.as_ref().unwrap().contains("not searched"));
+/// ```
+pub fn answer_until(
+    map: ValidMap<'_>,
+    pairs: &[QueryPair],
+    classes: usize,
+    repeat: usize,
+    show: Show,
+    stop: &StopCondition,
 ) -> Result<Vec<QueryAnswer>, QueryError> {
     if !(1..=MAX_QUERY_CLASSES).contains(&classes) {
         return Err(QueryError::Option(format!(
@@ -220,12 +270,17 @@ pub fn answer_with_budget(
             "--repeat {repeat}: between 1 and {MAX_REPEATS}"
         )));
     }
+    // One clock for the whole call.
+    let stop = stop.started();
+    let budget = stop.budget();
     let btm = Btm::build(map).map_err(|e| QueryError::Option(e.to_string()))?;
     let planner = SptPlanner::new(&btm);
     let options = SearchOptions::default()
         .with_max_classes(Some(classes))
-        .and_then(|o| o.with_budget(budget))
+        .and_then(|o| o.with_stop(stop.clone()))
         .map_err(|e| QueryError::Option(e.to_string()))?;
+    // The time limit or cancel request that stopped an earlier pair.
+    let mut stopped: Option<StopReason> = None;
     let mut out = Vec::with_capacity(pairs.len());
     let progress = crate::progress::Progress::with(pairs.len() as u64, "pairs", show);
     for (index, pair) in pairs.iter().enumerate() {
@@ -237,6 +292,7 @@ pub fn answer_with_budget(
             lengths_m: Vec::new(),
             median_ns: None,
             error: None,
+            stop_reason: None,
         };
         let checked = map
             .validate_point("start", &pair.start)
@@ -246,13 +302,24 @@ pub fn answer_with_budget(
             out.push(answer);
             continue;
         }
+        if let Some(reason) = stopped.or_else(|| stop.poll()) {
+            stopped = Some(reason);
+            answer.stop_reason = Some(reason);
+            answer.error = Some(format!(
+                "pair {index}: not searched: the query stopped at {reason}"
+            ));
+            out.push(answer);
+            continue;
+        }
         let mut times = Vec::with_capacity(repeat);
         for _ in 0..repeat {
             let t0 = Instant::now();
             // One class: the path alone (no sleeve, crossings or H-signature to build).
+            // A time limit or cancel that stopped the search after some classes.
+            let mut partial = None;
             let result = if classes == 1 {
                 planner
-                    .shortest_taut_path_within(pair.start, pair.goal, budget)
+                    .shortest_taut_path_until(pair.start, pair.goal, &stop)
                     .map(|t| t.map(|t| t.length).into_iter().collect())
             } else {
                 planner
@@ -262,19 +329,47 @@ pub fn answer_with_budget(
                         while let Some(c) = s.next_best()? {
                             lengths.push(c.length());
                         }
-                        if lengths.is_empty() && s.termination() == Some(Termination::Expansions) {
-                            return Err(SearchError::BudgetExhausted {
-                                expansions: s.stats().expansions,
-                            });
+                        let expansions = s.stats().expansions;
+                        match s.stop_reason() {
+                            Some(StopReason::Expansions { .. } | StopReason::Iterations { .. })
+                                if lengths.is_empty() =>
+                            {
+                                Err(SearchError::BudgetExhausted { expansions })
+                            }
+                            Some(
+                                reason @ (StopReason::TimeLimit { .. } | StopReason::Cancelled),
+                            ) => {
+                                if lengths.is_empty() {
+                                    Err(SearchError::Stopped { reason, expansions })
+                                } else {
+                                    partial = Some((reason, lengths.len()));
+                                    Ok(lengths)
+                                }
+                            }
+                            _ => Ok(lengths),
                         }
-                        Ok(lengths)
                     })
             };
             times.push(u64::try_from(t0.elapsed().as_nanos()).unwrap_or(u64::MAX));
             match result {
-                Ok(lengths) => answer.lengths_m = lengths,
+                Ok(lengths) => {
+                    answer.lengths_m = lengths;
+                    if let Some((reason, found)) = partial {
+                        stopped = Some(reason);
+                        answer.stop_reason = Some(reason);
+                        answer.error = Some(format!(
+                            "pair {index}: the search stopped at {reason} after {found} of the \
+                             {classes} classes asked for"
+                        ));
+                        break;
+                    }
+                }
                 Err(SearchError::BudgetExhausted { .. }) => {
                     let limit = options.expansion_limit(&btm);
+                    answer.stop_reason = Some(StopReason::Expansions {
+                        limit,
+                        budget: budget.kind(),
+                    });
                     answer.error = Some(format!(
                         "pair {index}: no path found before the search stopped at {} (this does \
                          not mean start and goal are disconnected)",
@@ -283,6 +378,10 @@ pub fn answer_with_budget(
                     break;
                 }
                 Err(e) => {
+                    if let SearchError::Stopped { reason, .. } = e {
+                        stopped = Some(reason);
+                        answer.stop_reason = Some(reason);
+                    }
                     answer.error = Some(format!("pair {index}: {e}"));
                     break;
                 }

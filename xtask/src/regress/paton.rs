@@ -362,7 +362,12 @@ fn table_one() -> Result<Vec<Case>, String> {
                 problem.shadow_sample_fraction = SHADOW_SAMPLE_FRACTION;
             }
             let began = std::time::Instant::now();
-            let runs = navigate_seeds(&problem, &seeds, term)?;
+            let runs = navigate_seeds(
+                &problem,
+                &seeds,
+                term,
+                &rappel::planners::stop::StopCondition::none(),
+            )?;
             let wall = began.elapsed().as_secs_f64();
             let found: Vec<_> = runs.iter().filter(|r| r.found).collect();
             let unsafe_ = runs.iter().filter(|r| r.unsafe_reason.is_some()).count();

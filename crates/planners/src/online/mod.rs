@@ -50,7 +50,7 @@ use serde::Serialize;
 pub const DEFAULT_ONLINE_CLASSES: usize = 8;
 
 /// Settings of an online session.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OnlineOptions {
     /// The SPT search of every (re)plan: its class count (raised by the number of rejected
     /// classes), length factor and expansion budget are the termination rule of a "no".

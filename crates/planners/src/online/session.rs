@@ -893,7 +893,7 @@ impl OnlineSession {
             .search
             .max_classes()
             .map(|k| k + self.constraints.len());
-        let opts = self.options.search.with_max_classes(k)?;
+        let opts = self.options.search.clone().with_max_classes(k)?;
         let mut search = planner.search(self.start, self.goal, &opts)?;
         // The best candidate with an Alg. 6 pair, and the best feasible one without.
         let mut best: Option<Candidate> = None;

@@ -63,7 +63,7 @@ pub const DEFAULT_STEP: f64 = 1.0;
 pub const DEFAULT_MAX_STEPS: usize = 10_000;
 
 /// Settings of a simulated descent.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SimulationOptions {
     /// Differences within this distance of the robot are sensed, m (> `step`).
     pub sensor_range: f64,
@@ -481,10 +481,10 @@ pub fn simulate_frictional(
         .map_err(|e| at_start(OnlineError::Map(e)))?;
     // One clock for the whole run: every search of the session shares its deadline.
     let stop = options.session.search.stop().started();
-    let mut session_options = options.session;
+    let mut session_options = options.session.clone();
     session_options.search = session_options
         .search
-        .with_stop(stop)
+        .with_stop(stop.clone())
         .map_err(|e| at_start(OnlineError::Search(e)))?;
     let mut session =
         OnlineSession::new(prior, start, goal, terrain, session_options).map_err(at_start)?;

@@ -42,6 +42,7 @@ use crate::anchor_prediction::{AnchorHistory, PredictParams, predict};
 use crate::sampler::{
     Abit, AbitSettings, Informed, MotionValidator, PlannerStatus, StateSpace, Termination,
 };
+use crate::stop::StopCondition;
 use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::boom_contact::{BoomGround, IndexedGround};
 use rappel_mechanics::settle::SettledPose;
@@ -744,6 +745,19 @@ impl RoverProblem {
         seed: u64,
         termination: Termination,
     ) -> Result<PlannerStatus<RoverState, AnchorHistory>, String> {
+        self.solve_until(seed, termination, &StopCondition::none())
+    }
+
+    /// [`RoverProblem::solve`] that also stops at `stop` ([`crate::stop`]; read on every
+    /// iteration and between the samples of a batch, [`Abit::solve_until`]): a time limit
+    /// (counted from this call unless `stop` was [started](StopCondition::started)) and cancel
+    /// flags another thread sets. [`PlannerStatus::stop_reason`] says which condition fired.
+    pub fn solve_until(
+        &self,
+        seed: u64,
+        termination: Termination,
+        stop: &StopCondition,
+    ) -> Result<PlannerStatus<RoverState, AnchorHistory>, String> {
         if !self.root.iter().all(|c| c.is_finite()) {
             return Err("the root anchor is not finite".into());
         }
@@ -761,7 +775,8 @@ impl RoverProblem {
         };
         let mut abit = Abit::new(&self.space, &run, self.start, self.goal, settings)
             .map_err(|e| e.to_string())?;
-        abit.solve(termination).map_err(|e| e.to_string())
+        abit.solve_until(termination, stop)
+            .map_err(|e| e.to_string())
     }
 }
 

@@ -281,7 +281,7 @@ where
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
-        self.cancel = stop.cancel_flags().collect();
+        self.cancel = stop.cancel_flags().cloned().collect();
         let first = self.iterations;
         let (stopped_by, stop_reason) = loop {
             if let Some(s) =

@@ -54,7 +54,8 @@ fn check_initial_plan(
     what: &str,
 ) -> bool {
     let options = OnlineOptions::default();
-    let Ok(session) = OnlineSession::new(map, start, goal, terrain(map, steep), options) else {
+    let Ok(session) = OnlineSession::new(map, start, goal, terrain(map, steep), options.clone())
+    else {
         return false;
     };
     let btm = Btm::from_map(map).expect("the session built it");

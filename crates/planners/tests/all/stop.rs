@@ -59,7 +59,9 @@ fn a_cancel_from_another_thread_stops_a_long_search() {
     let (btm, start, goal) = big();
     let planner = SptPlanner::new(btm);
     let flag = CancelFlag::new();
-    let options = unbounded().with_stop(StopCondition::cancel(flag)).unwrap();
+    let options = unbounded()
+        .with_stop(StopCondition::cancel(flag.clone()))
+        .unwrap();
     let canceller = std::thread::spawn(move || {
         std::thread::sleep(Duration::from_millis(30));
         flag.cancel();
@@ -88,7 +90,7 @@ fn an_expansion_limit_gives_the_results_of_a_fixed_budget() {
     let planner = SptPlanner::new(&btm);
     let base = SearchOptions::default().with_max_classes(Some(6)).unwrap();
     for n in [50, 2_000, 40_000, 10_000_000] {
-        let old = base.with_budget(ExpansionBudget::Fixed(n)).unwrap();
+        let old = base.clone().with_budget(ExpansionBudget::Fixed(n)).unwrap();
         let expected = planner
             .search(g.start, g.goal, &old)
             .unwrap()
@@ -101,9 +103,9 @@ fn an_expansion_limit_gives_the_results_of_a_fixed_budget() {
             StopCondition::expansions(n),
             StopCondition::expansions(n)
                 .or_time(Duration::from_secs(3600))
-                .or_cancel(flag),
+                .or_cancel(flag.clone()),
         ] {
-            let new = base.with_stop(stop).unwrap();
+            let new = base.clone().with_stop(stop).unwrap();
             let got = planner
                 .search(g.start, g.goal, &new)
                 .unwrap()
@@ -153,7 +155,7 @@ fn whichever_condition_fires_first_is_reported() {
     // A flag set before the start: nothing is expanded.
     let flag = CancelFlag::new();
     flag.cancel();
-    let out = run(StopCondition::time(Duration::from_secs(3600)).or_cancel(flag));
+    let out = run(StopCondition::time(Duration::from_secs(3600)).or_cancel(flag.clone()));
     assert_eq!(out.stop_reason, Some(StopReason::Cancelled));
     assert_eq!(out.stats.expansions, 0);
     // The single query reports a stop as an error naming it.
@@ -214,9 +216,10 @@ fn the_sampler_stops_on_cancel_and_on_the_shared_time_limit() {
     let settings = AbitSettings::default();
     let mut abit = Abit::new(&w.space, &w, w.start, w.goal, settings.clone()).unwrap();
     let flag = CancelFlag::new();
+    let other = flag.clone();
     let canceller = std::thread::spawn(move || {
         std::thread::sleep(Duration::from_millis(30));
-        flag.cancel();
+        other.cancel();
     });
     let began = Instant::now();
     let st = abit
@@ -262,7 +265,7 @@ fn the_online_simulation_honours_a_cancel() {
     options.session.search = options
         .session
         .search
-        .with_stop(StopCondition::cancel(flag))
+        .with_stop(StopCondition::cancel(flag.clone()))
         .unwrap();
     // Not cancelled: the goal.
     let (report, _) = simulate(

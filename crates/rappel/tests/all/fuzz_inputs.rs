@@ -126,7 +126,7 @@ fn check_load(file: &std::path::Path) -> Result<(), TestCaseError> {
             // Valid: it must plan without a panic, with an error or an answer.
             let options = PlanOptions {
                 classes: 2,
-                max_expansions: rappel::planners::budget::ExpansionBudget::Fixed(20_000),
+                stop: rappel::planners::stop::StopCondition::expansions(20_000),
                 ..Default::default()
             };
             if let Err(e) = rappel::plan(&s, &options) {

@@ -19,6 +19,7 @@
 
 use rappel::navigate::{PATON_ITERATIONS, RoverProblem, SHADOW_SAMPLE_FRACTION, navigate};
 use rappel::planners::sampler::Termination;
+use rappel::planners::stop::StopCondition;
 use rappel::terrain::paton_scene::PatonScene;
 
 #[test]
@@ -28,7 +29,7 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
     problem.shadow_sample_fraction = SHADOW_SAMPLE_FRACTION;
     // As the regression row plans: Paton's 750 iterations or the first solution.
     let term = Termination::iterations(PATON_ITERATIONS).or_cost_at_most(f64::MAX);
-    let r = navigate(&problem, 0, term).unwrap();
+    let r = navigate(&problem, 0, term, &StopCondition::none()).unwrap();
     assert!(r.found, "{:?}", r.unsafe_reason);
     assert_eq!(r.first_solution_iteration, Some(284));
     assert_eq!(r.iterations, 284);
@@ -65,7 +66,13 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
 fn the_planner_descends_in_test_1_and_its_path_revalidates() {
     let mut one = RoverProblem::paton(&PatonScene::paper(false), 0).unwrap();
     one.held_within_boom_reach = true;
-    let r = navigate(&one, 3, Termination::iterations(PATON_ITERATIONS)).unwrap();
+    let r = navigate(
+        &one,
+        3,
+        Termination::iterations(PATON_ITERATIONS),
+        &StopCondition::none(),
+    )
+    .unwrap();
     eprintln!(
         "{:?}",
         (
