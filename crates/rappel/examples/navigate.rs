@@ -6,7 +6,8 @@ use rappel::terrain::paton_scene::PatonScene;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let problem = RoverProblem::paton(&PatonScene::paper(false), 0)?;
-    let report = navigate(&problem, 3, Termination::iterations(750))?;
+    let stop = StopCondition::time(Duration::from_secs(60));
+    let report = navigate(&problem, 3, Termination::iterations(750), &stop)?;
     println!(
         "found {} after {} iterations: {} anchors",
         report.found,

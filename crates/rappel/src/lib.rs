@@ -15,7 +15,12 @@
 //!     .goal(5.0, 1.0)
 //!     .plane(20.0, 0.0, 45.0, 0.4)
 //!     .build()?;
-//! let report = plan(&scenario, &PlanOptions::default())?;
+//! // Stop after 100 ms, or earlier when the automatic expansion budget runs out.
+//! let options = PlanOptions {
+//!     stop: StopCondition::time(Duration::from_millis(100)),
+//!     ..Default::default()
+//! };
+//! let report = plan(&scenario, &options)?;
 //! let pair = report.outcome.chosen.as_ref().expect("a feasible class");
 //! assert_eq!(pair.rank, 1);
 //! assert!(report.to_json().contains("\"report\": \"plan\""));

@@ -23,3 +23,5 @@ pub use crate::settle_map::{MapSpec, StabilityMap};
 pub use crate::stability::{StabilityOptions, StabilityReport, stability_over_scenario};
 pub use crate::track::{TrackReport, track};
 pub use rappel_planners::budget::ExpansionBudget;
+pub use rappel_planners::stop::{CancelFlag, StopCondition, StopReason};
+pub use std::time::Duration;
