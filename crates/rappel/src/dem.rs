@@ -266,13 +266,13 @@ pub struct PtfoLabels {
     /// Convex cells in free space.
     pub convex_cells: usize,
     /// Saddle cells in free space convex along the fall line (counted only with
-    /// [`PtfoLabelOptions::saddles`]; they join the convex cells' patches).
+    /// [`crate::dem_ptfo::PtfoLabelOptions::saddles`]; they join the convex cells' patches).
     pub saddle_cells: usize,
     /// Patches of at least `min_cells` cells.
     pub patches: usize,
     /// PTFOs added to the scenario.
     pub ptfos: usize,
-    /// Patches dropped because their hull would make the map invalid, or beyond [`MAX_PTFOS`],
+    /// Patches dropped because their hull would make the map invalid, or beyond [`crate::dem_ptfo::MAX_PTFOS`],
     /// or without a usable height patch; with the reason.
     pub dropped: Vec<String>,
 }

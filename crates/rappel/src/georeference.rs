@@ -3,7 +3,7 @@
 //! the uphill and across unit vectors in the DEM's `(east, north)` coordinates, and the unfolding
 //! of the plane series along the fall line, `rappel_terrain::frame`). With it, any point of a plan
 //! (tether, anchors, waypoints, paths) maps back onto the DEM, so results can be laid over it in
-//! a GIS ([`crate::export`]).
+//! a GIS (`rappel_render::export`).
 
 use nalgebra::Point2;
 use rappel_terrain::frame::PlanningFrame;

@@ -9,7 +9,7 @@
 //! [`AnchorTraversability`] trait: a point robot with the thesis' tether friction cone (eq. 2.7),
 //! Axel and the four-wheel rover with the cone their own stability QP allows (Paton §IV-C;
 //! [`rappel_mechanics::wheeled_tether_cone`]).
-//! [`PlanReport`] is plain data (serde); [`Plan::picture`] draws it like thesis Figs. 2.31-2.44.
+//! [`PlanReport`] is plain data (serde); `rappel_render::plan::picture` draws it like thesis Figs. 2.31-2.44.
 
 pub use crate::pair::PairReport;
 use crate::report::deg;

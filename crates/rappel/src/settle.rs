@@ -6,7 +6,7 @@
 //! the body, [`four_wheel_report_with`]).
 //!
 //! Distances are parry's exact mesh distances through its BVH, or with [`settle_report_with`]
-//! any [`crate::distance_source`] (the sparse distance field: `rappel settle --field RES`).
+//! any [`rappel_planners::rover::ground`] (the sparse distance field: `rappel settle --field RES`).
 
 use std::path::Path;
 

@@ -138,7 +138,7 @@ impl Picture {
         self.unit
     }
 
-    /// Draws a colour scale ([`SCALE_STOPS`]) in the panel, titled `title`, from `lo` to `hi`.
+    /// Draws a colour scale ([`crate::style::SCALE_STOPS`]) in the panel, titled `title`, from `lo` to `hi`.
     pub fn set_colour_scale(&mut self, title: &str, lo: f64, hi: f64) {
         self.scale = Some((title.to_string(), lo, hi));
     }

@@ -20,7 +20,7 @@ fn light() -> Vector3<f64> {
     Vector3::new(-1.0, 1.0, std::f64::consts::SQRT_2).normalize()
 }
 
-/// The grey of a surface with unit normal `n` under [`light`]: flat ground mid-light, slopes
+/// The grey of a surface with unit normal `n` under the light: flat ground mid-light, slopes
 /// facing the light brighter, slopes facing away darker, as `#rrggbb`.
 pub fn shade(n: &Vector3<f64>) -> String {
     let lit = n.dot(&light()).max(0.0);

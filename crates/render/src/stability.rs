@@ -10,7 +10,7 @@ use crate::{Layer, Picture};
 
 /// The picture of the map (cropped to `window`, map frame, when given): each stable pose a
 /// disc sized to the grid step and coloured by its margin on the colour scale
-/// ([`crate::svg::SCALE_STOPS`], drawn in the panel from the smallest to the largest margin),
+/// ([`crate::style::SCALE_STOPS`], drawn in the panel from the smallest to the largest margin),
 /// each unstable pose a thin ring of the same size; dots lie under the obstacles, so that
 /// none hides one. Every dot's hover text gives its position, margin and tension.
 pub fn picture(
