@@ -1,13 +1,17 @@
 //! `rappel settle-map GROUND [--x MIN,MAX] [--y MIN,MAX] [--step M] [--yaw DEG] [--start X,Y]
-//! (--root X,Y,Z | --test N) [--robot axel|four-wheel] [--field RES] [--svg OUT] [--html OUT]
-//! [--json]`: a stability map of settled poses on 3D ground like Paton's Fig. 8, of Axel or of the
+//! (--root X,Y,Z | --test N) [--robot axel|four-wheel] [--field RES] [--time-limit SECONDS]
+//! [--svg OUT] [--html OUT] [--json]`: a stability map of settled poses on 3D ground like Paton's Fig. 8, of Axel or of the
 //! rigid four-wheel rover. Every grid cell is settled, its anchor history is predicted from the
 //! start outward (Paton Alg. 1, [`rappel::planners::rover::stability_map`]) along the robot's tether end and the
 //! stability QP is solved with the tether from the last predicted anchor (Axel: boom inline or in
 //! contact; the four-wheel rover: the tether fixed to its body).
 //! `--field RES`: settling and anchor prediction read the sparse distance field at `RES` metres
 //! instead of parry's exact distances (Paton's use of the field, [`crate::field_arg`]).
-//! Exit 0 when the map was computed; bad input exits 2.
+//! `--time-limit SECONDS` bounds the whole map (the distance field's build included) and Ctrl-C
+//! stops it ([`crate::stop`]): the map is then partial, the cells not computed are failed with
+//! "not computed: the map stopped at ...", the report's `stopped_by` names the condition, the
+//! picture shows what was computed, and the exit code is 1.
+//! Exit 0 when the whole map was computed, 1 when it was stopped; bad input exits 2.
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
@@ -65,6 +69,9 @@ pub struct Args {
     field: FieldArg,
     #[command(flatten)]
     picture: PictureArgs,
+    /// The time limit of the whole map (Ctrl-C stops it too): a partial map is reported.
+    #[command(flatten)]
+    time_limit: crate::stop::TimeLimitArg,
     /// Print the map as JSON.
     #[arg(long)]
     json: bool,
@@ -73,6 +80,10 @@ pub struct Args {
 /// Runs `rappel settle-map`.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
     let robot = crate::settle::robot(&args.robot)?;
+    let stop = crate::stop::condition(
+        rappel::planners::budget::ExpansionBudget::Auto,
+        &args.time_limit,
+    )?;
     refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
     let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
     let is_scene = args
@@ -143,17 +154,21 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         start: [start.0, start.1],
     };
     // Thousands of settled poses take seconds: say so on a terminal.
+    let stop = stop.started();
     let progress = rappel::progress::Progress::spinner("settle-map");
     progress.message("settling poses and predicting their anchors");
     let map = args.field.distances(&ground).and_then(|d| {
         match robot {
-            SettleRobot::Axel => stability_map_for(&AxelMap, &ground, &d, &root, &spec),
-            SettleRobot::FourWheel => stability_map_for(&FourWheelMap, &ground, &d, &root, &spec),
+            SettleRobot::Axel => stability_map_for(&AxelMap, &ground, &d, &root, &spec, &stop),
+            SettleRobot::FourWheel => {
+                stability_map_for(&FourWheelMap, &ground, &d, &root, &spec, &stop)
+            }
         }
         .map_err(|e| CliError(e.to_string()))
     });
     progress.finish();
     let map = map?;
+    crate::stop::say(map.stopped_by);
     if args.picture.wanted() {
         args.picture
             .write(&map_svg(&map, &ground), "rappel settle-map")?;
@@ -177,6 +192,13 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             .map(|p| p.margin)
             .fold(0.0f64, f64::max);
         crate::output::outln!("best margin  {best:.3}");
+        if let Some(r) = map.stopped_by {
+            crate::output::outln!("stopped      the map stopped at {r}: a partial map");
+        }
     }
-    Ok(Answer::Yes)
+    Ok(if map.stopped_by.is_some() {
+        Answer::No
+    } else {
+        Answer::Yes
+    })
 }

@@ -25,11 +25,13 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::anchor_prediction::{AnchorError, AnchorHistory, PredictParams, predict, predict_path};
+use crate::stop::{StopCondition, StopReason};
 use rappel_mechanics::axel::AxelParams;
 use rappel_mechanics::boom_contact::{BoomGround, IndexedGround};
 use rappel_mechanics::settle::{SettleParams, SettledPose, settle_axel};
 use rappel_terrain::mesh::TriMesh;
 use rappel_terrain::surface::SignedDistance;
+use std::sync::OnceLock;
 
 pub use super::ground::PREDICT_RESOLUTION;
 use super::ground::{DistanceReport, DistanceSource, GroundDistances};
@@ -425,6 +427,12 @@ pub struct StabilityMap {
     pub failed: usize,
     /// Where settling and anchor prediction read their distances.
     pub distance_source: DistanceReport,
+    /// The condition that stopped the map before every cell was computed (a time limit or a
+    /// cancel request, [`stability_map_for`]): the map is then partial, its cells not computed
+    /// counted as failed, with the failure "not computed: the map stopped at ...". `null` for a
+    /// whole map.
+    #[serde(default)]
+    pub stopped_by: Option<StopReason>,
 }
 
 /// As [`stability_map`], with settling and anchor prediction (the tether's swept triangle and the
@@ -475,17 +483,54 @@ pub fn stability_map_with(
     root: &AnchorHistory,
     spec: &MapSpec,
 ) -> Result<StabilityMap, MeshStabilityError> {
-    stability_map_for(&AxelMap, ground, distances, root, spec)
+    stability_map_for(
+        &AxelMap,
+        ground,
+        distances,
+        root,
+        spec,
+        &StopCondition::none(),
+    )
 }
 
 /// [`stability_map_with`] for any [`MapRobot`]: every cell settled by `robot`, the anchor
-/// histories carried along its tether ends, its verdicts.
+/// histories carried along its tether ends, its verdicts; stopped by `stop`.
+///
+/// # Stopping
+/// The time limit (counted from this call unless `stop` was [started](StopCondition::started))
+/// and the cancel flags of `stop` ([`crate::stop`]) are read before each cell's settling, anchor
+/// prediction and stability check (each takes milliseconds; cells run in parallel). Once one
+/// fires, the map is not an error but **partial**: the cells done are kept, the others are
+/// failed with "not computed: the map stopped at REASON", and [`StabilityMap::stopped_by`] names
+/// the condition, so a picture of what was computed can still be drawn. Its expansion budget
+/// does not apply (the map's size is bounded by [`MAX_MAP_CELLS`]). A condition that never
+/// fires reads no clock: the map is the one without it, bit for bit.
+///
+/// ```
+/// use rappel_planners::anchor_prediction::AnchorHistory;
+/// use rappel_planners::rover::ground::{DistanceSource, GroundDistances};
+/// use rappel_planners::rover::stability_map::{AxelMap, MapSpec, stability_map_for};
+/// use rappel_planners::stop::{CancelFlag, StopCondition, StopReason};
+/// use rappel_terrain::paton_scene::PatonScene;
+/// let scene = PatonScene::paper(false);
+/// let ground = scene.mesh().unwrap();
+/// let d = GroundDistances::new(&ground, DistanceSource::Exact).unwrap();
+/// let root = AnchorHistory::new(scene.anchor_points()[0]).unwrap();
+/// let flag = CancelFlag::new();
+/// flag.cancel();
+/// let stop = StopCondition::cancel(flag);
+/// let map = stability_map_for(&AxelMap, &ground, &d, &root, &MapSpec::fig8(&scene), &stop).unwrap();
+/// assert_eq!(map.stopped_by, Some(StopReason::Cancelled));
+/// assert_eq!(map.failed, map.cells.len());
+/// assert!(map.cells[0].failure.as_ref().unwrap().contains("a cancel request"));
+/// ```
 pub fn stability_map_for<R: MapRobot>(
     robot: &R,
     ground: &TriMesh,
     distances: &GroundDistances,
     root: &AnchorHistory,
     spec: &MapSpec,
+    stop: &StopCondition,
 ) -> Result<StabilityMap, MeshStabilityError> {
     let (bvh, distance, h) = (
         &**distances.bvh(),
@@ -534,19 +579,29 @@ pub fn stability_map_for<R: MapRobot>(
         ));
     }
     let (si, sj) = (si as usize, sj as usize);
-    // Settle every cell.
-    let poses: Vec<Result<R::Pose, String>> = (0..nx * ny)
+    // The first condition of `stop` that fired; once set, every later check says stop.
+    let stop = stop.started();
+    let stopped: OnceLock<StopReason> = OnceLock::new();
+    let halt = || {
+        stopped.get().is_some()
+            || stop.poll().is_some_and(|r| {
+                let _ = stopped.set(r);
+                true
+            })
+    };
+    // Settle every cell (`None`: not computed, the map stopped).
+    let poses: Vec<Option<Result<R::Pose, String>>> = (0..nx * ny)
         .into_par_iter()
         .map(|c| {
             let (x, y) = at(c % nx, c / nx);
-            robot.settle(distances, x, y, spec.yaw_deg)
+            (!halt()).then(|| robot.settle(distances, x, y, spec.yaw_deg))
         })
         .collect();
     let mut histories: Vec<Option<Result<AnchorHistory, String>>> = vec![None; nx * ny];
     let start = si + sj * nx;
-    histories[start] = Some(match &poses[start] {
-        Ok(_) => Ok(root.clone()),
-        Err(e) => {
+    histories[start] = match &poses[start] {
+        Some(Ok(_)) => Some(Ok(root.clone())),
+        Some(Err(e)) => {
             let (x, y) = at(si, sj);
             return Err(MeshStabilityError::Settle {
                 x,
@@ -554,7 +609,8 @@ pub fn stability_map_for<R: MapRobot>(
                 why: e.clone(),
             });
         }
-    });
+        None => None,
+    };
     let params = PredictParams::new(h);
     let ring = |i: usize, j: usize| i.abs_diff(si).max(j.abs_diff(sj));
     let rings = (si.max(nx - 1 - si)).max(sj.max(ny - 1 - sj));
@@ -563,14 +619,18 @@ pub fn stability_map_for<R: MapRobot>(
         let cells: Vec<usize> = (0..nx * ny)
             .filter(|&c| ring(c % nx, c / nx) == r)
             .collect();
-        let done: Vec<(usize, Result<AnchorHistory, String>)> = cells
+        let done: Vec<(usize, Option<Result<AnchorHistory, String>>)> = cells
             .par_iter()
             .map(|&c| {
                 let (i, j) = (c % nx, c / nx);
                 let pose = match &poses[c] {
-                    Ok(p) => p,
-                    Err(e) => return (c, Err(format!("not settled: {e}"))),
+                    Some(Ok(p)) => p,
+                    Some(Err(e)) => return (c, Some(Err(format!("not settled: {e}")))),
+                    None => return (c, None),
                 };
+                if halt() {
+                    return (c, None);
+                }
                 // The preferred parent one step toward the start, then the other inner
                 // neighbours in a fixed order.
                 let toward = |v: usize, s: usize| match v.cmp(&s) {
@@ -607,7 +667,7 @@ pub fn stability_map_for<R: MapRobot>(
                     if tried && ring(pi, pj) + 1 < r {
                         break;
                     }
-                    if let (Some(Ok(h)), Ok(pp)) = (&histories[pc], &poses[pc]) {
+                    if let (Some(Ok(h)), Some(Ok(pp))) = (&histories[pc], &poses[pc]) {
                         tried = true;
                         match predict(
                             distance,
@@ -616,29 +676,37 @@ pub fn stability_map_for<R: MapRobot>(
                             &robot.tether_end(pp),
                             &robot.tether_end(pose),
                         ) {
-                            Ok(step) => return (c, Ok(step.history)),
+                            Ok(step) => return (c, Some(Ok(step.history))),
                             Err(e) => why = format!("anchor prediction: {e}"),
                         }
                     }
                 }
-                (c, Err(why))
+                (c, Some(Err(why)))
             })
             .collect();
         for (c, h) in done {
-            histories[c] = Some(h);
+            histories[c] = h;
         }
     }
     let cells: Vec<MapCell> = (0..nx * ny)
         .into_par_iter()
         .map(|c| {
             let (x, y) = at(c % nx, c / nx);
+            let not_computed = |r: &StopReason| MapCell {
+                ground: [x, y],
+                pose: None,
+                failure: Some(format!("not computed: the map stopped at {r}")),
+            };
             match (&poses[c], &histories[c]) {
-                (Ok(p), Some(Ok(h))) => MapCell {
-                    ground: [x, y],
-                    pose: Some(robot.stability(&IndexedGround { mesh: ground, bvh }, p, h)),
-                    failure: None,
+                (Some(Ok(p)), Some(Ok(h))) => match halt() {
+                    true => not_computed(stopped.get().expect("set by halt")),
+                    false => MapCell {
+                        ground: [x, y],
+                        pose: Some(robot.stability(&IndexedGround { mesh: ground, bvh }, p, h)),
+                        failure: None,
+                    },
                 },
-                (Err(e), _) => MapCell {
+                (Some(Err(e)), _) => MapCell {
                     ground: [x, y],
                     pose: None,
                     failure: Some(format!("not settled: {e}")),
@@ -648,10 +716,13 @@ pub fn stability_map_for<R: MapRobot>(
                     pose: None,
                     failure: Some(e.clone()),
                 },
-                (_, None) => MapCell {
-                    ground: [x, y],
-                    pose: None,
-                    failure: Some("not reached".into()),
+                (None, _) | (_, None) => match stopped.get() {
+                    Some(r) => not_computed(r),
+                    None => MapCell {
+                        ground: [x, y],
+                        pose: None,
+                        failure: Some("not reached".into()),
+                    },
                 },
             }
         })
@@ -673,5 +744,6 @@ pub fn stability_map_for<R: MapRobot>(
         cells,
         root: [r.x, r.y, r.z],
         distance_source: distances.report(),
+        stopped_by: stopped.get().copied(),
     })
 }
