@@ -17,3 +17,4 @@ mod plan_robot_models;
 mod query;
 mod schemas;
 mod stability_tethers;
+mod stop;
