@@ -93,7 +93,7 @@ fn main() -> ExitCode {
         Command::Btm(args) => yes(btm::run(&args)),
         Command::GenMap(args) => yes(gen_map::run(&args)),
         Command::Dem(args) => yes(dem::run(&args)),
-        Command::Stability(args) => yes(stability::run(&args)),
+        Command::Stability(args) => stability::run(&args),
         Command::Shp(args) => yes(shp::run(&args)),
         Command::Homotopic(args) => shp::run_homotopic(&args),
         Command::Plan(args) => plan::run(&args),

@@ -1,9 +1,14 @@
-//! `rappel stability FILE [--tension-limit N] [--grid STEP] [--json] [--svg OUT] [--html OUT]
-//! [--window XMIN,YMIN,XMAX,YMAX]`: a stability map over the scenario's terrain planes (Kumar
-//! Fig. 5): stable poses as discs coloured by margin on a colour scale, unstable poses as rings,
-//! sized to the grid step; the JSON lists each dot with its margin.
+//! `rappel stability FILE [--tension-limit N] [--grid STEP] [--time-limit SECONDS] [--json]
+//! [--svg OUT] [--html OUT] [--window XMIN,YMIN,XMAX,YMAX]`: a stability map over the scenario's
+//! terrain planes (Kumar Fig. 5): stable poses as discs coloured by margin on a colour scale,
+//! unstable poses as rings, sized to the grid step; the JSON lists each dot with its margin.
+//! `--time-limit SECONDS` bounds the map and Ctrl-C stops it ([`crate::stop`]): the map is then
+//! partial (the poses assessed before), `stopped_by` names the condition, and the exit code is 1;
+//! a whole map exits 0.
 
-use crate::output::{CliError, PictureArgs, WindowArg, print_report, refuse_clashing_outputs};
+use crate::output::{
+    Answer, CliError, PictureArgs, WindowArg, print_report, refuse_clashing_outputs,
+};
 use rappel::scenario::Scenario;
 use rappel::stability::{StabilityOptions, stability_over_scenario};
 use std::path::PathBuf;
@@ -19,6 +24,9 @@ pub struct Args {
     /// Grid step, m.
     #[arg(long, value_name = "STEP", default_value_t = 1.0)]
     grid: f64,
+    /// The time limit of the map (Ctrl-C stops it too): a partial map is reported.
+    #[command(flatten)]
+    time_limit: crate::stop::TimeLimitArg,
     /// Print every dot as JSON.
     #[arg(long)]
     json: bool,
@@ -31,8 +39,12 @@ pub struct Args {
 }
 
 /// Runs `rappel stability`.
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub fn run(args: &Args) -> Result<Answer, CliError> {
     refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
+    let stop = crate::stop::condition(
+        rappel::planners::budget::ExpansionBudget::Auto,
+        &args.time_limit,
+    )?;
     let window = args.window.aabb()?;
     // Read, then validated once: the proof carries the valid map to the BTM build.
     let s = Scenario::read(&args.file)?;
@@ -40,9 +52,15 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let options = StabilityOptions {
         grid_step: args.grid,
         tension_limit: args.tension_limit,
+        stop,
     };
     let report = stability_over_scenario(valid, &options)
         .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
+    crate::stop::say(report.stopped_by);
+    let answer = match report.stopped_by {
+        Some(_) => Answer::No,
+        None => Answer::Yes,
+    };
     if args.picture.wanted() {
         let title = format!(
             "stability of {}: {} of {} poses stable",
@@ -56,7 +74,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         )?;
     }
     if args.json {
-        return print_report(&report);
+        return print_report(&report).map(|()| answer);
     }
     crate::output::outln!("scenario    {}", args.file.display());
     crate::output::outln!("robot       {} ({})", report.robot, report.criterion);
@@ -85,5 +103,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         );
     }
     crate::output::outln!("stable      {} of {} poses", report.stable, report.assessed);
-    Ok(())
+    if let Some(r) = report.stopped_by {
+        crate::output::outln!("stopped     the map stopped at {r}: a partial map");
+    }
+    Ok(answer)
 }

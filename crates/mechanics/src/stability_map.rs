@@ -223,9 +223,39 @@ pub fn stability_map(
     anchors: &dyn AnchorSource,
     grid: &GridSpec,
 ) -> Result<Vec<PoseVerdict>, MapError> {
+    stability_map_until(robot, criterion, planes, anchors, grid, &|| false)
+}
+
+/// [`stability_map`] that asks `halt` before each pose (poses run in parallel) and leaves out
+/// the poses it halts: once `halt` says `true` the map is partial (the poses assessed so far, in
+/// grid order). The caller's condition (a time limit, a cancel flag) and its reason are the
+/// caller's to keep; `|| false` is [`stability_map`].
+///
+/// ```
+/// use nalgebra::Point3;
+/// use rappel_mechanics::four_wheel::FourWheelRover;
+/// use rappel_mechanics::robot::{SlopePlane, TetherSpec};
+/// use rappel_mechanics::stability_map::{stability_map_until, FixedAnchors, GridSpec, Heading, MapPlane};
+/// use rappel_mechanics::tension_lp::TensionLimitedLp;
+/// let plane = MapPlane { plane: SlopePlane::new(0.96, 0.4).unwrap(), x_range: [-4.0, 4.0], y_range: [0.0, 4.0] };
+/// let anchors = FixedAnchors(vec![None]);
+/// let grid = GridSpec::new(2.0, Heading::AwayFromAnchor).unwrap();
+/// let lp = TensionLimitedLp::default();
+/// let none = stability_map_until(&FourWheelRover::default(), &lp, &[plane], &anchors, &grid, &|| true).unwrap();
+/// assert!(none.is_empty());
+/// ```
+pub fn stability_map_until(
+    robot: &dyn RobotModel,
+    criterion: &dyn StabilityCriterion,
+    planes: &[MapPlane],
+    anchors: &dyn AnchorSource,
+    grid: &GridSpec,
+    halt: &(dyn Fn() -> bool + Sync),
+) -> Result<Vec<PoseVerdict>, MapError> {
     let positions = grid_positions(planes, grid)?;
     Ok(positions
         .par_iter()
+        .filter(|_| !halt())
         .map(|(i, position)| {
             let tether = anchors.tether_at(*i, position);
             let pose = PlanarPose {

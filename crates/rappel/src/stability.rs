@@ -26,13 +26,14 @@ use crate::scenario::ValidScenario;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_mechanics::stability_map::{
-    GridSpec, Heading, PoseOutcome, grid_positions, stability_map,
+    GridSpec, Heading, PoseOutcome, grid_positions, stability_map_until,
 };
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_mechanics::traversability::{StabilityCriterion, StabilitySettings};
 use rappel_planners::shortest_path_map::ShortestPathMap;
 use rappel_planners::spt::SearchError;
+use rappel_planners::stop::{StopCondition, StopReason};
 use rappel_planners::tether_anchors::{TetherTable, free_positions, is_strictly_free, plane_bands};
 use serde::{Deserialize, Serialize};
 
@@ -45,13 +46,18 @@ use serde::{Deserialize, Serialize};
 pub const MAX_SCENARIO_POSES: usize = 500_000;
 
 /// Options of a stability map.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct StabilityOptions {
     /// Grid step, m.
     pub grid_step: f64,
     /// Largest tether tension, N: switches to Kumar's tension-limited LP. `None`: Paton's QP with
     /// an unlimited tether.
     pub tension_limit: Option<f64>,
+    /// When to stop ([`rappel_planners::stop`]): its time limit (from the call's start) and
+    /// cancel flags bound the shortest path map and the assessment (read before each pose);
+    /// its expansion budget bounds the shortest path map (the automatic one: its default). A
+    /// stopped map is partial, not an error: [`StabilityReport::stopped_by`].
+    pub stop: StopCondition,
 }
 
 impl Default for StabilityOptions {
@@ -59,6 +65,7 @@ impl Default for StabilityOptions {
         StabilityOptions {
             grid_step: 1.0,
             tension_limit: None,
+            stop: StopCondition::none(),
         }
     }
 }
@@ -113,6 +120,11 @@ pub struct StabilityReport {
     pub assessed: usize,
     /// Every assessed pose.
     pub dots: Vec<StabilityDot>,
+    /// The condition that stopped the map early (a time limit or a cancel request,
+    /// [`StabilityOptions::stop`]): the map is then partial, its dots the poses assessed before
+    /// (none when the shortest path map from the start was stopped). `null` for a whole map.
+    #[serde(default)]
+    pub stopped_by: Option<StopReason>,
 }
 
 crate::report::report!(StabilityReport, "stability");
@@ -144,7 +156,8 @@ pub enum StabilityError {
 ///     start: (2.0, 19.5), goal: (2.0, 0.5),
 ///     terrain: (planes: [(y_top: 20.0, y_bottom: 0.0, slope_deg: 30.0, friction: 0.6)]))"#).unwrap();
 /// let valid = s.validate().unwrap();
-/// let r = stability_over_scenario(valid, &StabilityOptions { grid_step: 2.0, tension_limit: None }).unwrap();
+/// let options = StabilityOptions { grid_step: 2.0, ..Default::default() };
+/// let r = stability_over_scenario(valid, &options).unwrap();
 /// assert!(r.assessed > 0 && r.stable > 0);
 /// ```
 pub fn stability_over_scenario(
@@ -152,6 +165,7 @@ pub fn stability_over_scenario(
     options: &StabilityOptions,
 ) -> Result<StabilityReport, StabilityError> {
     let scenario = valid.scenario();
+    let stop = options.stop.started();
     if scenario.terrain.planes.is_empty() {
         return Err(StabilityError::NoPlanes);
     }
@@ -195,7 +209,15 @@ pub fn stability_over_scenario(
     let free = |p: &Point2<f64>| is_strictly_free(&btm, p);
     let free_positions = free_positions(&btm, &positions);
     // One shortest path map from the start answers every pose's tether.
-    let spm = ShortestPathMap::build(&btm, scenario.start).map_err(|e| {
+    let stopped = std::sync::OnceLock::new();
+    let spm = match ShortestPathMap::build_until(&btm, scenario.start, &stop) {
+        Err(SearchError::Stopped { reason, .. }) => {
+            let _ = stopped.set(reason);
+            None
+        }
+        r => Some(r),
+    };
+    let spm = spm.transpose().map_err(|e| {
         StabilityError::Setting(match e {
             SearchError::BudgetExhausted { expansions } => format!(
                 "the shortest path map from the start needs more than {expansions} funnel expansions: the map is too large for a stability run"
@@ -203,13 +225,38 @@ pub fn stability_over_scenario(
             e => format!("the shortest path map from the start: {e}"),
         })
     })?;
-    // A bar on stderr when it is a terminal.
-    let progress = crate::progress::Progress::new(free_positions.len() as u64, "tethers");
-    let limit = options.tension_limit;
-    let inc = |n| progress.inc(n);
-    let anchors = TetherTable::new(&spm, &free_positions, exit_height, limit, &inc);
-    progress.finish();
-    let verdicts = stability_map(robot.as_ref(), criterion.as_ref(), &planes, &anchors, &grid)?;
+    let halt = || {
+        stopped.get().is_some()
+            || stop.poll().is_some_and(|r| {
+                let _ = stopped.set(r);
+                true
+            })
+    };
+    let (anchors, verdicts) = match &spm {
+        Some(spm) => {
+            // A bar on stderr when it is a terminal.
+            let progress = crate::progress::Progress::new(free_positions.len() as u64, "tethers");
+            let inc = |n| progress.inc(n);
+            let anchors = TetherTable::new(
+                spm,
+                &free_positions,
+                exit_height,
+                options.tension_limit,
+                &inc,
+            );
+            progress.finish();
+            let verdicts = stability_map_until(
+                robot.as_ref(),
+                criterion.as_ref(),
+                &planes,
+                &anchors,
+                &grid,
+                &halt,
+            )?;
+            (Some(anchors), verdicts)
+        }
+        None => (None, Vec::new()),
+    };
     // A pose on the edge between two planes lies on the grid of both: keep the first (upper).
     let mut seen = std::collections::HashSet::new();
     let dots: Vec<StabilityDot> = verdicts
@@ -217,7 +264,8 @@ pub fn stability_over_scenario(
         .filter(|v| free(&v.pose.position))
         .filter(|v| seen.insert((v.pose.position.x.to_bits(), v.pose.position.y.to_bits())))
         .map(|v| {
-            let (taut, search_failure) = match anchors.taut(&v.pose.position) {
+            let looked_up = anchors.as_ref().map_or(Ok(None), |a| a.taut(&v.pose.position));
+            let (taut, search_failure) = match looked_up {
                 Ok(t) => (t, None),
                 Err(e) => (None, Some(format!("tether not traced: {e}"))),
             };
@@ -269,5 +317,6 @@ pub fn stability_over_scenario(
         stable: dots.iter().filter(|d| d.stable).count(),
         assessed: dots.len(),
         dots,
+        stopped_by: stopped.get().copied(),
     })
 }

@@ -15,4 +15,5 @@ mod plan_stream;
 mod settle;
 mod settle_map;
 mod shp;
+mod stop;
 mod track;

@@ -320,6 +320,7 @@ fn stability_maps_name_their_robot_honour_the_tether_and_cap_their_poses() {
     let options = StabilityOptions {
         grid_step: 5.0,
         tension_limit: None,
+        ..Default::default()
     };
     let r = stability_over_scenario(s.validate().expect("valid scenario"), &options).expect("map");
     assert!(
@@ -350,6 +351,7 @@ fn stability_maps_name_their_robot_honour_the_tether_and_cap_their_poses() {
     let fine = StabilityOptions {
         grid_step: 0.05,
         tension_limit: None,
+        ..Default::default()
     };
     let e = stability_over_scenario(s.validate().expect("valid scenario"), &fine)
         .expect_err("capped")

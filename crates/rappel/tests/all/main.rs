@@ -17,6 +17,7 @@ mod plan_robot_models;
 mod query;
 mod schemas;
 mod stability_tethers;
+mod stop;
 mod unit_builder;
 mod unit_ptfo_spec;
 mod unit_report;

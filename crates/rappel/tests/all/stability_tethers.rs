@@ -22,6 +22,7 @@ fn every_pose_has_the_tether_of_its_own_spt_search() {
     let options = StabilityOptions {
         grid_step: 5.0,
         tension_limit: None,
+        ..Default::default()
     };
     let r = stability_over_scenario(s.validate().expect("valid scenario"), &options).expect("map");
     let btm = Btm::from_map(&s.map).unwrap();

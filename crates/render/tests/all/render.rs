@@ -156,6 +156,7 @@ fn stability_dots_are_coloured_by_margin_and_leave_obstacles_visible() {
     let options = StabilityOptions {
         grid_step: 4.0,
         tension_limit: Some(300.0),
+        ..Default::default()
     };
     let report = stability_over_scenario(s.validate().expect("valid scenario"), &options)
         .expect("stability map");
