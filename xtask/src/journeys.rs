@@ -6,7 +6,7 @@
 //! strip, plan on it, check the pair with `homotopic` and `shp`, ...). Each step asserts:
 //! - the exit code the README documents for its input (0 yes, 1 a clean no);
 //! - the `--json` report parses and conforms to its committed schema in `docs/schemas/`
-//!   ([`rappel::schemas`]), and says what the step expects (a chosen pair on every strip,
+//!   ([`rappel_schemas`]), and says what the step expects (a chosen pair on every strip,
 //!   no error on any query pair, ...), checked independently where a closed form exists: a path
 //!   is no shorter than the straight line between its ends, the pair keeps the clearance from
 //!   every anchor of its class (distances computed here from the report's points), the pair's
@@ -24,7 +24,7 @@
 //! when it exists, else `target/debug/rappel` (`--bin` names another).
 
 use crate::regress::case::workspace_root;
-use rappel::schemas as schema_check;
+use rappel_schemas as schema_check;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};

@@ -99,7 +99,7 @@ fn main() -> ExitCode {
 fn schemas(check: bool) -> Result<ExitCode, String> {
     let dir = regress::case::workspace_root().join("docs/schemas");
     if check {
-        let stale = rappel::schemas::stale_schema_files(&dir);
+        let stale = rappel_schemas::stale_schema_files(&dir);
         if stale.is_empty() {
             println!("docs/schemas: up to date");
             return Ok(ExitCode::SUCCESS);
@@ -110,7 +110,7 @@ fn schemas(check: bool) -> Result<ExitCode, String> {
         return Err("docs/schemas is stale: run `cargo xtask schemas` and commit".into());
     }
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    for (name, text) in rappel::schemas::schema_files() {
+    for (name, text) in rappel_schemas::schema_files() {
         let path = dir.join(&name);
         rappel::io::write_atomically(&path, text.as_bytes())
             .map_err(|e| format!("{}: {e}", path.display()))?;

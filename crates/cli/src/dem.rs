@@ -186,7 +186,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
     };
     // Reading and ingesting a large grid takes seconds: say so on a terminal.
-    let progress = rappel::progress::Progress::spinner("dem");
+    let progress = crate::progress::Progress::spinner("dem");
     progress.message("reading and ingesting");
     let mut d = dem_scenario_with(&args.file, &options, &limits)?;
     progress.finish();

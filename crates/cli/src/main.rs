@@ -13,6 +13,7 @@ mod navigate;
 mod online;
 mod output;
 mod plan;
+mod progress;
 mod query;
 mod settle;
 mod settle_map;

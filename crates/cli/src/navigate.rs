@@ -108,7 +108,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     }
     let term = Termination::iterations(args.iterations).or_time(time);
     // A search checks motions for seconds to minutes: say so on a terminal.
-    let progress = rappel::progress::Progress::spinner("navigate");
+    let progress = crate::progress::Progress::spinner("navigate");
     progress.message("sampling and checking motions");
     let report = navigate(&problem, args.seed, term, &stop).map_err(at);
     progress.finish();

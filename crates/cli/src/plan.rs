@@ -21,18 +21,18 @@
 //! classes found so far are reported, the verdict names the condition ("the search stopped at
 //! the time limit of 0.5 s"), stderr says `stopped: ...`, and without a feasible class the exit
 //! code is 1 as for any "no".
-//! `--progress` forces the progress over the K classes on stderr (`rappel::progress`), which is
+//! `--progress` forces the progress over the K classes on stderr (`crate::progress`), which is
 //! otherwise shown only when stderr is a terminal.
 
 use crate::output::{
     Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_file,
 };
+use crate::progress::{Progress, Show};
 use rappel::plan::{
     ClassReport, PlanOptions, PlanOutcome, PlanReport, PlanSetting, plan_detailed_each,
     plan_streamed, plan_summary,
 };
 use rappel::plan_stream::{PlanStreamLine, PlanSummary};
-use rappel::progress::{Progress, Show};
 use rappel::scenario::Scenario;
 use rappel_render::export::{ExportFormat, export_plan};
 use std::path::{Path, PathBuf};

@@ -4,13 +4,13 @@
 //! shortest length (or its K shortest classes) and the median time of its query. Exit 0 when
 //! every pair is connected, 1 when some pair is not, 2 when a pair or a file is bad. Progress
 //! over the pairs goes to stderr when it is a terminal, or always with `--progress`
-//! (`rappel::progress`). `--time-limit SECONDS` bounds the whole run and Ctrl-C stops it
+//! (`crate::progress`). `--time-limit SECONDS` bounds the whole run and Ctrl-C stops it
 //! ([`crate::stop`]): the pair being searched and every later one are answered with an error
 //! naming the condition (exit 2, as for a spent budget), the answers before are printed.
 
 use crate::output::{Answer, CliError, print_report};
-use rappel::progress::Show;
-use rappel::query::{answer_until, load_pairs, read_map};
+use crate::progress::Show;
+use rappel::query::{QueryOptions, answer_observed, load_pairs, read_map};
 use std::path::PathBuf;
 
 /// Arguments of `rappel query`.
@@ -57,7 +57,13 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     } else {
         Show::Auto
     };
-    let answers = answer_until(map, &pairs, args.classes, args.repeat, show, &stop).map_err(err)?;
+    let options = QueryOptions {
+        classes: args.classes,
+        repeat: args.repeat,
+        stop,
+    };
+    let progress = crate::progress::Observer::new(show);
+    let answers = answer_observed(map, &pairs, &options, &progress).map_err(err)?;
     crate::stop::say(answers.iter().find_map(|a| a.stop_reason));
     if args.json {
         print_report(&rappel::query::QueryReport {

@@ -155,7 +155,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     };
     // Thousands of settled poses take seconds: say so on a terminal.
     let stop = stop.started();
-    let progress = rappel::progress::Progress::spinner("settle-map");
+    let progress = crate::progress::Progress::spinner("settle-map");
     progress.message("settling poses and predicting their anchors");
     let map = args.field.distances(&ground).and_then(|d| {
         match robot {

@@ -10,7 +10,7 @@ use crate::output::{
     Answer, CliError, PictureArgs, WindowArg, print_report, refuse_clashing_outputs,
 };
 use rappel::scenario::Scenario;
-use rappel::stability::{StabilityOptions, stability_over_scenario};
+use rappel::stability::{StabilityOptions, stability_observed};
 use std::path::PathBuf;
 
 /// Arguments of `rappel stability`.
@@ -54,7 +54,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         tension_limit: args.tension_limit,
         stop,
     };
-    let report = stability_over_scenario(valid, &options)
+    let report = stability_observed(valid, &options, &crate::progress::Observer::default())
         .map_err(|e| CliError(format!("{}: {e}", args.file.display())))?;
     crate::stop::say(report.stopped_by);
     let answer = match report.stopped_by {

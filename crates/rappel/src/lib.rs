@@ -54,7 +54,6 @@ pub mod query;
 pub mod report;
 pub mod robot;
 pub mod scenario;
-pub mod schemas;
 #[cfg(feature = "mesh")]
 pub mod settle;
 #[cfg(feature = "mesh")]

@@ -1,144 +1,39 @@
-//! Progress on stderr for long work (issue 16): a bar with the position, the rate and an ETA when
-//! stderr is a terminal, and nothing at all otherwise, so pipes, CI logs and tests stay clean.
-//! Forced on ([`Show::Always`], a command's `--progress`) while stderr is not a terminal, it
-//! writes plain lines instead of a bar: `WHAT POS/LEN (ELAPSED s)`, one each time the whole
-//! percentage changes and one at the end, so at most 101 lines whatever the length (issue 10).
+//! Progress of long calls, told to an observer the caller hands over: the facade draws nothing
+//! (the command line's bars live in the CLI). `stability` tells the tethers it looks up, `query`
+//! the pairs it answers; `plan` hands over each class as it is decided instead.
 //!
 //! ```
 //! use rappel::progress::Progress;
-//! let p = Progress::new(3, "suites");
-//! for _ in 0..3 {
-//!     p.inc(1);
+//! use std::sync::atomic::{AtomicU64, Ordering};
+//! struct Count(AtomicU64);
+//! impl Progress for Count {
+//!     fn advance(&self, n: u64) {
+//!         self.0.fetch_add(n, Ordering::Relaxed);
+//!     }
 //! }
-//! p.finish();
+//! let c = Count(AtomicU64::new(0));
+//! c.begin("pairs", 2);
+//! c.advance(2);
+//! assert_eq!(c.0.load(Ordering::Relaxed), 2);
 //! ```
 
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::Instant;
-
-/// When progress is shown.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Show {
-    /// Only when stderr is a terminal (a bar).
-    #[default]
-    Auto,
-    /// Always: a bar on a terminal, plain lines otherwise (module docs).
-    Always,
+/// An observer of a long call's progress; every method does nothing unless overridden. Called
+/// from the worker threads of a parallel step, hence `Sync`.
+pub trait Progress: Sync {
+    /// Work of `len` steps of `what` (e.g. "tethers", "pairs") begins.
+    fn begin(&self, what: &str, len: u64) {
+        let _ = (what, len);
+    }
+    /// `n` more steps are done.
+    fn advance(&self, n: u64) {
+        let _ = n;
+    }
+    /// The work begun last is over (done or stopped).
+    fn end(&self) {}
 }
 
-/// Plain progress lines on a stderr that is not a terminal (module docs).
-#[derive(Debug)]
-struct Lines {
-    what: String,
-    len: u64,
-    pos: AtomicU64,
-    start: Instant,
-}
+/// The observer that shows nothing.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Quiet;
 
-impl Lines {
-    /// Advances by `n` and writes a line when the whole percentage changed or the end is reached.
-    fn inc(&self, n: u64) {
-        let before = self.pos.fetch_add(n, Ordering::Relaxed);
-        let after = before.saturating_add(n);
-        let percent = |p: u64| p.min(self.len).saturating_mul(100) / self.len.max(1);
-        if percent(after) != percent(before) || (after >= self.len && before < self.len) {
-            eprintln!(
-                "{} {}/{} ({:.1} s)",
-                self.what,
-                after.min(self.len),
-                self.len,
-                self.start.elapsed().as_secs_f64()
-            );
-        }
-    }
-}
-
-/// A progress bar on stderr, or nothing when stderr is not a terminal (module docs).
-#[derive(Debug)]
-pub struct Progress {
-    bar: Option<ProgressBar>,
-    lines: Option<Lines>,
-}
-
-impl Progress {
-    /// A bar over `len` steps of `what` (e.g. "poses", "suites"), shown only on a terminal.
-    pub fn new(len: u64, what: &str) -> Self {
-        Self::with(len, what, Show::Auto)
-    }
-
-    /// A bar over `len` steps of `what`, shown as `show` says (module docs).
-    pub fn with(len: u64, what: &str, show: Show) -> Self {
-        if !std::io::stderr().is_terminal() {
-            let lines = (show == Show::Always).then(|| Lines {
-                what: what.to_string(),
-                len,
-                pos: AtomicU64::new(0),
-                start: Instant::now(),
-            });
-            return Progress { bar: None, lines };
-        }
-        let bar = ProgressBar::new(len);
-        let style = ProgressStyle::with_template(
-            "{prefix} [{bar:32}] {pos}/{len} {msg} ({per_sec}, eta {eta})",
-        )
-        .map(|s| s.progress_chars("=> "))
-        .unwrap_or_else(|_| ProgressStyle::default_bar());
-        bar.set_style(style);
-        bar.set_prefix(what.to_string());
-        Progress {
-            bar: Some(bar),
-            lines: None,
-        }
-    }
-
-    /// A spinner with the elapsed time, for work of unknown length (e.g. reading a DEM).
-    pub fn spinner(what: &str) -> Self {
-        if !std::io::stderr().is_terminal() {
-            return Progress {
-                bar: None,
-                lines: None,
-            };
-        }
-        let bar = ProgressBar::new_spinner();
-        if let Ok(style) = ProgressStyle::with_template("{spinner} {prefix} {msg} ({elapsed})") {
-            bar.set_style(style);
-        }
-        bar.set_prefix(what.to_string());
-        bar.enable_steady_tick(std::time::Duration::from_millis(120));
-        Progress {
-            bar: Some(bar),
-            lines: None,
-        }
-    }
-
-    /// Whether progress is shown (a bar on a terminal, or forced lines).
-    pub fn is_shown(&self) -> bool {
-        self.bar.is_some() || self.lines.is_some()
-    }
-
-    /// Advances by `n` steps.
-    pub fn inc(&self, n: u64) {
-        if let Some(b) = &self.bar {
-            b.inc(n);
-        }
-        if let Some(l) = &self.lines {
-            l.inc(n);
-        }
-    }
-
-    /// Shows `msg` beside the bar (the step under way).
-    pub fn message(&self, msg: &str) {
-        if let Some(b) = &self.bar {
-            b.set_message(msg.to_string());
-        }
-    }
-
-    /// Removes the bar.
-    pub fn finish(self) {
-        if let Some(b) = self.bar {
-            b.finish_and_clear();
-        }
-    }
-}
+impl Progress for Quiet {}

@@ -6,12 +6,11 @@
 //! [`MAX_PAIRS`] pairs. A pair whose point is not in free space gets its own error, naming its
 //! index; the others are answered.
 
-use crate::progress::Show;
+use crate::progress::{Progress, Quiet};
 use crate::scenario::Scenario;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_geometry::map::{Map, ValidMap};
-use rappel_planners::budget::ExpansionBudget;
 use rappel_planners::spt::{SearchError, SearchOptions, SptPlanner};
 use rappel_planners::stop::{StopCondition, StopReason};
 use serde::{Deserialize, Serialize};
@@ -171,95 +170,76 @@ pub fn load_pairs(path: &Path) -> Result<Vec<QueryPair>, QueryError> {
     Ok(pairs)
 }
 
-/// Answers every pair on `map` with `classes` classes each, each query run `repeat` times.
+/// Options of a query run: the classes per pair, the repeats of each query, and when to stop.
+#[derive(Debug, Clone)]
+pub struct QueryOptions {
+    /// Classes per pair, from 1 to [`MAX_QUERY_CLASSES`]; 1 answers the shortest path alone.
+    pub classes: usize,
+    /// Times each query is run (the median time is reported), from 1 to [`MAX_REPEATS`].
+    pub repeat: usize,
+    /// When to stop ([`rappel_planners::stop`]): the expansion budget bounds each pair's search
+    /// (each repeat's); the time limit bounds the whole call (its clock starts at the call unless
+    /// the condition was [started](StopCondition::started)); the time limit and cancel flags are
+    /// shared by every pair.
+    pub stop: StopCondition,
+}
+
+impl Default for QueryOptions {
+    /// One class, one run, the automatic expansion budget.
+    fn default() -> Self {
+        QueryOptions {
+            classes: 1,
+            repeat: 1,
+            stop: StopCondition::none(),
+        }
+    }
+}
+
+/// Answers every pair on `map` as `options` say.
+///
+/// Once the time limit or a cancel request fires, the pair being searched and every later pair
+/// are answered with an error naming the condition ("pair 3: the search stopped at the time
+/// limit of 0.5 s after ...", "pair 4: not searched: the query stopped at a cancel request");
+/// the answers before are kept. A pair that found some of its classes first keeps their lengths,
+/// with an error saying it was stopped. A pair whose expansion budget runs out is answered with
+/// an error naming the budget.
 ///
 /// ```
 /// use nalgebra::Point2;
-/// use rappel::query::{answer, QueryPair};
+/// use rappel::query::{answer, QueryOptions, QueryPair};
 /// use rappel::geometry::{map::Map, polygon::Polygon};
+/// use rappel::planners::stop::{CancelFlag, StopCondition};
 /// let p = |x, y| Point2::new(x, y);
 /// let map = Map::new(Polygon::rectangle(0.0, 0.0, 10.0, 10.0), vec![]);
 /// let pairs = [QueryPair { start: p(1.0, 1.0), goal: p(4.0, 5.0) }, QueryPair { start: p(1.0, 1.0), goal: p(20.0, 5.0) }];
-/// let out = answer(map.validate().unwrap(), &pairs, 1, 3).unwrap();
+/// let options = QueryOptions { repeat: 3, ..Default::default() };
+/// let out = answer(map.validate().unwrap(), &pairs, &options).unwrap();
 /// assert!((out[0].lengths_m[0] - 5.0).abs() < 1e-12);
 /// assert!(out[1].error.as_ref().unwrap().contains("goal"));
+/// // A cancel request stops the pair under way and every later one.
+/// let flag = CancelFlag::new();
+/// flag.cancel();
+/// let stopped = QueryOptions { stop: StopCondition::cancel(flag), ..Default::default() };
+/// let out = answer(map.validate().unwrap(), &[pairs[0]; 2], &stopped).unwrap();
+/// assert!(out[0].error.as_ref().unwrap().contains("a cancel request"));
+/// assert!(out[1].error.as_ref().unwrap().contains("not searched"));
 /// ```
 pub fn answer(
     map: ValidMap<'_>,
     pairs: &[QueryPair],
-    classes: usize,
-    repeat: usize,
+    options: &QueryOptions,
 ) -> Result<Vec<QueryAnswer>, QueryError> {
-    answer_with_progress(map, pairs, classes, repeat, Show::Auto)
+    answer_observed(map, pairs, options, &Quiet)
 }
 
-/// [`answer_until`] with the automatic expansion budget alone.
-pub fn answer_with_progress(
+/// [`answer`], telling `progress` of each pair begun ([`crate::progress`]).
+pub fn answer_observed(
     map: ValidMap<'_>,
     pairs: &[QueryPair],
-    classes: usize,
-    repeat: usize,
-    show: Show,
+    options: &QueryOptions,
+    progress: &dyn Progress,
 ) -> Result<Vec<QueryAnswer>, QueryError> {
-    answer_until(map, pairs, classes, repeat, show, &StopCondition::none())
-}
-
-/// [`answer_until`] with each pair's search bounded by `budget` alone.
-pub fn answer_with_budget(
-    map: ValidMap<'_>,
-    pairs: &[QueryPair],
-    classes: usize,
-    repeat: usize,
-    show: Show,
-    budget: ExpansionBudget,
-) -> Result<Vec<QueryAnswer>, QueryError> {
-    answer_until(
-        map,
-        pairs,
-        classes,
-        repeat,
-        show,
-        &StopCondition::budget_of(budget),
-    )
-}
-
-/// [`answer`], with progress over the pairs on stderr as `show` says
-/// ([`crate::progress`]: a bar on a terminal; `Show::Always` writes plain lines otherwise),
-/// stopped by `stop` ([`rappel_planners::stop`]).
-///
-/// The expansion budget bounds each pair's search (each repeat's). The time limit bounds the
-/// whole call (its clock starts here unless `stop` was [started](StopCondition::started)), and
-/// the time limit and cancel flags are shared by every pair: once one fires, the pair being
-/// searched and every later pair are answered with an error naming the condition ("pair 3: the
-/// search stopped at the time limit of 0.5 s after ...", "pair 4: not searched: the query
-/// stopped at a cancel request"); the answers before are kept. A pair that found some of its
-/// classes before the time limit or a cancel keeps their lengths, with an error saying it was
-/// stopped. A pair whose expansion budget runs out is answered with an error naming the budget,
-/// as before.
-///
-/// ```
-/// use nalgebra::Point2;
-/// use rappel::progress::Show;
-/// use rappel::query::{answer_until, QueryPair};
-/// use rappel::geometry::{map::Map, polygon::Polygon};
-/// use rappel::planners::stop::{CancelFlag, StopCondition};
-/// let map = Map::new(Polygon::rectangle(0.0, 0.0, 10.0, 10.0), vec![]);
-/// let pair = QueryPair { start: Point2::new(1.0, 1.0), goal: Point2::new(4.0, 5.0) };
-/// let flag = CancelFlag::new();
-/// flag.cancel();
-/// let stop = StopCondition::cancel(flag);
-/// let out = answer_until(map.validate().unwrap(), &[pair, pair], 1, 1, Show::Auto, &stop).unwrap();
-/// assert!(out[0].error.as_ref().unwrap().contains("a cancel request"));
-/// assert!(out[1].error.as_ref().unwrap().contains("not searched"));
-/// ```
-pub fn answer_until(
-    map: ValidMap<'_>,
-    pairs: &[QueryPair],
-    classes: usize,
-    repeat: usize,
-    show: Show,
-    stop: &StopCondition,
-) -> Result<Vec<QueryAnswer>, QueryError> {
+    let (classes, repeat) = (options.classes, options.repeat);
     if !(1..=MAX_QUERY_CLASSES).contains(&classes) {
         return Err(QueryError::Option(format!(
             "--classes {classes}: between 1 and {MAX_QUERY_CLASSES}"
@@ -271,20 +251,20 @@ pub fn answer_until(
         )));
     }
     // One clock for the whole call.
-    let stop = stop.started();
+    let stop = options.stop.started();
     let budget = stop.budget();
     let btm = Btm::build(map).map_err(|e| QueryError::Option(e.to_string()))?;
     let planner = SptPlanner::new(&btm);
-    let options = SearchOptions::default()
+    let search = SearchOptions::default()
         .with_max_classes(Some(classes))
         .and_then(|o| o.with_stop(stop.clone()))
         .map_err(|e| QueryError::Option(e.to_string()))?;
     // The time limit or cancel request that stopped an earlier pair.
     let mut stopped: Option<StopReason> = None;
     let mut out = Vec::with_capacity(pairs.len());
-    let progress = crate::progress::Progress::with(pairs.len() as u64, "pairs", show);
+    progress.begin("pairs", pairs.len() as u64);
     for (index, pair) in pairs.iter().enumerate() {
-        progress.inc(1);
+        progress.advance(1);
         let mut answer = QueryAnswer {
             index,
             start: pair.start,
@@ -323,7 +303,7 @@ pub fn answer_until(
                     .map(|t| t.map(|t| t.length).into_iter().collect())
             } else {
                 planner
-                    .search(pair.start, pair.goal, &options)
+                    .search(pair.start, pair.goal, &search)
                     .and_then(|mut s| {
                         let mut lengths = Vec::with_capacity(classes);
                         while let Some(c) = s.next_best()? {
@@ -365,7 +345,7 @@ pub fn answer_until(
                     }
                 }
                 Err(SearchError::BudgetExhausted { .. }) => {
-                    let limit = options.expansion_limit(&btm);
+                    let limit = search.expansion_limit(&btm);
                     answer.stop_reason = Some(StopReason::Expansions {
                         limit,
                         budget: budget.kind(),
@@ -391,6 +371,6 @@ pub fn answer_until(
         answer.median_ns = times.get(times.len() / 2).copied();
         out.push(answer);
     }
-    progress.finish();
+    progress.end();
     Ok(out)
 }

@@ -1,7 +1,7 @@
 //! The one output schema of every `--json` report (`docs/output-format.md`): the [`Report`] trait
 //! every report type implements, the [`Envelope`] that puts `schema_version` and the report's kind
 //! first, the unit helpers ([`deg`], [`micros`]) that keep float noise out of the numbers, and the
-//! JSON Schema documents generated from the types ([`crate::schemas`], written by `cargo xtask
+//! JSON Schema documents generated from the types (the `rappel-schemas` crate, written by `cargo xtask
 //! schemas`).
 //!
 //! The convention, in short:
@@ -18,10 +18,10 @@
 //! A new report follows it in three steps: derive the three traits on its type (points as
 //! `Point2<f64>` fields with `#[schemars(with = "[f64; 2]")]`, enums with
 //! `#[serde(rename_all = "snake_case")]`), `report!(T, "name")` (the [`Report`] impl and an inherent `to_json`),
-//! and add it to [`crate::schemas::schemas`]; the CLI prints it with `print_report`, the schema test then asks for
+//! and add it to `rappel_schemas::schemas`; the CLI prints it with `print_report`, the schema test then asks for
 //! its committed document in `docs/schemas/`.
 
-use schemars::{JsonSchema, Schema, SchemaGenerator};
+use schemars::JsonSchema;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -154,14 +154,6 @@ pub fn round_trip<T: Report>(report: &T) -> Result<(String, String), ReadReportE
 /// A duration as whole microseconds (saturating).
 pub fn micros(d: std::time::Duration) -> u64 {
     u64::try_from(d.as_micros()).unwrap_or(u64::MAX)
-}
-
-/// The JSON Schema document of `T` in its [`Envelope`].
-pub fn schema_of<T: Report>() -> Schema {
-    let mut g = SchemaGenerator::default();
-    let mut s = g.root_schema_for::<Envelope<T>>();
-    s.insert("title".into(), format!("rappel {} report", T::KIND).into());
-    s
 }
 
 /// The JSON form of `rappel validate`: a valid scenario's summary.

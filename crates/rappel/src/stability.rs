@@ -22,6 +22,7 @@
 //! same mass stands in for it, and the report says so. The grid holds at most
 //! [`MAX_SCENARIO_POSES`] poses.
 
+use crate::progress::{Progress, Quiet};
 use crate::scenario::ValidScenario;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
@@ -164,6 +165,16 @@ pub fn stability_over_scenario(
     valid: ValidScenario<'_>,
     options: &StabilityOptions,
 ) -> Result<StabilityReport, StabilityError> {
+    stability_observed(valid, options, &Quiet)
+}
+
+/// [`stability_over_scenario`], telling `progress` of the tethers it looks up
+/// ([`crate::progress`]).
+pub fn stability_observed(
+    valid: ValidScenario<'_>,
+    options: &StabilityOptions,
+    progress: &dyn Progress,
+) -> Result<StabilityReport, StabilityError> {
     let scenario = valid.scenario();
     let stop = options.stop.started();
     if scenario.terrain.planes.is_empty() {
@@ -234,9 +245,8 @@ pub fn stability_over_scenario(
     };
     let (anchors, verdicts) = match &spm {
         Some(spm) => {
-            // A bar on stderr when it is a terminal.
-            let progress = crate::progress::Progress::new(free_positions.len() as u64, "tethers");
-            let inc = |n| progress.inc(n);
+            progress.begin("tethers", free_positions.len() as u64);
+            let inc = |n| progress.advance(n);
             let anchors = TetherTable::new(
                 spm,
                 &free_positions,
@@ -244,7 +254,7 @@ pub fn stability_over_scenario(
                 options.tension_limit,
                 &inc,
             );
-            progress.finish();
+            progress.end();
             let verdicts = stability_map_until(
                 robot.as_ref(),
                 criterion.as_ref(),

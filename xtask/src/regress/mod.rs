@@ -133,19 +133,13 @@ pub fn run(filter: Option<&str>) -> Result<ExitCode, String> {
         .iter()
         .filter(|(name, _)| filter.is_none_or(|f| name.contains(f)))
         .collect();
-    // A bar on a terminal, one line per suite in logs.
-    let progress = rappel::progress::Progress::new(selected.len() as u64, "regress");
-    for (name, suite) in selected {
+    // One line per suite on stderr, on a terminal and in logs alike.
+    let total = selected.len();
+    for (i, (name, suite)) in selected.into_iter().enumerate() {
         known.extend(KNOWN_DIFFERENCES.iter().filter(|k| k.suite == *name));
-        if progress.is_shown() {
-            progress.message(name);
-        } else {
-            eprintln!("running suite {name} ...");
-        }
+        eprintln!("running suite {name} ({} of {total}) ...", i + 1);
         cases.extend(suite().map_err(|e| format!("suite {name}: {e}"))?);
-        progress.inc(1);
     }
-    progress.finish();
     if cases.is_empty() {
         return Err(format!(
             "no regression suite matches {:?}",

@@ -11,7 +11,7 @@ use crate::common;
 use common::{fixture, rappel, stderr, stdout, temp_dir};
 use rappel::plan_stream::PlanStreamLine;
 use rappel::report::read_report;
-use rappel::schemas::conforms;
+use rappel_schemas::conforms;
 use serde_json::Value;
 
 /// The committed schema of the stream.

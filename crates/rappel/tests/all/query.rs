@@ -6,7 +6,7 @@ use rand_chacha::ChaCha8Rng;
 use rappel::geometry::polygon::PointInPolygon;
 use rappel::nalgebra::Point2;
 use rappel::planners::visibility_graph::shortest_path;
-use rappel::query::{QueryPair, answer};
+use rappel::query::{QueryOptions, QueryPair, answer};
 use rappel::scenario::Scenario;
 
 #[test]
@@ -39,7 +39,15 @@ fn query_lengths_match_the_visibility_graph() {
             goal: free(),
         })
         .collect();
-    let answers = answer(map.validate().expect("valid map"), &pairs, 2, 1).expect("answers");
+    let answers = answer(
+        map.validate().expect("valid map"),
+        &pairs,
+        &QueryOptions {
+            classes: 2,
+            ..Default::default()
+        },
+    )
+    .expect("answers");
     for (pair, a) in pairs.iter().zip(&answers) {
         assert!(a.error.is_none(), "{a:?}");
         let oracle = shortest_path(map, pair.start, pair.goal).expect("connected");

@@ -6,8 +6,7 @@ use rappel::navigate::{RoverProblem, navigate};
 use rappel::plan::PlanOptions;
 use rappel::planners::sampler::Termination;
 use rappel::planners::stop::{CHECK_INTERVAL, CancelFlag, StopCondition, StopReason};
-use rappel::progress::Show;
-use rappel::query::{QueryPair, answer_until};
+use rappel::query::{QueryOptions, QueryPair, answer};
 use rappel::scenario::Scenario;
 use rappel::terrain::paton_scene::PatonScene;
 use std::time::{Duration, Instant};
@@ -91,15 +90,12 @@ fn a_cancel_from_another_thread_stops_query() {
     let flag = CancelFlag::new();
     let canceller = cancel_later(&flag, Duration::from_millis(200));
     let began = Instant::now();
-    let answers = answer_until(
-        map,
-        &pairs,
-        3,
-        1,
-        Show::Auto,
-        &StopCondition::cancel(flag.clone()),
-    )
-    .expect("answers");
+    let options = QueryOptions {
+        classes: 3,
+        stop: StopCondition::cancel(flag.clone()),
+        ..Default::default()
+    };
+    let answers = answer(map, &pairs, &options).expect("answers");
     canceller.join().unwrap();
     assert!(began.elapsed() < Duration::from_secs(120));
     assert_eq!(answers.len(), pairs.len());

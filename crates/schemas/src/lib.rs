@@ -2,22 +2,24 @@
 //! by `cargo xtask schemas` from the types: [`schemas`], [`schema_files`], [`stale_schema_files`]),
 //! and a validator of JSON documents against them ([`check`]): the keywords schemars emits, each
 //! checked; any other keyword is an error, so a document cannot pass by a keyword being ignored.
-//! For tests and `cargo xtask journeys`, which check every report a command prints against its
-//! schema.
+//! For tests, `cargo xtask schemas` and `cargo xtask journeys`, which check every report a
+//! command prints against its schema; the facade (`rappel`) derives the schemas, this crate
+//! writes and checks the documents.
 
 use schemars::SchemaGenerator;
 use serde_json::Value;
 
-use crate::report::{GenMapReport, HomotopicReport, ValidateReport, schema_of};
+use rappel::report::{Envelope, GenMapReport, HomotopicReport, Report, ValidateReport};
+use schemars::Schema;
 
 /// Checks `v` against the schema document `root` ([`conforms`] from its top).
 ///
 /// ```
 /// use serde_json::json;
 /// let schema = json!({"type": "object", "required": ["a"], "properties": {"a": {"type": "integer"}}});
-/// assert!(rappel::schemas::check(&json!({"a": 1}), &schema).is_ok());
-/// assert!(rappel::schemas::check(&json!({"a": "x"}), &schema).is_err());
-/// assert!(rappel::schemas::check(&json!({}), &schema).is_err());
+/// assert!(rappel_schemas::check(&json!({"a": 1}), &schema).is_ok());
+/// assert!(rappel_schemas::check(&json!({"a": "x"}), &schema).is_err());
+/// assert!(rappel_schemas::check(&json!({}), &schema).is_err());
 /// ```
 pub fn check(v: &Value, root: &Value) -> Result<(), String> {
     conforms(v, root, root, "$")
@@ -159,38 +161,41 @@ pub fn conforms(v: &Value, s: &Value, root: &Value, at: &str) -> Result<(), Stri
 }
 
 /// The JSON Schema documents `docs/schemas/NAME.json` shipped with the code: the scenario file,
-/// then every report by [`crate::report::Report::KIND`]. `cargo xtask schemas` writes them and a test checks the
+/// then every report by [`rappel::report::Report::KIND`]. `cargo xtask schemas` writes them and a test checks the
 /// committed files against these.
 pub fn schemas() -> Vec<(&'static str, schemars::Schema)> {
-    let mut scenario = SchemaGenerator::default().root_schema_for::<crate::scenario::Scenario>();
+    let mut scenario = SchemaGenerator::default().root_schema_for::<rappel::scenario::Scenario>();
     scenario.insert("title".into(), "rappel scenario file".into());
     #[allow(unused_mut)] // without `mesh` nothing is added
     let mut all = vec![
         ("scenario", scenario),
         ("validate", schema_of::<ValidateReport>()),
-        ("btm", schema_of::<crate::btm_summary::BtmSummary>()),
-        ("dem", schema_of::<crate::dem::DemReport>()),
+        ("btm", schema_of::<rappel::btm_summary::BtmSummary>()),
+        ("dem", schema_of::<rappel::dem::DemReport>()),
         (
             "stability",
-            schema_of::<crate::stability::StabilityReport>(),
+            schema_of::<rappel::stability::StabilityReport>(),
         ),
-        ("shp", schema_of::<crate::tether::ShpReport>()),
+        ("shp", schema_of::<rappel::tether::ShpReport>()),
         ("homotopic", schema_of::<HomotopicReport>()),
         ("gen_map", schema_of::<GenMapReport>()),
-        ("plan", schema_of::<crate::plan::PlanReport>()),
+        ("plan", schema_of::<rappel::plan::PlanReport>()),
         (
             "plan_stream",
-            schema_of::<crate::plan_stream::PlanStreamLine>(),
+            schema_of::<rappel::plan_stream::PlanStreamLine>(),
         ),
-        ("query", schema_of::<crate::query::QueryReport>()),
-        ("online", schema_of::<crate::online::OnlineReport>()),
-        ("track", schema_of::<crate::track::TrackReport>()),
+        ("query", schema_of::<rappel::query::QueryReport>()),
+        ("online", schema_of::<rappel::online::OnlineReport>()),
+        ("track", schema_of::<rappel::track::TrackReport>()),
     ];
     #[cfg(feature = "mesh")]
     all.extend([
-        ("settle", schema_of::<crate::settle::SettleReport>()),
-        ("settle_map", schema_of::<crate::settle_map::StabilityMap>()),
-        ("navigate", schema_of::<crate::navigate::NavigateReport>()),
+        ("settle", schema_of::<rappel::settle::SettleReport>()),
+        (
+            "settle_map",
+            schema_of::<rappel::settle_map::StabilityMap>(),
+        ),
+        ("navigate", schema_of::<rappel::navigate::NavigateReport>()),
     ]);
     all
 }
@@ -229,4 +234,12 @@ pub fn stale_schema_files(dir: &std::path::Path) -> Vec<String> {
     }
     stale.sort();
     stale
+}
+
+/// The JSON Schema document of `T` in its [`Envelope`].
+pub fn schema_of<T: Report>() -> Schema {
+    let mut g = SchemaGenerator::default();
+    let mut s = g.root_schema_for::<Envelope<T>>();
+    s.insert("title".into(), format!("rappel {} report", T::KIND).into());
+    s
 }

@@ -1,12 +1,12 @@
 //! The JSON Schema documents shipped in `docs/schemas/` are the ones the code generates
-//! (`rappel::schemas::schemas`): a report type changed without `cargo xtask schemas` fails here.
+//! (`rappel_schemas::schemas`): a report type changed without `cargo xtask schemas` fails here.
 //! And each schema describes what the types print: a report's own JSON validates its required
 //! fields against the document.
 
 #[test]
 fn committed_schemas_match_the_code() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/schemas");
-    let stale = rappel::schemas::stale_schema_files(&dir);
+    let stale = rappel_schemas::stale_schema_files(&dir);
     assert!(
         stale.is_empty(),
         "docs/schemas is stale (run `cargo xtask schemas`): {stale:?}"
@@ -15,7 +15,7 @@ fn committed_schemas_match_the_code() {
 
 #[test]
 fn every_report_schema_requires_the_envelope_and_names_its_kind() {
-    for (name, schema) in rappel::schemas::schemas() {
+    for (name, schema) in rappel_schemas::schemas() {
         let v = serde_json::to_value(&schema).unwrap();
         if name == "scenario" {
             let props = v["properties"].as_object().expect("properties");
