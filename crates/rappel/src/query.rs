@@ -52,7 +52,7 @@ pub struct QueryAnswer {
     /// Why the pair could not be answered (a point outside free space, a spent budget...).
     pub error: Option<String>,
     /// Which condition of the stop condition stopped the pair's search, or kept it from being
-    /// searched ([`answer_until`]): its expansion budget, the time limit, a cancel request.
+    /// searched ([`answer`]): its expansion budget, the time limit, a cancel request.
     /// Absent when the search ended by its own rules.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stop_reason: Option<StopReason>,
