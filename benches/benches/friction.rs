@@ -87,7 +87,7 @@ fn friction(c: &mut Criterion) {
             + fs.classes[0]
                 .anchors
                 .iter()
-                .filter(|a| a.verdict != "geometric")
+                .filter(|a| a.verdict != rappel::verdict::AnchorHold::Geometric)
                 .count(),
         fs.classes.iter().map(|c| c.slips.len()).sum::<usize>(),
         fs.verdict

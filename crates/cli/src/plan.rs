@@ -180,7 +180,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
         progress.inc(1);
         if jsonl {
             *began = true;
-            crate::output::outln!("{}", PlanStreamLine::Class(c.clone()).to_line());
+            crate::output::outln!("{}", PlanStreamLine::Class(Box::new(c.clone())).to_line());
         } else if !json {
             *began = true;
             print_class(c);

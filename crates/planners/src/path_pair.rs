@@ -118,6 +118,7 @@ pub struct PathPair {
 #[derive(
     Debug, Clone, PartialEq, Serialize, Deserialize, thiserror::Error, schemars::JsonSchema,
 )]
+#[serde(tag = "kind", rename_all = "snake_case")]
 pub enum PairFailure {
     /// A path leaves free space.
     #[error("the {which} path leaves free space: {message}")]

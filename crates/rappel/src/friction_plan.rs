@@ -8,10 +8,9 @@
 use crate::pair::PairReport;
 use crate::ptfo_spec::ResolvedFriction;
 use crate::scenario::Scenario;
+use crate::verdict::AnchorHold;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
-use rappel_mechanics::ptfo::PtfoClass;
-use rappel_planners::frictional::anchor_check::AnchorVerdict;
 use rappel_planners::frictional::feasibility2::SweepCheck;
 use rappel_planners::frictional::holding::HoldingReport;
 use rappel_planners::frictional::search::{
@@ -44,7 +43,7 @@ pub struct FrictionAnchorReport {
     /// Map obstacle index (`null` on the boundary).
     pub obstacle: Option<usize>,
     /// `geometric`, or `solid` / `slides` / `volatile` for a PTFO.
-    pub verdict: String,
+    pub verdict: AnchorHold,
     /// Turning angle, degrees.
     pub turn_deg: f64,
     /// `∫ω ds` with the lowest friction.
@@ -106,15 +105,6 @@ pub struct FrictionReport {
     pub termination: Option<Termination>,
 }
 
-fn verdict_word(v: AnchorVerdict) -> &'static str {
-    match v {
-        AnchorVerdict::Geometric => "geometric",
-        AnchorVerdict::Friction(PtfoClass::Solid) => "solid",
-        AnchorVerdict::Friction(PtfoClass::Slides) => "slides",
-        AnchorVerdict::Friction(PtfoClass::Volatile) => "volatile",
-    }
-}
-
 /// Runs Alg. 7 on the scenario's map (`btm = Btm::from_map(&scenario.map)`).
 pub fn plan_friction(
     scenario: &Scenario,
@@ -148,7 +138,7 @@ pub fn plan_friction(
                 .map(|d| FrictionAnchorReport {
                     point: d.anchor.point,
                     obstacle: d.obstacle,
-                    verdict: verdict_word(d.verdict).to_string(),
+                    verdict: d.verdict.into(),
                     turn_deg: d.anchor.turning_angle.to_degrees(),
                     omega_integral_hold: d.omega_integral_hold,
                     no_contact: d.no_contact.clone(),

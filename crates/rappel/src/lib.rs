@@ -62,6 +62,7 @@ pub mod stability;
 pub mod sticking_profile;
 pub mod tether;
 pub mod track;
+pub mod verdict;
 
 pub use plan::plan;
 

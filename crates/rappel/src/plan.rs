@@ -15,6 +15,7 @@ pub use crate::pair::PairReport;
 use crate::report::deg;
 use crate::scenario::{Scenario, ValidScenario};
 use crate::tether::HSignatureReport;
+use crate::verdict::{AnchorPassability, AscentVerdict, BlockedAnchor, PairFailure};
 use nalgebra::Point2;
 use rappel_geometry::btm::{Btm, BtmError};
 use rappel_geometry::map::ValidMap;
@@ -146,8 +147,9 @@ pub struct AnchorReport {
     pub theta_max_deg: Option<f64>,
     /// `theta_max_{j-1}`, degrees (`None`: tether-free).
     pub previous_theta_max_deg: Option<f64>,
-    /// `passable`, `impassable: ...` or `not reached`.
-    pub passability: String,
+    /// Passed, impassable (and why) or not reached; `Display` gives `passable`,
+    /// `impassable: <why>` or `not reached`.
+    pub passability: AnchorPassability,
     /// Its waypoint on the visibility edge, when passable.
     #[schemars(with = "Option<[f64; 2]>")]
     pub waypoint: Option<Point2<f64>>,
@@ -178,13 +180,13 @@ pub struct ClassReport {
     pub goal_psi_deg: f64,
     /// Ascent feasible (thesis Def. 2.4).
     pub feasible: bool,
-    /// `feasible` or the first impassable anchor and why.
-    pub verdict: String,
+    /// Feasible, or the first impassable anchor and why; `Display` gives the sentence.
+    pub verdict: AscentVerdict,
     /// Waypoints in ascent order.
     #[schemars(with = "Vec<[f64; 2]>")]
     pub waypoints: Vec<Point2<f64>>,
     /// Why a feasible class got no path pair, if it did not.
-    pub pair_failure: Option<String>,
+    pub pair_failure: Option<PairFailure>,
 }
 
 /// What a plan's report says before its classes: the scenario, the model and the planes.
@@ -467,7 +469,11 @@ fn plan_core(
             on_class(&r);
             class_count += 1;
             if first_failure.is_none() {
-                first_failure = Some(r.pair_failure.clone().unwrap_or_else(|| r.verdict.clone()));
+                first_failure = Some(
+                    r.pair_failure
+                        .as_ref()
+                        .map_or_else(|| r.verdict.to_string(), ToString::to_string),
+                );
             }
             if keep != Keep::Nothing {
                 reports.push(r);
@@ -533,11 +539,7 @@ fn class_report(c: &ClassOutcome, areas: bool) -> ClassReport {
                 psi_deg: deg(a.psi),
                 theta_max_deg: degrees(a.limit),
                 previous_theta_max_deg: degrees(a.previous_limit),
-                passability: match a.passability {
-                    Passability::Passable { .. } => "passable".to_string(),
-                    Passability::Impassable(r) => format!("impassable: {}", r.describe()),
-                    Passability::NotReached => "not reached".to_string(),
-                },
+                passability: a.passability.into(),
                 waypoint: match a.passability {
                     Passability::Passable { waypoint, .. } => Some(waypoint),
                     _ => None,
@@ -556,9 +558,22 @@ fn class_report(c: &ClassOutcome, areas: bool) -> ClassReport {
         },
         goal_psi_deg: deg(f.goal_psi),
         feasible: f.feasible(),
-        verdict: f.describe(),
+        verdict: match &f.blockage {
+            None => AscentVerdict::Feasible,
+            Some(b) => AscentVerdict::Blocked {
+                anchor: b.anchor.map(|j| {
+                    let a = &f.anchors[j - 1].anchor;
+                    BlockedAnchor {
+                        index: j,
+                        vertex: a.vertex.index(),
+                        obstacle: a.obstacle.map(|o| o.index()),
+                    }
+                }),
+                reason: b.reason.into(),
+            },
+        },
         waypoints: f.waypoints.clone(),
-        pair_failure: c.pair_failure.as_ref().map(ToString::to_string),
+        pair_failure: c.pair_failure.clone(),
     }
 }
 

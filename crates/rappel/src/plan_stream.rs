@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum PlanStreamLine {
     /// One class, as soon as it is decided.
-    Class(ClassReport),
+    Class(Box<ClassReport>),
     /// The run succeeded: the last line.
     Summary(Box<PlanSummary>),
     /// The run failed (exit code 2): the last line.

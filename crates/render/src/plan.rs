@@ -7,6 +7,7 @@ use nalgebra::Point2;
 use rappel::friction_plan::FrictionReport;
 use rappel::plan::Plan;
 use rappel::scenario::Scenario;
+use rappel::verdict::AnchorHold;
 use rappel_geometry::polygon::Aabb;
 use rappel_mechanics::anchor_traversability::TetherLimit;
 use rappel_terrain::frame::PlanningFrame;
@@ -129,12 +130,17 @@ pub fn draw_friction(pic: &mut Picture, scenario: &Scenario, report: &FrictionRe
             c.anchors
                 .iter()
                 .find(|a| a.obstacle == Some(o))
-                .map(|a| a.verdict.as_str())
-                .or_else(|| c.slips.iter().any(|s| s.obstacle == o).then_some("slides"))
+                .map(|a| a.verdict)
+                .or_else(|| {
+                    c.slips
+                        .iter()
+                        .any(|s| s.obstacle == o)
+                        .then_some(AnchorHold::Slides)
+                })
         });
         let layer = match verdict {
-            Some("solid") => Layer::PtfoSolid,
-            Some("volatile") => Layer::PtfoVolatile,
+            Some(AnchorHold::Solid) => Layer::PtfoSolid,
+            Some(AnchorHold::Volatile) => Layer::PtfoVolatile,
             Some(_) => Layer::PtfoSlides,
             None => Layer::Ptfo,
         };
@@ -152,7 +158,7 @@ pub fn draw_friction(pic: &mut Picture, scenario: &Scenario, report: &FrictionRe
             pic.marker(Layer::Slip, s.vertex);
         }
         for a in &c.anchors {
-            let layer = if a.verdict == "geometric" {
+            let layer = if a.verdict == AnchorHold::Geometric {
                 Layer::Anchor
             } else {
                 Layer::Sticking

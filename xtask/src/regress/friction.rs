@@ -316,7 +316,7 @@ fn slip_paths() -> Result<Vec<Case>, String> {
                     .anchors
                     .iter()
                     .map(|a| {
-                        if a.verdict == "geometric" {
+                        if a.verdict == rappel::verdict::AnchorHold::Geometric {
                             spec.geometric_friction * a.turn_deg.to_radians()
                         } else {
                             mu_lo * a.turn_deg.to_radians()

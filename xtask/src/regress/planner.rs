@@ -10,6 +10,7 @@ use super::case::{Case, workspace_root};
 use rappel::plan::{PlanOptions, PlanReport};
 use rappel::planners::visibility_graph;
 use rappel::scenario::Scenario;
+use rappel::verdict::{AnchorPassability, AscentVerdict, Blocked, BlockedAnchor};
 
 const SUITE: &str = "planner";
 /// Relative tolerance of length comparisons with the oracle and the closed forms.
@@ -250,7 +251,12 @@ fn shortest_infeasible(cases: &mut Vec<Case>) -> Result<(), String> {
         ),
         format!("anchor 1, psi {psi:.9}° >= {cone:.2}°: no visibility edge"),
         !r.classes[0].feasible
-            && a.passability.contains("no visibility edge")
+            && matches!(
+                a.passability,
+                AnchorPassability::Impassable {
+                    reason: Blocked::NoVisibilityEdge { .. }
+                }
+            )
             && (a.psi_deg - psi).abs() < ANGLE_TOLERANCE,
     );
     let worst = psi_deg(st, e1).max(psi_deg(e1, g));
@@ -290,17 +296,23 @@ fn none_feasible(cases: &mut Vec<Case>) -> Result<(), String> {
     verdict_case(
         cases,
         format!("{file}: class 1 (west) verdict"),
-        &c1.verdict,
+        &c1.verdict.to_string(),
         format!("anchor 1 has no visibility edge: psi {west:.2}° >= {cone:.2}°"),
         !c1.feasible
-            && c1.verdict.starts_with("anchor 1 ")
+            && matches!(
+                c1.verdict,
+                AscentVerdict::Blocked {
+                    anchor: Some(BlockedAnchor { index: 1, .. }),
+                    ..
+                }
+            )
             && (c1.anchors[0].psi_deg - west).abs() < ANGLE_TOLERANCE,
     );
     let c2 = r.classes.get(1).ok_or("none-feasible: no second class")?;
     verdict_case(
         cases,
         format!("{file}: class 2 (east) verdict"),
-        &c2.verdict,
+        &c2.verdict.to_string(),
         format!("cannot hold at the goal: psi {east_goal:.2}° >= {cone:.2}°"),
         !c2.feasible && (c2.goal_psi_deg - east_goal).abs() < ANGLE_TOLERANCE,
     );
@@ -351,7 +363,7 @@ fn multi_plane(cases: &mut Vec<Case>) -> Result<(), String> {
             format!("theta_max asin(0.4 cot eta) = {cone:.9}°, psi {psi:.4}°: passable"),
             a.plane == Some(plane)
                 && (theta - cone).abs() < ANGLE_TOLERANCE
-                && a.passability == "passable",
+                && a.passability == AnchorPassability::Passable,
         );
     }
     // Measured from the report: anchor 1's psi and the lower plane's cone as the planner computed
@@ -379,7 +391,7 @@ fn multi_plane(cases: &mut Vec<Case>) -> Result<(), String> {
             && measured_psi > measured_lower
             && measured_psi < upper
             && c1.anchors[0].plane == Some(0)
-            && c1.anchors[0].passability == "passable",
+            && c1.anchors[0].passability == AnchorPassability::Passable,
     ));
     pair_case(file, &r, 1, s.robot.clearance_m, cases);
     Ok(())

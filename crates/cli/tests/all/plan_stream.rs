@@ -49,7 +49,7 @@ fn jsonl_lines_parse_match_the_schema_and_agree_with_json() {
     let report: rappel::plan::PlanReport = read_report(&stdout(&json)).expect("plan report");
     assert_eq!(lines.len(), report.classes.len() + 1);
     for (line, class) in lines.iter().zip(&report.classes) {
-        assert_eq!(line, &PlanStreamLine::Class(class.clone()));
+        assert_eq!(line, &PlanStreamLine::Class(Box::new(class.clone())));
     }
     match lines.last() {
         Some(PlanStreamLine::Summary(s)) => {

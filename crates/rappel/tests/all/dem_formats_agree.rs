@@ -46,7 +46,13 @@ fn mars_asc_and_tif_agree_class_by_class() {
             a.rank, a.verdict, t.verdict
         );
         for (x, y) in a.anchors.iter().zip(&t.anchors) {
-            assert_eq!(x.passability, y.passability, "class {}", a.rank);
+            // The sentence (angles to 0.01°): the two files' cells differ in the last digits.
+            assert_eq!(
+                x.passability.to_string(),
+                y.passability.to_string(),
+                "class {}",
+                a.rank
+            );
         }
         feasible += usize::from(a.feasible);
     }

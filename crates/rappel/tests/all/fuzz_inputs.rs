@@ -306,7 +306,7 @@ fn the_issue_reproducers_give_named_outcomes() {
     assert!(
         r.classes
             .iter()
-            .all(|c| !c.feasible && c.verdict.contains("20.00 m tether")),
+            .all(|c| !c.feasible && c.verdict.to_string().contains("20.00 m tether")),
         "{:?}",
         r.classes.iter().map(|c| &c.verdict).collect::<Vec<_>>()
     );

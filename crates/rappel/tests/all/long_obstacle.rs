@@ -139,7 +139,10 @@ fn a_long_star_plans_as_its_circle_says() {
     assert!((second.goal_psi_deg - goal_psi_left).abs() < step.to_degrees());
     assert!(!second.feasible);
     assert!(
-        second.verdict.contains("cannot hold the robot at the goal"),
+        second
+            .verdict
+            .to_string()
+            .contains("cannot hold the robot at the goal"),
         "{}",
         second.verdict
     );

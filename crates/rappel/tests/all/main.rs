@@ -21,3 +21,4 @@ mod unit_builder;
 mod unit_ptfo_spec;
 mod unit_report;
 mod unit_scenario;
+mod verdicts;
