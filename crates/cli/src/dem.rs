@@ -221,6 +221,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let title = format!("convexity of {}", args.file.display());
         write_file(out, &convexity_picture(&d, args.ptfo_curvature, &title))?;
     }
+    // The DEM path relative to the scenario file, so the two can be read from anywhere.
+    if let Some(g) = &mut d.scenario.georeference {
+        g.dem = rappel::georeference::dem_relative_to(&args.file, &args.out);
+    }
     d.scenario.save(&args.out)?;
     let s = d.summary();
     if args.json {

@@ -205,7 +205,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
             };
             // A scenario made from a DEM is drawn over the DEM's hillshade; a DEM that cannot be
             // read leaves the picture without it, and says so.
-            let ground = match rappel_render::dem::scenario_hillshade(&s) {
+            let ground = match rappel_render::dem::scenario_hillshade(&s, &args.file) {
                 Some(Ok(g)) => Some(g),
                 Some(Err(e)) => {
                     eprintln!(

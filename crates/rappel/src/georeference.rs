@@ -8,6 +8,7 @@
 use nalgebra::Point2;
 use rappel_terrain::frame::PlanningFrame;
 use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 
 /// How far from unit length, or from orthogonal, the frame's axes may be (relative; they are
 /// written by rappel as unit vectors, so only rounding separates them).
@@ -30,7 +31,9 @@ pub const AXIS_TOLERANCE: f64 = 1e-9;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Georeference {
-    /// The DEM file the scenario was made from, as given to `rappel dem`.
+    /// The DEM file the scenario was made from: relative to the scenario file's directory
+    /// (what `rappel dem` writes, [`dem_relative_to`]) or absolute; [`Georeference::dem_path`]
+    /// resolves it.
     pub dem: String,
     /// The DEM's coordinate reference system (`EPSG:n`, a WKT definition, or a user-defined
     /// system's citation); `None` when the file declares none.
@@ -75,8 +78,69 @@ impl Georeference {
         Ok(())
     }
 
+    /// The DEM file of the scenario read from `scenario`: [`Georeference::dem`] when absolute,
+    /// else joined to the scenario file's directory; a relative path that names no file there
+    /// but does from the working directory (a scenario written before the DEM path was made
+    /// relative to its file) is taken from the working directory.
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc");
+    /// # let d = rappel::dem::dem_scenario(path.as_ref(), &Default::default()).unwrap();
+    /// let mut g = d.scenario.georeference.unwrap();
+    /// g.dem = "dems/crater.asc".into();
+    /// assert_eq!(g.dem_path(Path::new("/data/site/s.ron")), Path::new("/data/site/dems/crater.asc"));
+    /// ```
+    pub fn dem_path(&self, scenario: &Path) -> PathBuf {
+        let dem = Path::new(&self.dem);
+        if dem.is_absolute() {
+            return dem.to_path_buf();
+        }
+        let beside = scenario.parent().unwrap_or(Path::new("")).join(dem);
+        if !beside.exists() && dem.exists() {
+            return dem.to_path_buf();
+        }
+        beside
+    }
+
     /// The DEM coordinates `(east, north)` of planning-frame point `p`.
     pub fn to_world(&self, p: &Point2<f64>) -> Point2<f64> {
         self.frame.to_world(p)
     }
+}
+
+/// The path of `dem` as the scenario file `scenario` should record it: relative to the
+/// scenario's directory (`../dems/crater.asc`), so the pair can be moved or read from any
+/// working directory; absolute when either path cannot be resolved (a missing directory) or the
+/// two share no root.
+///
+/// ```
+/// use rappel::georeference::dem_relative_to;
+/// let fixtures = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures");
+/// let dem = format!("{fixtures}/terrain/mars_hirise_dteec_010228_1490_crop.asc");
+/// let scenario = format!("{fixtures}/plan/out.ron");
+/// assert_eq!(dem_relative_to(dem.as_ref(), scenario.as_ref()), "../terrain/mars_hirise_dteec_010228_1490_crop.asc");
+/// ```
+pub fn dem_relative_to(dem: &Path, scenario: &Path) -> String {
+    let dir = match scenario.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let (Ok(dem), Ok(dir)) = (dem.canonicalize(), dir.canonicalize()) else {
+        return std::path::absolute(dem)
+            .unwrap_or_else(|_| dem.to_path_buf())
+            .display()
+            .to_string();
+    };
+    let (a, b): (Vec<_>, Vec<_>) = (dem.components().collect(), dir.components().collect());
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    if common == 0 {
+        return dem.display().to_string();
+    }
+    let mut rel = PathBuf::new();
+    for _ in common..b.len() {
+        rel.push("..");
+    }
+    rel.extend(&a[common..]);
+    rel.display().to_string()
 }

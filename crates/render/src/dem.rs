@@ -64,14 +64,16 @@ pub fn draw_hillshade(pic: &mut Picture, hillshade: &Raster, frame: &PlanningFra
 }
 
 /// The hillshade of the DEM a scenario was made from ([`rappel::georeference::Georeference`]:
-/// the DEM file and the planning frame), for drawing under a plan: `None` when the scenario has
-/// no georeference; an error naming the file when the DEM cannot be read.
+/// the DEM file, resolved against the scenario file `path`, and the planning frame), for drawing
+/// under a plan: `None` when the scenario has no georeference; an error naming the file when the
+/// DEM cannot be read.
 pub fn scenario_hillshade(
     scenario: &rappel::scenario::Scenario,
+    path: &std::path::Path,
 ) -> Option<Result<(Raster, PlanningFrame), String>> {
     let geo = scenario.georeference.as_ref()?;
     Some(
-        rappel_terrain::dem::read_dem(&geo.dem)
+        rappel_terrain::dem::read_dem(&geo.dem_path(path))
             .map_err(|e| format!("the scenario's DEM for the hillshade: {e}"))
             .map(|grid| {
                 let shade = SlopeField::horn(&grid).hillshade(&HillshadeOptions::default());

@@ -174,3 +174,43 @@ fn dem_labels_ptfos_that_the_frictional_planner_then_judges() {
     );
     assert!(stdout(&plan).contains("friction     PTFOs on obstacles"));
 }
+
+/// A scenario made by `rappel dem` records its DEM relative to itself, so a plan's picture run
+/// from another working directory, after both files moved together, still has its hillshade.
+#[test]
+fn a_dem_scenario_finds_its_dem_from_any_working_directory() {
+    let dir = temp_dir("dem-relative");
+    std::fs::create_dir_all(dir.join("site/dems")).expect("dirs");
+    let dem = dir.join("site/dems/mars.asc");
+    std::fs::copy(
+        fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc"),
+        &dem,
+    )
+    .expect("copy");
+    let out = dir.join("site/plans/mars.ron");
+    std::fs::create_dir_all(out.parent().unwrap()).expect("dirs");
+    let o = rappel(&["dem", dem.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).expect("scenario");
+    assert!(text.contains("\"../dems/mars.asc\""), "{text}");
+    // Move the site elsewhere and plan from an unrelated working directory.
+    let moved = dir.join("moved");
+    std::fs::rename(dir.join("site"), &moved).expect("move");
+    let svg = dir.join("plan.svg");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_rappel"))
+        .current_dir(std::env::temp_dir())
+        .args([
+            "plan",
+            moved.join("plans/mars.ron").to_str().unwrap(),
+            "--classes",
+            "1",
+            "--svg",
+            svg.to_str().unwrap(),
+        ])
+        .output()
+        .expect("runs");
+    assert!(o.status.code().is_some_and(|c| c <= 1), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("no hillshade"), "{}", stderr(&o));
+    let picture = std::fs::read_to_string(&svg).expect("svg");
+    assert!(picture.contains("hillshade"), "the plan has no hillshade");
+}
