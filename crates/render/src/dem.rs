@@ -73,7 +73,7 @@ pub fn scenario_hillshade(
 ) -> Option<Result<(Raster, PlanningFrame), String>> {
     let geo = scenario.georeference.as_ref()?;
     Some(
-        rappel_terrain::dem::read_dem(&geo.dem_path(path))
+        rappel_terrain::dem::read_dem(geo.dem_path(path))
             .map_err(|e| format!("the scenario's DEM for the hillshade: {e}"))
             .map(|grid| {
                 let shade = SlopeField::horn(&grid).hillshade(&HillshadeOptions::default());
