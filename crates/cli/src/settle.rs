@@ -108,6 +108,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             pose,
             &Default::default(),
             anchor,
+            &report.stability,
             &title,
         );
         write_file(out, &svg)?;

@@ -114,7 +114,10 @@ pub fn ground_patch(
 /// configuration that holds, labelled in its `data-boom` attribute: **inline** toward the anchor
 /// (`boom inline toward the anchor`) when the inline boom clears the ground, else swept down to
 /// its ground contact (`boom in contact with the ground`), and the tether from the boom's tip to
-/// the anchor.
+/// the anchor. The placement is geometry alone; the title adds the stability QP's verdict of
+/// the drawn configuration from `verdicts` (the settle report's, [`rappel::settle::BoomVerdict`]:
+/// `stable, margin 0.123`, `unstable`, or why it was not checked), so a boom drawn in place is
+/// never read as a stable one.
 ///
 /// ```
 /// use rappel::settle::settle_report;
@@ -138,6 +141,7 @@ pub fn ground_patch(
 ///     &pose,
 ///     &AxelParams::default(),
 ///     Some([-4.0, 0.0, 2.0]),
+///     &[],
 ///     "flat",
 /// );
 /// assert!(svg.contains("<g id=\"wheels\">") && svg.contains("<g id=\"tether\">"));
@@ -147,6 +151,7 @@ pub fn settled_pose_picture(
     pose: &SettledPose,
     params: &AxelParams,
     anchor: Option<[f64; 3]>,
+    verdicts: &[rappel::settle::BoomVerdict],
     title: &str,
 ) -> String {
     use crate::axonometric::Axonometric;
@@ -209,13 +214,23 @@ pub fn settled_pose_picture(
             rappel::settle::SCENE_FRICTION,
             (&anchor, None),
         );
-        let (tip, label) = match (inline, contact) {
+        let (tip, label, boom) = match (inline, contact) {
             (Ok(placed), _) => (
                 placed.tether.map_or(pivot, |t| t.exit),
                 "boom inline toward the anchor",
+                "inline",
             ),
-            (Err(_), Ok((_, c))) => (c.tip, "boom in contact with the ground"),
-            (Err(_), Err(_)) => (pivot, "no boom configuration holds"),
+            (Err(_), Ok((_, c))) => (c.tip, "boom in contact with the ground", "in-contact"),
+            (Err(_), Err(_)) => (pivot, "no boom configuration can be placed", ""),
+        };
+        let qp = match verdicts.iter().find(|v| v.boom == boom) {
+            Some(v) => match (v.stable, &v.error) {
+                (Some(true), _) => format!(", stable (QP margin {:.3})", v.margin),
+                (Some(false), _) => ", unstable (QP)".to_string(),
+                (None, Some(e)) => format!(", not checked: {e}"),
+                (None, None) => String::new(),
+            },
+            None => String::new(),
         };
         view.group("boom");
         view.polyline(
@@ -224,7 +239,7 @@ pub fn settled_pose_picture(
         );
         view.group("tether");
         view.polyline(&[tip, anchor], "stroke=\"#d62728\" stroke-width=\"2\"");
-        return view.render(&format!("{title}: {label}"));
+        return view.render(&format!("{title}: {label}{qp}"));
     }
     view.render(title)
 }

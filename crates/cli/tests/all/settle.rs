@@ -27,6 +27,29 @@ fn settle_draws_the_pose_and_refuses_to_overwrite_its_input() {
     for id in ["ground", "body", "wheels", "boom", "tether"] {
         assert!(svg.contains(&format!("<g id=\"{id}\">")), "{id}");
     }
+    // The title gives the QP's verdict of the boom drawn, as the JSON report has it.
+    let o = rappel(&[
+        "settle", &ledge, "--at", "-1,0", "--yaw", "0", "--anchor", "-3,0,4.5", "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let boom = if svg.contains("data-boom=\"boom inline") {
+        "inline"
+    } else {
+        "in-contact"
+    };
+    let verdict = v["stability"]
+        .as_array()
+        .and_then(|a| a.iter().find(|b| b["boom"] == boom))
+        .expect("the drawn boom's verdict");
+    let said = match verdict["stable"].as_bool() {
+        Some(true) => format!(
+            ", stable (QP margin {:.3})",
+            verdict["margin"].as_f64().unwrap()
+        ),
+        Some(false) => ", unstable (QP)".to_string(),
+        None => ", not checked".to_string(),
+    };
+    assert!(svg.contains(&said), "{said} not in the title");
     check_error(
         &[
             "settle", &ledge, "--at", "-1,0", "--yaw", "0", "--svg", &ledge,

@@ -20,7 +20,7 @@ fn a_settled_pose_is_drawn_with_its_ground_wheels_boom_and_tether() {
     let anchor = [-3.0, 0.0, 4.5];
     let (pose, _) = settle_report(&ground, -1.0, 0.0, 0.0, Some(anchor)).expect("settles");
     let params = AxelParams::default();
-    let svg = settled_pose_picture(&ground, &pose, &params, Some(anchor), "ledge");
+    let svg = settled_pose_picture(&ground, &pose, &params, Some(anchor), &[], "ledge");
 
     // The ground: the clipped pieces of the mesh over the square around the axle centre tile
     // it (the ledge is a height field): their plan areas sum to the square's, every corner lies
@@ -84,7 +84,7 @@ fn a_settled_pose_is_drawn_with_its_ground_wheels_boom_and_tether() {
     assert!(shows([0x1f, 0x77, 0xb4]), "the wheels' blue");
 
     // Without an anchor: no boom, no tether.
-    let bare = settled_pose_picture(&ground, &pose, &params, None, "ledge");
+    let bare = settled_pose_picture(&ground, &pose, &params, None, &[], "ledge");
     assert!(!bare.contains("<g id=\"tether\">") && !bare.contains("<g id=\"boom\">"));
 }
 
@@ -125,7 +125,7 @@ fn the_boom_is_drawn_in_the_configuration_that_holds() {
     let (pose, _) = settle_report(&ground, -2.0, 0.0, 0.0, Some(anchor)).expect("settles");
     let a = Point3::from(anchor);
     assert!(place_boom_inline(&pose, &params, &ground, 0.6, (&a, None)).is_ok());
-    let svg = settled_pose_picture(&ground, &pose, &params, Some(anchor), "top");
+    let svg = settled_pose_picture(&ground, &pose, &params, Some(anchor), &[], "top");
     assert!(svg.contains("boom inline toward the anchor") && !svg.contains("in contact with"));
     let pivot = pose.origin + pose.rotation * Vector3::z() * params.wheel_radius;
     let tip = pivot + (a - pivot).normalize() * params.boom_length;
@@ -136,7 +136,7 @@ fn the_boom_is_drawn_in_the_configuration_that_holds() {
     let (pose, _) = settle_report(&ground, 0.4, 0.0, 0.0, Some(anchor)).expect("settles");
     assert!(place_boom_inline(&pose, &params, &ground, 0.6, (&a, None)).is_err());
     let (_, c) = place_boom_in_contact(&pose, &params, &ground, 0.6, (&a, None)).expect("rests");
-    let svg = settled_pose_picture(&ground, &pose, &params, Some(anchor), "lip");
+    let svg = settled_pose_picture(&ground, &pose, &params, Some(anchor), &[], "lip");
     assert!(svg.contains("boom in contact with the ground") && !svg.contains("inline toward"));
     let pivot = pose.origin + pose.rotation * Vector3::z() * params.wheel_radius;
     let inline_tip = pivot + (a - pivot).normalize() * params.boom_length;
