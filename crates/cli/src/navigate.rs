@@ -14,6 +14,7 @@
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
+use rappel::navigate::StoppedBy;
 use rappel::navigate::{DEFAULT_TIME, PATON_ITERATIONS, RoverProblem, navigate};
 use rappel::planners::sampler::Termination;
 use rappel::settle::load_scene;
@@ -118,8 +119,8 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             .write(&navigate_svg(&problem, &report), "rappel navigate")?;
     }
     crate::stop::say(report.stop_reason);
-    let budget_out = report.stopped_by != "cost_threshold";
-    let stopped = matches!(report.stopped_by.as_str(), "time_limit" | "cancelled");
+    let budget_out = report.stopped_by != StoppedBy::CostThreshold;
+    let stopped = report.stopped_by.by_condition();
     if args.json {
         print_report(&report)?;
     } else {

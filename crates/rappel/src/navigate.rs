@@ -56,7 +56,7 @@ pub struct NavigateReport {
     /// What ended the search: `iterations` or `time` (the sampler's budgets ran out),
     /// `cost_threshold`, or the stop condition of the call: `time_limit` (its time limit) or
     /// `cancelled` (a cancel request).
-    pub stopped_by: String,
+    pub stopped_by: StoppedBy,
     /// Which condition stopped the search, typed: the iteration limit, a time limit (the
     /// sampler's or the stop condition's), a cancel request (`null` for the cost threshold).
     #[serde(default)]
@@ -114,7 +114,7 @@ pub fn navigate(
         first_solution_iteration: first.map(|e| e.iteration),
         first_solution_s: first.map(|e| e.elapsed.as_secs_f64()),
         elapsed_s: began.elapsed().as_secs_f64(),
-        stopped_by: stopped_by(status.stopped_by, status.stop_reason, stop).into(),
+        stopped_by: stopped_by(status.stopped_by, status.stop_reason, stop),
         stop_reason: status.stop_reason,
         poses: Vec::new(),
         distance_source: problem.distance_report(),
@@ -163,15 +163,52 @@ fn stopped_by(
     stop: Option<Stop>,
     reason: Option<StopReason>,
     condition: &StopCondition,
-) -> &'static str {
+) -> StoppedBy {
     match (reason, stop) {
-        (Some(StopReason::Cancelled), _) => "cancelled",
+        (Some(StopReason::Cancelled), _) => StoppedBy::Cancelled,
         (Some(StopReason::TimeLimit { limit }), _) if condition.time_limit() == Some(limit) => {
-            "time_limit"
+            StoppedBy::TimeLimit
         }
-        (_, Some(Stop::Time)) => "time",
-        (_, Some(Stop::CostThreshold)) => "cost_threshold",
-        (_, Some(Stop::Iterations) | None) => "iterations",
+        (_, Some(Stop::Time)) => StoppedBy::Time,
+        (_, Some(Stop::CostThreshold)) => StoppedBy::CostThreshold,
+        (_, Some(Stop::Iterations) | None) => StoppedBy::Iterations,
+    }
+}
+
+/// What ended a navigate search (the report's `stopped_by`, serialised as its snake-case name,
+/// which is also its `Display`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum StoppedBy {
+    /// The sampler's iteration limit ([`Termination::max_iterations`]).
+    Iterations,
+    /// The sampler's own wall-time bound ([`Termination::max_time`]).
+    Time,
+    /// A path at or below the cost threshold was found.
+    CostThreshold,
+    /// The call's stop condition: its time limit.
+    TimeLimit,
+    /// The call's stop condition: a cancel request.
+    Cancelled,
+}
+
+impl StoppedBy {
+    /// Whether the call's stop condition (a time limit or a cancel request) ended the search,
+    /// rather than the sampler's own rules.
+    pub fn by_condition(self) -> bool {
+        matches!(self, StoppedBy::TimeLimit | StoppedBy::Cancelled)
+    }
+}
+
+impl std::fmt::Display for StoppedBy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StoppedBy::Iterations => "iterations",
+            StoppedBy::Time => "time",
+            StoppedBy::CostThreshold => "cost_threshold",
+            StoppedBy::TimeLimit => "time_limit",
+            StoppedBy::Cancelled => "cancelled",
+        })
     }
 }
 

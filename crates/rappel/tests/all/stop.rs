@@ -126,7 +126,7 @@ fn a_cancel_from_another_thread_stops_navigate() {
     let r = navigate(&problem, 0, term, &StopCondition::cancel(flag.clone())).unwrap();
     canceller.join().unwrap();
     assert!(began.elapsed() < Duration::from_secs(120));
-    assert_eq!(r.stopped_by, "cancelled");
+    assert_eq!(r.stopped_by, rappel::navigate::StoppedBy::Cancelled);
     assert_eq!(r.stop_reason, Some(StopReason::Cancelled));
     assert!(r.iterations < 1_000_000_000);
 }
@@ -137,6 +137,6 @@ fn a_time_limit_of_the_condition_is_time_limit_in_navigate() {
     let limit = Duration::from_millis(200);
     let term = Termination::iterations(1_000_000_000).or_time(Duration::from_secs(86_400));
     let r = navigate(&problem, 0, term, &StopCondition::time(limit)).unwrap();
-    assert_eq!(r.stopped_by, "time_limit");
+    assert_eq!(r.stopped_by, rappel::navigate::StoppedBy::TimeLimit);
     assert_eq!(r.stop_reason, Some(StopReason::TimeLimit { limit }));
 }
