@@ -70,6 +70,10 @@ crate::report::report!(QueryReport, "query");
 /// Why a query run could not start.
 #[derive(Debug, thiserror::Error)]
 pub enum QueryError {
+    /// The file was not read: not a regular file, over the input size cap, not text
+    /// ([`rappel_terrain::input`]).
+    #[error(transparent)]
+    Input(#[from] rappel_terrain::input::InputError),
     /// A file could not be read or parsed.
     #[error("{path}: {message}")]
     File {
@@ -137,7 +141,7 @@ pub fn read_map(path: &Path) -> Result<MapFile, QueryError> {
     let contents = match Scenario::read(path) {
         Ok(s) => MapFileContents::Scenario(Box::new(s)),
         Err(scenario_error) => {
-            let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+            let text = rappel_terrain::input::read_text(path)?;
             let map: Map = match path.extension().and_then(|e| e.to_str()) {
                 Some("json") => {
                     serde_json::from_str(&text).map_err(|_| bad(scenario_error.to_string()))?
@@ -159,7 +163,7 @@ pub fn load_pairs(path: &Path) -> Result<Vec<QueryPair>, QueryError> {
         path: path.display().to_string(),
         message,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+    let text = rappel_terrain::input::read_text(path)?;
     let pairs: Vec<QueryPair> = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
     if pairs.len() > MAX_PAIRS {
         return Err(bad(format!(

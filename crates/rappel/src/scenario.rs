@@ -196,6 +196,10 @@ pub(crate) fn readable_message(message: &str) -> String {
 /// Why a scenario could not be loaded or used.
 #[derive(Debug, thiserror::Error)]
 pub enum ScenarioError {
+    /// The file was not read: not a regular file, over the input size cap, not text
+    /// ([`rappel_terrain::input`]).
+    #[error(transparent)]
+    Input(#[from] rappel_terrain::input::InputError),
     /// The file could not be read or written.
     #[error("{}: {source}", path.display())]
     Io {
@@ -394,10 +398,7 @@ impl Scenario {
         let format = Format::of_path(path).ok_or_else(|| ScenarioError::UnknownFormat {
             path: path.to_path_buf(),
         })?;
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = rappel_terrain::input::read_text(path)?;
         let parsed = match format {
             Format::Ron => Scenario::from_ron_str(&text),
             Format::Json => Scenario::from_json_str(&text),

@@ -37,6 +37,16 @@ pub enum SettleFileError {
         /// What went wrong.
         why: String,
     },
+    /// The file was not read: not a regular file, over the input size cap, not text
+    /// ([`rappel_terrain::input`]).
+    #[error(transparent)]
+    Input(#[from] rappel_terrain::input::InputError),
+    /// An elevation model that could not be read.
+    #[error(transparent)]
+    Dem(#[from] rappel_terrain::dem::DemError),
+    /// A mesh file that could not be read.
+    #[error(transparent)]
+    Mesh(#[from] rappel_terrain::mesh_file::MeshFileError),
 }
 
 /// A Paton scene file (`.ron`, unknown fields refused).
@@ -45,7 +55,7 @@ pub fn load_scene(path: &Path) -> Result<PatonScene, SettleFileError> {
         path: path.display().to_string(),
         why,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+    let text = rappel_terrain::input::read_text(path)?;
     ron::from_str(&text).map_err(|e| err(e.to_string()))
 }
 
@@ -62,15 +72,10 @@ pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
     match ext.as_deref() {
         Some("ron") => load_scene(path)?.mesh().map_err(|e| err(e.to_string())),
         Some("asc" | "tif" | "tiff") => {
-            let dem = rappel_terrain::dem::read_dem(path).map_err(|e| err(e.to_string()))?;
+            let dem = rappel_terrain::dem::read_dem(path)?;
             TriMesh::from_height_grid(&dem).map_err(|e| err(e.to_string()))
         }
-        Some("obj" | "ply" | "stl") => {
-            rappel_terrain::mesh_file::read_mesh(path).map_err(|e| SettleFileError::Read {
-                path: path.display().to_string(),
-                why: e.to_string(),
-            })
-        }
+        Some("obj" | "ply" | "stl") => Ok(rappel_terrain::mesh_file::read_mesh(path)?),
         _ => Err(err(
             "unknown ground format: use a Paton scene (.ron), an elevation model (.asc, .tif) or a mesh (.obj, .ply, .stl)"
                 .into(),

@@ -21,6 +21,10 @@ use serde::{Deserialize, Serialize};
 /// Why a path file could not be used.
 #[derive(Debug, thiserror::Error)]
 pub enum PathFileError {
+    /// The file was not read: not a regular file, over the input size cap, not text
+    /// ([`rappel_terrain::input`]).
+    #[error(transparent)]
+    Input(#[from] rappel_terrain::input::InputError),
     /// The file could not be read.
     #[error("{file}: cannot read: {source}")]
     Read {
@@ -64,10 +68,7 @@ pub enum PathFileError {
 /// Reads a path file and checks it against the free space of `btm`.
 pub fn load_path(file: &std::path::Path, btm: &Btm) -> Result<Path, PathFileError> {
     let name = file.display().to_string();
-    let text = std::fs::read_to_string(file).map_err(|source| PathFileError::Read {
-        file: name.clone(),
-        source,
-    })?;
+    let text = rappel_terrain::input::read_text(file)?;
     let points: Vec<Point2<f64>> =
         serde_json::from_str(&text).map_err(|e| PathFileError::Parse {
             file: name.clone(),

@@ -59,6 +59,10 @@ pub struct TrackScenario {
 /// Why a track run failed.
 #[derive(Debug, thiserror::Error)]
 pub enum TrackRunError {
+    /// The file was not read: not a regular file, over the input size cap, not text
+    /// ([`rappel_terrain::input`]).
+    #[error(transparent)]
+    Input(#[from] rappel_terrain::input::InputError),
     /// A file could not be read.
     #[error("{path}: cannot read: {source}")]
     Io {
@@ -97,10 +101,7 @@ pub enum TrackRunError {
 }
 
 fn read(path: &Path) -> Result<String, TrackRunError> {
-    std::fs::read_to_string(path).map_err(|source| TrackRunError::Io {
-        path: path.display().to_string(),
-        source,
-    })
+    Ok(rappel_terrain::input::read_text(path)?)
 }
 
 fn parse<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T, TrackRunError> {

@@ -12,6 +12,10 @@ use crate::grid::{DemLimits, HeightGrid};
 /// Why a DEM file could not be read; every variant names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum DemError {
+    /// The file was not read: not a regular file, over the input size cap, not text
+    /// ([`crate::input`]).
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
     /// The file could not be opened or read.
     #[error("{}: cannot read the file: {source}", path.display())]
     Io {
@@ -72,17 +76,13 @@ const MAX_PRJ_BYTES: u64 = 64 * 1024;
 /// assert_eq!(dem_crs(path.as_ref()).unwrap(), None);
 /// ```
 pub fn dem_crs(path: &Path) -> Result<Option<String>, DemError> {
-    let io = |source| DemError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("tif") | Some("tiff") => {
-            let file = std::fs::File::open(path).map_err(io)?;
+            let (file, _) = crate::input::open_input(path, crate::input::max_input_bytes()?)?;
             crate::geotiff::geotiff_crs(std::io::BufReader::new(file)).map_err(|source| {
                 DemError::GeoTiff {
                     path: path.to_path_buf(),
@@ -92,9 +92,10 @@ pub fn dem_crs(path: &Path) -> Result<Option<String>, DemError> {
         }
         Some("asc") => {
             let prj = path.with_extension("prj");
-            let Ok(file) = std::fs::File::open(&prj) else {
+            if !prj.exists() {
                 return Ok(None);
-            };
+            }
+            let (file, _) = crate::input::open_input(&prj, crate::input::max_input_bytes()?)?;
             let mut text = String::new();
             std::io::Read::read_to_string(&mut std::io::Read::take(file, MAX_PRJ_BYTES), &mut text)
                 .map_err(|source| DemError::Io { path: prj, source })?;
@@ -132,10 +133,7 @@ pub fn read_dem_with(path: impl AsRef<Path>, limits: &DemLimits) -> Result<Heigh
             });
         }
     };
-    let bytes = std::fs::read(path).map_err(|source| DemError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = crate::input::read_input(path, crate::input::max_input_bytes()?)?;
     if is_tiff {
         decode_geotiff_with(std::io::Cursor::new(bytes), limits).map_err(|source| {
             DemError::GeoTiff {

@@ -20,6 +20,7 @@ pub mod frame;
 pub mod geotiff;
 pub mod grid;
 pub mod ingest;
+pub mod input;
 pub mod kumar;
 pub mod least_squares;
 pub mod mesh;

@@ -13,15 +13,15 @@ use std::path::Path;
 
 use nalgebra::Point3;
 
-use crate::mesh::{MeshError, TriMesh};
-
-/// Largest mesh file read, bytes (1 GiB: well over [`crate::mesh::MAX_TRIANGLES`] binary STL
-/// triangles of 50 bytes); a larger file is refused before reading.
-pub const MAX_MESH_FILE_BYTES: u64 = 1 << 30;
+use crate::mesh::{MAX_TRIANGLES, MeshError, TriMesh};
 
 /// Why a mesh file could not be turned into a mesh.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshFileError {
+    /// The file was not read: not a regular file, or over the input size cap
+    /// ([`crate::input`]; the message names the file).
+    #[error("{0}")]
+    Input(String),
     /// The file cannot be opened or read, or is too large.
     #[error("{path}: {why}")]
     Read {
@@ -88,18 +88,134 @@ fn open(path: &Path) -> Result<std::fs::File, MeshFileError> {
         path: path.display().to_string(),
         why,
     };
-    let f = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
-    let len = f.metadata().map_err(|e| err(e.to_string()))?.len();
-    if len > MAX_MESH_FILE_BYTES {
-        return Err(err(format!(
-            "{len} bytes exceeds the mesh file limit of {MAX_MESH_FILE_BYTES}"
+    let cap = crate::input::max_input_bytes().map_err(|e| err(e.to_string()))?;
+    crate::input::open_input(path, cap)
+        .map(|(f, _)| f)
+        .map_err(|e| MeshFileError::Input(e.to_string()))
+}
+
+/// Refuses a file whose triangle count, known before the mesh is built, is over
+/// [`MAX_TRIANGLES`]: checked from the header (STL, PLY) or a streaming count (OBJ) before the
+/// reader allocates for the data.
+fn check_count(path: &Path, format: &'static str, triangles: u64) -> Result<(), MeshFileError> {
+    if triangles > MAX_TRIANGLES as u64 {
+        return Err(MeshFileError::Parse {
+            path: path.display().to_string(),
+            format,
+            why: format!(
+                "{triangles} triangles, more than the {MAX_TRIANGLES} a mesh may have; decimate or crop it"
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// The triangles an OBJ file's faces make (a face of `n` vertices gives `n - 2`), counted by
+/// streaming its lines (memory: one line).
+fn obj_triangles(path: &Path) -> Result<u64, MeshFileError> {
+    use std::io::BufRead;
+    let mut r = BufReader::new(open(path)?);
+    let (mut line, mut count) = (String::new(), 0u64);
+    loop {
+        line.clear();
+        let n = r.read_line(&mut line).map_err(|e| MeshFileError::Read {
+            path: path.display().to_string(),
+            why: e.to_string(),
+        })?;
+        if n == 0 {
+            return Ok(count);
+        }
+        let mut words = line.split_whitespace();
+        if words.next() == Some("f") {
+            count = count.saturating_add((words.count() as u64).saturating_sub(2));
+        }
+    }
+}
+
+/// A binary STL's triangle count from its header, checked against the file's size (84 bytes of
+/// header and count, 50 bytes a triangle); `None` for an ASCII STL (it begins with `solid` and
+/// its size is not the binary size of its count).
+fn binary_stl_count(path: &Path) -> Result<Option<u64>, MeshFileError> {
+    use std::io::Read;
+    let mut f = open(path)?;
+    let len = f
+        .metadata()
+        .map_err(|e| MeshFileError::Read {
+            path: path.display().to_string(),
+            why: e.to_string(),
+        })?
+        .len();
+    let mut head = [0u8; 84];
+    let parse = |why: String| MeshFileError::Parse {
+        path: path.display().to_string(),
+        format: "STL",
+        why,
+    };
+    if len < 84 {
+        let mut start = Vec::new();
+        let _ = f.read_to_end(&mut start);
+        return if start.trim_ascii_start().starts_with(b"solid") {
+            Ok(None)
+        } else {
+            Err(parse(format!(
+                "{len} bytes: too short for a binary STL (84 bytes of header and count)"
+            )))
+        };
+    }
+    f.read_exact(&mut head).map_err(|e| parse(e.to_string()))?;
+    let count = u64::from(u32::from_le_bytes([head[80], head[81], head[82], head[83]]));
+    let expected = 84 + 50 * count;
+    if head.trim_ascii_start().starts_with(b"solid") && expected != len {
+        return Ok(None);
+    }
+    if expected != len {
+        return Err(parse(format!(
+            "the header says {count} triangles ({expected} bytes), but the file has {len} bytes (room for {} triangles)",
+            (len - 84) / 50
         )));
     }
-    Ok(f)
+    Ok(Some(count))
 }
+
+/// The `face` count a PLY header declares (its lines up to `end_header`, at most
+/// [`MAX_PLY_HEADER_BYTES`]); `None` when it declares none (the reader then refuses the file).
+fn ply_faces(path: &Path) -> Result<Option<u64>, MeshFileError> {
+    use std::io::{BufRead, Read};
+    let mut r = BufReader::new(open(path)?);
+    let (mut line, mut read) = (String::new(), 0usize);
+    let mut faces = None;
+    while read < MAX_PLY_HEADER_BYTES {
+        line.clear();
+        let mut bytes = Vec::new();
+        let n = r
+            .by_ref()
+            .take(MAX_PLY_HEADER_BYTES as u64)
+            .read_until(b'\n', &mut bytes)
+            .map_err(|e| MeshFileError::Read {
+                path: path.display().to_string(),
+                why: e.to_string(),
+            })?;
+        if n == 0 {
+            break;
+        }
+        read += n;
+        line.push_str(&String::from_utf8_lossy(&bytes));
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["end_header"] => break,
+            ["element", "face", n] => faces = n.parse::<u64>().ok(),
+            _ => {}
+        }
+    }
+    Ok(faces)
+}
+
+/// Most bytes of a PLY header read for its counts.
+pub const MAX_PLY_HEADER_BYTES: usize = 1 << 16;
 
 /// A Wavefront OBJ file: every object's faces (triangulated) in one mesh.
 pub fn read_obj(path: &Path) -> Result<TriMesh, MeshFileError> {
+    check_count(path, "OBJ", obj_triangles(path)?)?;
     let mut r = BufReader::new(open(path)?);
     let opts = tobj::LoadOptions {
         triangulate: true,
@@ -129,6 +245,9 @@ pub fn read_obj(path: &Path) -> Result<TriMesh, MeshFileError> {
 
 /// An STL file (ASCII or binary).
 pub fn read_stl(path: &Path) -> Result<TriMesh, MeshFileError> {
+    if let Some(count) = binary_stl_count(path)? {
+        check_count(path, "STL", count)?;
+    }
     let mut r = BufReader::new(open(path)?);
     let m = stl_io::read_stl(&mut r).map_err(|e| MeshFileError::Parse {
         path: path.display().to_string(),
@@ -156,6 +275,9 @@ pub fn read_ply(path: &Path) -> Result<TriMesh, MeshFileError> {
         format: "PLY",
         why,
     };
+    if let Some(faces) = ply_faces(path)? {
+        check_count(path, "PLY", faces)?;
+    }
     let mut f = open(path)?;
     let ply = Parser::<DefaultElement>::new()
         .read_ply(&mut f)

@@ -144,10 +144,43 @@ fn bad_mesh_files_are_typed_errors_naming_the_file() {
         read_mesh(&temp("x.off", b"OFF\n")),
         Err(MeshFileError::Format { .. })
     ));
-    assert!(matches!(
-        read_mesh(std::path::Path::new("/nonexistent/ground.obj")),
-        Err(MeshFileError::Read { .. })
-    ));
+    let missing = read_mesh(std::path::Path::new("/nonexistent/ground.obj")).unwrap_err();
+    assert!(matches!(missing, MeshFileError::Input(_)));
+    assert!(
+        missing.to_string().contains("/nonexistent/ground.obj"),
+        "{missing}"
+    );
+}
+
+/// Counts a file declares are checked before its data is read (issue 30): a binary STL whose
+/// header disagrees with its size either way is refused naming both numbers, and a PLY header
+/// declaring more faces than a mesh may have is refused before the parser allocates for them.
+#[test]
+fn declared_counts_are_checked_before_the_data() {
+    // One triangle's worth of data (134 bytes) under headers saying 3 and 0 triangles.
+    let stl = |count: u32, triangles: usize| {
+        let mut b = vec![0u8; 80];
+        b.extend(count.to_le_bytes());
+        b.extend(std::iter::repeat_n(0u8, 50 * triangles));
+        b
+    };
+    for (count, triangles) in [(3, 1), (0, 1), (1, 2)] {
+        let e = read_stl(&temp("count.stl", &stl(count, triangles))).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains(&format!("the header says {count} triangles"))
+                && text.contains(&format!("{} bytes", 84 + 50 * triangles)),
+            "{text}"
+        );
+    }
+    let huge = "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\nelement face 9000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    let e = read_ply(&temp("huge.ply", huge.as_bytes())).unwrap_err();
+    assert!(
+        matches!(e, MeshFileError::Parse { format: "PLY", .. })
+            && e.to_string()
+                .contains("9000000 triangles, more than the 4000000"),
+        "{e}"
+    );
 }
 
 /// The OBJ test's ground as an ASCII PLY: the square as one quad (fanned by the reader) and the

@@ -349,7 +349,9 @@ fn read_dem_dispatches_on_extension() {
     assert!(err.to_string().contains("c.asc"), "{err}");
     assert!(matches!(
         read_dem(dir.join("missing.asc")),
-        Err(DemError::Io { .. })
+        Err(DemError::Input(
+            rappel_terrain::input::InputError::Io { .. }
+        ))
     ));
     assert!(matches!(
         read_dem(dir.join("a.png")),
