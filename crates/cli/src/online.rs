@@ -32,10 +32,12 @@ pub struct Args {
     /// Differences within this distance of the robot are sensed, m (larger than the step).
     #[arg(long, value_name = "R", default_value_t = DEFAULT_SENSOR_RANGE)]
     sensor_range: f64,
-    /// Distance moved between two sensings, m.
+    /// Distance moved between two sensings, m; at least 1e-5 of the prior map's diagonal
+    /// (crossing the map then takes at most 100,000 steps).
     #[arg(long, value_name = "S", default_value_t = DEFAULT_STEP)]
     step: f64,
-    /// The step budget.
+    /// The step budget, from 1 to 1,000,000 (each step senses the true map within the range
+    /// and adds a point to the walked path).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
     max_steps: usize,
     /// Classes each (re)planning search examines beyond the rejected ones.

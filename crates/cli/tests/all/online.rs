@@ -75,3 +75,38 @@ fn bad_options_and_mismatched_scenarios_are_exit_2() {
         stderr(&o)
     );
 }
+
+/// The run is bounded from the map's size (issue 30): a step below 1e-5 of the prior map's
+/// diagonal and a step budget over 1,000,000 are refused up front, naming the option and the
+/// bound; at the floor the run is accepted.
+#[test]
+fn tiny_steps_and_huge_budgets_are_refused_up_front() {
+    let prior = fixture("online-example.ron");
+    let truth = fixture("online-example-discovered.ron");
+    let started = std::time::Instant::now();
+    check_error(
+        &["online", &prior, "--truth", &truth, "--step", "1e-9"],
+        "is below the floor of",
+    );
+    check_error(
+        &[
+            "online",
+            &prior,
+            "--truth",
+            &truth,
+            "--max-steps",
+            "1000001",
+        ],
+        "max_steps 1000001 must be from 1 to 1000000",
+    );
+    assert!(started.elapsed() < std::time::Duration::from_secs(10));
+    let o = rappel(&[
+        "online",
+        &prior,
+        "--truth",
+        &truth,
+        "--max-steps",
+        "1000000",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}

@@ -61,6 +61,12 @@ pub const DEFAULT_SENSOR_RANGE: f64 = 5.0;
 pub const DEFAULT_STEP: f64 = 1.0;
 /// Default step budget.
 pub const DEFAULT_MAX_STEPS: usize = 10_000;
+/// The largest step budget a run accepts (a bound on time and on the trace's memory: each step
+/// costs at least one point of the walked path, 16 bytes, and a sensing pass).
+pub const MAX_STEPS: usize = 1_000_000;
+/// The smallest step, as a fraction of the prior map's diagonal: crossing the map takes at most
+/// `1 / MIN_STEP_FRACTION` = 100,000 steps, so a run within [`MAX_STEPS`] can cross it ten times.
+pub const MIN_STEP_FRACTION: f64 = 1e-5;
 
 /// Settings of a simulated descent.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -101,10 +107,27 @@ impl SimulationOptions {
                 self.sensor_range, self.step
             )));
         }
-        if self.max_steps == 0 {
-            return Err(OnlineError::Option("max_steps must be at least 1".into()));
+        if !(1..=MAX_STEPS).contains(&self.max_steps) {
+            return Err(OnlineError::Option(format!(
+                "max_steps {} must be from 1 to {MAX_STEPS}",
+                self.max_steps
+            )));
         }
         self.session.validate()
+    }
+
+    /// [`SimulationOptions::validate`], and a step of at least [`MIN_STEP_FRACTION`] of the
+    /// map's diagonal `diagonal` (m).
+    pub fn validate_for(&self, diagonal: f64) -> Result<(), OnlineError> {
+        self.validate()?;
+        let floor = diagonal * MIN_STEP_FRACTION;
+        if self.step < floor {
+            return Err(OnlineError::Option(format!(
+                "step {} m is below the floor of {floor:.3e} m ({MIN_STEP_FRACTION:e} of the map's {diagonal:.1} m diagonal)",
+                self.step
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -475,7 +498,10 @@ pub fn simulate_frictional(
         difference: None,
         source: Box::new(source),
     };
-    options.validate().map_err(at_start)?;
+    let b = prior.aabb();
+    options
+        .validate_for((b.max - b.min).norm())
+        .map_err(at_start)?;
     truth
         .validate()
         .map_err(|e| at_start(OnlineError::Map(e)))?;
