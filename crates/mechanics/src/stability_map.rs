@@ -29,9 +29,10 @@ pub enum MapError {
     /// The grid step or a plane rectangle is invalid; the message says which.
     #[error("invalid stability grid: {0}")]
     Grid(&'static str),
-    /// The grid would have more than [`MAX_POSES`] poses; use a larger step.
-    #[error("the grid has {0} poses, more than the limit {MAX_POSES}; use a larger step")]
-    TooManyPoses(usize),
+    /// The grid would have more poses than the limit enforced (at most [`MAX_POSES`]); use a
+    /// larger step. The count is at least `.0` (counting stops past the limit).
+    #[error("the grid has {0} poses or more, more than the limit {1}; use a larger step")]
+    TooManyPoses(usize, usize),
 }
 
 /// A plane to cover: its slope and friction, and the rectangle `[x0, x1] × [y0, y1]` of its plane
@@ -146,31 +147,45 @@ impl PoseVerdict {
     }
 }
 
-fn axis(range: [f64; 2], step: f64) -> Result<Vec<f64>, MapError> {
+fn axis(range: [f64; 2], step: f64, limit: usize) -> Result<Vec<f64>, MapError> {
     if !(range[0].is_finite() && range[1].is_finite() && range[0] <= range[1]) {
         return Err(MapError::Grid("plane ranges must be finite with lo <= hi"));
     }
     let steps = ((range[1] - range[0]) / step + GRID_EDGE_TOLERANCE).floor();
-    if steps >= MAX_POSES as f64 {
-        return Err(MapError::TooManyPoses(MAX_POSES.saturating_add(1)));
+    if steps >= limit as f64 {
+        return Err(MapError::TooManyPoses(limit.saturating_add(1), limit));
     }
     Ok((0..=steps as usize)
         .map(|k| range[0] + k as f64 * step)
         .collect())
 }
 
-/// The grid positions of every plane, in grid order.
+/// The grid positions of every plane, in grid order, at most [`MAX_POSES`].
 pub fn grid_positions(
     planes: &[MapPlane],
     grid: &GridSpec,
 ) -> Result<Vec<(usize, Point2<f64>)>, MapError> {
+    grid_positions_within(planes, grid, MAX_POSES)
+}
+
+/// [`grid_positions`] with at most `limit` poses (itself at most [`MAX_POSES`]): the count is
+/// checked, plane by plane, before any position is stored, and the error names `limit`.
+pub fn grid_positions_within(
+    planes: &[MapPlane],
+    grid: &GridSpec,
+    limit: usize,
+) -> Result<Vec<(usize, Point2<f64>)>, MapError> {
+    let limit = limit.min(MAX_POSES);
     let mut total = 0usize;
     let mut axes = Vec::with_capacity(planes.len());
     for p in planes {
-        let (xs, ys) = (axis(p.x_range, grid.step)?, axis(p.y_range, grid.step)?);
+        let (xs, ys) = (
+            axis(p.x_range, grid.step, limit)?,
+            axis(p.y_range, grid.step, limit)?,
+        );
         total = total.saturating_add(xs.len().saturating_mul(ys.len()));
-        if total > MAX_POSES {
-            return Err(MapError::TooManyPoses(total));
+        if total > limit {
+            return Err(MapError::TooManyPoses(total, limit));
         }
         axes.push((xs, ys));
     }
@@ -311,7 +326,7 @@ mod tests {
         };
         assert!(matches!(
             grid_positions(&[big], &tiny),
-            Err(MapError::TooManyPoses(_))
+            Err(MapError::TooManyPoses(_, MAX_POSES))
         ));
         let bad = MapPlane {
             x_range: [1.0, 0.0],

@@ -27,7 +27,7 @@ use crate::scenario::ValidScenario;
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
 use rappel_mechanics::stability_map::{
-    GridSpec, Heading, PoseOutcome, grid_positions, stability_map_until,
+    GridSpec, Heading, PoseOutcome, grid_positions_within, stability_map_until,
 };
 use rappel_mechanics::stability_qp::StabilityQp;
 use rappel_mechanics::tension_lp::TensionLimitedLp;
@@ -208,13 +208,8 @@ pub fn stability_observed(
         .z;
     let btm = Btm::build(valid.map()).map_err(|e| StabilityError::Setting(e.to_string()))?;
     let grid = GridSpec::new(options.grid_step, Heading::AwayFromAnchor)?;
-    let positions = grid_positions(&planes, &grid)?;
-    let poses = positions.len();
-    if poses > MAX_SCENARIO_POSES {
-        return Err(StabilityError::Setting(format!(
-            "the grid has {poses} poses, more than the limit {MAX_SCENARIO_POSES} of a scenario's stability map; use a larger grid step"
-        )));
-    }
+    // The count is checked against the scenario's limit before any position is stored.
+    let positions = grid_positions_within(&planes, &grid, MAX_SCENARIO_POSES)?;
     // Free space strictly (not on a ring), located in the BTM; the tether of each free pose is
     // looked up once (poses inside obstacles are not).
     let free = |p: &Point2<f64>| is_strictly_free(&btm, p);

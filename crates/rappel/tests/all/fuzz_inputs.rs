@@ -357,4 +357,16 @@ fn stability_maps_name_their_robot_honour_the_tether_and_cap_their_poses() {
         .expect_err("capped")
         .to_string();
     assert!(e.contains(&MAX_SCENARIO_POSES.to_string()), "{e}");
+    // Far over the mechanics' own cap too: the message still names the limit enforced here.
+    let finest = StabilityOptions {
+        grid_step: 0.0005,
+        ..fine
+    };
+    let e = stability_over_scenario(s.validate().expect("valid scenario"), &finest)
+        .expect_err("capped")
+        .to_string();
+    assert!(
+        e.contains(&format!("the limit {MAX_SCENARIO_POSES}")) && !e.contains("10000000"),
+        "{e}"
+    );
 }
