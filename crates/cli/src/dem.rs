@@ -24,21 +24,21 @@ pub struct Args {
     #[arg(long)]
     out: PathBuf,
     /// H_min: smallest height difference that makes an obstacle, m.
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     hmin: Option<f64>,
     /// H_max: largest height difference between two cells of one obstacle, m.
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     hmax: Option<f64>,
     /// theta_max: slope above which two cells belong to one obstacle, degrees.
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     theta_max: Option<f64>,
     /// Wheel-terrain friction mu used to classify planes.
-    #[arg(long, value_name = "MU")]
+    #[arg(long, value_name = "MU", allow_negative_numbers = true)]
     friction: Option<f64>,
     /// Work cap: refuse grids of more cells than this before reading their heights (default
     /// 16,777,216 = 2^24; at most 134,217,728 = 2^27). Ingestion takes about half a second and
     /// 55 MB per million cells.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     max_cells: Option<usize>,
     /// Label convex patches as potential tether friction obstacles (thesis §3.4) with this
     /// tether-terrain friction: one coefficient, or a range `LO,HI`. Off when not given.
@@ -46,10 +46,15 @@ pub struct Args {
     ptfo_friction: Option<String>,
     /// Flatness tolerance of the convexity test (PTFOs and --convexity-svg), 1/m (default 0.1
     /// over the cell size: a radius under ten cells).
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
     ptfo_curvature: Option<f64>,
     /// Fewest cells of a PTFO patch (default 4).
-    #[arg(long, value_name = "N", requires = "ptfo_friction")]
+    #[arg(
+        long,
+        value_name = "N",
+        requires = "ptfo_friction",
+        allow_negative_numbers = true
+    )]
     ptfo_min_cells: Option<usize>,
     /// Also label saddle cells convex along the fall line as PTFO cells (docs/friction.md).
     #[arg(long, requires = "ptfo_friction")]

@@ -9,13 +9,13 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct Args {
     /// Number of obstacles.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     obstacles: usize,
     /// Random seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     seed: u64,
     /// Strip width across the slope, metres.
-    #[arg(long, default_value_t = 200.0)]
+    #[arg(long, default_value_t = 200.0, allow_negative_numbers = true)]
     width: f64,
     /// Output scenario (.ron or .json).
     #[arg(long)]

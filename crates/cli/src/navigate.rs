@@ -28,18 +28,23 @@ pub struct Args {
     /// The scene: a Paton scene (.ron, fixtures/paton/).
     file: PathBuf,
     /// The planner's seed (same seed, same iterations: same path).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     seed: u64,
     /// The root anchor of the scene's test N: 1 behind the start, 2 in front (the pole scene's
     /// test 3 uses anchor 2).
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 1,
+        allow_negative_numbers = true
+    )]
     test: usize,
     /// Iteration budget (one iteration processes one edge; Paton ran 750).
-    #[arg(long, default_value_t = PATON_ITERATIONS)]
+    #[arg(long, default_value_t = PATON_ITERATIONS, allow_negative_numbers = true)]
     iterations: u64,
     /// The sampler's wall-time budget, seconds (default 120): a run it ends is `stopped by
     /// time`.
-    #[arg(long, value_name = "T")]
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
     time: Option<f64>,
     /// The command's time limit (as every long command's; Ctrl-C stops it too): a run it ends
     /// is `stopped by time_limit`. With `--time` the tighter holds.

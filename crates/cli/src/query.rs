@@ -22,10 +22,20 @@ pub struct Args {
     #[arg(long, value_name = "PAIRS.json")]
     pairs: PathBuf,
     /// Homotopy classes per pair, shortest first (1 ..= 100).
-    #[arg(long, value_name = "K", default_value_t = 1)]
+    #[arg(
+        long,
+        value_name = "K",
+        default_value_t = 1,
+        allow_negative_numbers = true
+    )]
     classes: usize,
     /// Run each query this many times and report the median time (1 ..= 1000).
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 1,
+        allow_negative_numbers = true
+    )]
     repeat: usize,
     /// Print the answers as JSON.
     #[arg(long)]

@@ -36,7 +36,7 @@ pub struct Args {
     #[arg(long, value_name = "MIN,MAX", allow_hyphen_values = true)]
     y: Option<String>,
     /// Grid spacing, metres.
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
     step: f64,
     /// Heading of every pose: degrees counter-clockwise from +x (default: down a scene's slope).
     #[arg(
@@ -58,7 +58,7 @@ pub struct Args {
     )]
     root: Option<String>,
     /// The root anchor of a scene's test N (1: behind the start, 2: in front).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     test: Option<usize>,
     /// The robot: `axel` (both boom configurations, the boom pivot as the tether end of anchor
     /// prediction) or `four-wheel` (the rigid rover, its tether exit on the body as the tether

@@ -19,10 +19,15 @@ pub struct Args {
     /// The scenario file (.ron or .json).
     file: PathBuf,
     /// Largest tether tension, N (uses Kumar's tension-limited LP; default: Paton's QP).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     tension_limit: Option<f64>,
     /// Grid step, m.
-    #[arg(long, value_name = "STEP", default_value_t = 1.0)]
+    #[arg(
+        long,
+        value_name = "STEP",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
     grid: f64,
     /// The time limit of the map (Ctrl-C stops it too): a partial map is reported.
     #[command(flatten)]

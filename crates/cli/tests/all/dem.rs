@@ -214,3 +214,29 @@ fn a_dem_scenario_finds_its_dem_from_any_working_directory() {
     let picture = std::fs::read_to_string(&svg).expect("svg");
     assert!(picture.contains("hillshade"), "the plan has no hillshade");
 }
+
+/// Negative numbers reach the option that takes them (issue 30): `--hmin -1` is refused by the
+/// obstacle detector naming H_min, and `--seed -1` by the parser naming `--seed`, not as an
+/// unknown argument.
+#[test]
+fn negative_option_values_are_judged_by_their_option() {
+    let out = temp_dir("dem-negative").join("x.ron");
+    let dem = fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc");
+    check_error(
+        &["dem", &dem, "--out", out.to_str().unwrap(), "--hmin", "-1"],
+        "H_min = -1 must be positive",
+    );
+    check_error(
+        &[
+            "gen-map",
+            "--obstacles",
+            "10",
+            "--seed",
+            "-1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        "invalid value '-1' for '--seed",
+    );
+    assert!(!out.exists());
+}
