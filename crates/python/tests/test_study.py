@@ -38,7 +38,7 @@ def test_serial_rows(serial_rows):
     assert rows[3]["feasible"] == direct.feasible and rows[3]["mu"] == 0.6
     # Friction changes the plans: the sweep is not the same job six times.
     assert rows[0]["report"] != rows[1]["report"]
-    assert rows[10]["seed"] == 3 and rows[10]["report"]["seed"] == 3
+    assert rows[9]["seed"] == 3 and rows[9]["report"]["seed"] == 3
 
 
 def test_processes_equal_serial(serial_rows):

@@ -8,6 +8,7 @@ lengths as floats, verdicts as strings.
 
 from __future__ import annotations
 
+import functools
 import json
 from typing import Any, Dict, List, Optional
 
@@ -29,9 +30,18 @@ class Report:
 
     def __init__(self, text: str) -> None:
         self._json = text
-        self._data: Dict[str, Any] = json.loads(text)
-        if self.kind and self._data.get("report") != self.kind:
-            raise ValueError(f"not a {self.kind} report: {self._data.get('report')!r}")
+        self._parsed: Optional[Dict[str, Any]] = None
+
+    @property
+    def _data(self) -> Dict[str, Any]:
+        # Parsed on first use: a plan of a thousand classes on a large map is tens of megabytes
+        # of JSON, and a caller who only wanted `to_json()` should not wait for it.
+        if self._parsed is None:
+            d = json.loads(self._json)
+            if self.kind and d.get("report") != self.kind:
+                raise ValueError(f"not a {self.kind} report: {d.get('report')!r}")
+            self._parsed = d
+        return self._parsed
 
     def to_json(self) -> str:
         """The report as the CLI's ``--json`` prints it (pretty JSON in its envelope)."""
@@ -131,17 +141,46 @@ class PlanReport(Report):
 
     kind = "plan"
 
-    def __init__(self, text: str) -> None:
-        super().__init__(text)
-        d = self._data
-        self.scenario: str = d["scenario"]
-        self.classes: List[ClassReport] = [ClassReport(c) for c in d["classes"]]
-        self.chosen: Optional[PairReport] = None if d["chosen"] is None else PairReport(d["chosen"])
-        self.verdict: str = d["verdict"]
-        self.termination: Any = d["termination"]
-        self.stop_reason: Optional[Dict[str, Any]] = d.get("stop_reason")
-        self.warnings: List[str] = d["warnings"]
-        self.friction: Optional[Dict[str, Any]] = d.get("friction")
+    @property
+    def scenario(self) -> str:
+        """The scenario's name."""
+        return self._data["scenario"]
+
+    @functools.cached_property
+    def classes(self) -> List[ClassReport]:
+        """The homotopy classes, shortest first."""
+        return [ClassReport(c) for c in self._data["classes"]]
+
+    @functools.cached_property
+    def chosen(self) -> Optional[PairReport]:
+        """The chosen ascent/descent pair, or None."""
+        c = self._data["chosen"]
+        return None if c is None else PairReport(c)
+
+    @property
+    def verdict(self) -> str:
+        """One line: which class was chosen, or why none was."""
+        return self._data["verdict"]
+
+    @property
+    def termination(self) -> Any:
+        """Why the search ended (``class_count``, ``exhausted``, ``time_limit``...)."""
+        return self._data["termination"]
+
+    @property
+    def stop_reason(self) -> Optional[Dict[str, Any]]:
+        """The condition that stopped the search (budget, time limit, cancel), or None."""
+        return self._data.get("stop_reason")
+
+    @property
+    def warnings(self) -> List[str]:
+        """Warnings (concave plane edges, approximated robot models)."""
+        return self._data["warnings"]
+
+    @property
+    def friction(self) -> Optional[Dict[str, Any]]:
+        """The frictional plan, when the scenario has PTFOs."""
+        return self._data.get("friction")
 
     @property
     def feasible(self) -> bool:
@@ -159,10 +198,10 @@ class PlanReport(Report):
     @property
     def lengths_m(self) -> np.ndarray:
         """Every class's SHP length, shortest first."""
-        return np.asarray([c.length_m for c in self.classes], dtype=np.float64)
+        return np.asarray([c["length_m"] for c in self._data["classes"]], dtype=np.float64)
 
     def __repr__(self) -> str:
-        return f"PlanReport({self.scenario!r}, {len(self.classes)} classes, feasible={self.feasible})"
+        return f"PlanReport({self.scenario!r}, {len(self._data['classes'])} classes, feasible={self.feasible})"
 
 
 class QueryReport(Report):
