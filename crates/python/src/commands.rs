@@ -233,17 +233,23 @@ fn check_out(out: Option<&Path>, input: Option<&Path>) -> PyResult<()> {
     Ok(())
 }
 
-/// The end of `rappel dem`: the ingested scenario validated, saved to `out` if given, and the
-/// report (its `scenario` field is `out`, or empty when not saved) with the scenario.
+/// The end of `rappel dem`: the ingested scenario validated, saved to `out` if given (naming
+/// the DEM `file`, if any, relative to it), and the report (its `scenario` field is `out`, or
+/// empty when not saved) with the scenario.
 fn dem_finish(
-    d: rappel::dem::DemScenario,
+    mut d: rappel::dem::DemScenario,
     source: &str,
+    file: Option<&Path>,
     out: Option<PathBuf>,
 ) -> PyResult<(String, PyScenario)> {
     d.scenario.validate().map_err(|e| {
         errors::planning(format!("{source}: the ingested scenario is invalid: {e}"))
     })?;
     if let Some(out) = &out {
+        // As `rappel dem`: the DEM file named relative to the scenario file.
+        if let (Some(file), Some(g)) = (file, &mut d.scenario.georeference) {
+            g.dem = rappel::georeference::dem_relative_to(file, out);
+        }
         d.scenario.save(out).map_err(errors::scenario)?;
     }
     let report = d
@@ -285,7 +291,7 @@ fn dem_file(
     detached(py, &own, move || {
         let d =
             rappel::dem::dem_scenario_with(&path, &options, &limits).map_err(errors::planning)?;
-        dem_finish(d, &path.display().to_string(), out)
+        dem_finish(d, &path.display().to_string(), Some(&path), out)
     })
 }
 
@@ -332,6 +338,6 @@ fn dem_grid(
     detached(py, &own, move || {
         let d = rappel::dem::dem_scenario_of_grid(grid, &name, &name, crs, &options)
             .map_err(errors::planning)?;
-        dem_finish(d, &name, out)
+        dem_finish(d, &name, None, out)
     })
 }

@@ -62,6 +62,7 @@ def test_frame(serial_rows):
 
 def test_ray_equals_serial(serial_rows):
     ray = pytest.importorskip("ray")
+    assert hasattr(ray, "remote"), f"`import ray` found {ray.__path__}, not Ray (run pytest outside /tmp)"
     try:
         rows = study.run(jobs(), "ray", ray_init={"num_cpus": 2, "include_dashboard": False})
     finally:

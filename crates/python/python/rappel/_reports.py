@@ -3,7 +3,7 @@
 Every report object keeps the exact text the Rust facade produced with ``to_json()`` (the CLI's
 ``--json`` for the same input); ``to_dict()`` parses that text afresh, so the two cannot drift.
 The attributes are conveniences over the same data: points as ``(n, 2)`` float64 numpy arrays,
-lengths as floats, verdicts as strings.
+lengths as floats; typed reasons (a class's verdict, an anchor's passability) as the JSON's dicts tagged by ``kind``.
 """
 
 from __future__ import annotations
@@ -77,7 +77,9 @@ class Anchor:
         self.obstacle: Optional[int] = d["obstacle"]
         self.psi_deg: float = d["psi_deg"]
         self.theta_max_deg: Optional[float] = d["theta_max_deg"]
-        self.passability: str = d["passability"]
+        #: ``{"kind": "passable"}``, ``{"kind": "impassable", "reason": {...}}`` or
+        #: ``{"kind": "not_reached"}`` (``docs/output-format.md``, typed reasons).
+        self.passability: Any = d["passability"]
         self.waypoint = None if d["waypoint"] is None else np.asarray(d["waypoint"], dtype=np.float64)
 
     def to_dict(self) -> Dict[str, Any]:
@@ -85,7 +87,8 @@ class Anchor:
         return dict(self._d)
 
     def __repr__(self) -> str:
-        return f"Anchor({self.index}, point={self.point.tolist()}, {self.passability})"
+        kind = self.passability.get("kind") if isinstance(self.passability, dict) else self.passability
+        return f"Anchor({self.index}, point={self.point.tolist()}, {kind})"
 
 
 class ClassReport:
@@ -100,9 +103,11 @@ class ClassReport:
         self.anchors = [Anchor(a) for a in d["anchors"]]
         self.anchor_points = points([a["point"] for a in d["anchors"]])
         self.feasible: bool = d["feasible"]
-        self.verdict: str = d["verdict"]
+        #: ``{"kind": "feasible"}`` or ``{"kind": "blocked", "anchor": ..., "reason": {...}}``.
+        self.verdict: Any = d["verdict"]
         self.waypoints = points(d["waypoints"])
-        self.pair_failure: Optional[str] = d["pair_failure"]
+        #: None, or the planner's pair failure tagged by ``kind``.
+        self.pair_failure: Optional[Any] = d["pair_failure"]
 
     def to_dict(self) -> Dict[str, Any]:
         """The class's entry of the JSON report."""

@@ -215,6 +215,10 @@ class Ray(Executor):
             import ray
         except ImportError as e:
             raise ImportError("the Ray executor needs Ray: pip install ray") from e
+        if not hasattr(ray, "remote"):
+            # A directory named `ray` on sys.path (Ray's own /tmp/ray session folder, when Python
+            # runs from /tmp) imports as an empty namespace package.
+            raise ImportError(f"`import ray` found {getattr(ray, '__path__', ray)}, not Ray: pip install ray")
         if not ray.is_initialized():
             ray.init(**self.ray_init)
         task = ray.remote(_run_batch)
