@@ -1371,6 +1371,16 @@ impl<'a> SptSearch<'a> {
         if self.termination.is_some() {
             return Ok(None);
         }
+        // The clock and the cancel flags are read at every class too, not only every
+        // `CHECK_INTERVAL` expansions: once the funnels are built, the next class may take a
+        // handful of expansions while its caller spends milliseconds on each class found
+        // (feasibility, the path pair), so a Ctrl-C or a time limit would otherwise wait for
+        // hundreds of classes.
+        if let Some(reason) = self.watch.poll_now() {
+            self.termination = Some(reason.into());
+            self.stop_reason = Some(reason);
+            return Ok(None);
+        }
         loop {
             let Some((key, item)) = self.scratch.queue.pop() else {
                 self.termination = Some(Termination::Exhausted);

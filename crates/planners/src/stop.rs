@@ -26,7 +26,9 @@
 //! call, so a flag already set or a zero time limit stops the work before it starts). A search
 //! therefore overruns its time limit by at most the time of [`CHECK_INTERVAL`] expansions (well
 //! under a millisecond on the crater strips), and stops at most [`CHECK_INTERVAL`] expansions
-//! after a cancel. Loops whose iterations are expensive (the sampler's edges, the simulation's
+//! after a cancel; the SPT search also reads them before each class it emits
+//! (`StopWatch::poll_now`), since its caller's work per class (feasibility, the path pair) can
+//! outweigh the expansions between two classes. Loops whose iterations are expensive (the sampler's edges, the simulation's
 //! steps) poll on every iteration ([`StopCondition::poll`]).
 //!
 //! With an expansion budget alone no clock is read at all, so results are bit-identical to a

@@ -178,9 +178,41 @@ pub fn dem_scenario_with(
     limits: &DemLimits,
 ) -> Result<DemScenario, DemScenarioError> {
     let grid = read_dem_with(path, limits)?;
-    let ingested = ingest(&grid, options).map_err(|source| DemScenarioError::Ingest {
-        path: path.display().to_string(),
-        source,
+    let crs = dem_crs(path)?;
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    dem_scenario_of_grid(grid, &path.display().to_string(), &name, crs, options)
+}
+
+/// [`dem_scenario`] of a grid already in memory (the Python package hands over a 2-D height
+/// array and its geotransform, as rasterio reads them): `source` names the grid in messages and
+/// in the scenario's georeference (`dem`), `name` becomes the scenario's name, and `crs` is the
+/// grid's coordinate reference system, if known. The same ingest, the same checks and the same
+/// scenario as from a file.
+///
+/// ```
+/// use rappel::dem::dem_scenario_of_grid;
+/// use rappel::terrain::grid::{GridGeometry, HeightGrid};
+/// use rappel::terrain::ingest::IngestOptions;
+/// // A 40 m x 60 m wall rising 0.8 m per metre northwards, 1 m cells.
+/// let g = GridGeometry::new(60, 40, 1.0, 1.0, 0.0, 60.0).unwrap();
+/// let grid = HeightGrid::from_fn(g, |_, _, p| Some(0.8 * p.y)).unwrap();
+/// let d = dem_scenario_of_grid(grid, "wall", "wall", None, &IngestOptions::default()).unwrap();
+/// d.scenario.validate().unwrap();
+/// assert_eq!(d.scenario.name, "wall");
+/// ```
+pub fn dem_scenario_of_grid(
+    grid: HeightGrid,
+    source: &str,
+    name: &str,
+    crs: Option<String>,
+    options: &IngestOptions,
+) -> Result<DemScenario, DemScenarioError> {
+    let ingested = ingest(&grid, options).map_err(|e| DemScenarioError::Ingest {
+        path: source.to_string(),
+        source: e,
     })?;
     let max_deg = rappel_mechanics::robot::MAX_SLOPE.to_degrees();
     if let Some((plane, p)) = ingested
@@ -190,22 +222,18 @@ pub fn dem_scenario_with(
         .find(|(_, p)| p.slope_deg.is_nan() || p.slope_deg > max_deg)
     {
         return Err(DemScenarioError::TooSteep {
-            path: path.display().to_string(),
+            path: source.to_string(),
             plane,
             slope_deg: p.slope_deg,
             max_deg,
         });
     }
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
     let s = ingested.summary();
     let scenario = Scenario {
-        name: name.clone(),
+        name: name.to_string(),
         description: format!(
             "Ingested from {} by rappel dem: {} planes ({} tether-demand), {} tether obstacles, {} robot obstacles (H_min {} m, H_max {} m, theta_max {} deg, mu {}).",
-            path.display(),
+            source,
             s.planes,
             s.tether_demand_planes,
             s.tether_obstacles,
@@ -224,8 +252,8 @@ pub fn dem_scenario_with(
         },
         friction: None,
         georeference: Some(Georeference {
-            dem: path.display().to_string(),
-            crs: dem_crs(path)?,
+            dem: source.to_string(),
+            crs,
             frame: ingested.frame.clone(),
         }),
     };

@@ -1,0 +1,45 @@
+"""A sweep of ``plan`` over generated crater strips and wheel friction coefficients, on any
+executor: the feasible fraction per friction coefficient.
+
+    python crates/python/examples/strip_sweep.py --executor processes --seeds 50
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections import defaultdict
+
+from rappel import study
+
+
+def jobs(seeds: int, obstacles: int, frictions):
+    return [
+        study.Job("plan", study.strip(obstacles, seed, friction=mu), {"classes": 3},
+                  tags={"strip": seed, "mu": mu})
+        for seed in range(seeds)
+        for mu in frictions
+    ]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--executor", default="serial", choices=["serial", "processes", "ray"])
+    ap.add_argument("--seeds", type=int, default=20)
+    ap.add_argument("--obstacles", type=int, default=50)
+    ap.add_argument("--friction", type=float, nargs="+", default=[0.2, 0.4, 0.6, 0.8])
+    args = ap.parse_args()
+    options = {"ray_init": {"num_cpus": 2, "include_dashboard": False}} if args.executor == "ray" else {}
+    t0 = time.monotonic()
+    rows = study.run(jobs(args.seeds, args.obstacles, args.friction), args.executor, progress=True, **options)
+    wall = time.monotonic() - t0
+    by_mu = defaultdict(list)
+    for r in rows:
+        by_mu[r["mu"]].append(bool(r.get("feasible")))
+    for mu, f in sorted(by_mu.items()):
+        print(f"mu {mu:.2f}: feasible {sum(f)}/{len(f)}")
+    print(f"{len(rows)} jobs, wall time {wall:.2f} s on the {args.executor} executor")
+
+
+if __name__ == "__main__":
+    main()

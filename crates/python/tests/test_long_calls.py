@@ -1,0 +1,109 @@
+"""Long calls: the GIL is released (two plans on two threads overlap), a time limit and a
+cancel flag stop them cleanly, and a KeyboardInterrupt (Ctrl-C) stops the search quickly."""
+
+from __future__ import annotations
+
+import _thread
+import threading
+import time
+
+import pytest
+import rappel
+
+#: A plan of many classes on a large generated map runs for many seconds (about 10 s for
+#: 1,000 classes of a 10,000-obstacle strip on this machine's 2 cores).
+LONG = dict(classes=1000)
+
+
+@pytest.fixture(scope="module")
+def big():
+    return rappel.generate.crater_strip(10_000, 11, width=2000.0)
+
+
+def _timed_plan(scenario, out, key, **kw):
+    t0 = time.monotonic()
+    r = rappel.plan(scenario, **LONG, **kw)
+    out[key] = (t0, time.monotonic(), r)
+
+
+def test_time_limit_stops_a_long_plan(big):
+    t0 = time.monotonic()
+    r = rappel.plan(big, time_limit=0.5, **LONG)
+    took = time.monotonic() - t0
+    print(f"time limit 0.5 s: returned after {took:.3f} s")
+    assert r.stopped and r.stop_reason["kind"] == "time_limit"
+    assert "time limit" in r.verdict
+    # The whole plan takes over 10 s; the limit, the classes' serialisation and a loaded CI
+    # machine's slack stay far below that.
+    assert took < 5.0, took
+
+
+def test_two_threads_plan_at_once(big):
+    """Both threads plan for 1.5 s (time limit); with the GIL held they would run one after the
+    other (overlap 0), released they overlap almost wholly."""
+    out = {}
+    threads = [threading.Thread(target=_timed_plan, args=(big, out, k), kwargs={"time_limit": 1.5})
+               for k in ("a", "b")]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    (a0, a1, ra), (b0, b1, rb) = out["a"], out["b"]
+    overlap = min(a1, b1) - max(a0, b0)
+    shorter = min(a1 - a0, b1 - b0)
+    print(f"GIL: overlap {overlap:.3f} s of {shorter:.3f} s")
+    assert ra.stopped and rb.stopped
+    assert overlap > 0.8 * shorter
+
+
+def test_python_threads_run_during_a_plan(big):
+    ticks = []
+    stop = threading.Event()
+
+    def tick():
+        while not stop.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.01)
+
+    t = threading.Thread(target=tick)
+    t.start()
+    rappel.plan(big, time_limit=1.0, **LONG)
+    stop.set()
+    t.join()
+    assert len(ticks) > 30, len(ticks)
+
+
+def test_cancel_from_another_thread(big):
+    flag = rappel.CancelFlag()
+    fired = {}
+
+    def cancel():
+        fired["t"] = time.monotonic()
+        flag.cancel()
+
+    threading.Timer(0.3, cancel).start()
+    r = rappel.plan(big, cancel=flag, **LONG)
+    latency = time.monotonic() - fired["t"]
+    print(f"cancel latency {latency * 1000:.1f} ms")
+    assert r.stop_reason == {"kind": "cancelled"}
+    assert "cancel" in r.verdict
+    # The search stops at its next class (or CHECK_INTERVAL expansions); the report of the
+    # classes found so far is then serialised: well under 2 s on a loaded 2-core machine.
+    assert latency < 2.0
+
+
+def test_keyboard_interrupt_stops_the_search(big):
+    fired = {}
+
+    def interrupt():
+        fired["t"] = time.monotonic()
+        _thread.interrupt_main()
+
+    threading.Timer(0.3, interrupt).start()
+    with pytest.raises(KeyboardInterrupt):
+        rappel.plan(big, **LONG)
+    latency = time.monotonic() - fired["t"]
+    print(f"KeyboardInterrupt latency {latency * 1000:.1f} ms")
+    assert latency < 2.0
+    # The interpreter and the library are fine afterwards.
+    assert rappel.plan(big, classes=1, time_limit=5.0).classes
