@@ -51,7 +51,7 @@ fn capstan() -> Result<Vec<Case>, String> {
         let limit = (mu * theta).exp();
         let below = !tether_slips(&s, mu, 100.0, 100.0 * limit * (1.0 - 1e-9)).map_err(err)?;
         let above = tether_slips(&s, mu, 100.0, 100.0 * limit * (1.0 + 1e-9)).map_err(err)?;
-        cases.push(Case::new(
+        cases.push(Case::closed_form(
             SUITE,
             format!("capstan R {r} theta {theta:.3} mu {mu}: boundary"),
             format!("holds at (1-1e-9)x: {below}, slips at (1+1e-9)x: {above}"),
@@ -79,7 +79,7 @@ fn helix() -> Result<Vec<Case>, String> {
     let i = omega_integral(&samples, mu).map_err(err)?;
     let c = pitch / (2.0 * PI);
     let exact = mu * alpha * r / (r * r + c * c).sqrt();
-    Ok(vec![Case::new(
+    Ok(vec![Case::closed_form(
         SUITE,
         "helix R 0.5 pitch 0.8 turn 1.5 pi: int omega ds",
         format!("{i:.9}"),
@@ -115,14 +115,14 @@ fn sphere() -> Result<Vec<Case>, String> {
             worst = worst.max((i - exact).abs());
         }
     }
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("sphere R {big_r} mu {mu}: sticks iff r > {critical:.4}"),
         format!("{agree}/{} radii agree", radii.len()),
         "tan e = sqrt(R^2-r^2)/r < mu (small circle)".to_string(),
         agree == radii.len(),
     ));
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "sphere: int omega ds over the wrap".to_string(),
         format!("max abs error {worst:.2e}"),
@@ -155,7 +155,7 @@ fn sphere() -> Result<Vec<Case>, String> {
         errors.push((omega_integral(&s, mu).map_err(err)? - exact).abs());
     }
     let order = (errors[0] / errors[1]).log2();
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "sphere as a height patch, r 4.5: convergence".to_string(),
         format!(
@@ -198,7 +198,7 @@ fn saddle() -> Result<Vec<Case>, String> {
             agree += 1;
         }
     }
-    Ok(vec![Case::new(
+    Ok(vec![Case::closed_form(
         SUITE,
         format!("saddle k_c {kc} k_v {kv}: contact directions"),
         format!("{agree}/{total} points agree"),
@@ -230,7 +230,7 @@ fn interval() -> Result<Vec<Case>, String> {
             moved += 1;
         }
     }
-    Ok(vec![Case::new(
+    Ok(vec![Case::property(
         SUITE,
         "friction interval [0.3, 0.5] vs 0.4, 60 wraps",
         format!("{ok}/{n} unchanged or volatile ({moved} moved)"),
@@ -244,6 +244,9 @@ fn interval() -> Result<Vec<Case>, String> {
 fn slip_paths() -> Result<Vec<Case>, String> {
     let mut cases = Vec::new();
     for name in ["slip_then_wrap", "capstan_holds"] {
+        // The scratch rebuild's taut path of each class, by rank: the holding force below is
+        // computed from it, not from the frictional report.
+        let mut rebuilt: Vec<(usize, Vec<Point2<f64>>)> = Vec::new();
         let path = workspace_root().join(format!("fixtures/friction/{name}.ron"));
         let scenario = Scenario::read(&path).map_err(err)?;
         let plan = plan_detailed(
@@ -284,7 +287,10 @@ fn slip_paths() -> Result<Vec<Case>, String> {
                 .run()
                 .map_err(err)?;
             let same = found.classes.iter().find(|k| k.shp.taut.points == c.points);
-            cases.push(Case::new(
+            if let Some(k) = same {
+                rebuilt.push((c.rank, k.shp.taut.points.clone()));
+            }
+            cases.push(Case::oracle(
                 SUITE,
                 format!("{name} class {}: {} slip(s)", c.rank, c.slips.len()),
                 format!("{:.6} m, {} corners", c.length_m, c.points.len()),
@@ -303,7 +309,7 @@ fn slip_paths() -> Result<Vec<Case>, String> {
             let mu_lo = spec.ptfos[0].friction.lo;
             for s in &c.sweeps {
                 let exact = ((t.t_d_n + t.epsilon_n) / t.t_d_n).ln() / mu_lo;
-                cases.push(Case::new(
+                cases.push(Case::closed_form(
                     SUITE,
                     format!("{name}: Alg. 10 release turn at a{}", s.index),
                     format!("{:.6} rad", s.release_turn),
@@ -312,24 +318,46 @@ fn slip_paths() -> Result<Vec<Case>, String> {
                 ));
             }
             if let Some(h) = &c.holding {
-                let sum: f64 = c
-                    .anchors
+                // Thesis eq. 3.20 along the tether, from the scratch rebuild's corners and the
+                // scenario's PTFO list: a corner at a vertex of a PTFO's obstacle (a pillar:
+                // I = mu_lo theta) or of a geometric one (mu_geo theta), theta the turn of the
+                // rebuilt path there. Only T_max is read from the report (an input it echoes,
+                // defaulted when the scenario leaves it out).
+                let points = rebuilt
                     .iter()
-                    .map(|a| {
-                        if a.verdict == "geometric" {
-                            spec.geometric_friction * a.turn_deg.to_radians()
-                        } else {
-                            mu_lo * a.turn_deg.to_radians()
-                        }
+                    .find(|(r, _)| *r == rank)
+                    .map(|(_, p)| p.clone())
+                    .ok_or("the chosen class has no scratch rebuild")?;
+                let ptfo_vertex = |p: &Point2<f64>| {
+                    spec.ptfos.iter().any(|f| {
+                        scenario.map.obstacles[f.obstacle]
+                            .vertices
+                            .iter()
+                            .any(|v| v == p)
                     })
-                    .sum();
+                };
+                let (mut sum, mut corners) = (0.0, 0);
+                for w in points.windows(3) {
+                    let (u, v) = (w[1] - w[0], w[2] - w[1]);
+                    let theta = (u.x * v.y - u.y * v.x).abs().atan2(u.dot(&v));
+                    let mu = if ptfo_vertex(&w[1]) {
+                        mu_lo
+                    } else {
+                        spec.geometric_friction
+                    };
+                    sum += mu * theta;
+                    corners += 1;
+                }
                 let exact = t.t_max_n * (-sum).exp();
-                cases.push(Case::new(
+                cases.push(Case::closed_form(
                     SUITE,
                     format!("{name}: holding force at a_0"),
                     format!("{:.6} N", h.holding_force_at_start_n),
-                    format!("T_max e^(-sum mu theta) = {exact:.6} N"),
-                    (h.holding_force_at_start_n - exact).abs() < 1e-9 * exact.max(1.0),
+                    format!(
+                        "T_max e^(-sum mu theta) = {exact:.6} N over the rebuilt path's \
+                         {corners} corner(s) (eq. 3.20), rel. 1e-9"
+                    ),
+                    (h.holding_force_at_start_n - exact).abs() <= 1e-9 * exact.max(1.0),
                 ));
             }
         }
@@ -358,7 +386,7 @@ fn convexity_maps() -> Result<Vec<Case>, String> {
         .count();
     let crest = map.get(20, 20).ok_or("no crest cell")?;
     let (kmax, kmin) = (crest.max, crest.min);
-    let mut cases = vec![Case::new(
+    let mut cases = vec![Case::closed_form(
         SUITE,
         "convexity map: paraboloid hump a 4 b 9".to_string(),
         format!("{convex}/{interior} convex; crest k1 {kmax:.6}, k2 {kmin:.6}"),
@@ -382,7 +410,7 @@ fn convexity_maps() -> Result<Vec<Case>, String> {
         .ok_or("no convex directions")?;
     let exact = (kc / kv).sqrt().atan();
     let axis_ok = half.axis.x.abs() > 1.0 - 1e-12;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "convexity map: saddle k_c 0.5 k_v 2".to_string(),
         format!(

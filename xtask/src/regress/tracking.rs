@@ -155,7 +155,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
             .map_err(|e| e.to_string())?;
         let anchors = tr.obstacle_anchors().len();
         let len = tr.length();
-        cases.push(Case::new(
+        cases.push(Case::oracle(
             SUITE,
             format!("Kumar Fig. {name}: Robot 1's tracked tether vs the SHP (homotopy crate)"),
             format!("{anchors} anchors, {len:.6} m"),
@@ -169,7 +169,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
         ));
         let at_start = two.run(&path1, &[start2]).map_err(|e| e.to_string())?;
         let t2 = at_start[0].t2max_n;
-        cases.push(Case::new(
+        cases.push(Case::paper_number(
             SUITE,
             format!("Kumar Fig. {name}: T2max from Robot 1's windings (eq. 2), Robot 2 at start"),
             format!(
@@ -195,7 +195,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
             } else {
                 "none stable"
             };
-            cases.push(Case::new(
+            let row = Case::paper_verdict(
                 SUITE,
                 format!("Kumar Fig. {name}, Robot 2 on {surface}: red / green / yellow"),
                 format!(
@@ -207,8 +207,48 @@ pub fn suite() -> Result<Vec<Case>, String> {
                 ),
                 format!("paper: {paper}"),
                 stable == paper_stable,
-            ));
+            );
+            cases.push(match band(name, surface) {
+                Some(b) => {
+                    let holds = b.green.contains(&c.green) && b.yellow.contains(&c.yellow);
+                    row.differs_within(
+                        format!("green {:?}, yellow {:?} of 120", b.green, b.yellow),
+                        holds,
+                    )
+                }
+                None => row,
+            });
         }
     }
     Ok(cases)
+}
+
+/// The band a known difference of Fig. 5 is expected in: green and yellow counts of Robot 2's
+/// 120 poses.
+struct FigBand {
+    green: std::ops::RangeInclusive<usize>,
+    yellow: std::ops::RangeInclusive<usize>,
+}
+
+/// The bands of the known differences (`super::KNOWN_DIFFERENCES`), around the measured counts
+/// (5a S1: 0 green, 35 yellow; 5a S2: 0 green, 28 yellow; 5b S2: 20 green, 28 yellow): green
+/// stays at the paper's 0 on 5a (with the depicted 200 N alone nothing holds) and the poses the
+/// crests' capstan gain holds stay within about a third of their count; a row outside its band
+/// (more or fewer) fails until the list is updated.
+fn band(fig: &str, surface: &str) -> Option<FigBand> {
+    match (fig, surface) {
+        ("5a", "S1") => Some(FigBand {
+            green: 0..=0,
+            yellow: 24..=46,
+        }),
+        ("5a", "S2") => Some(FigBand {
+            green: 0..=0,
+            yellow: 19..=37,
+        }),
+        ("5b", "S2") => Some(FigBand {
+            green: 14..=26,
+            yellow: 19..=37,
+        }),
+        _ => None,
+    }
 }
