@@ -243,7 +243,7 @@ fn interval() -> Result<Vec<Case>, String> {
 /// vertices, built from scratch and searched by the Chapter-2 planner.
 fn slip_paths() -> Result<Vec<Case>, String> {
     let mut cases = Vec::new();
-    for name in ["slip_then_wrap", "capstan_holds"] {
+    for name in ["slip_then_wrap", "capstan_holds", "octagon_total_wrap"] {
         // The scratch rebuild's taut path of each class, by rank: the holding force below is
         // computed from it, not from the frictional report.
         let mut rebuilt: Vec<(usize, Vec<Point2<f64>>)> = Vec::new();
@@ -317,6 +317,9 @@ fn slip_paths() -> Result<Vec<Case>, String> {
                     (s.release_turn - exact).abs() < 1e-12,
                 ));
             }
+            if name == "octagon_total_wrap" {
+                cases.push(total_wrap_case(&scenario, c, &rebuilt, rank, t)?);
+            }
             if let Some(h) = &c.holding {
                 // Thesis eq. 3.20 along the tether, from the scratch rebuild's corners and the
                 // scenario's PTFO list: a corner at a vertex of a PTFO's obstacle (a pillar:
@@ -363,6 +366,105 @@ fn slip_paths() -> Result<Vec<Case>, String> {
         }
     }
     Ok(cases)
+}
+
+/// The pillar of `fixtures/friction/octagon_total_wrap.ron`, wrapped at consecutive vertices of its
+/// octagon: the class thesis §3.4.1 gives the whole contact (eq. 3.20 over the total turn of the
+/// scratch rebuild at the PTFO's vertices, the scenario's tensions and friction interval), against
+/// the verdicts the frictional planner reports for those anchors; the class each vertex would get
+/// alone is printed beside it (it differs: that is the point of the fixture).
+fn total_wrap_case(
+    scenario: &Scenario,
+    c: &rappel::friction_plan::FrictionClassReport,
+    rebuilt: &[(usize, Vec<Point2<f64>>)],
+    rank: usize,
+    t: &rappel::friction_plan::TensionReport,
+) -> Result<Case, String> {
+    let spec = scenario.friction.as_ref().ok_or("no friction")?;
+    let ptfo = &spec.ptfos[0];
+    let outline = &scenario.map.obstacles[ptfo.obstacle].vertices;
+    let points = rebuilt
+        .iter()
+        .find(|(r, _)| *r == rank)
+        .map(|(_, p)| p.clone())
+        .ok_or("the chosen class has no scratch rebuild")?;
+    let turns: Vec<f64> = points
+        .windows(3)
+        .filter(|w| outline.contains(&w[1]))
+        .map(|w| {
+            let (u, v) = (w[1] - w[0], w[2] - w[1]);
+            (u.x * v.y - u.y * v.x).abs().atan2(u.dot(&v))
+        })
+        .collect();
+    // Thesis §3.4.1 with eq. 3.20 (a pillar: I = mu theta): slides if T_d + eps exceeds
+    // T_d e^(mu_hi theta); else volatile if T_max exceeds T_min e^(mu_lo theta); else solid.
+    let class = |theta: f64| {
+        if t.t_d_n + t.epsilon_n > t.t_d_n * (ptfo.friction.hi * theta).exp() {
+            "slides"
+        } else if t.t_max_n > t.t_min_n * (ptfo.friction.lo * theta).exp() {
+            "volatile"
+        } else {
+            "solid"
+        }
+    };
+    let total: f64 = turns.iter().sum();
+    let expected = class(total);
+    let alone: Vec<&str> = turns.iter().map(|&th| class(th)).collect();
+    let reported: Vec<&str> = c
+        .anchors
+        .iter()
+        .filter(|a| outline.contains(&a.point))
+        .map(|a| a.verdict.as_str())
+        .collect();
+    Ok(Case::closed_form(
+        SUITE,
+        "octagon_total_wrap: pillar wrapped at consecutive vertices, verdicts",
+        format!("{reported:?}"),
+        format!(
+            "{} x {expected:?}: total turn {:.1} deg, e^(mu_lo theta) = {:.2} vs T_max/T_min {:.2} \
+             (each vertex alone: {alone:?})",
+            turns.len(),
+            total.to_degrees(),
+            (ptfo.friction.lo * total).exp(),
+            t.t_max_n / t.t_min_n
+        ),
+        turns.len() > 1 && reported.len() == turns.len() && reported.iter().all(|v| *v == expected),
+    ))
+}
+
+/// A pillar PTFO must be pressed on where the tether turns (issue 33): a quarter turn at an
+/// anchor 7.07 m from the axis of a 5 m pillar (the corner of a square drawn round it) has no
+/// contact, so it cannot hold; on the circle the wrap is the capstan `mu theta`.
+fn footprint() -> Result<Vec<Case>, String> {
+    let pillar = PtfoSurface::Cylinder {
+        center: Point2::new(20.0, 50.0),
+        radius: 5.0,
+    };
+    let (u, w) = turn(Vector2::new(-1.0, -1.0).normalize(), FRAC_PI_2);
+    let off = pillar.wrap(&Point2::new(25.0, 55.0), &u, &w);
+    let h = std::f64::consts::FRAC_1_SQRT_2 * 5.0;
+    let on = pillar
+        .wrap(&Point2::new(20.0 + h, 50.0 + h), &u, &w)
+        .map_err(err)?;
+    let i = omega_integral(&on, 0.4).map_err(err)?;
+    let exact = 0.4 * FRAC_PI_2;
+    let off_ok = matches!(
+        &off,
+        Err(rappel::mechanics::ptfo_surface::WrapError::NoContact(_))
+    );
+    Ok(vec![Case::closed_form(
+        SUITE,
+        "pillar R 5, quarter turn: anchor 7.07 m from the axis / on the circle",
+        format!(
+            "{} / I = {i:.9}",
+            match &off {
+                Ok(_) => "contact".to_string(),
+                Err(e) => e.to_string(),
+            }
+        ),
+        format!("no contact (7.07 > 5) / mu theta = {exact:.9}"),
+        off_ok && (i - exact).abs() < 1e-12,
+    )])
 }
 
 /// Thesis Figs. 3.11-3.13 analogues on synthetic grids of known curvature: the convexity map of
@@ -429,6 +531,7 @@ fn convexity_maps() -> Result<Vec<Case>, String> {
 /// All friction cases.
 pub fn suite() -> Result<Vec<Case>, String> {
     let mut cases = capstan()?;
+    cases.extend(footprint()?);
     cases.extend(helix()?);
     cases.extend(sphere()?);
     cases.extend(saddle()?);
