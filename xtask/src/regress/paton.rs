@@ -269,8 +269,65 @@ pub fn suite() -> Result<Vec<Case>, String> {
         format!("{want:.3} m (tangents + arc of a 0.3 m cylinder), within 1%"),
         (got - want).abs() < 0.01 * want && wrap.history.len() > 2,
     ));
+    cases.push(mesh_tether_cone()?);
     cases.extend(table_one()?);
     Ok(cases)
+}
+
+/// The wheels' friction on a mesh (the scene's `SCENE_FRICTION`, Paton §IV-A/C): the four-wheel
+/// rover settled on a 45° plane given as a triangle mesh, facing away from its anchor, the
+/// tether parallel to the slope at `psi` from the fall line and unlimited. The wheels must cancel
+/// the cross-tether part of gravity, so it holds iff `psi <= asin(mu cot eta)` (eq. 2.7): checked
+/// 4° either side of the boundary, which a 30 % change of the friction moves by 11-14°.
+fn mesh_tether_cone() -> Result<Case, String> {
+    use rappel::planners::rover::ground::{DistanceSource, GroundDistances};
+    use rappel::planners::rover::verdict::SCENE_FRICTION;
+    use rappel::terrain::mesh::TriMesh;
+    let eta = 45f64.to_radians();
+    let (w, t) = (60.0, eta.tan());
+    let ground = TriMesh::new(
+        vec![
+            Point3::new(-w, -w, -w * t),
+            Point3::new(w, -w, -w * t),
+            Point3::new(w, w, w * t),
+            Point3::new(-w, w, w * t),
+        ],
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
+    .map_err(|e| e.to_string())?;
+    let d = GroundDistances::new(&ground, DistanceSource::Exact).map_err(|e| e.to_string())?;
+    let boundary = (SCENE_FRICTION / eta.tan()).asin();
+    let normal = Vector3::new(0.0, -eta.sin(), eta.cos());
+    let verdict = |psi: f64| -> Result<Option<bool>, String> {
+        // Up the slope at psi from the fall line, in the plane; the rover faces the other way.
+        let along = Vector3::new(psi.sin(), psi.cos() * eta.cos(), psi.cos() * eta.sin());
+        let exit = rappel::mechanics::four_wheel::FourWheelParams::default()
+            .tether_exit
+            .z;
+        let anchor = Point3::origin() + along * 40.0 + normal * exit;
+        let yaw = (-along.y).atan2(-along.x).to_degrees();
+        let (_, r) = rappel::settle::four_wheel_report_with(
+            &d,
+            0.0,
+            0.0,
+            yaw,
+            Some([anchor.x, anchor.y, anchor.z]),
+        )
+        .map_err(|e| e.to_string())?;
+        Ok(r.stability.first().and_then(|v| v.stable))
+    };
+    let margin = 4f64.to_radians();
+    let (below, above) = (verdict(boundary - margin)?, verdict(boundary + margin)?);
+    Ok(Case::closed_form(
+        SUITE,
+        "four-wheel rover on a 45° mesh plane, tether 4° inside / outside the cone: stable",
+        format!("{below:?} / {above:?}"),
+        format!(
+            "Some(true) / Some(false): asin(mu cot eta) = {:.2}° with the scene's mu {SCENE_FRICTION} (eq. 2.7)",
+            boundary.to_degrees()
+        ),
+        below == Some(true) && above == Some(false),
+    ))
 }
 
 /// Seeds of Table I's test `test` (`shadow`: our shadow-sampling row): Paton's 100 behind

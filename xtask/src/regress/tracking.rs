@@ -86,6 +86,8 @@ struct Counts {
     red: usize,
     green: usize,
     yellow: usize,
+    /// Stable poses (green or yellow) left of the centre line (`x < 0`), on it, and right of it.
+    stable_by_side: [usize; 3],
 }
 
 /// Robot 2 walks straight from its start to each grid pose; red unstable, green stable with the
@@ -99,6 +101,7 @@ fn classify(
         red: 0,
         green: 0,
         yellow: 0,
+        stable_by_side: [0; 3],
     };
     let start = p(ROBOT2_START.0, ROBOT2_START.1);
     for q in poses {
@@ -106,6 +109,16 @@ fn classify(
             .run(path1, &[start, p(q.x, 16.0), *q])
             .map_err(|e| e.to_string())?;
         let r: &WaypointReport = reports.last().ok_or("no report")?;
+        if r.stable {
+            let side = if q.x < 0.0 {
+                0
+            } else if q.x == 0.0 {
+                1
+            } else {
+                2
+            };
+            c.stable_by_side[side] += 1;
+        }
         if !r.stable {
             c.red += 1;
         } else if r
@@ -208,6 +221,18 @@ pub fn suite() -> Result<Vec<Case>, String> {
                 format!("paper: {paper}"),
                 stable == paper_stable,
             );
+            // Fig. 5b's S1, in the paper's words: "Robot 2 is stable at the right section of the
+            // surface S1" (Kumar §IV): stable poses there, none on the left half.
+            if (name, surface) == ("5b", "S1") {
+                let [left, centre, right] = c.stable_by_side;
+                cases.push(Case::paper_verdict(
+                    SUITE,
+                    "Kumar Fig. 5b, Robot 2 on S1: where the stable poses are",
+                    format!("{left} left of centre, {centre} on it, {right} right"),
+                    "paper: stable on the right section of S1 (none left of centre, some right)",
+                    left == 0 && right > 0,
+                ));
+            }
             cases.push(match band(name, surface) {
                 Some(b) => {
                     let holds = b.green.contains(&c.green) && b.yellow.contains(&c.yellow);
