@@ -46,7 +46,13 @@ fn friction(c: &mut Criterion) {
             .vertices
             .iter()
             .fold(nalgebra::Point2::origin(), |a, v| a + v.coords / n);
-        let radius = o.vertices.iter().map(|v| (v - center).norm()).sum::<f64>() / n;
+        // The smallest circle about the centroid holding every vertex: each anchor lies on the
+        // pillar's footprint.
+        let radius = o
+            .vertices
+            .iter()
+            .map(|v| (v - center).norm())
+            .fold(0.0, f64::max);
         let lo = rng.random_range(0.05..1.2);
         ptfos.push(PtfoSpec {
             obstacle: i,

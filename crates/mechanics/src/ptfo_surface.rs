@@ -36,6 +36,11 @@ use crate::sticking::TetherSample;
 use nalgebra::{Matrix2, Point2, Vector2, Vector3};
 use thiserror::Error;
 
+/// Relative tolerance of the cylinder's footprint test: an anchor counts as on the pillar when its
+/// distance from the axis is at most `radius (1 + FOOTPRINT_TOLERANCE)`, so that a polygon vertex
+/// placed on the pillar's circle (an inscribed polygon) is on it despite round-off.
+pub const FOOTPRINT_TOLERANCE: f64 = 1e-9;
+
 /// Gradients below this magnitude (dimensionless slope) count as a horizontal tangent plane,
 /// where the level curve and thus the wrap are undefined (an apex or a saddle point).
 pub const MIN_CONTOUR_SLOPE: f64 = 1e-9;
@@ -313,6 +318,14 @@ impl PtfoSurface {
                     unreachable!("only the cylinder has no height jet");
                 };
                 let to_axis = center - anchor;
+                // The anchor must lie on the pillar's footprint: a vertex farther from the axis
+                // than the radius is a corner of the map's outline in the air beside the pillar,
+                // not a point the tether can press on (as for the sphere's footprint).
+                if to_axis.norm() > radius * (1.0 + FOOTPRINT_TOLERANCE) {
+                    return Err(WrapError::NoContact(
+                        "anchor off the pillar's footprint (farther from its axis than its radius)",
+                    ));
+                }
                 if inward.dot(&to_axis) <= 0.0 {
                     return Err(WrapError::NoContact(
                         "the tether bends away from the pillar",
@@ -366,7 +379,7 @@ mod tests {
     use std::f64::consts::FRAC_PI_2;
 
     fn quarter() -> (Vector2<f64>, Vector2<f64>) {
-        // Arriving downward, leaving to the left: a left turn of π/2 whose inner side is (-1, -1).
+        // Arriving downward, leaving to the left: a turn of π/2 whose inner side is (-1, 1).
         (Vector2::new(0.0, -1.0), Vector2::new(-1.0, 0.0))
     }
 
@@ -509,8 +522,39 @@ mod tests {
             Err(WrapError::Turn(_))
         ));
         // The pillar on the outer side of the turn: no contact.
+        let h = std::f64::consts::FRAC_1_SQRT_2;
         assert!(matches!(
-            pillar.wrap(&Point2::new(-1.0, -1.0), &u, &w),
+            pillar.wrap(&Point2::new(-h, -h), &u, &w),
+            Err(WrapError::NoContact(why)) if why.contains("bends away")
+        ));
+    }
+
+    #[test]
+    fn a_pillar_anchor_must_lie_on_its_footprint() {
+        // Issue 33: an anchor 7.07 m from the axis of a 5 m pillar (the corner of a square drawn
+        // round it) cannot press on the pillar; on the circle, or inside it, it can.
+        let (u, w) = quarter();
+        let pillar = PtfoSurface::Cylinder {
+            center: Point2::new(20.0, 50.0),
+            radius: 5.0,
+        };
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        // The turn's inner side is (-1, 1): the axis lies that way from the anchor.
+        let inward_corner = |d: f64| Point2::new(20.0 + d * h, 50.0 - d * h);
+        assert!(matches!(
+            pillar.wrap(&Point2::new(25.0, 45.0), &u, &w),
+            Err(WrapError::NoContact(why)) if why.contains("footprint")
+        ));
+        for d in [5.0, 5.0 * (1.0 + 0.5 * FOOTPRINT_TOLERANCE), 4.0] {
+            let s = pillar.wrap(&inward_corner(d), &u, &w);
+            assert!(s.is_ok(), "{d}: {s:?}");
+        }
+        assert!(matches!(
+            pillar.wrap(
+                &inward_corner(5.0 * (1.0 + 4.0 * FOOTPRINT_TOLERANCE)),
+                &u,
+                &w
+            ),
             Err(WrapError::NoContact(_))
         ));
         let patch = PtfoSurface::HeightField(HeightPatch {

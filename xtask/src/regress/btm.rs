@@ -34,7 +34,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
             rappel::generated::crater_strip_scenario(n, seed, 200.0).map_err(|e| e.to_string())?;
         let path = generated_path(n);
         let committed = Scenario::load(&path).map_err(|e| e.to_string())?;
-        cases.push(Case::new(
+        cases.push(Case::drift(
             SUITE,
             format!("generated {n} obstacles, seed {seed}: committed fixture matches"),
             if committed == fresh {
@@ -85,14 +85,14 @@ fn invariant_cases(name: &str, s: &Scenario, cases: &mut Vec<Case>) -> Result<()
     // n and h counted from the input map, not from the BTM under test.
     let (n, h) = (s.map.vertex_count(), s.map.obstacles.len());
     let expected = n + 2 * h - 2;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{name}: triangles"),
         summary.triangles.to_string(),
         format!("n + 2h - 2 = {n} + 2*{h} - 2 = {expected} (counted from the map)"),
         summary.triangles == expected,
     ));
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         format!("{name}: invariants (area, map edges, Delaunay)"),
         summary
@@ -145,7 +145,7 @@ fn update_cases(s: &Scenario, cases: &mut Vec<Case>) -> Result<(), String> {
         check(&btm, step, &mut broken);
     }
     let final_check = btm.check_invariants();
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         "10,000 obstacles: 200 removals + 200 insertions, invariants",
         broken
@@ -155,14 +155,14 @@ fn update_cases(s: &Scenario, cases: &mut Vec<Case>) -> Result<(), String> {
         "all hold",
         broken.is_none() && final_check.is_ok(),
     ));
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         "10,000 obstacles: triangles changed without being reported",
         unreported_changes.to_string(),
         "0",
         unreported_changes == 0,
     ));
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         "10,000 obstacles: triangle count after the round trip",
         btm.triangle_count().to_string(),

@@ -51,7 +51,7 @@ fn capstan() -> Result<Vec<Case>, String> {
         let limit = (mu * theta).exp();
         let below = !tether_slips(&s, mu, 100.0, 100.0 * limit * (1.0 - 1e-9)).map_err(err)?;
         let above = tether_slips(&s, mu, 100.0, 100.0 * limit * (1.0 + 1e-9)).map_err(err)?;
-        cases.push(Case::new(
+        cases.push(Case::closed_form(
             SUITE,
             format!("capstan R {r} theta {theta:.3} mu {mu}: boundary"),
             format!("holds at (1-1e-9)x: {below}, slips at (1+1e-9)x: {above}"),
@@ -79,7 +79,7 @@ fn helix() -> Result<Vec<Case>, String> {
     let i = omega_integral(&samples, mu).map_err(err)?;
     let c = pitch / (2.0 * PI);
     let exact = mu * alpha * r / (r * r + c * c).sqrt();
-    Ok(vec![Case::new(
+    Ok(vec![Case::closed_form(
         SUITE,
         "helix R 0.5 pitch 0.8 turn 1.5 pi: int omega ds",
         format!("{i:.9}"),
@@ -115,14 +115,14 @@ fn sphere() -> Result<Vec<Case>, String> {
             worst = worst.max((i - exact).abs());
         }
     }
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("sphere R {big_r} mu {mu}: sticks iff r > {critical:.4}"),
         format!("{agree}/{} radii agree", radii.len()),
         "tan e = sqrt(R^2-r^2)/r < mu (small circle)".to_string(),
         agree == radii.len(),
     ));
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "sphere: int omega ds over the wrap".to_string(),
         format!("max abs error {worst:.2e}"),
@@ -155,7 +155,7 @@ fn sphere() -> Result<Vec<Case>, String> {
         errors.push((omega_integral(&s, mu).map_err(err)? - exact).abs());
     }
     let order = (errors[0] / errors[1]).log2();
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "sphere as a height patch, r 4.5: convergence".to_string(),
         format!(
@@ -198,7 +198,7 @@ fn saddle() -> Result<Vec<Case>, String> {
             agree += 1;
         }
     }
-    Ok(vec![Case::new(
+    Ok(vec![Case::closed_form(
         SUITE,
         format!("saddle k_c {kc} k_v {kv}: contact directions"),
         format!("{agree}/{total} points agree"),
@@ -230,7 +230,7 @@ fn interval() -> Result<Vec<Case>, String> {
             moved += 1;
         }
     }
-    Ok(vec![Case::new(
+    Ok(vec![Case::property(
         SUITE,
         "friction interval [0.3, 0.5] vs 0.4, 60 wraps",
         format!("{ok}/{n} unchanged or volatile ({moved} moved)"),
@@ -243,7 +243,10 @@ fn interval() -> Result<Vec<Case>, String> {
 /// vertices, built from scratch and searched by the Chapter-2 planner.
 fn slip_paths() -> Result<Vec<Case>, String> {
     let mut cases = Vec::new();
-    for name in ["slip_then_wrap", "capstan_holds"] {
+    for name in ["slip_then_wrap", "capstan_holds", "octagon_total_wrap"] {
+        // The scratch rebuild's taut path of each class, by rank: the holding force below is
+        // computed from it, not from the frictional report.
+        let mut rebuilt: Vec<(usize, Vec<Point2<f64>>)> = Vec::new();
         let path = workspace_root().join(format!("fixtures/friction/{name}.ron"));
         let scenario = Scenario::read(&path).map_err(err)?;
         let plan = plan_detailed(
@@ -284,7 +287,10 @@ fn slip_paths() -> Result<Vec<Case>, String> {
                 .run()
                 .map_err(err)?;
             let same = found.classes.iter().find(|k| k.shp.taut.points == c.points);
-            cases.push(Case::new(
+            if let Some(k) = same {
+                rebuilt.push((c.rank, k.shp.taut.points.clone()));
+            }
+            cases.push(Case::oracle(
                 SUITE,
                 format!("{name} class {}: {} slip(s)", c.rank, c.slips.len()),
                 format!("{:.6} m, {} corners", c.length_m, c.points.len()),
@@ -303,7 +309,7 @@ fn slip_paths() -> Result<Vec<Case>, String> {
             let mu_lo = spec.ptfos[0].friction.lo;
             for s in &c.sweeps {
                 let exact = ((t.t_d_n + t.epsilon_n) / t.t_d_n).ln() / mu_lo;
-                cases.push(Case::new(
+                cases.push(Case::closed_form(
                     SUITE,
                     format!("{name}: Alg. 10 release turn at a{}", s.index),
                     format!("{:.6} rad", s.release_turn),
@@ -311,30 +317,154 @@ fn slip_paths() -> Result<Vec<Case>, String> {
                     (s.release_turn - exact).abs() < 1e-12,
                 ));
             }
+            if name == "octagon_total_wrap" {
+                cases.push(total_wrap_case(&scenario, c, &rebuilt, rank, t)?);
+            }
             if let Some(h) = &c.holding {
-                let sum: f64 = c
-                    .anchors
+                // Thesis eq. 3.20 along the tether, from the scratch rebuild's corners and the
+                // scenario's PTFO list: a corner at a vertex of a PTFO's obstacle (a pillar:
+                // I = mu_lo theta) or of a geometric one (mu_geo theta), theta the turn of the
+                // rebuilt path there. Only T_max is read from the report (an input it echoes,
+                // defaulted when the scenario leaves it out).
+                let points = rebuilt
                     .iter()
-                    .map(|a| {
-                        if a.verdict == rappel::verdict::AnchorHold::Geometric {
-                            spec.geometric_friction * a.turn_deg.to_radians()
-                        } else {
-                            mu_lo * a.turn_deg.to_radians()
-                        }
+                    .find(|(r, _)| *r == rank)
+                    .map(|(_, p)| p.clone())
+                    .ok_or("the chosen class has no scratch rebuild")?;
+                let ptfo_vertex = |p: &Point2<f64>| {
+                    spec.ptfos.iter().any(|f| {
+                        scenario.map.obstacles[f.obstacle]
+                            .vertices
+                            .iter()
+                            .any(|v| v == p)
                     })
-                    .sum();
+                };
+                let (mut sum, mut corners) = (0.0, 0);
+                for w in points.windows(3) {
+                    let (u, v) = (w[1] - w[0], w[2] - w[1]);
+                    let theta = (u.x * v.y - u.y * v.x).abs().atan2(u.dot(&v));
+                    let mu = if ptfo_vertex(&w[1]) {
+                        mu_lo
+                    } else {
+                        spec.geometric_friction
+                    };
+                    sum += mu * theta;
+                    corners += 1;
+                }
                 let exact = t.t_max_n * (-sum).exp();
-                cases.push(Case::new(
+                cases.push(Case::closed_form(
                     SUITE,
                     format!("{name}: holding force at a_0"),
                     format!("{:.6} N", h.holding_force_at_start_n),
-                    format!("T_max e^(-sum mu theta) = {exact:.6} N"),
-                    (h.holding_force_at_start_n - exact).abs() < 1e-9 * exact.max(1.0),
+                    format!(
+                        "T_max e^(-sum mu theta) = {exact:.6} N over the rebuilt path's \
+                         {corners} corner(s) (eq. 3.20), rel. 1e-9"
+                    ),
+                    (h.holding_force_at_start_n - exact).abs() <= 1e-9 * exact.max(1.0),
                 ));
             }
         }
     }
     Ok(cases)
+}
+
+/// The pillar of `fixtures/friction/octagon_total_wrap.ron`, wrapped at consecutive vertices of its
+/// octagon: the class thesis §3.4.1 gives the whole contact (eq. 3.20 over the total turn of the
+/// scratch rebuild at the PTFO's vertices, the scenario's tensions and friction interval), against
+/// the verdicts the frictional planner reports for those anchors; the class each vertex would get
+/// alone is printed beside it (it differs: that is the point of the fixture).
+fn total_wrap_case(
+    scenario: &Scenario,
+    c: &rappel::friction_plan::FrictionClassReport,
+    rebuilt: &[(usize, Vec<Point2<f64>>)],
+    rank: usize,
+    t: &rappel::friction_plan::TensionReport,
+) -> Result<Case, String> {
+    let spec = scenario.friction.as_ref().ok_or("no friction")?;
+    let ptfo = &spec.ptfos[0];
+    let outline = &scenario.map.obstacles[ptfo.obstacle].vertices;
+    let points = rebuilt
+        .iter()
+        .find(|(r, _)| *r == rank)
+        .map(|(_, p)| p.clone())
+        .ok_or("the chosen class has no scratch rebuild")?;
+    let turns: Vec<f64> = points
+        .windows(3)
+        .filter(|w| outline.contains(&w[1]))
+        .map(|w| {
+            let (u, v) = (w[1] - w[0], w[2] - w[1]);
+            (u.x * v.y - u.y * v.x).abs().atan2(u.dot(&v))
+        })
+        .collect();
+    // Thesis §3.4.1 with eq. 3.20 (a pillar: I = mu theta): slides if T_d + eps exceeds
+    // T_d e^(mu_hi theta); else volatile if T_max exceeds T_min e^(mu_lo theta); else solid.
+    let class = |theta: f64| {
+        if t.t_d_n + t.epsilon_n > t.t_d_n * (ptfo.friction.hi * theta).exp() {
+            "slides"
+        } else if t.t_max_n > t.t_min_n * (ptfo.friction.lo * theta).exp() {
+            "volatile"
+        } else {
+            "solid"
+        }
+    };
+    let total: f64 = turns.iter().sum();
+    let expected = class(total);
+    let alone: Vec<&str> = turns.iter().map(|&th| class(th)).collect();
+    let reported: Vec<String> = c
+        .anchors
+        .iter()
+        .filter(|a| outline.contains(&a.point))
+        .map(|a| a.verdict.to_string())
+        .collect();
+    Ok(Case::closed_form(
+        SUITE,
+        "octagon_total_wrap: pillar wrapped at consecutive vertices, verdicts",
+        format!("{reported:?}"),
+        format!(
+            "{} x {expected:?}: total turn {:.1} deg, e^(mu_lo theta) = {:.2} vs T_max/T_min {:.2} \
+             (each vertex alone: {alone:?})",
+            turns.len(),
+            total.to_degrees(),
+            (ptfo.friction.lo * total).exp(),
+            t.t_max_n / t.t_min_n
+        ),
+        turns.len() > 1 && reported.len() == turns.len() && reported.iter().all(|v| *v == expected),
+    ))
+}
+
+/// A pillar PTFO must be pressed on where the tether turns (issue 33): a quarter turn at an
+/// anchor 7.07 m from the axis of a 5 m pillar (the corner of a square drawn round it) has no
+/// contact, so it cannot hold; on the circle the wrap is the capstan `mu theta`.
+fn footprint() -> Result<Vec<Case>, String> {
+    let pillar = PtfoSurface::Cylinder {
+        center: Point2::new(20.0, 50.0),
+        radius: 5.0,
+    };
+    let (u, w) = turn(Vector2::new(-1.0, -1.0).normalize(), FRAC_PI_2);
+    let off = pillar.wrap(&Point2::new(25.0, 55.0), &u, &w);
+    let h = std::f64::consts::FRAC_1_SQRT_2 * 5.0;
+    let on = pillar
+        .wrap(&Point2::new(20.0 + h, 50.0 + h), &u, &w)
+        .map_err(err)?;
+    let i = omega_integral(&on, 0.4).map_err(err)?;
+    let exact = 0.4 * FRAC_PI_2;
+    let off_ok = matches!(
+        &off,
+        Err(rappel::mechanics::ptfo_surface::WrapError::NoContact(_))
+    );
+    Ok(vec![Case::closed_form(
+        SUITE,
+        "pillar R 5, quarter turn: anchor 7.07 m from the axis / on the circle",
+        format!(
+            "{} / I = {i:.9}",
+            match &off {
+                Ok(_) => "contact".to_string(),
+                Err(e) => e.to_string(),
+            }
+        ),
+        format!("no contact (7.07 > 5) / mu theta = {exact:.9}"),
+        off_ok && (i - exact).abs() < 1e-12,
+    )])
 }
 
 /// Thesis Figs. 3.11-3.13 analogues on synthetic grids of known curvature: the convexity map of
@@ -358,7 +488,7 @@ fn convexity_maps() -> Result<Vec<Case>, String> {
         .count();
     let crest = map.get(20, 20).ok_or("no crest cell")?;
     let (kmax, kmin) = (crest.max, crest.min);
-    let mut cases = vec![Case::new(
+    let mut cases = vec![Case::closed_form(
         SUITE,
         "convexity map: paraboloid hump a 4 b 9".to_string(),
         format!("{convex}/{interior} convex; crest k1 {kmax:.6}, k2 {kmin:.6}"),
@@ -382,7 +512,7 @@ fn convexity_maps() -> Result<Vec<Case>, String> {
         .ok_or("no convex directions")?;
     let exact = (kc / kv).sqrt().atan();
     let axis_ok = half.axis.x.abs() > 1.0 - 1e-12;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "convexity map: saddle k_c 0.5 k_v 2".to_string(),
         format!(
@@ -401,6 +531,7 @@ fn convexity_maps() -> Result<Vec<Case>, String> {
 /// All friction cases.
 pub fn suite() -> Result<Vec<Case>, String> {
     let mut cases = capstan()?;
+    cases.extend(footprint()?);
     cases.extend(helix()?);
     cases.extend(sphere()?);
     cases.extend(saddle()?);

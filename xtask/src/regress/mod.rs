@@ -1,17 +1,17 @@
 //! The regression runner: every suite returns [`Case`]s (a measured value beside its reference and a
 //! verdict); the runner prints them as one table and fails if any case failed.
 //!
-//! Every row must be able to fail, against a reference from outside the code under test. Three
-//! kinds of row:
-//! - a **reproduction** (the default): measured against a paper's number, a closed form, an
-//!   independent oracle or counts taken from the input;
-//! - a **drift check** ([`Case::drift`]): compared with a golden file our own code wrote; printed
-//!   as such and not counted as a reproduction;
-//! - a **known difference**: a reproduction that fails because our faithful model disagrees with
-//!   the paper. It is listed in [`KNOWN_DIFFERENCES`] with the reason and a pointer to the
-//!   derivation, and printed `DIFFERS`. The list is exact: a listed row that passes (the
-//!   difference disappeared) or is missing, and a failing row not listed (a new difference),
-//!   fail the run.
+//! Every row must be able to fail, against a reference from outside the code under test, and
+//! carries the [`Kind`] of that reference: a paper's number, a paper's verdict, a closed form, an
+//! independent oracle, a property, or a drift check against a golden file our own code wrote. The
+//! summary counts each kind; only paper rows that agree are called reproduced.
+//!
+//! A **known difference** is a paper row that fails because our faithful model disagrees with the
+//! paper. It is listed in [`KNOWN_DIFFERENCES`] with the reason and a pointer to the derivation,
+//! carries the band the difference is expected in ([`Case::differs_within`]), and is printed
+//! `DIFFERS`. The list is exact: a listed row that passes (the difference disappeared), leaves its
+//! band in either direction, has no band, or is missing, and a failing row not listed (a new
+//! difference), fail the run.
 
 mod btm;
 pub mod case;
@@ -24,7 +24,7 @@ pub mod terrain;
 pub mod terrain_synthetic;
 mod tracking;
 
-use case::Case;
+use case::{Case, Kind};
 use std::process::ExitCode;
 
 /// A known difference from a paper: the row (`suite`, exact case name), why our model differs,
@@ -83,24 +83,44 @@ pub const KNOWN_DIFFERENCES: &[KnownDifference] = &[
 /// The verdict of one row once the known differences are applied.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Verdict {
+    /// Agrees with its reference.
     Ok,
-    Drift,
+    /// A listed known difference inside its band.
     Differs,
-    Fail,
+    /// Fails, for the reason given.
+    Fail(Failure),
 }
 
-/// The verdict of every row, and the failures of the list itself (entries whose row passed or is
-/// missing).
+/// Why a row fails.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Failure {
+    /// Disagrees with its reference and is not a known difference.
+    Disagrees,
+    /// Listed as a known difference but now agrees with the paper.
+    NowAgrees,
+    /// Listed as a known difference but outside the band it is expected in.
+    LeftBand,
+    /// Listed as a known difference without a band.
+    NoBand,
+    /// A known difference on a row not compared with a paper, or a band on an unlisted row.
+    Misfiled,
+}
+
+/// The verdict of every row, and the failures of the list itself (entries whose row is missing).
 fn judge(cases: &[Case], known: &[KnownDifference]) -> (Vec<Verdict>, Vec<String>) {
     let listed = |c: &Case| known.iter().any(|k| k.suite == c.suite && k.case == c.name);
     let verdicts = cases
         .iter()
-        .map(|c| match (c.pass, listed(c)) {
-            (true, false) if c.drift => Verdict::Drift,
-            (true, false) => Verdict::Ok,
-            (false, true) => Verdict::Differs,
+        .map(|c| match (listed(c), c.pass, &c.band) {
+            (false, true, None) => Verdict::Ok,
+            (false, false, None) => Verdict::Fail(Failure::Disagrees),
+            (false, _, Some(_)) => Verdict::Fail(Failure::Misfiled),
+            (true, _, _) if !c.kind.is_paper() => Verdict::Fail(Failure::Misfiled),
             // A listed row that passes: the difference disappeared; the list must change.
-            (true, true) | (false, false) => Verdict::Fail,
+            (true, true, _) => Verdict::Fail(Failure::NowAgrees),
+            (true, false, None) => Verdict::Fail(Failure::NoBand),
+            (true, false, Some(b)) if b.holds => Verdict::Differs,
+            (true, false, Some(_)) => Verdict::Fail(Failure::LeftBand),
         })
         .collect();
     let stale = known
@@ -109,6 +129,46 @@ fn judge(cases: &[Case], known: &[KnownDifference]) -> (Vec<Verdict>, Vec<String
         .map(|k| format!("{}: {}", k.suite, k.case))
         .collect();
     (verdicts, stale)
+}
+
+/// The ledger: for each kind, its rows, how many agree, how many are known differences and how
+/// many fail; then the reproductions (paper rows that agree).
+fn ledger(cases: &[Case], verdicts: &[Verdict]) -> Vec<String> {
+    let mut lines = vec![format!(
+        "{:14}  {:>5}  {:>5}  {:>7}  {:>6}",
+        "kind", "rows", "agree", "DIFFERS", "failed"
+    )];
+    let mut total = [0usize; 4];
+    for kind in Kind::ALL {
+        let of: Vec<&Verdict> = cases
+            .iter()
+            .zip(verdicts)
+            .filter(|(c, _)| c.kind == kind)
+            .map(|(_, v)| v)
+            .collect();
+        let n = [
+            of.len(),
+            of.iter().filter(|v| ***v == Verdict::Ok).count(),
+            of.iter().filter(|v| ***v == Verdict::Differs).count(),
+            of.iter().filter(|v| matches!(v, Verdict::Fail(_))).count(),
+        ];
+        for (t, x) in total.iter_mut().zip(n) {
+            *t += x;
+        }
+        lines.push(format!(
+            "{:14}  {:>5}  {:>5}  {:>7}  {:>6}",
+            kind.label(),
+            n[0],
+            n[1],
+            n[2],
+            n[3]
+        ));
+    }
+    lines.push(format!(
+        "{:14}  {:>5}  {:>5}  {:>7}  {:>6}",
+        "all", total[0], total[1], total[2], total[3]
+    ));
+    lines
 }
 
 /// A suite: a name and the function that runs it.
@@ -154,52 +214,96 @@ pub fn run(filter: Option<&str>) -> Result<ExitCode, String> {
             .max()
             .unwrap_or(0)
     };
-    let (ws, wn, wm, wr) = (
+    let (ws, wk, wn, wm, wr) = (
         width(|c| c.suite, "suite"),
+        width(|c| c.kind.label(), "kind"),
         width(|c| &c.name, "case"),
         width(|c| &c.measured, "measured"),
         width(|c| &c.reference, "reference"),
     );
     println!(
-        "{:ws$}  {:wn$}  {:wm$}  {:wr$}  result",
-        "suite", "case", "measured", "reference"
+        "{:ws$}  {:wk$}  {:wn$}  {:wm$}  {:wr$}  result",
+        "suite", "kind", "case", "measured", "reference"
     );
     let known: Vec<KnownDifference> = known.into_iter().copied().collect();
     let (verdicts, stale) = judge(&cases, &known);
     for (c, v) in cases.iter().zip(&verdicts) {
+        let reason = || {
+            known
+                .iter()
+                .find(|k| k.suite == c.suite && k.case == c.name)
+                .map_or(String::new(), |k| {
+                    format!(": {} (see {})", k.reason, k.derivation)
+                })
+        };
+        let band = || {
+            c.band
+                .as_ref()
+                .map_or("none".to_string(), |b| b.description.clone())
+        };
         let verdict = match v {
+            Verdict::Ok if c.kind == Kind::Drift => "ok (drift check)".to_string(),
             Verdict::Ok => "ok".to_string(),
-            Verdict::Drift => "ok (drift check)".to_string(),
-            Verdict::Differs => {
-                let k = known
-                    .iter()
-                    .find(|k| k.suite == c.suite && k.case == c.name)
-                    .map_or(String::new(), |k| {
-                        format!(": {} (see {})", k.reason, k.derivation)
-                    });
-                format!("DIFFERS (known){k}")
-            }
-            Verdict::Fail if c.pass => {
+            Verdict::Differs => format!("DIFFERS (known, in band {}){}", band(), reason()),
+            Verdict::Fail(Failure::Disagrees) => "FAIL".to_string(),
+            Verdict::Fail(Failure::NowAgrees) => {
                 "FAIL: listed as a known difference but now agrees; update KNOWN_DIFFERENCES"
                     .to_string()
             }
-            Verdict::Fail => "FAIL".to_string(),
+            Verdict::Fail(Failure::LeftBand) => format!(
+                "FAIL: a known difference outside its band {}; update KNOWN_DIFFERENCES",
+                band()
+            ),
+            Verdict::Fail(Failure::NoBand) => {
+                "FAIL: a known difference without a band (Case::differs_within)".to_string()
+            }
+            Verdict::Fail(Failure::Misfiled) => {
+                "FAIL: a band without a listed difference, or a difference on a row not compared \
+                 with a paper"
+                    .to_string()
+            }
         };
         println!(
-            "{:ws$}  {:wn$}  {:wm$}  {:wr$}  {verdict}",
-            c.suite, c.name, c.measured, c.reference
+            "{:ws$}  {:wk$}  {:wn$}  {:wm$}  {:wr$}  {verdict}",
+            c.suite,
+            c.kind.label(),
+            c.name,
+            c.measured,
+            c.reference
         );
     }
     for s in &stale {
         println!("FAIL: known difference {s} has no row; update KNOWN_DIFFERENCES");
     }
-    let count = |v: Verdict| verdicts.iter().filter(|&&x| x == v).count();
-    let failed = count(Verdict::Fail) + stale.len();
+    println!();
+    for line in ledger(&cases, &verdicts) {
+        println!("{line}");
+    }
+    let failed = verdicts
+        .iter()
+        .filter(|v| matches!(v, Verdict::Fail(_)))
+        .count()
+        + stale.len();
+    let paper = |v: Verdict| {
+        cases
+            .iter()
+            .zip(&verdicts)
+            .filter(|(c, x)| c.kind.is_paper() && **x == v)
+            .count()
+    };
+    let others = |v: Verdict| {
+        cases
+            .iter()
+            .zip(&verdicts)
+            .filter(|(c, x)| !c.kind.is_paper() && **x == v)
+            .count()
+    };
     println!(
-        "regress: {} reproduced, {} drift checks, {} known differences, {} failed",
-        count(Verdict::Ok),
-        count(Verdict::Drift),
-        count(Verdict::Differs),
+        "regress: {} reproduced (paper rows that agree), {} known differences from a paper, \
+         {} other checks pass (closed form, oracle, property, drift), {} failed",
+        paper(Verdict::Ok),
+        paper(Verdict::Differs),
+        others(Verdict::Ok),
         failed
     );
     Ok(if failed == 0 {
@@ -214,7 +318,7 @@ mod tests {
     use super::*;
 
     fn case(name: &str, pass: bool) -> Case {
-        Case::new("s", name, "m", "r", pass)
+        Case::paper_number("s", name, "m", "r", pass)
     }
 
     const KNOWN: &[KnownDifference] = &[KnownDifference {
@@ -226,20 +330,55 @@ mod tests {
 
     #[test]
     fn the_list_of_known_differences_is_exact() {
-        let (v, stale) = judge(&[case("a", true), case("b", false)], KNOWN);
+        let b = |pass: bool, holds: bool| case("b", pass).differs_within("band", holds);
+        let (v, stale) = judge(&[case("a", true), b(false, true)], KNOWN);
         assert_eq!(v, [Verdict::Ok, Verdict::Differs]);
         assert!(stale.is_empty());
         // A new difference fails.
-        let (v, _) = judge(&[case("a", false), case("b", false)], KNOWN);
-        assert_eq!(v, [Verdict::Fail, Verdict::Differs]);
+        let (v, _) = judge(&[case("a", false), b(false, true)], KNOWN);
+        assert_eq!(v, [Verdict::Fail(Failure::Disagrees), Verdict::Differs]);
         // A difference that disappeared fails.
-        let (v, _) = judge(&[case("a", true), case("b", true)], KNOWN);
-        assert_eq!(v, [Verdict::Ok, Verdict::Fail]);
+        let (v, _) = judge(&[b(true, true)], KNOWN);
+        assert_eq!(v, [Verdict::Fail(Failure::NowAgrees)]);
+        // A difference that left its band (either way) fails.
+        let (v, _) = judge(&[b(false, false)], KNOWN);
+        assert_eq!(v, [Verdict::Fail(Failure::LeftBand)]);
+        // A listed row without a band fails.
+        let (v, _) = judge(&[case("b", false)], KNOWN);
+        assert_eq!(v, [Verdict::Fail(Failure::NoBand)]);
+        // A band on an unlisted row, and a difference on a row not compared with a paper, fail.
+        let (v, _) = judge(&[case("a", false).differs_within("band", true)], KNOWN);
+        assert_eq!(v, [Verdict::Fail(Failure::Misfiled)]);
+        let closed = Case::closed_form("s", "b", "m", "r", false).differs_within("band", true);
+        assert_eq!(
+            judge(&[closed], KNOWN).0,
+            [Verdict::Fail(Failure::Misfiled)]
+        );
         // A listed row that no longer exists fails.
         let (_, stale) = judge(&[case("a", true)], KNOWN);
         assert_eq!(stale, ["s: b"]);
-        // A drift check is labelled, not counted as a reproduction.
-        let drift = Case::drift("s", "d", "m", "golden", true);
-        assert_eq!(judge(&[drift], &[]).0, [Verdict::Drift]);
+    }
+
+    #[test]
+    fn the_ledger_counts_each_kind() {
+        let cases = [
+            case("a", true),
+            Case::drift("s", "d", "m", "golden", true),
+            Case::closed_form("s", "c", "m", "r", false),
+        ];
+        let (v, _) = judge(&cases, &[]);
+        let lines = ledger(&cases, &v);
+        let row = |label: &str| {
+            lines
+                .iter()
+                .find(|l| l.starts_with(label))
+                .map(|l| l.split_whitespace().rev().take(4).collect::<Vec<_>>())
+                .unwrap()
+        };
+        // Columns reversed: failed, DIFFERS, agree, rows.
+        assert_eq!(row("paper number"), ["0", "0", "1", "1"]);
+        assert_eq!(row("drift"), ["0", "0", "1", "1"]);
+        assert_eq!(row("closed form"), ["1", "0", "0", "1"]);
+        assert_eq!(row("all"), ["1", "0", "2", "3"]);
     }
 }

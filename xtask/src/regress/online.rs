@@ -16,6 +16,7 @@ use rappel::online::run;
 use rappel::plan::{PlanOptions, plan};
 use rappel::planners::online::simulate::Ending;
 use rappel::planners::online::{ChangeCase, Decision, SimulationOptions, SimulationReport};
+use rappel::planners::visibility_graph;
 use rappel::scenario::Scenario;
 
 const SUITE: &str = "online";
@@ -37,7 +38,7 @@ fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
         .filter(|e| e.difference == Difference::Friction { prior: 0 })
         .collect();
     let slipped = !sensed.is_empty() && sensed.iter().all(|e| e.outcome.reason.contains("slips"));
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{name}: the weaker PTFO sensed and reclassified"),
         format!("{} event(s), slips: {}", sensed.len(), yes(slipped)),
@@ -55,7 +56,7 @@ fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
     let measured = report.final_class_length_m;
     let same =
         matches!((measured, reference), (Some(a), Some(b)) if (a - b).abs() <= 1e-9 * b.max(1.0));
-    cases.push(Case::new(
+    cases.push(Case::oracle(
         SUITE,
         format!("{name}: final class SHP, m"),
         measured.map_or("none".into(), |l| format!("{l:.6}")),
@@ -68,14 +69,14 @@ fn frictional(cases: &mut Vec<Case>) -> Result<(), String> {
     // friction 0.01 no wrap of the pillar holds, and the start and goal lie on the line through
     // its diagonal corners, so the tether ends straight: |goal - start|.
     let straight = (truth.goal - truth.start).norm();
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{name}: final class SHP against the closed form, m"),
         measured.map_or("none".into(), |l| format!("{l:.6}")),
         format!("{straight:.6} (|goal - start|: the nearly frictionless pillar holds nothing)"),
         measured.is_some_and(|l| (l - straight).abs() <= 1e-9 * straight),
     ));
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{name}: ending"),
         format!("{:?}, homotopic: {}", report.ending, yes(report.homotopic)),
@@ -136,7 +137,7 @@ fn worked_example(cases: &mut Vec<Case>) -> Result<(), String> {
             .edges()
             .any(|(p, q)| segment_contact(p, q, &w[0], &w[1]) != SegmentContact::Disjoint)
     });
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         format!("{name}: new obstacle meets the prior SHP"),
         yes(touches),
@@ -147,7 +148,7 @@ fn worked_example(cases: &mut Vec<Case>) -> Result<(), String> {
     let event = r.timeline.first();
     let corner = prior.map.obstacles[0].vertices[1];
     let after_corner = event.is_some_and(|e| e.robot.y < corner.y);
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         format!("{name}: discovered after turning the corner"),
         event.map_or("no event".into(), |e| {
@@ -157,7 +158,7 @@ fn worked_example(cases: &mut Vec<Case>) -> Result<(), String> {
         after_corner && r.timeline.len() == 1,
     ));
     let case = event.map(|e| e.outcome.case);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{name}: case"),
         format!("{case:?}"),
@@ -167,7 +168,7 @@ fn worked_example(cases: &mut Vec<Case>) -> Result<(), String> {
     let decision = event.map(|e| e.outcome.decision.clone());
     let from_robot =
         matches!(decision, Some(Decision::Switched { backtrack_m, .. }) if backtrack_m == 0.0);
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         format!("{name}: decision"),
         decision.as_ref().map_or("none".into(), decision_word),
@@ -178,7 +179,7 @@ fn worked_example(cases: &mut Vec<Case>) -> Result<(), String> {
         .final_class_length_m
         .zip(r.initial_class_length_m)
         .is_some_and(|(after, before)| after > before);
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         format!("{name}: SHP longer after the discovery"),
         format!(
@@ -189,7 +190,7 @@ fn worked_example(cases: &mut Vec<Case>) -> Result<(), String> {
         "longer (it wraps the new obstacle)",
         anchors_on_new,
     ));
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         format!("{name}: end"),
         format!("{:?}, homotopic {}", r.ending, yes(r.homotopic)),
@@ -296,7 +297,7 @@ fn case_fixtures(cases: &mut Vec<Case>) -> Result<(), String> {
             "goal" => r.ending == Ending::Goal && r.homotopic,
             _ => matches!(r.ending, Ending::NoFeasibleClass { .. }),
         };
-        cases.push(Case::new(
+        cases.push(Case::closed_form(
             SUITE,
             format!("{}: case, decision, end", row.truth),
             format!(
@@ -378,6 +379,8 @@ fn completeness(cases: &mut Vec<Case>) -> Result<(), String> {
     let (mut offline_feasible, mut reached, mut homotopic) = (0, 0, 0);
     let mut ratios = Vec::new();
     let mut backs = Vec::new();
+    // Per run: reported - retraced backtrack, (travelled - 2 back) - geodesic, retraced.
+    let mut back_checks: Vec<(f64, f64, f64)> = Vec::new();
     let mut failures = Vec::new();
     for seed in 0..n {
         let (prior, truth) = pair(seed)?;
@@ -402,6 +405,14 @@ fn completeness(cases: &mut Vec<Case>) -> Result<(), String> {
                 homotopic += usize::from(r.homotopic);
                 ratios.push(r.travelled_m / optimal);
                 backs.push(r.backtracked_m);
+                let geodesic = visibility_graph::shortest_path(&truth.map, truth.start, truth.goal)
+                    .map_or(f64::NAN, |p| p.length);
+                let retraced = retraced_length(&r.travelled);
+                back_checks.push((
+                    r.backtracked_m - retraced,
+                    r.travelled_m - 2.0 * r.backtracked_m - geodesic,
+                    retraced,
+                ));
             }
             Ok(r) => failures.push(format!("seed {seed}: {:?}", r.ending)),
             Err(e) => failures.push(format!("seed {seed}: {e}")),
@@ -409,7 +420,7 @@ fn completeness(cases: &mut Vec<Case>) -> Result<(), String> {
     }
     ratios.sort_by(f64::total_cmp);
     backs.sort_by(f64::total_cmp);
-    cases.push(Case::new(
+    cases.push(Case::oracle(
         SUITE,
         format!("completeness, {n} seeded pairs: goal reached when offline feasible"),
         format!(
@@ -423,7 +434,7 @@ fn completeness(cases: &mut Vec<Case>) -> Result<(), String> {
         "all (thesis §3.5.3 completeness; offline Alg. 6 on the true map)",
         reached == offline_feasible && offline_feasible > 0,
     ));
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         "completeness: ascent and descent homotopic at the goal",
         format!("{homotopic} of {reached}"),
@@ -431,7 +442,7 @@ fn completeness(cases: &mut Vec<Case>) -> Result<(), String> {
         homotopic == reached,
     ));
     let lowest = ratios.first().copied().unwrap_or(f64::NAN);
-    cases.push(Case::new(
+    cases.push(Case::oracle(
         SUITE,
         "completeness: travelled / offline-optimal length (median, p95, min)",
         format!(
@@ -443,18 +454,65 @@ fn completeness(cases: &mut Vec<Case>) -> Result<(), String> {
         "min >= 1 - 1e-9 (no run beats the offline optimum on the true map)",
         lowest >= 1.0 - 1e-9,
     ));
-    cases.push(Case::new(
+    let worst_back = back_checks
+        .iter()
+        .map(|c| c.0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let worst_walk = back_checks
+        .iter()
+        .map(|c| c.1)
+        .fold(f64::INFINITY, f64::min);
+    let retracing = back_checks.iter().filter(|c| c.2 > 0.0).count();
+    let uncounted = back_checks.iter().filter(|c| c.0 < -1e-6).count();
+    cases.push(Case::oracle(
         SUITE,
         "completeness: backtracked distance (median, p95), m",
         format!(
-            "{:.2}, {:.2}",
+            "{:.2}, {:.2}; {retracing} run(s) retrace, {uncounted} retrace more than reported; \
+             largest reported - retraced {worst_back:.1e} m; least (travelled - 2 back) - \
+             geodesic {worst_walk:.3} m",
             percentile(&backs, 0.5),
             percentile(&backs, 0.95)
         ),
-        "measured (reported by the issue), finite",
-        backs.iter().all(|b| b.is_finite() && *b >= 0.0),
+        "each run: every reported metre is the robot's path running back over itself \
+         (reported <= retraced + 1e-6 m), and travelled - 2 backtracked >= the shortest free \
+         path on the true map (visibility graph)",
+        back_checks.iter().all(|c| c.0 <= 1e-6) && worst_walk >= -1e-6,
     ));
     Ok(())
+}
+
+/// The length of the robot's path that runs back over a stretch it drove earlier, in the
+/// opposite direction: each step `p -> q` lying on an earlier step `a -> b` (both ends within 1e-9
+/// of its line, between its ends) and pointing against it. Computed from the path alone,
+/// independently of the session's own count.
+fn retraced_length(path: &[rappel::nalgebra::Point2<f64>]) -> f64 {
+    let steps: Vec<_> = path.windows(2).map(|w| (w[0], w[1])).collect();
+    let mut total = 0.0;
+    for (i, &(p, q)) in steps.iter().enumerate() {
+        let d = q - p;
+        let len = d.norm();
+        if len == 0.0 {
+            continue;
+        }
+        let back = steps[..i].iter().any(|&(a, b)| {
+            let e = b - a;
+            let l2 = e.norm_squared();
+            if l2 == 0.0 || d.dot(&e) >= 0.0 {
+                return false;
+            }
+            let scale = 1e-9 * (1.0 + a.coords.norm().max(b.coords.norm()));
+            [p, q].iter().all(|x| {
+                let t = (x - a).dot(&e) / l2;
+                let off = (x - a - e * t).norm();
+                off <= scale && t >= -scale && t <= 1.0 + scale
+            })
+        });
+        if back {
+            total += len;
+        }
+    }
+    total
 }
 
 fn yes(b: bool) -> &'static str {

@@ -7,7 +7,7 @@
 //! with the boom inline or in contact. Test 3: the tether swept around the pole against the
 //! closed-form wrap of a cylinder.
 
-use super::case::{Case, workspace_root};
+use super::case::{Case, Kind, workspace_root};
 use rappel::nalgebra::{Point3, Vector3};
 use rappel::planners::anchor_prediction::{AnchorHistory, PredictParams, predict_path};
 use rappel::planners::rover::stability_map::{
@@ -48,7 +48,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
     // Settling against closed forms: on the top (height 4 m, level) and mid-slope (pitch -55°,
     // height 4 - x tan 55°).
     let (_, top) = settle_report(&ground, -1.0, 0.0, 0.0, None).map_err(|e| e.to_string())?;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "settle on the ledge top: height, pitch",
         format!("{:.4} m, {:.3}°", top.origin[2], top.pitch_deg),
@@ -58,7 +58,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
     let x = 0.5 * scene.slope_foot_x();
     let want = 4.0 - x * scene.slope_deg.to_radians().tan();
     let (_, mid) = settle_report(&ground, x, 0.0, 0.0, None).map_err(|e| e.to_string())?;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "settle mid-slope facing down: height, pitch",
         format!("{:.4} m, {:.3}°", mid.origin[2], mid.pitch_deg),
@@ -78,7 +78,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
     let on_field =
         |x: f64| rappel::planners::rover::stability_map::settle_from(&field, z_top, x, 0.0, 0.0);
     let (ft, fm) = (on_field(-1.0)?, on_field(x)?);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "settle through the sparse 5 cm field: top and mid-slope height, pitch",
         format!(
@@ -117,14 +117,14 @@ pub fn suite() -> Result<Vec<Case>, String> {
     let n1 = one.len();
     let s1 = one.iter().filter(|p| p.0).count();
     let lip1 = one.iter().filter(|p| p.1 == 2 && p.2).count();
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "Fig. 8 test 1: predicted anchor on the lip (x = 0, z = 4) for slope poses",
         format!("{lip1}/{n1} with one anchor on the lip"),
         format!("{n1}/{n1} (the tether from 4.9 m behind bends over the lip)"),
         lip1 == n1,
     ));
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         "Fig. 8 test 1 anchor (predicted): slope in front of the rover",
         format!("{s1}/{n1} stable"),
@@ -136,14 +136,14 @@ pub fn suite() -> Result<Vec<Case>, String> {
     let n2 = two.len();
     let s2 = two.iter().filter(|p| p.0).count();
     let free2 = two.iter().filter(|p| p.1 == 1).count();
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "Fig. 8 test 2: no anchor attaches (tether in the air in front)",
         format!("{free2}/{n2} with the root as last anchor"),
         format!("{n2}/{n2}"),
         free2 == n2,
     ));
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         "Fig. 8 test 2 anchor (predicted): the whole 55° slope",
         format!("{s2}/{n2} stable"),
@@ -191,14 +191,14 @@ pub fn suite() -> Result<Vec<Case>, String> {
             }
         }
     }
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "boom in contact past the lip: shaft on the lip at -atan(r_w / s)",
         format!("{on_lip_ok}/{on_slope} poses on the slope within the boom's reach"),
         format!("{on_slope}/{on_slope} (closed form, 1e-6), at least 3"),
         on_slope >= 3 && on_lip_ok == on_slope,
     ));
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         "test-1 straight descent over the lip (x 0 to 0.7 m, 5 cm): stable poses",
         format!(
@@ -231,7 +231,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
     };
     let (m1, k1) = map(&anchors[0])?;
     let (m2, k2) = map(&anchors[1])?;
-    cases.push(Case::new(
+    cases.push(Case::paper_verdict(
         SUITE,
         "Fig. 8 map (0.5 m): slope cells stable, test 1 / test 2 root",
         format!("{m1}/{k1}, {m2}/{k2}"),
@@ -262,15 +262,72 @@ pub fn suite() -> Result<Vec<Case>, String> {
     let t2 = 200.0 - (r / rt).acos().to_degrees();
     let want = (dr * dr - r * r).sqrt() + r * (t2 - t1).to_radians() + (rt * rt - r * r).sqrt();
     let got = wrap.history.tether_length(tips.last().ok_or("no tips")?);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         "test 3 pole: tether swept 230° around the pole, length",
         format!("{got:.3} m, {} anchors", wrap.history.len() - 1),
         format!("{want:.3} m (tangents + arc of a 0.3 m cylinder), within 1%"),
         (got - want).abs() < 0.01 * want && wrap.history.len() > 2,
     ));
+    cases.push(mesh_tether_cone()?);
     cases.extend(table_one()?);
     Ok(cases)
+}
+
+/// The wheels' friction on a mesh (the scene's `SCENE_FRICTION`, Paton §IV-A/C): the four-wheel
+/// rover settled on a 45° plane given as a triangle mesh, facing away from its anchor, the
+/// tether parallel to the slope at `psi` from the fall line and unlimited. The wheels must cancel
+/// the cross-tether part of gravity, so it holds iff `psi <= asin(mu cot eta)` (eq. 2.7): checked
+/// 4° either side of the boundary, which a 30 % change of the friction moves by 11-14°.
+fn mesh_tether_cone() -> Result<Case, String> {
+    use rappel::planners::rover::ground::{DistanceSource, GroundDistances};
+    use rappel::planners::rover::verdict::SCENE_FRICTION;
+    use rappel::terrain::mesh::TriMesh;
+    let eta = 45f64.to_radians();
+    let (w, t) = (60.0, eta.tan());
+    let ground = TriMesh::new(
+        vec![
+            Point3::new(-w, -w, -w * t),
+            Point3::new(w, -w, -w * t),
+            Point3::new(w, w, w * t),
+            Point3::new(-w, w, w * t),
+        ],
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
+    .map_err(|e| e.to_string())?;
+    let d = GroundDistances::new(&ground, DistanceSource::Exact).map_err(|e| e.to_string())?;
+    let boundary = (SCENE_FRICTION / eta.tan()).asin();
+    let normal = Vector3::new(0.0, -eta.sin(), eta.cos());
+    let verdict = |psi: f64| -> Result<Option<bool>, String> {
+        // Up the slope at psi from the fall line, in the plane; the rover faces the other way.
+        let along = Vector3::new(psi.sin(), psi.cos() * eta.cos(), psi.cos() * eta.sin());
+        let exit = rappel::mechanics::four_wheel::FourWheelParams::default()
+            .tether_exit
+            .z;
+        let anchor = Point3::origin() + along * 40.0 + normal * exit;
+        let yaw = (-along.y).atan2(-along.x).to_degrees();
+        let (_, r) = rappel::settle::four_wheel_report_with(
+            &d,
+            0.0,
+            0.0,
+            yaw,
+            Some([anchor.x, anchor.y, anchor.z]),
+        )
+        .map_err(|e| e.to_string())?;
+        Ok(r.stability.first().and_then(|v| v.stable))
+    };
+    let margin = 4f64.to_radians();
+    let (below, above) = (verdict(boundary - margin)?, verdict(boundary + margin)?);
+    Ok(Case::closed_form(
+        SUITE,
+        "four-wheel rover on a 45° mesh plane, tether 4° inside / outside the cone: stable",
+        format!("{below:?} / {above:?}"),
+        format!(
+            "Some(true) / Some(false): asin(mu cot eta) = {:.2}° with the scene's mu {SCENE_FRICTION} (eq. 2.7)",
+            boundary.to_degrees()
+        ),
+        below == Some(true) && above == Some(false),
+    ))
 }
 
 /// Seeds of Table I's test `test` (`shadow`: our shadow-sampling row): Paton's 100 behind
@@ -422,8 +479,16 @@ fn table_one() -> Result<Vec<Case>, String> {
             } else {
                 String::new()
             };
-            cases.push(Case::new(
+            // Paton's uniform rows are his Table I numbers; the shadow rows are ours: test 2's
+            // against his verdict that no path exists, test 3's against our own goal.
+            let kind = match (test, shadow) {
+                (_, false) => Kind::PaperNumber,
+                (2, true) => Kind::PaperVerdict,
+                _ => Kind::Property,
+            };
+            let row = Case::new(
                 SUITE,
+                kind,
                 name,
                 format!(
                     "{}/{} of {n} ({shaped} with the expected anchors), {:.1} s wall; {} s, {} it{shadow_note}",
@@ -435,8 +500,31 @@ fn table_one() -> Result<Vec<Case>, String> {
                 ),
                 reference,
                 pass,
-            ));
+            );
+            // The known difference of test 3 with Paton's sampling: its band (see
+            // `TEST_3_UNIFORM_BAND`), every found path wrapping the pole and none unsafe.
+            let row = if (test, shadow) == (3, false) {
+                let (lo, hi) = TEST_3_UNIFORM_BAND;
+                let share = found.len() as f64 / n as f64;
+                row.differs_within(
+                    format!(
+                        "{:.0}-{:.0} % of seeds found, all wrapping the pole, 0 unsafe",
+                        100.0 * lo,
+                        100.0 * hi
+                    ),
+                    share >= lo && share <= hi && shaped == found.len() && unsafe_ == 0,
+                )
+            } else {
+                row
+            };
+            cases.push(row);
         }
     }
     Ok(cases)
 }
+
+/// The band of Table I test 3 with Paton's uniform sampling (a known difference): the share of
+/// seeds on which the pole wrap is found within 750 iterations. Measured 5 of the 10 CI seeds and
+/// 56 of 100 with `--full` (paper 84 of 100); the band holds both and fails if the share drops
+/// below 30 % or rises above 70 % without reaching the paper's 84 %.
+const TEST_3_UNIFORM_BAND: (f64, f64) = (0.30, 0.70);

@@ -6,7 +6,7 @@
 //! paper's worked example has a feasible path, §IV; Garni's best SHP is straight, Fig. 2.31;
 //! Golden Queen's wraps two small obstacles and is feasible at mu 0.4 on 45 degrees, Fig. 2.44).
 
-use super::case::{Case, workspace_root};
+use super::case::{Case, Kind, workspace_root};
 use rappel::plan::{PlanOptions, PlanReport};
 use rappel::planners::visibility_graph;
 use rappel::scenario::Scenario;
@@ -62,9 +62,17 @@ fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= LENGTH_TOLERANCE * b.abs().max(1.0)
 }
 
-fn length_case(cases: &mut Vec<Case>, name: String, measured: f64, reference: f64, what: &str) {
+fn length_case(
+    cases: &mut Vec<Case>,
+    kind: Kind,
+    name: String,
+    measured: f64,
+    reference: f64,
+    what: &str,
+) {
     cases.push(Case::new(
         SUITE,
+        kind,
         name,
         format!("{measured:.9} m"),
         format!("{reference:.9} m ({what})"),
@@ -87,13 +95,14 @@ fn oracle_case(
         .ok_or_else(|| format!("{file}: no class"))?;
     length_case(
         cases,
+        Kind::Oracle,
         format!("{file}: first SHP length"),
         first.length_m,
         oracle.length,
         "visibility graph + Dijkstra",
     );
     let ordered = r.classes.windows(2).all(|w| w[0].length_m <= w[1].length_m);
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         format!("{file}: {} classes non-decreasing", r.classes.len()),
         if ordered {
@@ -109,12 +118,13 @@ fn oracle_case(
 
 fn verdict_case(
     cases: &mut Vec<Case>,
+    kind: Kind,
     name: String,
     measured: &str,
     reference: String,
     pass: bool,
 ) {
-    cases.push(Case::new(SUITE, name, measured, reference, pass));
+    cases.push(Case::new(SUITE, kind, name, measured, reference, pass));
 }
 
 fn anchor_points(r: &PlanReport, class: usize) -> Vec<(f64, f64)> {
@@ -133,12 +143,13 @@ fn garni(cases: &mut Vec<Case>) -> Result<(), String> {
     let straight = (s.goal - s.start).norm();
     length_case(
         cases,
+        Kind::ClosedForm,
         format!("{file}: SHP length"),
         r.classes[0].length_m,
         straight,
         "straight line, Fig. 2.31",
     );
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{file}: anchors of the best SHP"),
         r.classes[0].anchors.len().to_string(),
@@ -149,9 +160,26 @@ fn garni(cases: &mut Vec<Case>) -> Result<(), String> {
     let cone = cone_deg(45.0, 0.4);
     verdict_case(
         cases,
+        Kind::PaperVerdict,
         format!("{file}: class 1 ascent"),
         feasibility_word(r.classes[0].feasible),
         format!("feasible (psi {psi:.2}° < {cone:.2}°, Fig. 2.36)"),
+        r.classes[0].feasible && psi < cone,
+    );
+    // Fig. 2.37: the same map and path with mu 0.3 ("even with a smaller friction coefficient,
+    // this path is feasible too"): the cone narrows to asin(0.3 cot 45°).
+    let mut low = s.clone();
+    for p in &mut low.terrain.planes {
+        p.friction = 0.3;
+    }
+    let r = run(&low, &PlanOptions::default())?;
+    let cone = cone_deg(45.0, 0.3);
+    verdict_case(
+        cases,
+        Kind::PaperVerdict,
+        format!("{file} at mu 0.3: class 1 ascent"),
+        feasibility_word(r.classes[0].feasible),
+        format!("feasible (psi {psi:.2}° < {cone:.2}°, Fig. 2.37)"),
         r.classes[0].feasible && psi < cone,
     );
     Ok(())
@@ -165,13 +193,14 @@ fn golden_queen(cases: &mut Vec<Case>) -> Result<(), String> {
     let (st, a1, a2, g) = ((50.0, 200.0), (52.0, 130.0), (48.0, 60.0), (50.0, 0.0));
     length_case(
         cases,
+        Kind::ClosedForm,
         format!("{file}: SHP length"),
         r.classes[0].length_m,
         dist(st, a1) + dist(a1, a2) + dist(a2, g),
         "closed form via (52, 130), (48, 60)",
     );
     let anchors = anchor_points(&r, 0);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{file}: anchors of the best SHP"),
         format!("{anchors:?}"),
@@ -184,6 +213,7 @@ fn golden_queen(cases: &mut Vec<Case>) -> Result<(), String> {
         .fold(0.0, f64::max);
     verdict_case(
         cases,
+        Kind::PaperVerdict,
         format!("{file}: class 1 ascent"),
         feasibility_word(r.classes[0].feasible),
         format!("feasible (largest psi {worst:.2}° < {cone:.2}°, Fig. 2.44)"),
@@ -196,7 +226,7 @@ fn golden_queen(cases: &mut Vec<Case>) -> Result<(), String> {
 /// The chosen pair: its class, and its clearance against the scenario's.
 fn pair_case(file: &str, r: &PlanReport, rank: usize, clearance: f64, cases: &mut Vec<Case>) {
     let chosen = r.outcome.chosen.as_ref().map(|p| p.rank);
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         format!("{file}: chosen class"),
         chosen.map_or("none".into(), |k| k.to_string()),
@@ -209,7 +239,7 @@ fn pair_case(file: &str, r: &PlanReport, rank: usize, clearance: f64, cases: &mu
         .as_ref()
         .and_then(|p| p.min_anchor_distance_m)
         .unwrap_or(0.0);
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         format!("{file}: pair clearance from anchors"),
         format!("{d:.6} m"),
@@ -227,6 +257,7 @@ fn shortest_infeasible(cases: &mut Vec<Case>) -> Result<(), String> {
     let (w1, w2, e1) = ((40.0, 85.0), (45.0, 40.0), (65.0, 40.0));
     length_case(
         cases,
+        Kind::ClosedForm,
         format!("{file}: class 1 length"),
         r.classes[0].length_m,
         dist(st, w1) + dist(w1, w2) + dist(w2, g),
@@ -234,6 +265,7 @@ fn shortest_infeasible(cases: &mut Vec<Case>) -> Result<(), String> {
     );
     length_case(
         cases,
+        Kind::ClosedForm,
         format!("{file}: class 2 length"),
         r.classes[1].length_m,
         dist(st, e1) + dist(e1, g),
@@ -244,6 +276,7 @@ fn shortest_infeasible(cases: &mut Vec<Case>) -> Result<(), String> {
     let a = &r.classes[0].anchors[0];
     verdict_case(
         cases,
+        Kind::ClosedForm,
         format!("{file}: class 1 first impassable anchor"),
         &format!(
             "anchor {} psi {:.9}°: {}",
@@ -262,6 +295,7 @@ fn shortest_infeasible(cases: &mut Vec<Case>) -> Result<(), String> {
     let worst = psi_deg(st, e1).max(psi_deg(e1, g));
     verdict_case(
         cases,
+        Kind::ClosedForm,
         format!("{file}: class 2 ascent"),
         feasibility_word(r.classes[1].feasible),
         format!("feasible (largest psi {worst:.2}° < {cone:.2}°)"),
@@ -280,7 +314,7 @@ fn none_feasible(cases: &mut Vec<Case>) -> Result<(), String> {
     };
     let r = run(&s, &options)?;
     oracle_case(file, &s, &r, cases)?;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{file}: simple classes"),
         format!("{} ({:?})", r.classes.len(), r.outcome.termination),
@@ -295,6 +329,7 @@ fn none_feasible(cases: &mut Vec<Case>) -> Result<(), String> {
     let c1 = &r.classes[0];
     verdict_case(
         cases,
+        Kind::ClosedForm,
         format!("{file}: class 1 (west) verdict"),
         &c1.verdict.to_string(),
         format!("anchor 1 has no visibility edge: psi {west:.2}° >= {cone:.2}°"),
@@ -311,12 +346,13 @@ fn none_feasible(cases: &mut Vec<Case>) -> Result<(), String> {
     let c2 = r.classes.get(1).ok_or("none-feasible: no second class")?;
     verdict_case(
         cases,
+        Kind::ClosedForm,
         format!("{file}: class 2 (east) verdict"),
         &c2.verdict.to_string(),
         format!("cannot hold at the goal: psi {east_goal:.2}° >= {cone:.2}°"),
         !c2.feasible && (c2.goal_psi_deg - east_goal).abs() < ANGLE_TOLERANCE,
     );
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{file}: chosen pair"),
         r.outcome
@@ -338,7 +374,7 @@ fn multi_plane(cases: &mut Vec<Case>) -> Result<(), String> {
     let (st, a1, a2) = ((50.0, 115.0), (35.0, 90.0), (45.0, 40.0));
     let c1 = &r.classes[0];
     let anchors = anchor_points(&r, 0);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{file}: anchors of the best SHP"),
         format!("{anchors:?}"),
@@ -355,6 +391,7 @@ fn multi_plane(cases: &mut Vec<Case>) -> Result<(), String> {
         let theta = a.theta_max_deg.unwrap_or(f64::NAN);
         verdict_case(
             cases,
+            Kind::ClosedForm,
             format!("{file}: anchor {} (plane {plane})", k + 1),
             &format!(
                 "plane {:?}, theta_max {theta:.9}°, psi {:.4}°, {}",
@@ -376,7 +413,7 @@ fn multi_plane(cases: &mut Vec<Case>) -> Result<(), String> {
         .get(1)
         .and_then(|p| p.max_tether_angle_deg)
         .unwrap_or(f64::NAN);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{file}: anchor 1 against the lower plane's cone"),
         format!(
@@ -406,7 +443,7 @@ fn paper_case(file: &str, feasible: Option<bool>, cases: &mut Vec<Case>) -> Resu
             .iter()
             .all(|d| d.h_signature != c.h_signature || d.points != c.points)
     });
-    cases.push(Case::new(
+    cases.push(Case::property(
         SUITE,
         format!("{file}: classes distinct"),
         if distinct { "distinct" } else { "repeated" },
@@ -415,7 +452,7 @@ fn paper_case(file: &str, feasible: Option<bool>, cases: &mut Vec<Case>) -> Resu
     ));
     if let Some(expected) = feasible {
         let found = r.outcome.chosen.is_some();
-        cases.push(Case::new(
+        cases.push(Case::paper_verdict(
             SUITE,
             format!("{file}: a feasible ascent/descent pair"),
             r.outcome.verdict.clone(),

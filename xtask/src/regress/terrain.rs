@@ -164,7 +164,7 @@ pub fn suite() -> Result<Vec<Case>, String> {
         }
         let (_, btm) = summarize_btm(scenario.validate().map_err(|e| format!("{g}: {e}"))?.map())
             .map_err(|e| format!("{g}: {e}"))?;
-        cases.push(Case::new(
+        cases.push(Case::property(
             SUITE,
             format!("{g}: BTM of the ingested map"),
             btm.invariant_violation

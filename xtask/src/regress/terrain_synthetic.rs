@@ -113,7 +113,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
     let scene = "synthetic 25° plane, 3 boulders, 2 pits";
     let d = ingest_file("boulders", &dem)?;
     let planes = &d.scenario.terrain.planes;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: planes"),
         planes.len().to_string(),
@@ -121,7 +121,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
         planes.len() == 1,
     ));
     if let Some(p) = planes.first() {
-        cases.push(Case::new(
+        cases.push(Case::closed_form(
             SUITE,
             format!("{scene}: plane slope, deg"),
             format!("{:.3}", p.slope_deg),
@@ -130,7 +130,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
         ));
     }
     let az = d.ingested.frame.fall_line_azimuth_deg();
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: fall line azimuth, deg"),
         format!("{az:.3}"),
@@ -138,7 +138,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
         azimuth_difference(az, AZIMUTH_DEG).abs() <= AZIMUTH_TOL_DEG,
     ));
     let tether = &d.scenario.map.obstacles;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: tether obstacles"),
         tether.len().to_string(),
@@ -149,7 +149,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
         tether.len() == BOULDERS.len(),
     ));
     let robot = &d.ingested.robot_obstacles;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: robot obstacles"),
         robot.len().to_string(),
@@ -165,7 +165,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
     };
     let b_in_t = inside(&BOULDERS, tether);
     let p_in_t = inside(&PITS, tether);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: tether obstacles holding each boulder / pit centre"),
         format!("{b_in_t:?} / {p_in_t:?}"),
@@ -174,7 +174,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
     ));
     let p_in_r = inside(&PITS, robot);
     let b_in_r = inside(&BOULDERS, robot);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: robot obstacles holding each pit / boulder centre"),
         format!("{p_in_r:?} / {b_in_r:?}"),
@@ -195,7 +195,7 @@ fn single_plane(cases: &mut Vec<Case>) -> Result<(), String> {
     let dh = slope.to_radians().tan() * dp.dot(&planted_downhill());
     let distance_3d = (dp.norm_squared() + dh * dh).sqrt();
     let length = report.classes.first().map(|c| c.length_m);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: shortest SHP, m"),
         length.map_or("no class".to_string(), |l| format!("{l:.6}")),
@@ -220,7 +220,7 @@ fn two_planes(cases: &mut Vec<Case>) -> Result<(), String> {
     let scene = format!("synthetic {upper}° over {lower}° planes");
     let d = ingest_file("two-planes", &dem)?;
     let planes = &d.scenario.terrain.planes;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: planes"),
         planes.len().to_string(),
@@ -231,7 +231,7 @@ fn two_planes(cases: &mut Vec<Case>) -> Result<(), String> {
         return Ok(());
     }
     let slopes = [planes[0].slope_deg, planes[1].slope_deg];
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: slopes top first, deg"),
         format!("{:.3}, {:.3}", slopes[0], slopes[1]),
@@ -249,7 +249,7 @@ fn two_planes(cases: &mut Vec<Case>) -> Result<(), String> {
     let frame = &d.ingested.frame;
     let found_world = frame.to_world(&Point2::new(0.0, planes[0].y_bottom));
     let found = found_world.coords.dot(&uphill);
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: break below the top, horizontal m"),
         format!("{:.3}", s_top - found),
@@ -292,7 +292,7 @@ fn dome(cases: &mut Vec<Case>) -> Result<(), String> {
     let mut d = ingest_file("dome", &dem)?;
     let opts = PtfoLabelOptions::with_friction(FrictionRange { lo: 0.4, hi: 0.6 });
     let labels = label_ptfos(&mut d, &opts).map_err(|e| format!("{scene}: {e}"))?;
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: PTFOs labelled"),
         labels.ptfos.to_string(),
@@ -307,7 +307,7 @@ fn dome(cases: &mut Vec<Case>) -> Result<(), String> {
     let dome_at = frame.to_planning(&centre);
     let boulder_at = frame.to_planning(&box_centre(&g, &boulder.0, &boulder.1));
     let holds = (outline.locate(&dome_at), outline.locate(&boulder_at));
-    cases.push(Case::new(
+    cases.push(Case::closed_form(
         SUITE,
         format!("{scene}: the PTFO holds the dome's centre, not the boulder's"),
         format!("{:?} / {:?}", holds.0, holds.1),
@@ -334,7 +334,7 @@ fn dome(cases: &mut Vec<Case>) -> Result<(), String> {
             (boulder.0.len() * boulder.1.len()) as f64 * CELL_M * CELL_M * BOX_RISE_M;
         let area = (g.nrows * g.ncols) as f64 * CELL_M * CELL_M;
         let tol = node + bilinear + (cap_volume + boulder_volume) / area;
-        cases.push(Case::new(
+        cases.push(Case::closed_form(
             SUITE,
             format!("{scene}: PTFO surface's apex above the plane, m"),
             format!("{apex:.3}"),

@@ -6,6 +6,15 @@
 //! A sliding anchor goes through Alg. 14 ([`super::slip`]) and the whole SHP is checked again,
 //! until no anchor slides.
 //!
+//! A PTFO wrapped at several consecutive anchors (the tether running from one of its vertices to
+//! the next with no other contact between, e.g. round a pillar drawn as a polygon) is one contact:
+//! Alg. 9 reads "the tether configuration at `f`" and eq. 3.20 integrates `ω` over the tether's
+//! contact, so the run's samples are classified together, by the total wrap, and every anchor of
+//! the run takes that class ([`decide_anchors_with`]). Judging each vertex alone against the
+//! whole `T_min .. T_max` would ask every vertex to hold what the wrap holds jointly. When a
+//! vertex of the run has no contact, the run is decided vertex by vertex (the thesis is silent on
+//! a partial wrap; our choice, `docs/friction.md`).
+//!
 //! Bound: every slip removes one PTFO vertex from the map, so the loop runs at most once more than
 //! the PTFOs have vertices ([`check_ptfos`] returns an internal error past that bound).
 
@@ -16,7 +25,7 @@ use rappel_geometry::dcel::ObstacleId;
 use rappel_homotopy::funnel::{Anchor, TautPath};
 use rappel_mechanics::ptfo::{PtfoClass, classify};
 use rappel_mechanics::ptfo_surface::WrapError;
-use rappel_mechanics::sticking::omega_integral;
+use rappel_mechanics::sticking::{TetherSample, omega_integral};
 use serde::{Deserialize, Serialize};
 
 /// What an anchor of the final SHP is, and how it holds.
@@ -116,6 +125,77 @@ pub fn decide_anchor_with(
     }
 }
 
+/// Decides every anchor of `taut` in tether order (Alg. 8-9), a run of consecutive anchors on the
+/// same PTFO by its total wrap (module docs); `original` as in [`decide_anchor_with`].
+pub fn decide_anchors_with(
+    model: &FrictionModel,
+    original: impl Fn(ObstacleId) -> usize,
+    taut: &TautPath,
+) -> Result<Vec<AnchorDecision>, FrictionalError> {
+    let anchors = &taut.anchors;
+    let mut out = Vec::with_capacity(anchors.len());
+    let mut i = 0;
+    while i < anchors.len() {
+        let obstacle = anchors[i].obstacle.map(&original);
+        let mut j = i + 1;
+        while j < anchors.len()
+            && obstacle.is_some()
+            && anchors[j].obstacle.map(&original) == obstacle
+        {
+            j += 1;
+        }
+        let ptfo = obstacle.and_then(|o| model.ptfo_of(o));
+        let run = &anchors[i..j];
+        match ptfo {
+            Some(ptfo) if run.len() > 1 => {
+                let mut wraps = Vec::with_capacity(run.len());
+                for a in run {
+                    let (incoming, outgoing) = directions(taut, a)?;
+                    match ptfo.surface.wrap(&a.point, &incoming, &outgoing) {
+                        Ok(samples) => wraps.push(samples),
+                        Err(WrapError::NoContact(_)) => break,
+                        Err(source) => {
+                            return Err(FrictionalError::Surface {
+                                obstacle: ptfo.obstacle,
+                                source,
+                            });
+                        }
+                    }
+                }
+                if wraps.len() < run.len() {
+                    for a in run {
+                        out.push(decide_anchor_with(model, &original, taut, a)?);
+                    }
+                } else {
+                    let all: Vec<TetherSample> = wraps.concat();
+                    let class = classify(&all, ptfo.friction, &model.tensions)?;
+                    for (a, samples) in run.iter().zip(&wraps) {
+                        let hold = omega_integral(samples, ptfo.friction.for_holding())
+                            .map_err(rappel_mechanics::ptfo::PtfoError::from)?;
+                        let slide = omega_integral(samples, ptfo.friction.for_sliding())
+                            .map_err(rappel_mechanics::ptfo::PtfoError::from)?;
+                        out.push(AnchorDecision {
+                            anchor: *a,
+                            obstacle,
+                            verdict: AnchorVerdict::Friction(class),
+                            omega_integral_hold: hold,
+                            omega_integral_slide: slide,
+                            no_contact: None,
+                        });
+                    }
+                }
+            }
+            _ => {
+                for a in run {
+                    out.push(decide_anchor_with(model, &original, taut, a)?);
+                }
+            }
+        }
+        i = j;
+    }
+    Ok(out)
+}
+
 /// The incoming and outgoing tether directions at an anchor of `taut`.
 pub(crate) fn directions(
     taut: &TautPath,
@@ -143,19 +223,17 @@ pub fn check_ptfos(
     let mut taut = taut;
     let mut slips = Vec::new();
     for _ in 0..=ptfo_vertex_count {
-        let mut decisions = Vec::with_capacity(taut.anchors.len());
+        let mut decisions = decide_anchors_with(model, |id| state.original(id), &taut)?;
         let mut slipping = None;
-        for a in &taut.anchors {
-            let d = decide_anchor(model, state, &taut, a)?;
-            let v = d.verdict;
-            decisions.push(d);
-            match v {
+        for at in 0..decisions.len() {
+            match decisions[at].verdict {
                 AnchorVerdict::Friction(PtfoClass::Slides) => {
-                    slipping = Some(*a);
+                    slipping = Some(decisions[at].anchor);
+                    decisions.truncate(at + 1);
                     break;
                 }
                 AnchorVerdict::Friction(PtfoClass::Volatile) => {
-                    let at = decisions.len() - 1;
+                    decisions.truncate(at + 1);
                     return Ok(PtfoCheck {
                         taut,
                         anchors: decisions,

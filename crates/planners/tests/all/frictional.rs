@@ -23,14 +23,13 @@ fn p(x: f64, y: f64) -> Point2<f64> {
     Point2::new(x, y)
 }
 
-fn pillar_model(obstacle: usize, center: Point2<f64>, mu: f64) -> FrictionModel {
+/// A pillar PTFO of `radius` about `center`: its footprint must hold the anchors (the diamond's
+/// side corners lie 8 m from its centre, the square's corners `5 sqrt 2`).
+fn pillar_model(obstacle: usize, center: Point2<f64>, radius: f64, mu: f64) -> FrictionModel {
     FrictionModel {
         ptfos: vec![Ptfo {
             obstacle,
-            surface: PtfoSurface::Cylinder {
-                center,
-                radius: 3.0,
-            },
+            surface: PtfoSurface::Cylinder { center, radius },
             friction: FrictionInterval::exact(mu).unwrap(),
         }],
         tensions: TensionAssumptions::new(100.0, 400.0, 200.0, 20.0).unwrap(),
@@ -97,7 +96,7 @@ fn slip_path_equals_the_frictionless_shp_on_the_clipped_map() {
     let t = terrain();
     let query = query(&t, &options, start, goal, None);
     // Almost no friction: every wrap of the diamond slides.
-    let model = pillar_model(0, p(20.0, 50.0), 0.01);
+    let model = pillar_model(0, p(20.0, 50.0), 8.0, 0.01);
     let plan = plan_frictional(&btm, &map, &model, &query).unwrap();
     let first = &plan.classes[0];
     assert!(!first.check.slips.is_empty(), "the diamond must slip");
@@ -145,7 +144,7 @@ fn every_slip_matches_a_scratch_rebuild() {
     let mut local = 0;
     for (start, goal) in [(p(30.0, 95.0), p(22.0, 5.0)), (p(10.0, 95.0), p(30.0, 5.0))] {
         let query = query(&t, &options, start, goal, None);
-        let model = pillar_model(0, p(20.0, 50.0), 0.01);
+        let model = pillar_model(0, p(20.0, 50.0), 8.0, 0.01);
         let plan = plan_frictional(&btm, &map, &model, &query).unwrap();
         for class in &plan.classes {
             let mut ring = diamond.vertices.clone();
@@ -220,7 +219,7 @@ fn capstan_anchor_classes_follow_exp_mu_theta() {
     let tensions = TensionAssumptions::new(100.0, 400.0, 200.0, 20.0).unwrap();
     let mut seen = std::collections::HashSet::new();
     for mu in [0.05, 0.3, 0.6, 0.9, 1.2, 2.0] {
-        let model = pillar_model(0, p(20.0, 50.0), mu);
+        let model = pillar_model(0, p(20.0, 50.0), 50f64.sqrt(), mu);
         let plan = plan_frictional(&btm, &map, &model, &query).unwrap();
         let class = &plan.classes[0];
         if let Some(d) = class.check.anchors.iter().find(|d| d.obstacle == Some(0)) {
@@ -284,7 +283,7 @@ fn a_friction_class_gets_a_pair_driving_over_its_solid_anchor() {
     let clearance = 0.5;
     let mut q = query(&t, &options, start, goal, None);
     q.clearance = clearance;
-    let model = pillar_model(0, p(20.0, 50.0), 4.0);
+    let model = pillar_model(0, p(20.0, 50.0), 50f64.sqrt(), 4.0);
     let plan = plan_frictional(&btm, &map, &model, &q).unwrap();
     let chosen = &plan.classes[plan.chosen.expect("a feasible friction class")];
     let pair = chosen

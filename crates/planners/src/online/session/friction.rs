@@ -18,7 +18,7 @@
 
 use super::session_friction::SessionFriction;
 use super::{ChangeOutcome, OnlineSession};
-use crate::frictional::anchor_check::{AnchorVerdict, decide_anchor_with};
+use crate::frictional::anchor_check::{AnchorVerdict, decide_anchors_with};
 use crate::frictional::slip::{Clipped, clip_vertex};
 use crate::frictional::{FrictionModel, validate_model};
 use crate::online::OnlineError;
@@ -121,15 +121,14 @@ impl OnlineSession {
             };
             let taut = c.shp.taut.clone();
             let mut action = None;
-            for a in &taut.anchors {
-                let d = decide_anchor_with(&f.model, |id| f.original(id), &taut, a)?;
+            for d in decide_anchors_with(&f.model, |id| f.original(id), &taut)? {
                 match d.verdict {
                     AnchorVerdict::Friction(PtfoClass::Slides) => {
-                        action = Some((*a, false, d.obstacle));
+                        action = Some((d.anchor, false, d.obstacle));
                         break;
                     }
                     AnchorVerdict::Friction(PtfoClass::Volatile) => {
-                        action = Some((*a, true, d.obstacle));
+                        action = Some((d.anchor, true, d.obstacle));
                         break;
                     }
                     _ => {}
