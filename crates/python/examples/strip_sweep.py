@@ -28,6 +28,8 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--obstacles", type=int, default=50)
     ap.add_argument("--friction", type=float, nargs="+", default=[0.2, 0.4, 0.6, 0.8])
+    ap.add_argument("--check", action="store_true",
+                    help="exit 1 unless every job ran and feasibility never falls as friction rises")
     args = ap.parse_args()
     options = {"ray_init": {"num_cpus": 2, "include_dashboard": False}} if args.executor == "ray" else {}
     t0 = time.monotonic()
@@ -39,6 +41,12 @@ def main() -> None:
     for mu, f in sorted(by_mu.items()):
         print(f"mu {mu:.2f}: feasible {sum(f)}/{len(f)}")
     print(f"{len(rows)} jobs, wall time {wall:.2f} s on the {args.executor} executor")
+    if args.check:
+        failed = [r for r in rows if not r["ok"]]
+        counts = [sum(f) for _, f in sorted(by_mu.items())]
+        # More wheel friction widens every friction cone: a class feasible at mu stays feasible.
+        if failed or counts != sorted(counts):
+            raise SystemExit(f"check failed: {len(failed)} failed jobs, feasible counts {counts}")
 
 
 if __name__ == "__main__":

@@ -30,6 +30,8 @@ def main() -> None:
     ap.add_argument("--executor", default="serial", choices=["serial", "processes", "ray"])
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--iterations", type=int, default=750)
+    ap.add_argument("--check", action="store_true",
+                    help="exit 1 unless every job ran and every seed found a path (Paton: 100 of 100)")
     args = ap.parse_args()
     options = {"ray_init": {"num_cpus": 2, "include_dashboard": False}} if args.executor == "ray" else {}
     t0 = time.monotonic()
@@ -42,6 +44,8 @@ def main() -> None:
     if firsts:
         print(f"first solution after {statistics.mean(firsts):.1f} iterations (mean)")
     print(f"wall time {wall:.2f} s on the {args.executor} executor")
+    if args.check and (len(ok) != len(rows) or len(found) != len(rows)):
+        raise SystemExit(f"check failed: {len(found)} of {len(rows)} seeds found a path")
 
 
 if __name__ == "__main__":
