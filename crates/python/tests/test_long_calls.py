@@ -39,8 +39,10 @@ def test_time_limit_stops_a_long_plan(big):
 
 
 def test_two_threads_plan_at_once(big):
-    """Both threads plan for 1.5 s (time limit); with the GIL held they would run one after the
-    other (overlap 0), released they overlap almost wholly."""
+    """Both threads plan (at most 1.5 s of search each, time limit); with the GIL held they would
+    run one after the other (overlap 0), released they overlap almost wholly. On a lightly loaded
+    machine the 1,000 classes can finish before the limit: the overlap is what is asserted, over
+    calls long enough to mean something."""
     out = {}
     threads = [threading.Thread(target=_timed_plan, args=(big, out, k), kwargs={"time_limit": 1.5})
                for k in ("a", "b")]
@@ -52,7 +54,9 @@ def test_two_threads_plan_at_once(big):
     overlap = min(a1, b1) - max(a0, b0)
     shorter = min(a1 - a0, b1 - b0)
     print(f"GIL: overlap {overlap:.3f} s of {shorter:.3f} s")
-    assert ra.stopped and rb.stopped
+    assert ra.stopped or len(ra.classes) == 1000
+    assert rb.stopped or len(rb.classes) == 1000
+    assert shorter > 0.5, shorter
     assert overlap > 0.8 * shorter
 
 
