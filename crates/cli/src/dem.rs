@@ -24,16 +24,16 @@ pub struct Args {
     #[arg(long)]
     out: PathBuf,
     /// H_min: smallest height difference that makes an obstacle, m.
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "M", allow_negative_numbers = true)]
     hmin: Option<f64>,
     /// H_max: largest height difference between two cells of one obstacle, m.
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "M", allow_negative_numbers = true)]
     hmax: Option<f64>,
     /// theta_max: slope above which two cells belong to one obstacle, degrees.
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "DEG", allow_negative_numbers = true)]
     theta_max: Option<f64>,
     /// Wheel-terrain friction mu used to classify planes.
-    #[arg(long, value_name = "MU", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "MU", allow_negative_numbers = true)]
     friction: Option<f64>,
     /// Work cap: refuse grids of more cells than this before reading their heights (default
     /// 16,777,216 = 2^24; at most 134,217,728 = 2^27). Ingestion takes about half a second and
@@ -46,7 +46,7 @@ pub struct Args {
     ptfo_friction: Option<String>,
     /// Flatness tolerance of the convexity test (PTFOs and --convexity-svg), 1/m (default 0.1
     /// over the cell size: a radius under ten cells).
-    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "K", allow_negative_numbers = true)]
     ptfo_curvature: Option<f64>,
     /// Fewest cells of a PTFO patch (default 4).
     #[arg(

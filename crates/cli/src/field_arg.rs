@@ -3,6 +3,7 @@
 //! exact mesh distances ([`rappel::planners::rover::ground`]). Every refusal names the flag and the value.
 
 use crate::output::CliError;
+use rappel::geometry::compact::Compact;
 use rappel::planners::rover::ground::{DistanceSource, DistanceSourceError, GroundDistances};
 use rappel::terrain::mesh::TriMesh;
 
@@ -14,7 +15,7 @@ pub struct FieldArg {
     /// resolution, metres, propagated to 1 m (Paton §IV's use of the field; default: parry's
     /// exact mesh distances). The boom sweep and the stability QP stay on the mesh. The JSON
     /// report's `distance_source` says which was used and the field's error bound.
-    #[arg(long, value_name = "RES", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "RES", allow_negative_numbers = true)]
     pub field: Option<f64>,
 }
 
@@ -38,9 +39,10 @@ impl FieldArg {
     pub fn error(&self, e: DistanceSourceError) -> CliError {
         match (self.field, e) {
             (Some(res), DistanceSourceError::Field(why)) => CliError(format!(
-                "--field {res}: cannot build the distance field at this resolution: {why}"
+                "--field {}: cannot build the distance field at this resolution: {why}",
+                Compact(res)
             )),
-            (Some(res), e) => CliError(format!("--field {res}: {e}")),
+            (Some(res), e) => CliError(format!("--field {}: {e}", Compact(res))),
             (None, e) => CliError(e.to_string()),
         }
     }

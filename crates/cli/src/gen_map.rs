@@ -15,7 +15,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     seed: u64,
     /// Strip width across the slope, metres.
-    #[arg(long, default_value_t = 200.0, allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, default_value_t = 200.0, allow_negative_numbers = true)]
     width: f64,
     /// Output scenario (.ron or .json).
     #[arg(long)]

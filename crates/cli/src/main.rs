@@ -5,11 +5,13 @@
 //! written to stdout.
 
 mod btm;
+mod closed_stdout;
 mod dem;
 mod field_arg;
 mod friction_out;
 mod gen_map;
 mod navigate;
+mod numbers;
 mod online;
 mod output;
 mod plan;
@@ -68,6 +70,11 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // A closed standard output (`>&-`) must not pass for a delivered report.
+    if closed_stdout::stdout_closed_at_start() {
+        eprintln!("error: standard output is closed; redirect it to a file or to /dev/null");
+        return ExitCode::from(2);
+    }
     // A usage error is one `error:` line and exit 2 like every other error (clap adds a blank
     // line, a usage and a hint); help and version print as clap prints them.
     let cli = match Cli::try_parse() {

@@ -44,7 +44,7 @@ pub struct Args {
     iterations: u64,
     /// The sampler's wall-time budget, seconds (default 120): a run it ends is `stopped by
     /// time`.
-    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "T", allow_negative_numbers = true)]
     time: Option<f64>,
     /// The command's time limit (as every long command's; Ctrl-C stops it too): a run it ends
     /// is `stopped by time_limit`. With `--time` the tighter holds.

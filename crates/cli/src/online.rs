@@ -30,11 +30,11 @@ pub struct Args {
     #[arg(long, value_name = "TRUE")]
     truth: PathBuf,
     /// Differences within this distance of the robot are sensed, m (larger than the step).
-    #[arg(long, value_name = "R", default_value_t = DEFAULT_SENSOR_RANGE, allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "R", default_value_t = DEFAULT_SENSOR_RANGE, allow_negative_numbers = true)]
     sensor_range: f64,
     /// Distance moved between two sensings, m; at least 1e-5 of the prior map's diagonal
     /// (crossing the map then takes at most 100,000 steps).
-    #[arg(long, value_name = "S", default_value_t = DEFAULT_STEP, allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "S", default_value_t = DEFAULT_STEP, allow_negative_numbers = true)]
     step: f64,
     /// The step budget, from 1 to 1,000,000 (each step senses the true map within the range
     /// and adds a point to the walked path).

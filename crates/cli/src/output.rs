@@ -148,8 +148,8 @@ pub fn stdout_has_failed() -> bool {
 
 /// Flushes stdout and returns the first write error, if any: a report that did not reach its
 /// reader is a failure (exit code 2), whether stdout is a full disk (`/dev/full`) or a closed
-/// pipe. (A descriptor closed before the start, `>&-`, cannot be told apart: the Rust runtime
-/// reopens it on `/dev/null` before `main`.)
+/// pipe. (A descriptor closed before the start, `>&-`, is caught before `main` by
+/// [`crate::closed_stdout`].)
 pub fn finish_stdout() -> Result<(), CliError> {
     use std::io::Write as _;
     if let Err(e) = std::io::stdout().lock().flush() {

@@ -46,7 +46,7 @@ pub struct Args {
     #[arg(long, value_name = "K", default_value_t = rappel::plan::DEFAULT_CLASSES, allow_negative_numbers = true)]
     classes: usize,
     /// List only classes at most F times longer than the shortest (F >= 1).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "F", allow_negative_numbers = true)]
     max_length_factor: Option<f64>,
     /// List only simple classes: no tether winds around an obstacle or returns to one.
     #[arg(long)]

@@ -8,6 +8,7 @@
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, print_report, refuse_clashing_outputs, write_file};
+use rappel::geometry::compact::Rounded;
 use rappel::settle::{SettleRobot, four_wheel_report_with, load_ground, settle_report_with};
 use std::path::PathBuf;
 
@@ -32,7 +33,7 @@ pub struct Args {
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
     at: String,
     /// Heading: the forward axis' azimuth, degrees counter-clockwise from +x.
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "DEG", allow_negative_numbers = true)]
     yaw: f64,
     /// The robot: `axel` (two wheels of 12 contact points, body along the axle, boom) or
     /// `four-wheel` (the rigid four-wheel rover: point wheels, no body geometry, the tether fixed
@@ -66,10 +67,21 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         refuse_clashing_outputs(&[("--svg", out.as_path())], &[&args.file])?;
     }
     let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
-    let at = numbers("--at", &args.at, 2)?;
+    let at = crate::numbers::numbers("--at", &args.at, 2)?;
+    let (lo, hi) = ground.bounds();
+    if !(lo.x..=hi.x).contains(&at[0]) || !(lo.y..=hi.y).contains(&at[1]) {
+        return Err(CliError(format!(
+            "--at {}: outside the ground, which spans x {} to {} and y {} to {}",
+            args.at,
+            Rounded(lo.x, 3),
+            Rounded(hi.x, 3),
+            Rounded(lo.y, 3),
+            Rounded(hi.y, 3)
+        )));
+    }
     let anchor = match &args.anchor {
         Some(a) => {
-            let a = numbers("--anchor", a, 3)?;
+            let a = crate::numbers::numbers("--anchor", a, 3)?;
             Some([a[0], a[1], a[2]])
         }
         None => None,
@@ -89,6 +101,15 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         Ok(r) => r,
         Err(e) if matches!(e, rappel::mechanics::settle::SettleError::Parameter(_)) => {
             return Err(CliError(e.to_string()));
+        }
+        Err(e) if args.json => {
+            print_report(&rappel::settle::NotSettledReport {
+                robot,
+                at: [at[0], at[1]],
+                yaw_deg: args.yaw,
+                reason: e.to_string(),
+            })?;
+            return Ok(Answer::No);
         }
         Err(e) => {
             crate::output::outln!("not settled: {e}");
@@ -164,19 +185,4 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     let stable =
         report.stability.is_empty() || report.stability.iter().any(|v| v.stable == Some(true));
     Ok(if stable { Answer::Yes } else { Answer::No })
-}
-
-/// `n` finite comma-separated numbers.
-pub(crate) fn numbers(flag: &str, text: &str, n: usize) -> Result<Vec<f64>, CliError> {
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|t| t.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| CliError(format!("{flag} {text}: {e}")))?;
-    if v.len() != n || !v.iter().all(|x| x.is_finite()) {
-        return Err(CliError(format!(
-            "{flag} {text}: expected {n} finite comma-separated numbers"
-        )));
-    }
-    Ok(v)
 }

@@ -36,11 +36,12 @@ pub struct Args {
     #[arg(long, value_name = "MIN,MAX", allow_hyphen_values = true)]
     y: Option<String>,
     /// Grid spacing, metres.
-    #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, default_value_t = 0.25, allow_negative_numbers = true)]
     step: f64,
     /// Heading of every pose: degrees counter-clockwise from +x (default: down a scene's slope).
     #[arg(
         long,
+        value_parser = crate::numbers::finite,
         value_name = "DEG",
         allow_negative_numbers = true,
         default_value_t = 0.0
@@ -102,7 +103,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
      -> Result<(f64, f64), CliError> {
         match v {
             Some(t) => {
-                let v = crate::settle::numbers(flag, t, 2)?;
+                let v = crate::numbers::numbers(flag, t, 2)?;
                 Ok((v[0], v[1]))
             }
             None => dflt.ok_or_else(|| need(flag)),
@@ -125,7 +126,7 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     )?;
     let root = match (&args.root, args.test, &scene) {
         (Some(t), _, _) => {
-            let v = crate::settle::numbers("--root", t, 3)?;
+            let v = crate::numbers::numbers("--root", t, 3)?;
             Point3::new(v[0], v[1], v[2])
         }
         (None, Some(n), Some(s)) => {

@@ -19,11 +19,12 @@ pub struct Args {
     /// The scenario file (.ron or .json).
     file: PathBuf,
     /// Largest tether tension, N (uses Kumar's tension-limited LP; default: Paton's QP).
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "N", allow_negative_numbers = true)]
     tension_limit: Option<f64>,
     /// Grid step, m.
     #[arg(
         long,
+        value_parser = crate::numbers::finite,
         value_name = "STEP",
         default_value_t = 1.0,
         allow_negative_numbers = true

@@ -26,7 +26,7 @@ pub struct TimeLimitArg {
     /// Stop the work after SECONDS of wall-clock time (a positive number, fractions allowed);
     /// the report then says "the time limit of SECONDS s" stopped it. Ctrl-C stops the work too
     /// (and the report says so); a second Ctrl-C exits at once.
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::numbers::finite, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
 }
 

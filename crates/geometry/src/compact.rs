@@ -17,6 +17,29 @@ use std::fmt;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Compact(pub f64);
 
+/// A number rounded to `.1` decimals in positional notation when its magnitude is in the
+/// positional range, else [`Compact`] (so a coordinate of `1e300` never prints 300 digits).
+///
+/// ```
+/// use rappel_geometry::compact::Rounded;
+/// assert_eq!(Rounded(12.34567, 3).to_string(), "12.346");
+/// assert_eq!(Rounded(1e300, 3).to_string(), "1e300");
+/// assert_eq!(Rounded(-0.0001, 2).to_string(), "-0.00");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rounded(pub f64, pub usize);
+
+impl fmt::Display for Rounded {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let Rounded(v, decimals) = *self;
+        if v.is_finite() && v.abs() < POSITIONAL.end {
+            write!(f, "{v:.decimals$}")
+        } else {
+            Compact(v).fmt(f)
+        }
+    }
+}
+
 /// Magnitudes printed in positional notation: `[1e-4, 1e9)`; others in scientific notation.
 const POSITIONAL: std::ops::Range<f64> = 1e-4..1e9;
 

@@ -22,6 +22,7 @@
 //! [`MAX_ROLL_STEPS`] drops; the footprint normal samples a fixed 3 x 3 grid.
 
 use nalgebra::{Point3, Rotation3, Unit, Vector3};
+use rappel_geometry::compact::Rounded;
 use rappel_terrain::surface::{DropError, SignedDistance};
 
 use crate::axel::AxelParams;
@@ -76,7 +77,7 @@ impl Default for SettleParams {
 pub enum SettleError {
     /// The distance field has no answer (off the terrain or its grid) at a point the settler
     /// needed.
-    #[error("no ground under the footprint near ({x:.3}, {y:.3}, {z:.3})")]
+    #[error("no ground under the footprint near ({}, {}, {})", Rounded(*.x, 3), Rounded(*.y, 3), Rounded(*.z, 3))]
     NoGround {
         /// The point, world.
         x: f64,
@@ -87,14 +88,15 @@ pub enum SettleError {
     },
     /// No contact point meets the ground within the drop's reach along the normal (the start
     /// height plus the rover's size), or a sphere-traced drop ran out of its [`MAX_DROP_STEPS`].
-    #[error("the wheels found no ground within {0} m of the start")]
+    #[error("the wheels found no ground within {} m of the start", Rounded(*.0, 3))]
     NoContact(f64),
     /// The ground is steeper than `max_slope`, or no roll within `max_roll` puts both wheels down.
     #[error("slope beyond the model: {0}")]
     SlopeBeyondModel(&'static str),
     /// A body point along the axle is within `body_radius` of the ground (the worst one).
     #[error(
-        "body collision at axle point {index} ({x:.3}, {y:.3}, {z:.3}): clearance {clearance:.4} m"
+        "body collision at axle point {index} ({}, {}, {}): clearance {clearance:.4} m",
+        Rounded(*.x, 3), Rounded(*.y, 3), Rounded(*.z, 3)
     )]
     BodyCollision {
         /// Which collision point (0 = right end).

@@ -33,6 +33,13 @@ pub enum OnlineRunError {
         /// `start`, `goal`, `terrain` or `robot`.
         field: &'static str,
     },
+    /// The true map's boundary differs from the prior's. The robot senses obstacles (thesis
+    /// §3.7, Tanner 2013): a boundary change cannot be discovered, so a run would plan and
+    /// report on the prior's boundary as if the change were not there.
+    #[error(
+        "the true scenario's map boundary differs from the prior's: the online planner senses obstacles, not boundary changes; keep the prior's boundary and give the change (a wall across the route, a collapsed rim) as obstacles of the true map"
+    )]
+    BoundaryMismatch,
     /// Only one of the two scenarios has PTFOs (a `friction` section): both must label the same
     /// PTFOs (their frictions may differ).
     #[error(
@@ -115,6 +122,9 @@ pub fn run(
         if !same {
             return Err(OnlineRunError::Mismatch { field });
         }
+    }
+    if prior.map.boundary != truth.map.boundary {
+        return Err(OnlineRunError::BoundaryMismatch);
     }
     let resolve = |s: &Scenario, which: &'static str| {
         s.friction

@@ -112,6 +112,33 @@ pub struct SettleReport {
 
 crate::report::report!(SettleReport, "settle");
 
+/// The JSON form of a pose that does not settle (`rappel settle --json`, exit code 1): the
+/// request and the reason, so that `--json` means JSON on stdout in every outcome.
+///
+/// ```
+/// use rappel::settle::{NotSettledReport, SettleRobot};
+/// let r = NotSettledReport {
+///     robot: SettleRobot::Axel,
+///     at: [1.0, 2.0],
+///     yaw_deg: 0.0,
+///     reason: "no ground under the footprint".into(),
+/// };
+/// assert!(r.to_json().contains("\"report\": \"settle_not_settled\""));
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct NotSettledReport {
+    /// The robot asked for.
+    pub robot: SettleRobot,
+    /// The ground point asked for, `[x, y]` metres.
+    pub at: [f64; 2],
+    /// The heading asked for, degrees.
+    pub yaw_deg: f64,
+    /// Why the pose does not settle.
+    pub reason: String,
+}
+
+crate::report::report!(NotSettledReport, "settle_not_settled");
+
 /// Settle Axel (default parameters) at `(x, y)` with yaw `yaw_deg` (degrees from `+x`,
 /// counter-clockwise); with `anchor`, check stability for both boom configurations. Settling
 /// through parry's exact BVH distances ([`settle_report_with`] and [`DistanceSource::Exact`]).

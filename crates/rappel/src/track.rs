@@ -133,11 +133,19 @@ pub fn load_terrain(path: &Path) -> Result<(TrackScenario, MultiSlopeTerrain), T
 
 /// Loads a path file: a JSON array of `[x, y]` frame points (1 to [`MAX_WAYPOINTS`]).
 pub fn load_path(path: &Path) -> Result<Vec<Point2<f64>>, TrackRunError> {
-    let pts: Vec<[f64; 2]> = parse(path, &read(path)?)?;
+    // Read as lists of numbers first, so that a point of 3 numbers is named as such (a
+    // fixed-length array would report "trailing characters" or "invalid length").
+    let pts: Vec<Vec<f64>> = parse(path, &read(path)?)?;
     let bad = |message: String| TrackRunError::Path {
         path: path.display().to_string(),
         message,
     };
+    if let Some(i) = pts.iter().position(|p| p.len() != 2) {
+        return Err(bad(format!(
+            "point {i} has {} numbers; a waypoint is [x, y]",
+            pts[i].len()
+        )));
+    }
     if pts.is_empty() || pts.len() > MAX_WAYPOINTS {
         return Err(bad(format!(
             "a path needs 1 to {MAX_WAYPOINTS} points, got {}",

@@ -192,6 +192,10 @@ pub fn schemas() -> Vec<(&'static str, schemars::Schema)> {
     all.extend([
         ("settle", schema_of::<rappel::settle::SettleReport>()),
         (
+            "settle_not_settled",
+            schema_of::<rappel::settle::NotSettledReport>(),
+        ),
+        (
             "settle_map",
             schema_of::<rappel::settle_map::StabilityMap>(),
         ),

@@ -11,6 +11,8 @@
 //! `None`: it is never zero, and every analysis downstream skips it.
 
 use nalgebra::Point2;
+use rappel_geometry::compact::Compact;
+use rappel_geometry::domain::{DOMAIN_TEXT, in_domain};
 use serde::{Deserialize, Serialize};
 
 /// The largest grid accepted, in cells (2^27, about 134 million: one gigabyte of heights). Guards
@@ -155,6 +157,19 @@ pub enum GridError {
         /// North edge given.
         north: f64,
     },
+    /// A corner, far corner or cell size outside the coordinate domain
+    /// ([`rappel_geometry::domain`]), or cells too small for their distance from the origin
+    /// (below [`MIN_CELL_TO_CORNER`] of it, where neighbouring cell centres would round to one
+    /// position). Fix: the header's corner, cell size or units.
+    #[error("{what} = {}: {why}", Compact(*.value))]
+    OutOfDomain {
+        /// What: `west`, `north`, `east`, `south`, `cell size x`, `cell size y`.
+        what: &'static str,
+        /// The value.
+        value: f64,
+        /// The domain it left.
+        why: String,
+    },
     /// The number of heights differs from rows x columns.
     #[error("{found} heights given for a grid of {expected} cells")]
     LengthMismatch {
@@ -172,6 +187,11 @@ pub enum GridError {
         col: usize,
     },
 }
+
+/// The smallest cell size, as a fraction of the grid's largest corner coordinate: `2^-36`
+/// (about `1.5e-11`) leaves 16 of a double's 52 fraction bits to tell cells and positions within
+/// a cell apart (a UTM grid with northings of 5e6 m admits cells down to 0.07 mm).
+pub const MIN_CELL_TO_CORNER: f64 = 1.0 / 68_719_476_736.0;
 
 impl GridGeometry {
     /// A checked grid geometry: at least one cell, at most [`MAX_CELLS`], positive finite cell
@@ -225,6 +245,39 @@ impl GridGeometry {
                 west: self.west,
                 north: self.north,
             });
+        }
+        let values = [
+            ("west", self.west),
+            ("north", self.north),
+            ("east", self.east()),
+            ("south", self.south()),
+            ("cell size x", self.cell_x),
+            ("cell size y", self.cell_y),
+        ];
+        for (what, value) in values {
+            if !in_domain(value) {
+                return Err(GridError::OutOfDomain {
+                    what,
+                    value,
+                    why: DOMAIN_TEXT.to_string(),
+                });
+            }
+        }
+        let reach = [self.west, self.north, self.east(), self.south()]
+            .into_iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        for (what, value) in [("cell size x", self.cell_x), ("cell size y", self.cell_y)] {
+            if value < MIN_CELL_TO_CORNER * reach {
+                return Err(GridError::OutOfDomain {
+                    what,
+                    value,
+                    why: format!(
+                        "below {} of the grid's largest coordinate {}: neighbouring cells would round to one position; shift the origin or use larger cells",
+                        Compact(MIN_CELL_TO_CORNER),
+                        Compact(reach)
+                    ),
+                });
+            }
         }
         Ok(())
     }

@@ -15,6 +15,8 @@
 use std::collections::HashMap;
 
 use nalgebra::{Point3, Vector3};
+use rappel_geometry::compact::Compact;
+use rappel_geometry::domain::{DOMAIN_TEXT, in_domain};
 
 use crate::grid::HeightGrid;
 
@@ -48,6 +50,18 @@ pub enum MeshError {
     /// A vertex coordinate is NaN or infinite.
     #[error("vertex {vertex}: coordinate {axis} is not finite ({value})")]
     NonFiniteVertex {
+        /// Vertex index.
+        vertex: usize,
+        /// `x`, `y` or `z`.
+        axis: char,
+        /// The value found.
+        value: f64,
+    },
+    /// A finite vertex coordinate outside the coordinate domain
+    /// ([`rappel_geometry::domain`]: 0 or a magnitude in `[2^-120, 2^120]`), where distances
+    /// and areas would overflow or lose all precision. Fix: the mesh's units or origin.
+    #[error("vertex {vertex}: coordinate {axis} = {}: {DOMAIN_TEXT}", Compact(*.value))]
+    VertexOutOfDomain {
         /// Vertex index.
         vertex: usize,
         /// `x`, `y` or `z`.
@@ -173,6 +187,13 @@ impl TriMesh {
             for (axis, value) in [('x', v.x), ('y', v.y), ('z', v.z)] {
                 if !value.is_finite() {
                     return Err(MeshError::NonFiniteVertex {
+                        vertex: i,
+                        axis,
+                        value,
+                    });
+                }
+                if !in_domain(value) {
+                    return Err(MeshError::VertexOutOfDomain {
                         vertex: i,
                         axis,
                         value,
@@ -668,6 +689,21 @@ mod tests {
             TriMesh::new(vec![], vec![[0, 1, 2]]),
             Err(MeshError::Empty { .. })
         ));
+        let mut huge = v();
+        huge[2].z = 1e300;
+        let e = TriMesh::new(huge, vec![[0, 1, 2]]).unwrap_err();
+        assert!(matches!(
+            e,
+            MeshError::VertexOutOfDomain {
+                vertex: 2,
+                axis: 'z',
+                ..
+            }
+        ));
+        assert!(
+            e.to_string()
+                .starts_with("vertex 2: coordinate z = 1e300: coordinates must be")
+        );
         let mut nan = v();
         nan[3].y = f64::NAN;
         assert!(matches!(

@@ -22,6 +22,7 @@ use nalgebra::{Point3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::mesh::{MeshError, TriMesh};
+use rappel_geometry::compact::Compact;
 
 /// How far the pole's open foot is sunk below the ledge top, metres (only points deeper than
 /// this inside the ledge may get the pole's inside/outside sign wrong; nothing queries there).
@@ -68,7 +69,7 @@ pub struct PatonScene {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SceneError {
     /// A dimension out of its domain.
-    #[error("scene field {field} = {value}: {why}")]
+    #[error("scene field {field} = {}: {why}", Compact(*.value))]
     Field {
         /// The field.
         field: &'static str,
@@ -76,6 +77,23 @@ pub enum SceneError {
         value: f64,
         /// The domain.
         why: &'static str,
+    },
+    /// A root anchor inside the ledge or below the ground: a tether cannot be tied there.
+    #[error(
+        "scene field anchors[{index}] = ({}, {}): the anchor point ({}, {}, {}) is {:.3} m inside the ground; an anchor must lie on or above the surface",
+        Compact(*.forward), Compact(*.up), Compact(point[0]), Compact(point[1]), Compact(point[2]), depth
+    )]
+    AnchorBelowGround {
+        /// Its index in `anchors`.
+        index: usize,
+        /// Its `forward` offset.
+        forward: f64,
+        /// Its `up` offset.
+        up: f64,
+        /// The anchor in the world, metres.
+        point: [f64; 3],
+        /// How deep inside the ground it lies, metres (the distance to the surface).
+        depth: f64,
     },
     /// The mesh failed validation (a bug in the generator if the fields passed).
     #[error("scene mesh: {0}")]
@@ -133,12 +151,14 @@ impl PatonScene {
             });
         }
         for &(f, u) in &self.anchors {
-            if !(f.is_finite() && u.is_finite()) {
-                return Err(SceneError::Field {
-                    field: "anchors",
-                    value: if f.is_finite() { u } else { f },
-                    why: "must be finite",
-                });
+            for value in [f, u] {
+                if !(value.is_finite() && value.abs() < 1e4) {
+                    return Err(SceneError::Field {
+                        field: "anchors",
+                        value,
+                        why: "an offset must be finite and within 10 km of the start",
+                    });
+                }
             }
         }
         if let Some(p) = self.pole {
@@ -259,7 +279,22 @@ impl PatonScene {
                 t.push([cap, p0, p1]);
             }
         }
-        Ok(TriMesh::new(v, t)?)
+        let mesh = TriMesh::new(v, t)?;
+        for (index, (&(forward, up), point)) in
+            self.anchors.iter().zip(self.anchor_points()).enumerate()
+        {
+            let d = mesh.signed_distance(&point);
+            if d < 0.0 {
+                return Err(SceneError::AnchorBelowGround {
+                    index,
+                    forward,
+                    up,
+                    point: [point.x, point.y, point.z],
+                    depth: -d,
+                });
+            }
+        }
+        Ok(mesh)
     }
 }
 
@@ -293,6 +328,31 @@ mod tests {
         let anchors = s.anchor_points();
         assert!((anchors[0] - Point3::new(-5.9, 0.0, 6.0)).norm() < 1e-12);
         assert!((anchors[1] - Point3::new(7.2, 0.0, 6.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn anchors_inside_the_ledge_or_under_the_ground_are_refused() {
+        // 2 m below the ledge top at the start: 2 m inside the ledge (the top is the nearest
+        // face).
+        let mut s = PatonScene::paper(false);
+        s.anchors = vec![(-4.9, 2.0), (-1.0, -2.0)];
+        match s.mesh() {
+            Err(SceneError::AnchorBelowGround { index, depth, .. }) => {
+                assert_eq!(index, 1);
+                assert!((depth - 2.0).abs() < 1e-12, "{depth}");
+            }
+            other => panic!("{other:?}"),
+        }
+        // In front of the slope's foot, 1 m under the flat ground.
+        s.anchors = vec![(10.0, -5.0)];
+        let e = s.mesh().unwrap_err().to_string();
+        assert!(
+            e.contains("anchors[0] = (10, -5)") && e.contains("1.000 m inside"),
+            "{e}"
+        );
+        // On the surface is allowed (the lip's corner, 0 m).
+        s.anchors = vec![(1.0, 0.0)];
+        assert!(s.mesh().is_ok());
     }
 
     #[test]

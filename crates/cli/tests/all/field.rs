@@ -102,8 +102,10 @@ fn bad_field_resolutions_name_the_flag_and_the_value() {
         for (value, named, why) in [
             ("0", "--field 0:", "positive, finite"),
             ("-0.1", "--field -0.1:", "positive, finite"),
-            ("NaN", "--field NaN:", "positive, finite"),
-            ("inf", "--field inf:", "positive, finite"),
+            // Refused by the option's parser, which names the option.
+            ("NaN", "'NaN' for '--field <RES>'", "not a finite number"),
+            ("inf", "'inf' for '--field <RES>'", "not a finite number"),
+            ("1e300", "--field 1e300:", "positive, finite"),
             // 1 mm over the ledge scene's 44 x 44 x 8 m box: over the block index's cap.
             ("0.001", "--field 0.001:", "cannot build the distance field"),
         ] {

@@ -100,16 +100,28 @@ fn bad_meshes_exit_2_and_poses_off_the_ground_exit_1() {
         );
     }
     let ledge = fixture("paton/ledge.ron");
+    // Far off the ground: bad input, named (exit 2).
+    check_error(
+        &["settle", ledge.as_str(), "--at", "500,0", "--yaw", "0"],
+        "--at 500,0: outside the ground, which spans x -20.000 to 17.801",
+    );
+    // Over the ground's edge (the scene ends at x = 17.8 m, the wheels reach 0.45 m past the
+    // axle centre): a clean "no" (exit 1), in text and in JSON.
     for field in [None, Some("0.2")] {
-        let mut args = vec!["settle", ledge.as_str(), "--at", "500,0", "--yaw", "0"];
+        let mut args = vec!["settle", ledge.as_str(), "--at", "17.7,19.9", "--yaw", "90"];
         args.extend(field.map(|f| ["--field", f]).into_iter().flatten());
         let o = rappel(&args);
         assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
         let out = String::from_utf8_lossy(&o.stdout).into_owned();
-        assert!(
-            out.starts_with("not settled: no ground under the footprint"),
-            "{out}"
-        );
+        assert!(out.starts_with("not settled: "), "{out}");
+        args.push("--json");
+        let o = rappel(&args);
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        let json: serde_json::Value =
+            serde_json::from_slice(&o.stdout).expect("--json prints JSON when not settled");
+        assert_eq!(json["report"], "settle_not_settled");
+        assert_eq!(json["at"], serde_json::json!([17.7, 19.9]));
+        assert!(json["reason"].as_str().is_some_and(|r| !r.is_empty()));
     }
 }
 

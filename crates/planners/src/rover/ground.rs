@@ -10,6 +10,8 @@
 
 use std::sync::Arc;
 
+use nalgebra::Point3;
+
 use serde::{Deserialize, Serialize};
 
 use crate::anchor_prediction::PredictParams;
@@ -50,6 +52,13 @@ pub enum DistanceSourceError {
     /// The field's resolution is zero, negative, infinite or NaN.
     #[error("the resolution must be a positive, finite number of metres")]
     BadResolution(f64),
+    /// The field's resolution is coarser than the ground's bounding-box diagonal (`.1`, metres):
+    /// the field would have a single cell and say nothing about the ground's shape.
+    #[error(
+        "the resolution must be a positive, finite number of metres no coarser than the ground's extent ({} m diagonal)",
+        rappel_geometry::compact::Rounded(*.1, 3)
+    )]
+    TooCoarse(f64, f64),
     /// The field could not be built at this resolution (over one of its caps: too fine for the
     /// scene's size).
     #[error("{0}")]
@@ -111,6 +120,11 @@ impl GroundDistances {
                 if !(h > 0.0 && h.is_finite()) {
                     return Err(DistanceSourceError::BadResolution(h));
                 }
+                let (lo, hi) = mesh.bounds();
+                let diagonal = (hi - lo).norm();
+                if h > diagonal {
+                    return Err(DistanceSourceError::TooCoarse(h, diagonal));
+                }
                 let mut params = SparseSdfParams::new(h);
                 params.margin = params.margin.max(FIELD_MARGIN);
                 Some(SparseSdf::from_mesh(mesh, &params).map_err(DistanceSourceError::Field)?)
@@ -169,7 +183,7 @@ impl GroundDistances {
     /// Axel (default [`AxelParams`] and [`SettleParams`]) settled at ground point `(x, y)`
     /// heading `yaw_deg` (degrees counter-clockwise from `+x`) on [`GroundDistances::distance`].
     pub fn settle(&self, x: f64, y: f64, yaw_deg: f64) -> Result<SettledPose, SettleError> {
-        settle_axel(
+        let pose = settle_axel(
             self.distance(),
             &AxelParams::default(),
             x,
@@ -177,7 +191,31 @@ impl GroundDistances {
             self.z_top,
             yaw_deg.to_radians(),
             &SettleParams::default(),
-        )
+        )?;
+        self.on_the_mesh(&pose.contacts)?;
+        Ok(pose)
+    }
+
+    /// Through the field, every contact must stand over the mesh: an open mesh's field changes
+    /// sign just past its edge (the pseudo-normal's side), so a drop there meets ground that is
+    /// not there. The exact vertical ray through the BVH ([`SignedDistance::ground_below`] of
+    /// [`ParryMesh`]) decides, as settling on exact distances does. Exact distances need no
+    /// check.
+    fn on_the_mesh(&self, contacts: &[Point3<f64>]) -> Result<(), SettleError> {
+        if self.field.is_none() {
+            return Ok(());
+        }
+        for c in contacts {
+            let above = Point3::new(c.x, c.y, self.z_top);
+            if self.bvh.ground_below(&above, 0.0).is_err() {
+                return Err(SettleError::NoGround {
+                    x: c.x,
+                    y: c.y,
+                    z: c.z,
+                });
+            }
+        }
+        Ok(())
     }
 
     /// The four-wheel rover (default [`FourWheelParams`] and [`SettleParams`]) settled at ground
@@ -189,7 +227,7 @@ impl GroundDistances {
         y: f64,
         yaw_deg: f64,
     ) -> Result<FourWheelPose, SettleError> {
-        settle_four_wheel(
+        let pose = settle_four_wheel(
             self.distance(),
             &FourWheelParams::default(),
             x,
@@ -197,7 +235,14 @@ impl GroundDistances {
             self.z_top,
             yaw_deg.to_radians(),
             &SettleParams::default(),
-        )
+        )?;
+        let support: Vec<Point3<f64>> = pose
+            .support
+            .iter()
+            .map(|&w| pose.ground_points[w])
+            .collect();
+        self.on_the_mesh(&support)?;
+        Ok(pose)
     }
 
     /// What a report states about these distances.

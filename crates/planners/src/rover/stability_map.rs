@@ -36,6 +36,7 @@ use std::sync::OnceLock;
 pub use super::ground::PREDICT_RESOLUTION;
 use super::ground::{DistanceReport, DistanceSource, GroundDistances};
 use super::verdict::{BoomVerdict, SettleRobot, boom_verdicts, four_wheel_verdict};
+use rappel_geometry::compact::Compact;
 use rappel_mechanics::four_wheel::FourWheelParams;
 use rappel_mechanics::four_wheel_settle::FourWheelPose;
 
@@ -44,6 +45,10 @@ pub const PATH_STEP: f64 = 0.25;
 
 /// Most poses along one drive (a bound on the work; longer drives are refused).
 pub const MAX_PATH_POSES: usize = 4096;
+
+/// How far inside the ground a root anchor may lie before it is refused, metres: a physical
+/// tolerance (a stake driven flush with the surface reads a few micrometres either side of it).
+pub const ROOT_DEPTH_TOLERANCE: f64 = 1e-3;
 
 /// Most cells in one map.
 pub const MAX_MAP_CELLS: usize = 1_000_000;
@@ -391,6 +396,53 @@ impl MapSpec {
             start: [s.x, s.y],
         }
     }
+
+    /// Checks the spec: finite ordered bounds, a positive finite step, a finite heading and
+    /// start; a refusal names the field.
+    ///
+    /// ```
+    /// use rappel_planners::rover::stability_map::MapSpec;
+    /// use rappel_terrain::paton_scene::PatonScene;
+    /// let mut spec = MapSpec::fig8(&PatonScene::paper(false));
+    /// assert!(spec.validate().is_ok());
+    /// spec.yaw_deg = f64::NAN;
+    /// assert_eq!(spec.validate().unwrap_err().to_string(), "yaw_deg = NaN: must be finite");
+    /// ```
+    pub fn validate(&self) -> Result<(), MeshStabilityError> {
+        let bad = |field: &str, value: String, why: &str| {
+            Err(MeshStabilityError::Parameter(format!(
+                "{field} = {value}: {why}"
+            )))
+        };
+        let pair = |(a, b): (f64, f64)| format!("({}, {})", Compact(a), Compact(b));
+        for (field, (a, b)) in [("x", self.x), ("y", self.y)] {
+            if !(a.is_finite() && b.is_finite() && a <= b) {
+                return bad(field, pair((a, b)), "the bounds must be finite, min <= max");
+            }
+        }
+        if !(self.step.is_finite() && self.step > 0.0) {
+            return bad(
+                "step",
+                Compact(self.step).to_string(),
+                "must be finite and > 0",
+            );
+        }
+        if !self.yaw_deg.is_finite() {
+            return bad(
+                "yaw_deg",
+                Compact(self.yaw_deg).to_string(),
+                "must be finite",
+            );
+        }
+        if !self.start.iter().all(|v| v.is_finite()) {
+            return bad(
+                "start",
+                pair((self.start[0], self.start[1])),
+                "must be finite",
+            );
+        }
+        Ok(())
+    }
 }
 
 /// One map cell.
@@ -537,31 +589,24 @@ pub fn stability_map_for<R: MapRobot>(
         distances.distance(),
         distances.predict_resolution(),
     );
-    let ok = [
-        spec.x.0,
-        spec.x.1,
-        spec.y.0,
-        spec.y.1,
-        spec.yaw_deg,
-        spec.start[0],
-        spec.start[1],
-    ]
-    .iter()
-    .all(|v| v.is_finite())
-        && spec.step > 0.0
-        && spec.step.is_finite()
-        && spec.x.1 >= spec.x.0
-        && spec.y.1 >= spec.y.0;
-    if !ok {
-        return Err(MeshStabilityError::Parameter(
-            "map bounds must be finite and ordered, the step finite and > 0".into(),
-        ));
+    spec.validate()?;
+    let root_point = root.root().point;
+    let depth = -ground.signed_distance(&root_point);
+    if depth > ROOT_DEPTH_TOLERANCE {
+        return Err(MeshStabilityError::Parameter(format!(
+            "the root anchor ({}, {}, {}) is {depth:.3} m inside the ground; an anchor must lie on or above the surface",
+            Compact(root_point.x),
+            Compact(root_point.y),
+            Compact(root_point.z)
+        )));
     }
     let count = |a: f64, b: f64| ((b - a) / spec.step).floor() + 1.0;
     let (fx, fy) = (count(spec.x.0, spec.x.1), count(spec.y.0, spec.y.1));
     if fx * fy > MAX_MAP_CELLS as f64 {
         return Err(MeshStabilityError::Parameter(format!(
-            "a map of {fx} x {fy} cells exceeds {MAX_MAP_CELLS}"
+            "a map of {} x {} cells exceeds the limit of {MAX_MAP_CELLS} cells; use a larger step or a smaller area",
+            Compact(fx),
+            Compact(fy)
         )));
     }
     let (nx, ny) = (fx as usize, fy as usize);

@@ -42,6 +42,7 @@
 pub mod two_robots;
 
 use nalgebra::{Point2, Point3};
+use rappel_geometry::compact::Compact;
 use rappel_geometry::polygon::PointInPolygon;
 use rappel_geometry::predicates::{orient2d, point_on_segment};
 use rappel_terrain::surface::{EdgeKind, Terrain};
@@ -98,7 +99,7 @@ pub enum TrackError {
         what: String,
     },
     /// A point is off every surface.
-    #[error("{what} ({x}, {y}) is off the terrain's surfaces")]
+    #[error("{what} ({}, {}) is off the terrain's surfaces", Compact(*.x), Compact(*.y))]
     OffTerrain {
         /// Which point.
         what: String,
@@ -123,6 +124,30 @@ pub enum TrackError {
         /// The bound.
         limit: usize,
     },
+}
+
+impl TrackError {
+    /// Which point or step the error is about (`None` for the event limit).
+    pub fn what(&self) -> Option<&str> {
+        match self {
+            TrackError::NonFinite { what }
+            | TrackError::OffTerrain { what, .. }
+            | TrackError::ThroughObstacle { what, .. } => Some(what),
+            TrackError::EventLimit { .. } => None,
+        }
+    }
+
+    /// The error with its point or step renamed `what` (for a caller that knows better which
+    /// robot's point it is).
+    pub fn renamed(mut self, name: &str) -> Self {
+        if let TrackError::NonFinite { what }
+        | TrackError::OffTerrain { what, .. }
+        | TrackError::ThroughObstacle { what, .. } = &mut self
+        {
+            *what = name.to_string();
+        }
+        self
+    }
 }
 
 /// The tracker: the base, the obstacle-anchor stack and the robot.

@@ -124,7 +124,14 @@ impl<'a, T: Terrain + ?Sized> TwoRobots<'a, T> {
         let (Some(&s1), Some(&s2)) = (path1.first(), path2.first()) else {
             return Ok(Vec::new());
         };
-        let mut phase1 = TetherTracker::new(self.terrain, s2, s1).map_err(t1)?;
+        // Phase 1's tracker runs from Robot 2's start (its base) to Robot 1's start: an
+        // objection to the base is about Robot 2's path, not Robot 1's.
+        let mut phase1 = TetherTracker::new(self.terrain, s2, s1).map_err(|e| match e.what() {
+            Some("the base") => t2(e.renamed("the start")),
+            Some("the robot's start") => t1(e.renamed("the start")),
+            Some("the initial tether") => t1(e.renamed("the tether from Robot 2's start")),
+            _ => t1(e),
+        })?;
         phase1.follow(&path1[1..]).map_err(t1)?;
         let r1 = phase1.robot();
         let anchors = reversed(phase1.obstacle_anchors());

@@ -6,13 +6,15 @@ use rappel::report::*;
 fn a_report_of_another_kind_or_version_is_refused() {
     let r = ValidateReport {
         file: "s.ron".into(),
+        kind: rappel::input_kind::InputKind::Scenario,
         valid: true,
-        obstacles: 1,
-        vertices: 7,
-        terrain_planes: 0,
-        free_area_m2: 12.5,
-        ptfos: 0,
-        georeferenced: false,
+        summary: "1 obstacles, 7 vertices, 0 terrain planes".into(),
+        obstacles: Some(1),
+        vertices: Some(7),
+        terrain_planes: Some(0),
+        free_area_m2: Some(12.5),
+        ptfos: Some(0),
+        georeferenced: Some(false),
     };
     let text = r.to_json();
     assert!(
