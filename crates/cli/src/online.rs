@@ -92,8 +92,15 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             frames.push(event_picture(e, s));
         }
     };
-    let result = rappel::online::run(&prior, &truth, &options, &mut observe)
-        .map_err(|e| CliError(format!("{}: {e}", args.prior.display())))?;
+    // A mismatch between the two files is about the truth (the prior is the plan's map).
+    let result = rappel::online::run(&prior, &truth, &options, &mut observe).map_err(|e| {
+        let file = match e {
+            rappel::online::OnlineRunError::Mismatch { .. }
+            | rappel::online::OnlineRunError::BoundaryMismatch => &args.truth,
+            _ => &args.prior,
+        };
+        CliError(format!("{}: {e}", file.display()))
+    })?;
     if let Some(dir) = &args.frames {
         for (i, svg) in frames.iter().enumerate() {
             write_file(&dir.join(format!("event-{:03}.svg", i + 1)), svg)?;

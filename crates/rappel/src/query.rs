@@ -164,14 +164,38 @@ pub fn load_pairs(path: &Path) -> Result<Vec<QueryPair>, QueryError> {
         message,
     };
     let text = rappel_terrain::input::read_text(path)?;
-    let pairs: Vec<QueryPair> = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
-    if pairs.len() > MAX_PAIRS {
+    /// A pair as written, its points as lists of numbers, so that a point of 3 numbers is named
+    /// as such (a fixed-size point would report "invalid length").
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Written {
+        start: Vec<f64>,
+        goal: Vec<f64>,
+    }
+    let written: Vec<Written> = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    if written.len() > MAX_PAIRS {
         return Err(bad(format!(
             "{} pairs, more than the {MAX_PAIRS} accepted",
-            pairs.len()
+            written.len()
         )));
     }
-    Ok(pairs)
+    let point = |i: usize, which: &str, v: &[f64]| match v {
+        [x, y] => Ok(Point2::new(*x, *y)),
+        _ => Err(bad(format!(
+            "pair {i}: the {which} has {} numbers; a point is [x, y]",
+            v.len()
+        ))),
+    };
+    written
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            Ok(QueryPair {
+                start: point(i, "start", &w.start)?,
+                goal: point(i, "goal", &w.goal)?,
+            })
+        })
+        .collect()
 }
 
 /// Options of a query run: the classes per pair, the repeats of each query, and when to stop.

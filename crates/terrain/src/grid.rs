@@ -272,9 +272,8 @@ impl GridGeometry {
                     what,
                     value,
                     why: format!(
-                        "below {} of the grid's largest coordinate {}: neighbouring cells would round to one position; shift the origin or use larger cells",
-                        Compact(MIN_CELL_TO_CORNER),
-                        Compact(reach)
+                        "below 2^-36 of the grid's largest coordinate {}: neighbouring cells would round to one position; shift the origin or use larger cells",
+                        rappel_geometry::compact::Rounded(reach, 3)
                     ),
                 });
             }

@@ -123,8 +123,9 @@ impl SimulationOptions {
         let floor = diagonal * MIN_STEP_FRACTION;
         if self.step < floor {
             return Err(OnlineError::Option(format!(
-                "step {} m is below the floor of {floor:.3e} m ({MIN_STEP_FRACTION:e} of the map's {diagonal:.1} m diagonal)",
-                self.step
+                "step {} m is below the floor of {} m ({MIN_STEP_FRACTION:e} of the map's {diagonal:.1} m diagonal)",
+                rappel_geometry::compact::Compact(self.step),
+                rappel_geometry::compact::Rounded(floor, 6)
             )));
         }
         Ok(())
