@@ -10,7 +10,7 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, Copy, PartialEq)]
 pub enum FrictionError {
     /// A coefficient is negative, NaN or infinite; use a finite `μ >= 0`.
-    #[error("friction coefficient {0} must be finite and non-negative")]
+    #[error("friction coefficient {} must be finite and non-negative", rappel_geometry::compact::Compact(*.0))]
     Invalid(f64),
     /// The interval's lower end exceeds its upper end; swap them.
     #[error("friction interval [{lo}, {hi}] is empty")]

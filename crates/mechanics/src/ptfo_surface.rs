@@ -52,7 +52,7 @@ pub enum WrapError {
     #[error("PTFO surface: {0}")]
     Surface(String),
     /// The turning angle is not in `(0, π)` or a direction is zero or not finite.
-    #[error("tether wrap: turning angle {0} must be in (0, pi) with finite, non-zero directions")]
+    #[error("tether wrap: turning angle {} must be in (0, pi) with finite, non-zero directions", rappel_geometry::compact::Compact(*.0))]
     Turn(f64),
     /// The tether does not wrap the surface here (see the module docs); it cannot hold.
     #[error("no contact: {0}")]

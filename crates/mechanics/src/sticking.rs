@@ -30,7 +30,7 @@ pub enum StickingError {
     #[error(transparent)]
     Friction(#[from] FrictionError),
     /// A tension is not finite and positive (a taut tether has `T > 0`, eq. 3.6).
-    #[error("tension {0} must be finite and positive")]
+    #[error("tension {} must be finite and positive", rappel_geometry::compact::Compact(*.0))]
     Tension(f64),
     /// A sample has a non-finite curvature or a negative or non-finite length.
     #[error("tether sample {index} is invalid (non-finite curvature or bad length)")]

@@ -172,7 +172,8 @@ pub fn load_pairs(path: &Path) -> Result<Vec<QueryPair>, QueryError> {
         start: Vec<f64>,
         goal: Vec<f64>,
     }
-    let written: Vec<Written> = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    let written: Vec<Written> = serde_json::from_str(&text)
+        .map_err(|e| bad(crate::scenario::readable_message(&e.to_string())))?;
     if written.len() > MAX_PAIRS {
         return Err(bad(format!(
             "{} pairs, more than the {MAX_PAIRS} accepted",

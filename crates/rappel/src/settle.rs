@@ -56,7 +56,7 @@ pub fn load_scene(path: &Path) -> Result<PatonScene, SettleFileError> {
         why,
     };
     let text = rappel_terrain::input::read_text(path)?;
-    ron::from_str(&text).map_err(|e| err(e.to_string()))
+    ron::from_str(&text).map_err(|e| err(crate::scenario::readable_message(&e.to_string())))
 }
 
 /// The ground of a file: a Paton scene, an elevation model or a mesh file (OBJ, STL).

@@ -115,7 +115,7 @@ fn parse<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T, T
     };
     r.map_err(|message| TrackRunError::Parse {
         path: path.display().to_string(),
-        message,
+        message: crate::scenario::readable_message(&message),
     })
 }
 

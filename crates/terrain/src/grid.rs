@@ -142,7 +142,7 @@ pub enum GridError {
         max_cells: usize,
     },
     /// A cell size that is not a positive finite number. Fix: the header's cell size.
-    #[error("cell size ({cell_x}, {cell_y}) must be positive and finite")]
+    #[error("cell size ({}, {}) must be positive and finite", Compact(*.cell_x), Compact(*.cell_y))]
     BadCellSize {
         /// East-west size given.
         cell_x: f64,
@@ -150,7 +150,7 @@ pub enum GridError {
         cell_y: f64,
     },
     /// A georeference that is not finite. Fix: the header's corner coordinates.
-    #[error("the grid corner ({west}, {north}) is not finite")]
+    #[error("the grid corner ({}, {}) is not finite", Compact(*.west), Compact(*.north))]
     NonFiniteCorner {
         /// West edge given.
         west: f64,

@@ -100,7 +100,7 @@ impl Default for IngestOptions {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum IngestError {
     /// A friction that is negative or not finite.
-    #[error("friction mu = {0} must be finite and >= 0")]
+    #[error("friction mu = {} must be finite and >= 0", rappel_geometry::compact::Compact(*.0))]
     BadFriction(f64),
     /// No fall line (flat terrain, or no known slope), or a bad fall-line azimuth.
     #[error(transparent)]

@@ -149,7 +149,7 @@ fn binary_stl_count(path: &Path) -> Result<Option<u64>, MeshFileError> {
     let parse = |why: String| MeshFileError::Parse {
         path: path.display().to_string(),
         format: "STL",
-        why,
+        why: one_line(&why),
     };
     if len < 84 {
         let mut start = Vec::new();
@@ -226,7 +226,7 @@ pub fn read_obj(path: &Path) -> Result<TriMesh, MeshFileError> {
         .map_err(|e| MeshFileError::Parse {
         path: path.display().to_string(),
         format: "OBJ",
-        why: e.to_string(),
+        why: one_line(&e.to_string()),
     })?;
     let mut positions = Vec::new();
     let mut triangles = Vec::new();
@@ -252,7 +252,7 @@ pub fn read_stl(path: &Path) -> Result<TriMesh, MeshFileError> {
     let m = stl_io::read_stl(&mut r).map_err(|e| MeshFileError::Parse {
         path: path.display().to_string(),
         format: "STL",
-        why: e.to_string(),
+        why: one_line(&e.to_string()),
     })?;
     let triangles = m.faces.iter().map(|f| f.vertices).collect();
     weld(
@@ -261,6 +261,24 @@ pub fn read_stl(path: &Path) -> Result<TriMesh, MeshFileError> {
         triangles,
     )
 }
+
+/// A third-party reader's message as one printable line: its first line, without control
+/// characters, cut before any Debug dump of the reader's internals (`ParseError { ... }`) and
+/// at [`MAX_READER_MESSAGE`] characters.
+fn one_line(why: &str) -> String {
+    let first = why.lines().next().unwrap_or("").trim();
+    let first = first.split(" { ").next().unwrap_or(first);
+    let clean: String = first.chars().filter(|c| !c.is_control()).collect();
+    if clean.chars().count() > MAX_READER_MESSAGE {
+        let cut: String = clean.chars().take(MAX_READER_MESSAGE).collect();
+        format!("{cut}...")
+    } else {
+        clean
+    }
+}
+
+/// The longest reader message kept, characters.
+const MAX_READER_MESSAGE: usize = 200;
 
 /// A PLY file (ASCII, binary little or big endian): the `vertex` element's numeric `x`, `y`, `z`
 /// and the `face` element's `vertex_indices` (or `vertex_index`) lists, each face fanned into
@@ -273,7 +291,7 @@ pub fn read_ply(path: &Path) -> Result<TriMesh, MeshFileError> {
     let parse = |why: String| MeshFileError::Parse {
         path: path.display().to_string(),
         format: "PLY",
-        why,
+        why: one_line(&why),
     };
     if let Some(faces) = ply_faces(path)? {
         check_count(path, "PLY", faces)?;

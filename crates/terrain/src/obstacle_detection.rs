@@ -114,7 +114,7 @@ pub enum ObstacleError {
         cells: usize,
     },
     /// A parameter outside its range.
-    #[error("obstacle detection parameter {name} = {value} must be {requirement}")]
+    #[error("obstacle detection parameter {name} = {} must be {requirement}", rappel_geometry::compact::Compact(*.value))]
     BadParameter {
         /// The parameter.
         name: &'static str,

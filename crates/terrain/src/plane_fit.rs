@@ -72,10 +72,10 @@ impl Default for PlaneFitOptions {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PlaneFitError {
     /// A band width that is not a positive finite number.
-    #[error("band width {0} m must be positive and finite")]
+    #[error("band width {} m must be positive and finite", rappel_geometry::compact::Compact(*.0))]
     BadBandWidth(f64),
     /// A merge tolerance that is negative or not finite.
-    #[error("merge tolerance {0} m must be finite and >= 0")]
+    #[error("merge tolerance {} m must be finite and >= 0", rappel_geometry::compact::Compact(*.0))]
     BadTolerance(f64),
     /// Too few known cells, or all on one line, to fit any plane.
     #[error(

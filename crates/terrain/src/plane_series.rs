@@ -73,7 +73,7 @@ pub enum PlaneSeriesError {
         y_bottom: f64,
     },
     /// Slope outside `[0, 90)` degrees.
-    #[error("plane {plane} has slope {slope_deg} degrees; it must be in [0, 90)")]
+    #[error("plane {plane} has slope {} degrees; it must be in [0, 90)", rappel_geometry::compact::Compact(*.slope_deg))]
     BadSlope {
         /// Plane index.
         plane: usize,
@@ -81,7 +81,7 @@ pub enum PlaneSeriesError {
         slope_deg: f64,
     },
     /// Negative friction.
-    #[error("plane {plane} has friction {friction}; it must be >= 0")]
+    #[error("plane {plane} has friction {}; it must be >= 0", rappel_geometry::compact::Compact(*.friction))]
     BadFriction {
         /// Plane index.
         plane: usize,

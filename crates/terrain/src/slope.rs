@@ -53,7 +53,7 @@ pub enum SlopeError {
         mean_slope_deg: f64,
     },
     /// An azimuth that is not a finite number.
-    #[error("the fall-line azimuth {azimuth_deg} is not a finite number")]
+    #[error("the fall-line azimuth {} is not a finite number", rappel_geometry::compact::Compact(*.azimuth_deg))]
     BadAzimuth {
         /// The azimuth given.
         azimuth_deg: f64,

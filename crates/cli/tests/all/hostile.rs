@@ -42,7 +42,10 @@ struct Case {
 fn general_promises(what: &str, text: &str) {
     assert!(!text.contains("panicked"), "{what}: a panic: {text}");
     for debug in ["Custom {", "Os {", "{ kind:", "18446744073709551615"] {
-        assert!(!text.contains(debug), "{what}: a Debug dump `{debug}`: {text}");
+        assert!(
+            !text.contains(debug),
+            "{what}: a Debug dump `{debug}`: {text}"
+        );
     }
     let mut run = 0;
     for c in text.chars() {
@@ -56,7 +59,10 @@ fn run(case: &Case, args: &[String]) -> std::process::Output {
     let bin = env!("CARGO_BIN_EXE_rappel");
     let mut cmd = if case.stdout_closed {
         let mut c = Command::new("/bin/sh");
-        c.arg("-c").arg("exec \"$0\" \"$@\" >&-").arg(bin).args(args);
+        c.arg("-c")
+            .arg("exec \"$0\" \"$@\" >&-")
+            .arg(bin)
+            .args(args);
         c
     } else {
         let mut c = Command::new(bin);
@@ -105,12 +111,23 @@ fn every_hostile_case_gives_its_exit_code_and_message() {
             failed.push(format!("[{}] {}", case.class, case.name));
         }
     }
-    assert!(failed.is_empty(), "{} failed cases: {failed:#?}", failed.len());
+    assert!(
+        failed.is_empty(),
+        "{} failed cases: {failed:#?}",
+        failed.len()
+    );
     // Every file of the corpus is used by a case.
     for entry in std::fs::read_dir(&hostile).expect("corpus dir") {
-        let name = entry.expect("entry").file_name().to_string_lossy().into_owned();
+        let name = entry
+            .expect("entry")
+            .file_name()
+            .to_string_lossy()
+            .into_owned();
         if name != "cases.json" && name != "README.md" {
-            assert!(text.contains(&name), "{name} is in fixtures/hostile but no case uses it");
+            assert!(
+                text.contains(&name),
+                "{name} is in fixtures/hostile but no case uses it"
+            );
         }
     }
     let _ = std::fs::remove_dir_all(&base);
@@ -134,7 +151,11 @@ fn check_case(case: &Case, k: usize, base: &Path, hostile: &str) {
         let what = format!("[{}] {}", case.class, case.name);
         let o = run(case, &args);
         let (so, se) = (stdout(&o), stderr(&o));
-        assert_eq!(o.status.code(), Some(case.exit), "{what}: {args:?}\n{se}{so}");
+        assert_eq!(
+            o.status.code(),
+            Some(case.exit),
+            "{what}: {args:?}\n{se}{so}"
+        );
         general_promises(&what, &se);
         general_promises(&what, &so);
         match case.stream.as_deref().unwrap_or("stderr") {

@@ -71,7 +71,7 @@ pub enum FrictionalError {
         problem: String,
     },
     /// The friction credited to geometric anchors is negative or not finite.
-    #[error("geometric_friction {0} must be finite and >= 0")]
+    #[error("geometric_friction {} must be finite and >= 0", rappel_geometry::compact::Compact(*.0))]
     GeometricFriction(f64),
     /// A surface is unusable.
     #[error("PTFO on obstacle {obstacle}: {source}")]

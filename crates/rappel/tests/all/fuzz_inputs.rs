@@ -59,14 +59,14 @@ fn numbers(text: &str) -> Vec<(usize, usize)> {
 
 /// Mutations of a text.
 #[derive(Debug, Clone)]
-enum Mutation {
+pub(crate) enum Mutation {
     Truncate(usize),
     Flip(usize, u8),
     Number(usize, usize),
     Insert(usize, String),
 }
 
-fn mutation() -> impl Strategy<Value = Mutation> {
+pub(crate) fn mutation() -> impl Strategy<Value = Mutation> {
     prop_oneof![
         any::<usize>().prop_map(Mutation::Truncate),
         (any::<usize>(), any::<u8>()).prop_map(|(i, b)| Mutation::Flip(i, b)),
@@ -88,7 +88,7 @@ fn mutation() -> impl Strategy<Value = Mutation> {
 }
 
 /// `text` with `m` applied, as bytes (a flip may make them invalid UTF-8).
-fn apply(text: &str, m: &Mutation) -> Vec<u8> {
+pub(crate) fn apply(text: &str, m: &Mutation) -> Vec<u8> {
     let mut b = text.as_bytes().to_vec();
     match m {
         Mutation::Truncate(i) => b.truncate(i % (b.len() + 1)),
@@ -113,7 +113,7 @@ fn apply(text: &str, m: &Mutation) -> Vec<u8> {
 }
 
 /// A fresh temporary directory for this test process.
-fn temp_dir(tag: &str) -> PathBuf {
+pub(crate) fn temp_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("rappel-fuzz-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&d).expect("temp dir");
     d
@@ -148,7 +148,7 @@ fn check_load(file: &std::path::Path) -> Result<(), TestCaseError> {
 }
 
 /// A message is one printable line: no control characters, no `-0`, no 300-digit numbers.
-fn check_message(text: &str) -> Result<(), TestCaseError> {
+pub(crate) fn check_message(text: &str) -> Result<(), TestCaseError> {
     prop_assert!(!text.chars().any(char::is_control), "raw bytes: {text:?}");
     prop_assert!(
         !text.contains("recursion_limit"),

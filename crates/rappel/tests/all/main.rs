@@ -9,6 +9,7 @@ mod dem_formats_agree;
 mod dem_ptfo_saddles;
 mod distance_source;
 mod fuzz_inputs;
+mod fuzz_newer_inputs;
 mod long_obstacle;
 mod navigate;
 mod online_friction;
