@@ -1,5 +1,5 @@
 //! Benchmarks of the mechanics crate (issue 5): one wheel/tether QP check of an Axel pose, one
-//! tension-limited LP check of a four-wheel rover, a 10,000-pose stability grid in parallel with
+//! tension-limited LP check of a four-wheel rover (the dense simplex beside clarabel), a 10,000-pose stability grid in parallel with
 //! rayon, and the split of a QP check into our assembly, clarabel's setup and clarabel's solve.
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -51,8 +51,22 @@ fn checks(c: &mut Criterion) {
     c.bench_function("mechanics/qp_axel_check", |b| {
         b.iter(|| qp.check(black_box(&axel)))
     });
+    // The dense simplex beside clarabel on the same LP; their answers agree first.
+    let (dense, oracle) = (
+        lp.check(&rover).expect("dense"),
+        lp.check_clarabel(&rover).expect("clarabel"),
+    );
+    assert_eq!(dense.stable, oracle.stable);
+    let (a, b) = (
+        dense.required_tension.unwrap(),
+        oracle.required_tension.unwrap(),
+    );
+    assert!((a - b).abs() < 1e-6 * 35.0 * 9.81, "{a} vs {b}");
     c.bench_function("mechanics/lp_rover_check", |b| {
         b.iter(|| lp.check(black_box(&rover)))
+    });
+    c.bench_function("mechanics/lp_rover_check_clarabel", |b| {
+        b.iter(|| lp.check_clarabel(black_box(&rover)))
     });
     // The QP time split: our assembly; assembly + clarabel setup; assembly + setup + solve.
     c.bench_function("mechanics/qp_split/assemble", |b| {

@@ -116,6 +116,23 @@ impl ConicBuilder {
         d
     }
 
+    /// The same program for the dense simplex ([`crate::dense_lp`]); the objective must be
+    /// linear (no squares).
+    pub(crate) fn dense_lp(&self) -> crate::dense_lp::DenseLp {
+        debug_assert!(self.p_diag.iter().all(|v| *v == 0.0));
+        let mut d = crate::dense_lp::DenseLp::new(self.n);
+        for (i, &c) in self.q.iter().enumerate() {
+            d.add_linear(i, c);
+        }
+        for (row, rhs) in &self.eq {
+            d.equal(row, *rhs);
+        }
+        for (row, rhs) in &self.le {
+            d.at_most(row, *rhs);
+        }
+        d
+    }
+
     pub(crate) fn build(self, settings: SolverSettings) -> ConicProblem {
         let n = self.n;
         let (mut ri, mut ci, mut vi, mut b) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());

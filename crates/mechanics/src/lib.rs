@@ -47,6 +47,7 @@ pub mod capstan;
 pub mod conic;
 pub mod curvature;
 pub mod darboux;
+pub mod dense_lp;
 pub mod dense_qp;
 pub mod four_wheel;
 pub mod four_wheel_settle;

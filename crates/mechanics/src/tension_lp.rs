@@ -1,5 +1,6 @@
 //! Tension-limited static stability of a rappelling robot as a linear program (Kumar §III-B,
-//! eqs. 3a-3e), solved with clarabel.
+//! eqs. 3a-3e), solved with the dense simplex of [`crate::dense_lp`] ([`TensionLimitedLp::check`])
+//! or with clarabel ([`TensionLimitedLp::check_clarabel`], the oracle it is tested against).
 //!
 //! # Formulation
 //! The constraints are those of `statics` (the crate-internal module of shared constraints) with point contacts (no contact moments):
@@ -14,6 +15,7 @@
 //! [`FrictionPyramid::Inscribed`] selects the conservative pyramid inside it.
 
 use crate::conic::{ConicBuilder, ConicOutcome, ConicProblem};
+use crate::dense_lp::{DenseLpError, LpOutcome};
 use crate::robot::PlacedRobot;
 use crate::stability_error::StabilityError;
 use crate::statics::{Layout, add_equilibrium, add_friction_pyramids, add_tether_bounds, weight};
@@ -50,7 +52,8 @@ pub struct LpReport {
     /// `1 - required / limit` (1 when no tension is needed or there is no tether; 0 when not
     /// stable).
     pub headroom: f64,
-    /// clarabel reported reduced accuracy.
+    /// clarabel reported reduced accuracy (always `false` from the dense simplex of
+    /// [`TensionLimitedLp::check`]).
     pub reduced_accuracy: bool,
 }
 
@@ -84,9 +87,8 @@ impl TensionLimitedLp {
         }
     }
 
-    /// Builds the LP for `robot` (exposed so that setup and solve can be timed apart). A tethered
-    /// robot must have a tension limit (Kumar eq. 3e).
-    pub fn assemble(&self, robot: &PlacedRobot) -> Result<ConicProblem, StabilityError> {
+    /// The LP's rows for `robot`. A tethered robot must have a tension limit (Kumar eq. 3e).
+    fn builder(&self, robot: &PlacedRobot) -> Result<ConicBuilder, StabilityError> {
         let w = weight(robot, self.settings.gravity())?;
         if robot.tether.is_some_and(|t| t.max_tension.is_none()) {
             return Err(StabilityError::Input(
@@ -103,7 +105,40 @@ impl TensionLimitedLp {
             self.pyramid.coefficient(robot.contact_friction(i))
         });
         add_tether_bounds(&mut b, robot, &layout, w);
-        Ok(b.build(self.settings.solver()))
+        Ok(b)
+    }
+
+    /// Builds the LP for `robot` as a clarabel program (exposed so that setup and solve can be
+    /// timed apart). A tethered robot must have a tension limit (Kumar eq. 3e).
+    pub fn assemble(&self, robot: &PlacedRobot) -> Result<ConicProblem, StabilityError> {
+        Ok(self.builder(robot)?.build(self.settings.solver()))
+    }
+
+    /// The report of an optimal LP point `x` (weight-normalised).
+    fn report(robot: &PlacedRobot, x: &[f64], w: f64, reduced_accuracy: bool) -> LpReport {
+        let required = Self::layout(robot).tether().map(|c| x[c].max(0.0) * w);
+        let limit = robot.tether.and_then(|t| t.max_tension);
+        let headroom = match (required, limit) {
+            (Some(r), Some(l)) if l > 0.0 => (1.0 - r / l).clamp(0.0, 1.0),
+            (Some(_), Some(_)) => 0.0,
+            _ => 1.0,
+        };
+        LpReport {
+            stable: true,
+            required_tension: required,
+            headroom,
+            reduced_accuracy,
+        }
+    }
+
+    /// The report of an infeasible LP.
+    fn unstable(reduced_accuracy: bool) -> LpReport {
+        LpReport {
+            stable: false,
+            required_tension: None,
+            headroom: 0.0,
+            reduced_accuracy,
+        }
     }
 
     /// Checks whether `robot` is stable within its tether's tension limit.
@@ -125,35 +160,34 @@ impl TensionLimitedLp {
     /// assert!(!check(200.0) && check(300.0));
     /// ```
     pub fn check(&self, robot: &PlacedRobot) -> Result<LpReport, StabilityError> {
+        let lp = self.builder(robot)?.dense_lp();
+        let w = weight(robot, self.settings.gravity())?;
+        match lp.solve() {
+            Ok(LpOutcome::Optimal { x, .. }) => Ok(Self::report(robot, &x, w, false)),
+            Ok(LpOutcome::Infeasible) => Ok(Self::unstable(false)),
+            // T is bounded below by 0 and every force by the equilibrium: never seen.
+            Ok(LpOutcome::Unbounded) => Err(StabilityError::Trouble(
+                "the tension LP is unbounded".into(),
+            )),
+            Err(DenseLpError::NonFinite) => Err(StabilityError::Input(
+                "non-finite problem data (check poses, masses and anchors)",
+            )),
+            Err(e) => Err(StabilityError::Trouble(e.to_string())),
+        }
+    }
+
+    /// Checks with clarabel (the interior-point oracle the dense simplex of
+    /// [`TensionLimitedLp::check`] is tested against; same LP, same report).
+    pub fn check_clarabel(&self, robot: &PlacedRobot) -> Result<LpReport, StabilityError> {
         let problem = self.assemble(robot)?;
         let w = weight(robot, self.settings.gravity())?;
-        let layout = Self::layout(robot);
         Ok(match problem.setup()?.solve()? {
-            ConicOutcome::Infeasible { reduced_accuracy } => LpReport {
-                stable: false,
-                required_tension: None,
-                headroom: 0.0,
-                reduced_accuracy,
-            },
+            ConicOutcome::Infeasible { reduced_accuracy } => Self::unstable(reduced_accuracy),
             ConicOutcome::Optimal {
                 x,
                 reduced_accuracy,
                 ..
-            } => {
-                let required = layout.tether().map(|c| x[c].max(0.0) * w);
-                let limit = robot.tether.and_then(|t| t.max_tension);
-                let headroom = match (required, limit) {
-                    (Some(r), Some(l)) if l > 0.0 => (1.0 - r / l).clamp(0.0, 1.0),
-                    (Some(_), Some(_)) => 0.0,
-                    _ => 1.0,
-                };
-                LpReport {
-                    stable: true,
-                    required_tension: required,
-                    headroom,
-                    reduced_accuracy,
-                }
-            }
+            } => Self::report(robot, &x, w, reduced_accuracy),
         })
     }
 }

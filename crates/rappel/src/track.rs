@@ -190,7 +190,7 @@ pub fn track(
             mass: scenario.holding.mass,
         },
         gravity: scenario.gravity,
-        robot2: &rover as &dyn RobotModel,
+        robot2: &rover as &(dyn RobotModel + Sync),
         tether_height: rover.params().tether_exit.z,
     };
     let waypoints = two.run(path1, path2)?;

@@ -135,3 +135,76 @@ fn circumscribed_pyramid_is_optimistic_off_axis_and_inscribed_is_not() {
         "inscribed pyramid is at least as strict as the cone"
     );
 }
+
+/// The dense simplex (`check`) against clarabel (`check_clarabel`, the independent
+/// interior-point oracle) on 2,000 seeded random set-ups: slopes 0-80°, friction 0.05-1.2, any
+/// heading, anchors all around (above, into and away from the slope), limits 0-1,500 N. The
+/// verdicts agree wherever clarabel's least tension is not within `BOUNDARY` of the limit, and
+/// the least tensions agree within `TENSION_TOL`.
+#[test]
+fn the_dense_simplex_agrees_with_clarabel() {
+    use rand::{RngExt, SeedableRng};
+    /// Least tensions agree within this, relative to the weight (clarabel's gap tolerance 1e-8).
+    const TENSION_TOL: f64 = 1e-6;
+    /// A least tension this close to the limit (relative to the weight) is on the boundary,
+    /// where the two solvers' tolerances may disagree about the verdict.
+    const BOUNDARY: f64 = 1e-6;
+    let w = 35.0 * STANDARD_GRAVITY;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(30);
+    let (mut stable, mut unstable) = (0, 0);
+    for case in 0..2000 {
+        let deg = rng.random_range(0.0..80.0);
+        let mu = rng.random_range(0.05..1.2);
+        let heading = rng.random_range(-PI..PI);
+        let anchor = Point3::new(
+            rng.random_range(-30.0..30.0),
+            rng.random_range(-30.0..30.0),
+            rng.random_range(-3.0..6.0),
+        );
+        let limit = rng.random_range(0.0..1500.0);
+        let slope = SlopePlane::new(f64::to_radians(deg), mu).unwrap();
+        let tether = TetherSpec {
+            anchor,
+            max_tension: Some(limit),
+        };
+        let Ok(robot) = place(
+            &FourWheelRover::default(),
+            &PlanarPose::new(0.0, 0.0, heading),
+            &slope,
+            Some(&tether),
+        ) else {
+            continue;
+        };
+        let lp = TensionLimitedLp::default();
+        let (dense, oracle) = (
+            lp.check(&robot).unwrap(),
+            lp.check_clarabel(&robot).unwrap(),
+        );
+        let what = format!("case {case}: {deg:.1} deg, mu {mu:.2}, {anchor:?}, limit {limit:.0}");
+        match (oracle.required_tension, dense.required_tension) {
+            (Some(a), Some(b)) => {
+                assert!(
+                    (a - b).abs() <= TENSION_TOL * w,
+                    "{what}: {b} vs clarabel {a}"
+                );
+            }
+            (Some(a), None) | (None, Some(a)) => {
+                assert!(
+                    (a - limit).abs() <= BOUNDARY * w,
+                    "{what}: verdicts differ ({dense:?} vs {oracle:?}) away from the boundary"
+                );
+            }
+            (None, None) => assert_eq!(dense.stable, oracle.stable, "{what}"),
+        }
+        if oracle.stable {
+            stable += 1;
+        } else {
+            unstable += 1;
+        }
+    }
+    // Both verdicts are well represented.
+    assert!(
+        stable > 300 && unstable > 300,
+        "{stable} stable, {unstable} unstable"
+    );
+}

@@ -15,6 +15,7 @@ use rappel_mechanics::stability_error::StabilityError;
 use rappel_mechanics::tension_limit::{HoldingRobot, TensionLimitError, tension_limit};
 use rappel_mechanics::tension_lp::TensionLimitedLp;
 use rappel_terrain::surface::Terrain;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Why a two-robot run failed.
@@ -91,7 +92,7 @@ pub struct TwoRobots<'a, T: Terrain + ?Sized> {
     /// Gravity, m/s^2.
     pub gravity: f64,
     /// Robot 2's model.
-    pub robot2: &'a dyn RobotModel,
+    pub robot2: &'a (dyn RobotModel + Sync),
     /// Height of Robot 2's tether exit (the anchor height `h_t` in its plane frame), m.
     pub tether_height: f64,
 }
@@ -111,7 +112,7 @@ fn reversed(anchors: &[TetherAnchor]) -> Vec<TetherAnchor> {
         .collect()
 }
 
-impl<'a, T: Terrain + ?Sized> TwoRobots<'a, T> {
+impl<'a, T: Terrain + Sync + ?Sized> TwoRobots<'a, T> {
     /// Runs Problem 1: Robot 1 from `path1[0]` along `path1`, Robot 2 waiting at `path2[0]`, then
     /// Robot 2 along `path2`; one report per waypoint of `path2` (its start included).
     pub fn run(
@@ -138,6 +139,7 @@ impl<'a, T: Terrain + ?Sized> TwoRobots<'a, T> {
         let mut phase2 = TetherTracker::with_anchors(self.terrain, r1, anchors, s2).map_err(t2)?;
         let t1_limit = self.holding.holding_limit(self.gravity)?;
         let mut out = Vec::with_capacity(path2.len());
+        let mut lasts = Vec::with_capacity(path2.len());
         for (i, q) in path2.iter().enumerate() {
             if i > 0 {
                 phase2.step(*q).map_err(t2)?;
@@ -157,7 +159,9 @@ impl<'a, T: Terrain + ?Sized> TwoRobots<'a, T> {
             let last = configuration[n - 2];
             let ground_anchored = matches!(last.kind, AnchorKind::Ground { .. });
             let surface = self.terrain.surface_at(q).unwrap_or(0);
-            let (stable, required_tension) = self.assess(i, surface, q, &last, t2max)?;
+            lasts.push(last);
+            // The verdict is filled in below, all waypoints at once.
+            let (stable, required_tension) = (false, None);
             out.push(WaypointReport {
                 waypoint: i,
                 position: *q,
@@ -171,6 +175,16 @@ impl<'a, T: Terrain + ?Sized> TwoRobots<'a, T> {
                 stable,
                 required_tension_n: required_tension,
             });
+        }
+        // Robot 2's LP at every waypoint: independent of each other once the tether is tracked,
+        // so in parallel (the first error by waypoint is reported, as a sequential run would).
+        let verdicts: Vec<Result<(bool, Option<f64>), TwoRobotError>> = out
+            .par_iter()
+            .zip(lasts.par_iter())
+            .map(|(w, last)| self.assess(w.waypoint, w.surface, &w.position, last, w.t2max_n))
+            .collect();
+        for (w, v) in out.iter_mut().zip(verdicts) {
+            (w.stable, w.required_tension_n) = v?;
         }
         Ok(out)
     }
