@@ -397,6 +397,13 @@ impl MapSpec {
         }
     }
 
+    /// The grid's columns and rows `(nx, ny)`, as floats (a spec far over [`MAX_MAP_CELLS`]
+    /// may count more cells than a `usize` holds). Meaningful after [`MapSpec::validate`].
+    pub fn size(&self) -> (f64, f64) {
+        let count = |(a, b): (f64, f64)| ((b - a) / self.step).floor() + 1.0;
+        (count(self.x), count(self.y))
+    }
+
     /// Checks the spec: finite ordered bounds, a positive finite step, a finite heading and
     /// start; a refusal names the field.
     ///
@@ -584,6 +591,45 @@ pub fn stability_map_for<R: MapRobot>(
     spec: &MapSpec,
     stop: &StopCondition,
 ) -> Result<StabilityMap, MeshStabilityError> {
+    stability_map_observed(robot, ground, distances, root, spec, stop, &|| {})
+}
+
+/// The work units of a map of `cells` cells that [`stability_map_observed`] reports: each cell
+/// is settled, given its anchor history and checked (three units).
+pub const UNITS_PER_CELL: usize = 3;
+
+/// [`stability_map_for`], calling `tick` once per unit of work done ([`UNITS_PER_CELL`] per
+/// cell, from the worker threads), for a progress bar over `UNITS_PER_CELL * cells`.
+///
+/// ```
+/// use rappel_planners::rover::ground::{DistanceSource, GroundDistances};
+/// use rappel_planners::rover::stability_map::{AxelMap, MapSpec, UNITS_PER_CELL, stability_map_observed};
+/// use rappel_planners::anchor_prediction::AnchorHistory;
+/// use rappel_planners::stop::StopCondition;
+/// use rappel_terrain::paton_scene::PatonScene;
+/// use std::sync::atomic::{AtomicUsize, Ordering};
+/// let scene = PatonScene::paper(false);
+/// let ground = scene.mesh().unwrap();
+/// let d = GroundDistances::new(&ground, DistanceSource::Exact).unwrap();
+/// let root = AnchorHistory::new(scene.anchor_points()[0]).unwrap();
+/// let mut spec = MapSpec::fig8(&scene);
+/// spec.step = 1.5;
+/// let ticks = AtomicUsize::new(0);
+/// let map = stability_map_observed(&AxelMap, &ground, &d, &root, &spec, &StopCondition::none(), &|| {
+///     ticks.fetch_add(1, Ordering::Relaxed);
+/// })
+/// .unwrap();
+/// assert_eq!(ticks.into_inner(), UNITS_PER_CELL * map.nx * map.ny);
+/// ```
+pub fn stability_map_observed<R: MapRobot>(
+    robot: &R,
+    ground: &TriMesh,
+    distances: &GroundDistances,
+    root: &AnchorHistory,
+    spec: &MapSpec,
+    stop: &StopCondition,
+    tick: &(dyn Fn() + Sync),
+) -> Result<StabilityMap, MeshStabilityError> {
     let (bvh, distance, h) = (
         &**distances.bvh(),
         distances.distance(),
@@ -600,8 +646,7 @@ pub fn stability_map_for<R: MapRobot>(
             Compact(root_point.z)
         )));
     }
-    let count = |a: f64, b: f64| ((b - a) / spec.step).floor() + 1.0;
-    let (fx, fy) = (count(spec.x.0, spec.x.1), count(spec.y.0, spec.y.1));
+    let (fx, fy) = spec.size();
     if fx * fy > MAX_MAP_CELLS as f64 {
         return Err(MeshStabilityError::Parameter(format!(
             "a map of {} x {} cells exceeds the limit of {MAX_MAP_CELLS} cells; use a larger step or a smaller area",
@@ -641,6 +686,7 @@ pub fn stability_map_for<R: MapRobot>(
             let (x, y) = at(c % nx, c / nx);
             (!halt()).then(|| robot.settle(distances, x, y, spec.yaw_deg))
         })
+        .inspect(|_| tick())
         .collect();
     let mut histories: Vec<Option<Result<AnchorHistory, String>>> = vec![None; nx * ny];
     let start = si + sj * nx;
@@ -656,6 +702,7 @@ pub fn stability_map_for<R: MapRobot>(
         }
         None => None,
     };
+    tick();
     let params = PredictParams::new(h);
     let ring = |i: usize, j: usize| i.abs_diff(si).max(j.abs_diff(sj));
     let rings = (si.max(nx - 1 - si)).max(sj.max(ny - 1 - sj));
@@ -731,6 +778,7 @@ pub fn stability_map_for<R: MapRobot>(
                 }
                 (c, Some(Err(why)))
             })
+            .inspect(|_| tick())
             .collect();
         for (c, h) in done {
             histories[c] = h;
@@ -774,6 +822,7 @@ pub fn stability_map_for<R: MapRobot>(
                 },
             }
         })
+        .inspect(|_| tick())
         .collect();
     let stable = cells
         .iter()
