@@ -37,7 +37,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let found = check(&args.file, kind).map_err(|e| CliError(e.to_string()))?;
     let s = found.scenario.as_deref();
     if args.json {
-        return print_report(&rappel::report::ValidateReport {
+        return print_report(&rappel::input_kind::ValidateReport {
             file: args.file.display().to_string(),
             kind,
             valid: true,

@@ -68,6 +68,33 @@ impl InputKind {
     }
 }
 
+/// The JSON form of `rappel validate`: the kind checked and a summary of a valid file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct ValidateReport {
+    /// The file checked.
+    pub file: String,
+    /// The kind it was checked as (detected, or given with `--kind`).
+    pub kind: InputKind,
+    /// Always `true` (an invalid file is an error, exit code 2).
+    pub valid: bool,
+    /// The contents in one line.
+    pub summary: String,
+    /// Obstacles (scenarios only; `null` for other kinds).
+    pub obstacles: Option<usize>,
+    /// Map vertices (scenarios only).
+    pub vertices: Option<usize>,
+    /// Terrain planes (scenarios only).
+    pub terrain_planes: Option<usize>,
+    /// Free-space area, m² (scenarios only).
+    pub free_area_m2: Option<f64>,
+    /// PTFOs of the friction section (scenarios only).
+    pub ptfos: Option<usize>,
+    /// The scenario carries a georeference (made from a DEM; scenarios only).
+    pub georeferenced: Option<bool>,
+}
+
+crate::report::report!(ValidateReport, "validate");
+
 /// What a check found: the kind checked and a one-line description of the contents.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InputSummary {

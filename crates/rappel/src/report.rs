@@ -156,33 +156,6 @@ pub fn micros(d: std::time::Duration) -> u64 {
     u64::try_from(d.as_micros()).unwrap_or(u64::MAX)
 }
 
-/// The JSON form of `rappel validate`: a valid scenario's summary.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-pub struct ValidateReport {
-    /// The file checked.
-    pub file: String,
-    /// The kind it was checked as (detected, or given with `--kind`).
-    pub kind: crate::input_kind::InputKind,
-    /// Always `true` (an invalid file is an error, exit code 2).
-    pub valid: bool,
-    /// The contents in one line.
-    pub summary: String,
-    /// Obstacles (scenarios only; `null` for other kinds).
-    pub obstacles: Option<usize>,
-    /// Map vertices (scenarios only).
-    pub vertices: Option<usize>,
-    /// Terrain planes (scenarios only).
-    pub terrain_planes: Option<usize>,
-    /// Free-space area, m² (scenarios only).
-    pub free_area_m2: Option<f64>,
-    /// PTFOs of the friction section (scenarios only).
-    pub ptfos: Option<usize>,
-    /// The scenario carries a georeference (made from a DEM; scenarios only).
-    pub georeferenced: Option<bool>,
-}
-
-crate::report::report!(ValidateReport, "validate");
-
 /// The JSON form of `rappel gen-map`: what was written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct GenMapReport {

@@ -9,7 +9,8 @@
 use schemars::SchemaGenerator;
 use serde_json::Value;
 
-use rappel::report::{Envelope, GenMapReport, HomotopicReport, Report, ValidateReport};
+use rappel::input_kind::ValidateReport;
+use rappel::report::{Envelope, GenMapReport, HomotopicReport, Report};
 use schemars::Schema;
 
 /// Checks `v` against the schema document `root` ([`conforms`] from its top).

@@ -71,7 +71,7 @@ fn check_convention(v: &serde_json::Value, at: &str) {
 #[test]
 fn validate_btm_shp_homotopic_and_query_reports_round_trip() {
     let map = fixture("thesis-fig-2-7.ron");
-    let v = round_trip::<rappel::report::ValidateReport>(&["validate", &map, "--json"]);
+    let v = round_trip::<rappel::input_kind::ValidateReport>(&["validate", &map, "--json"]);
     assert!(v["free_area_m2"].as_f64().unwrap() > 0.0);
     let v = round_trip::<rappel::btm_summary::BtmSummary>(&["btm", &map, "--json"]);
     assert!(v["build_us"].is_u64());

@@ -1,5 +1,6 @@
 //! The `report` module's tests (moved out of the source file: the facade's sources hold the
 //! code only).
+use rappel::input_kind::ValidateReport;
 use rappel::report::*;
 
 #[test]
