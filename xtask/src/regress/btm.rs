@@ -63,8 +63,10 @@ fn scenario_files(dir: &Path) -> Vec<PathBuf> {
             // fixtures/terrain holds elevation models and golden counts, fixtures/tracking track
             // scenarios and paths (rappel track), fixtures/paths path files (rappel shp,
             // homotopic), fixtures/queries pairs files (rappel query), fixtures/paton Paton's mesh
-            // scenes (rappel settle): not planning scenarios.
-            const NOT_SCENARIOS: [&str; 5] = ["terrain", "tracking", "paths", "paton", "queries"];
+            // scenes (rappel settle), fixtures/hostile inputs built to be refused
+            // (crates/cli/tests/all/hostile.rs): not planning scenarios.
+            const NOT_SCENARIOS: [&str; 6] =
+                ["terrain", "tracking", "paths", "paton", "queries", "hostile"];
             if p.file_name()
                 .and_then(|n| n.to_str())
                 .is_some_and(|n| NOT_SCENARIOS.contains(&n))
