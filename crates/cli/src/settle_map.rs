@@ -37,9 +37,9 @@ pub struct Args {
     /// Map extent along y, `MIN,MAX` metres (default for a scene: the ledge's length).
     #[arg(long, value_name = "MIN,MAX", allow_hyphen_values = true)]
     y: Option<String>,
-    /// Grid spacing, metres. The map holds at most 1,000,000 cells; each costs about 0.1-0.2 ms
-    /// of one core (settling, anchor prediction, the stability QP), so a 1,000 x 1,000 map takes
-    /// one to two minutes on two cores (a bar shows the progress on a terminal; --time-limit
+    /// Grid spacing, metres. The map holds at most 1,000,000 cells; each costs about 0.06 ms of
+    /// one core (settling, anchor prediction, the stability QP), so a 1,000 x 1,000 map takes
+    /// about half a minute on two cores (a bar shows the progress on a terminal; --time-limit
     /// bounds the run and keeps a partial map).
     #[arg(long, value_parser = crate::numbers::finite, default_value_t = 0.25, allow_negative_numbers = true)]
     step: f64,

@@ -630,11 +630,7 @@ pub fn stability_map_observed<R: MapRobot>(
     stop: &StopCondition,
     tick: &(dyn Fn() + Sync),
 ) -> Result<StabilityMap, MeshStabilityError> {
-    let (bvh, distance, h) = (
-        &**distances.bvh(),
-        distances.distance(),
-        distances.predict_resolution(),
-    );
+    let (bvh, distance) = (&**distances.bvh(), distances.distance());
     spec.validate()?;
     let root_point = root.root().point;
     let depth = -ground.signed_distance(&root_point);
@@ -703,7 +699,8 @@ pub fn stability_map_observed<R: MapRobot>(
         None => None,
     };
     tick();
-    let params = PredictParams::new(h);
+    // Clear-ball skipping on exact distances (the same anchors, fewer queries).
+    let params = distances.predict_params();
     let ring = |i: usize, j: usize| i.abs_diff(si).max(j.abs_diff(sj));
     let rings = (si.max(nx - 1 - si)).max(sj.max(ny - 1 - sj));
     // The cells of each ring, bucketed in one pass (a filter of all cells per ring would cost
