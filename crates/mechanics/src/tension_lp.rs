@@ -87,8 +87,14 @@ impl TensionLimitedLp {
         }
     }
 
-    /// The LP's rows for `robot`. A tethered robot must have a tension limit (Kumar eq. 3e).
-    fn builder(&self, robot: &PlacedRobot) -> Result<ConicBuilder, StabilityError> {
+    /// The LP's rows for `robot`, with the friction pyramids as rows when `pyramid_rows` (the
+    /// clarabel form) or without them (the generator form of [`TensionLimitedLp::check`] adds
+    /// them as the pyramids' edges). A tethered robot must have a tension limit (Kumar eq. 3e).
+    fn builder(
+        &self,
+        robot: &PlacedRobot,
+        pyramid_rows: bool,
+    ) -> Result<ConicBuilder, StabilityError> {
         let w = weight(robot, self.settings.gravity())?;
         if robot.tether.is_some_and(|t| t.max_tension.is_none()) {
             return Err(StabilityError::Input(
@@ -101,9 +107,11 @@ impl TensionLimitedLp {
             b.add_linear(col, 1.0);
         }
         add_equilibrium(&mut b, robot, &layout, self.settings.gravity(), w);
-        add_friction_pyramids(&mut b, &layout, |i| {
-            self.pyramid.coefficient(robot.contact_friction(i))
-        });
+        if pyramid_rows {
+            add_friction_pyramids(&mut b, &layout, |i| {
+                self.pyramid.coefficient(robot.contact_friction(i))
+            });
+        }
         add_tether_bounds(&mut b, robot, &layout, w);
         Ok(b)
     }
@@ -111,7 +119,7 @@ impl TensionLimitedLp {
     /// Builds the LP for `robot` as a clarabel program (exposed so that setup and solve can be
     /// timed apart). A tethered robot must have a tension limit (Kumar eq. 3e).
     pub fn assemble(&self, robot: &PlacedRobot) -> Result<ConicProblem, StabilityError> {
-        Ok(self.builder(robot)?.build(self.settings.solver()))
+        Ok(self.builder(robot, true)?.build(self.settings.solver()))
     }
 
     /// The report of an optimal LP point `x` (weight-normalised).
@@ -160,10 +168,43 @@ impl TensionLimitedLp {
     /// assert!(!check(200.0) && check(300.0));
     /// ```
     pub fn check(&self, robot: &PlacedRobot) -> Result<LpReport, StabilityError> {
-        let lp = self.builder(robot)?.dense_lp();
+        // The generator form: contact i's force is Σ_k λ_ik (s_k μ_i, t_k μ_i, 1) over the four
+        // edges of its pyramid (s_k, t_k = ±1), λ_ik >= 0, which is exactly the pyramid (a
+        // square pyramid is the cone of its edges). 6 equalities and the tension limit remain:
+        // 7 rows instead of 23, so the tableau is an eighth of the row form's.
+        let layout = Self::layout(robot);
+        let edges = [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)];
+        let n_new = 4 * layout.contacts + usize::from(layout.tether);
+        let mut substitution = vec![Vec::new(); layout.len()];
+        for i in 0..layout.contacts {
+            let mu = self.pyramid.coefficient(robot.contact_friction(i));
+            for (k, (s, t)) in edges.into_iter().enumerate() {
+                let c = 4 * i + k;
+                substitution[layout.force(i, 0)].push((c, s * mu));
+                substitution[layout.force(i, 1)].push((c, t * mu));
+                substitution[layout.force(i, 2)].push((c, 1.0));
+            }
+        }
+        let tension = layout.tether().map(|t| {
+            substitution[t].push((n_new - 1, 1.0));
+            n_new - 1
+        });
+        let mut lp = self
+            .builder(robot, false)?
+            .dense_lp_substituted(&substitution, n_new);
+        for c in 0..4 * layout.contacts {
+            lp.at_most(&[(c, -1.0)], 0.0);
+        }
         let w = weight(robot, self.settings.gravity())?;
         match lp.solve() {
-            Ok(LpOutcome::Optimal { x, .. }) => Ok(Self::report(robot, &x, w, false)),
+            Ok(LpOutcome::Optimal { x, .. }) => {
+                // The report reads the tension only: put it where the row form keeps it.
+                let mut old = vec![0.0; layout.len()];
+                if let (Some(t), Some(c)) = (layout.tether(), tension) {
+                    old[t] = x[c];
+                }
+                Ok(Self::report(robot, &old, w, false))
+            }
             Ok(LpOutcome::Infeasible) => Ok(Self::unstable(false)),
             // T is bounded below by 0 and every force by the equilibrium: never seen.
             Ok(LpOutcome::Unbounded) => Err(StabilityError::Trouble(

@@ -65,8 +65,9 @@ fn scenario_files(dir: &Path) -> Vec<PathBuf> {
             // homotopic), fixtures/queries pairs files (rappel query), fixtures/paton Paton's mesh
             // scenes (rappel settle), fixtures/hostile inputs built to be refused
             // (crates/cli/tests/all/hostile.rs): not planning scenarios.
-            const NOT_SCENARIOS: [&str; 6] =
-                ["terrain", "tracking", "paths", "paton", "queries", "hostile"];
+            const NOT_SCENARIOS: [&str; 6] = [
+                "terrain", "tracking", "paths", "paton", "queries", "hostile",
+            ];
             if p.file_name()
                 .and_then(|n| n.to_str())
                 .is_some_and(|n| NOT_SCENARIOS.contains(&n))
