@@ -7,7 +7,8 @@
 //! ```
 //!
 //! Kumar's LP has four contacts times three force components plus the tether tension (13
-//! variables, 6 equalities, 22 inequalities). clarabel's sparse set-up and interior-point
+//! variables, 6 equalities, 22 inequalities; [`crate::tension_lp`] hands it over in generator
+//! form, 17 non-negative variables and 7 rows). clarabel's sparse set-up and interior-point
 //! iterations cost about 100 us per check (95 % of `rappel track`'s time per waypoint); the
 //! dense simplex a few microseconds (`docs/mechanics.md`). clarabel stays the oracle it is
 //! tested against ([`crate::tension_lp::TensionLimitedLp::check_clarabel`]).
