@@ -14,6 +14,7 @@
 //! ingredients) and [`synthetic`] (DEMs with known answers).
 
 mod block_index;
+pub mod crs;
 pub mod dem;
 pub mod esri_ascii;
 pub mod frame;
