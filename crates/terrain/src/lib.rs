@@ -19,6 +19,7 @@ pub mod dem;
 pub mod esri_ascii;
 pub mod frame;
 pub mod geotiff;
+pub mod geotiff_writer;
 pub mod grid;
 pub mod ingest;
 pub mod input;
