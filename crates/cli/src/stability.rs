@@ -113,8 +113,16 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             rappel_render::raster_export::stability_geotiff(&report, geo, grid.geometry())
                 .map_err(|e| CliError(format!("--geotiff {}: {e}", out.display())))?;
         write_bytes(out, &image.bytes)?;
-        if let (Some(xml), Some(aux)) = (&image.aux_xml, &aux) {
-            write_file(aux, xml)?;
+        match (&image.aux_xml, &aux) {
+            (Some(xml), Some(aux)) => write_file(aux, xml)?,
+            // A sidecar left by an earlier export would override the keys just written.
+            (None, Some(aux)) if aux.exists() => std::fs::remove_file(aux).map_err(|e| {
+                CliError(format!(
+                    "{}: cannot remove the stale sidecar: {e}",
+                    aux.display()
+                ))
+            })?,
+            _ => {}
         }
         eprintln!(
             "wrote {}: verdict and margin in the DEM's grid, CRS {}{}",
