@@ -97,6 +97,13 @@ pub mod key {
     pub const STRAIGHT_VERT_POLE_LONG: u16 = 3095;
 }
 
+/// The name of the local grid a result is written in when its DEM declared no CRS.
+pub const UNKNOWN_CRS_NAME: &str = "DEM coordinates, CRS unknown (the DEM declared none)";
+
+/// The name of the local grid of a result not made from a DEM: the planning frame.
+pub const PLANNING_FRAME_NAME: &str =
+    "rappel planning frame (x across the slope, y up the unfolded slope), metres";
+
 /// The GeoKey value meaning "user-defined" (no EPSG code).
 pub const USER_DEFINED: u16 = 32767;
 /// EPSG code of the degree as a GeoTIFF angular unit.
@@ -688,6 +695,17 @@ impl fmt::Display for Crs {
 const EPSG_GEOGRAPHIC_2D: std::ops::RangeInclusive<u32> = 4001..=4999;
 
 impl Crs {
+    /// A local engineering grid in metres named `name` ([`UNKNOWN_CRS_NAME`],
+    /// [`PLANNING_FRAME_NAME`]): what results without a CRS are written in, and say so.
+    ///
+    /// ```
+    /// use rappel_terrain::crs::{Crs, UNKNOWN_CRS_NAME};
+    /// assert!(Crs::local(UNKNOWN_CRS_NAME).to_string().starts_with("LOCAL_CS[\"DEM coordinates"));
+    /// ```
+    pub fn local(name: &str) -> Crs {
+        Crs::Wkt(local_cs(name, &linear_unit(9001, 1.0)))
+    }
+
     /// Reads the text form: `EPSG:n` (any case), else WKT (a WKT 1 whose root carries
     /// `AUTHORITY["EPSG","n"]` is that code). `None` for an empty text.
     ///

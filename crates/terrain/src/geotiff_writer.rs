@@ -16,11 +16,8 @@ use std::io::Cursor;
 use tiff::encoder::{TiffEncoder, colortype};
 use tiff::tags::{PhotometricInterpretation, SampleFormat, Tag};
 
-use crate::crs::{Crs, CrsError, GeoKeyDirectory, GeoKeyValue, key};
+use crate::crs::{Crs, CrsError, GeoKeyDirectory, GeoKeyValue, UNKNOWN_CRS_NAME, key};
 use crate::grid::GridGeometry;
-
-/// The name given to a grid whose DEM declared no CRS.
-pub const UNKNOWN_CRS_NAME: &str = "DEM coordinates, CRS unknown (the DEM declared none)";
 
 /// A GeoTIFF built in memory, with what it says about its CRS.
 #[derive(Debug, Clone, PartialEq)]
@@ -95,12 +92,11 @@ pub fn geotiff_image(
         )));
     }
     let (keys, aux_xml, crs_written) = match crs {
-        None => {
-            let local = Crs::Wkt(format!(
-                "LOCAL_CS[\"{UNKNOWN_CRS_NAME}\",UNIT[\"metre\",1],AXIS[\"Easting\",EAST],AXIS[\"Northing\",NORTH]]"
-            ));
-            (local.to_geokeys()?, None, UNKNOWN_CRS_NAME.to_string())
-        }
+        None => (
+            Crs::local(UNKNOWN_CRS_NAME).to_geokeys()?,
+            None,
+            UNKNOWN_CRS_NAME.to_string(),
+        ),
         Some(c) => match c.to_geokeys() {
             Ok(k) => (k, None, c.describe()),
             Err(_) => {
