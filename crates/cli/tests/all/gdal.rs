@@ -2,9 +2,15 @@
 //! fixture, the EPSG:32610 fixture and the shipped HiRISE crop (a local grid) go
 //! `rappel dem` -> `rappel stability --geotiff` -> `gdalinfo` / `gdalsrsinfo` / `gdal_translate`.
 //! Checked: the CRS GDAL reads from the export is the one it reads from the DEM (same PROJ
-//! string and same WKT 1), the grid is the DEM's (size and geotransform), and every cell GDAL
+//! string, or the same WKT 1 for a local grid), the grid is the DEM's (size and geotransform), and every cell GDAL
 //! reads equals the value computed here from the JSON report's poses, binned with GDAL's own
 //! geotransform.
+//!
+//! The plan's FlatGeobuf export goes the same way (`rappel plan --export OUT.fgb` -> `gdalsrsinfo`,
+//! `ogr2ogr -f GeoJSON`): the same CRS as the DEM, every vertex inside the DEM's footprint, and
+//! every tether vertex GDAL reads lying in the planning-frame footprint (cell corners mapped
+//! forward into the planning frame) of the DEM cell GDAL's coordinates name, for the vertex the
+//! planner reported.
 //!
 //! Without GDAL (`gdalinfo` not on PATH) the tests print why and pass, unless
 //! `RAPPEL_REQUIRE_GDAL=1` (set by CI, which installs `gdal-bin`): then a missing GDAL fails.
@@ -37,13 +43,19 @@ fn gdal(tool: &str, args: &[&str]) -> String {
     stdout(&o)
 }
 
-/// GDAL's reading of a dataset's CRS: its PROJ string and its WKT 1, whitespace removed.
-fn crs_of(path: &str) -> (String, String) {
+/// GDAL's reading of a dataset's CRS, for comparison: its PROJ string (the system's
+/// definition, whatever order or names its WKT uses), or its WKT 1 when it has no PROJ string
+/// (an engineering `LOCAL_CS`); whitespace removed. An empty reading (no CRS) fails.
+fn crs_of(path: &str) -> String {
     let squash = |s: String| s.split_whitespace().collect::<String>();
-    (
-        squash(gdal("gdalsrsinfo", &["-o", "proj4", path])),
-        squash(gdal("gdalsrsinfo", &["-o", "wkt1", path])),
-    )
+    let proj = squash(gdal("gdalsrsinfo", &["-o", "proj4", path]));
+    let crs = if proj.is_empty() {
+        squash(gdal("gdalsrsinfo", &["-o", "wkt1", path]))
+    } else {
+        proj
+    };
+    assert!(!crs.is_empty(), "{path}: GDAL reads no CRS");
+    crs
 }
 
 /// `(ncols, nrows, geotransform)` as `gdalinfo -json` reads them.
@@ -223,4 +235,120 @@ fn wkt_beyond_geokeys_reads_back_through_the_sidecar() {
         "PROJCS \"Mars orthographic\" (WKT in the .aux.xml beside it)",
     );
     assert!(dir.join("stability.tif.aux.xml").exists());
+}
+
+/// How close to a grid line, in cells, a vertex read back counts as on it: the export's
+/// coordinates and GDAL's decimal text round in the last digits (1e-9 of a cell is a micrometre
+/// on a 1 m grid, far below any planning decision).
+const EDGE_TOLERANCE: f64 = 1e-9;
+
+/// DEM -> scenario -> plan -> FlatGeobuf -> GDAL, for one fixture (module docs).
+fn check_plan_flatgeobuf(fixture_name: &str) {
+    use rappel::geometry::polygon::{PointInPolygon, Polygon};
+    use rappel::nalgebra::Point2;
+    if !gdal_available() {
+        return;
+    }
+    let dir = temp_dir(&format!("gdal-plan-{fixture_name}"));
+    let dem = fixture(&format!("terrain/{fixture_name}.tif"));
+    let scenario = dir.join("s.ron");
+    let s = scenario.to_str().unwrap_or_default();
+    let o = rappel(&["dem", &dem, "--out", s]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let fgb = dir.join("plan.fgb");
+    let f = fgb.to_str().unwrap_or_default();
+    let o = rappel(&["plan", s, "--export", f, "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+
+    assert_eq!(crs_of(&dem), crs_of(f), "{fixture_name}");
+    let read: serde_json::Value =
+        serde_json::from_str(&gdal("ogr2ogr", &["-f", "GeoJSON", "/vsistdout/", f]))
+            .expect("GDAL's GeoJSON");
+    let (ncols, nrows, gt) = grid_of(&dem);
+    let geo = rappel::scenario::Scenario::load(&scenario)
+        .expect("scenario")
+        .georeference
+        .expect("georeference");
+    let classes = report["classes"].as_array().expect("classes");
+    let mut tethers = 0;
+    for feature in read["features"].as_array().expect("features") {
+        let g = &feature["geometry"];
+        let vertices: Vec<&serde_json::Value> = match g["type"].as_str() {
+            Some("LineString") => g["coordinates"].as_array().expect("line").iter().collect(),
+            Some("Point") => vec![&g["coordinates"]],
+            other => panic!("{fixture_name}: unexpected geometry {other:?}"),
+        };
+        let props = &feature["properties"];
+        let planned = (props["layer"] == "tether").then(|| {
+            let rank = props["class"].as_u64().expect("class rank");
+            let c = classes
+                .iter()
+                .find(|c| c["rank"].as_u64() == Some(rank))
+                .expect("class");
+            c["points"].as_array().expect("points").clone()
+        });
+        if let Some(p) = &planned {
+            assert_eq!(
+                p.len(),
+                vertices.len(),
+                "{fixture_name}: tether vertex count"
+            );
+            tethers += 1;
+        }
+        for (i, v) in vertices.iter().enumerate() {
+            let (x, y) = (v[0].as_f64().expect("x"), v[1].as_f64().expect("y"));
+            let (col, row) = ((x - gt[0]) / gt[1], (y - gt[3]) / gt[5]);
+            assert!(
+                col >= 0.0 && row >= 0.0 && col < ncols as f64 && row < nrows as f64,
+                "{fixture_name}: vertex ({x}, {y}) outside the DEM"
+            );
+            let Some(p) = &planned else { continue };
+            // The cell GDAL's coordinates name; a vertex on a cell edge (obstacle corners lie on
+            // the grid's lines) names both cells beside it, within EDGE_TOLERANCE cells.
+            let sides = |v: f64| {
+                let mut out = vec![v.floor()];
+                if (v - v.round()).abs() < EDGE_TOLERANCE {
+                    out.extend([v.round() - 1.0, v.round()]);
+                }
+                out
+            };
+            let q = Point2::new(p[i][0].as_f64().expect("x"), p[i][1].as_f64().expect("y"));
+            let on_cell = sides(row).iter().any(|&r| {
+                sides(col).iter().any(|&c| {
+                    let corner = |dc: f64, dr: f64| {
+                        let w = Point2::new(gt[0] + (c + dc) * gt[1], gt[3] + (r + dr) * gt[5]);
+                        geo.frame.to_planning(&w)
+                    };
+                    let footprint = Polygon::new(vec![
+                        corner(0.0, 1.0),
+                        corner(1.0, 1.0),
+                        corner(1.0, 0.0),
+                        corner(0.0, 0.0),
+                    ]);
+                    footprint.locate(&q) != PointInPolygon::Outside
+                })
+            });
+            assert!(
+                on_cell,
+                "{fixture_name}: tether vertex {i} at planning {q}, read at ({x}, {y}), is not on cell ({row}, {col})"
+            );
+        }
+    }
+    assert_eq!(
+        tethers,
+        classes.len(),
+        "{fixture_name}: one tether per class"
+    );
+}
+
+#[test]
+fn plans_export_as_flatgeobuf_in_the_dems_crs() {
+    for name in [
+        "mars_equirectangular_crop",
+        "earth_mt_st_helens_utm10n",
+        "mars_hirise_dteec_010228_1490_crop",
+    ] {
+        check_plan_flatgeobuf(name);
+    }
 }
