@@ -255,7 +255,7 @@ impl GeoKeyDirectory {
                         (t.len() + 1) as u16,
                         ascii.len() as u16,
                     ]);
-                    ascii.push_str(&t);
+                    ascii.push_str(t);
                     ascii.push('|');
                 }
             }
