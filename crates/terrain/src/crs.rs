@@ -318,6 +318,19 @@ impl GeoKeyDirectory {
         let name = self
             .text(key::CITATION)
             .or_else(|| self.text(key::PCS_CITATION));
+        if model == Some(1)
+            && self.short(key::COORD_TRANS).is_none()
+            && let Some(c) = code(key::PROJECTION)
+        {
+            // An EPSG conversion code without its parameters: no database here to expand it,
+            // and reading the grid as local would drop a real projection.
+            return Err(CrsError::Unsupported {
+                key: key::PROJECTION,
+                value: c.to_string(),
+                why: "an EPSG projection code without ProjCoordTransGeoKey and its parameters;                       give the projected CRS an EPSG code or write the projection's parameters"
+                    .into(),
+            });
+        }
         match model {
             Some(1) if self.short(key::COORD_TRANS).is_some() => {
                 Ok(Some(Crs::Wkt(self.projcs_wkt(name.unwrap_or("unnamed"))?)))
@@ -707,7 +720,8 @@ impl Crs {
     }
 
     /// Reads the text form: `EPSG:n` (any case), else WKT (a WKT 1 whose root carries
-    /// `AUTHORITY["EPSG","n"]` is that code). `None` for an empty text.
+    /// `AUTHORITY["EPSG","n"]` is that code); a text that is neither (a bare name) is a local
+    /// grid of that name ([`Crs::local`]). `None` for an empty text.
     ///
     /// ```
     /// use rappel_terrain::crs::Crs;
@@ -715,6 +729,7 @@ impl Crs {
     /// let wkt = r#"PROJCS["WGS 84 / UTM zone 10N",GEOGCS["WGS 84"],AUTHORITY["EPSG","32610"]]"#;
     /// assert_eq!(Crs::parse(wkt), Some(Crs::Epsg(32610)));
     /// assert!(matches!(Crs::parse(r#"LOCAL_CS["site"]"#), Some(Crs::Wkt(_))));
+    /// assert_eq!(Crs::parse("Equirectangular MARS").unwrap().describe(), "LOCAL_CS \"Equirectangular MARS\"");
     /// ```
     pub fn parse(text: &str) -> Option<Crs> {
         let t = text.trim();
@@ -728,12 +743,15 @@ impl Crs {
         {
             return Some(Crs::Epsg(code));
         }
-        if let Ok(node) = wkt::parse(t)
-            && let Some(code) = node.authority_epsg()
-        {
-            return Some(Crs::Epsg(code));
+        match wkt::parse(t) {
+            Ok(node) => match node.authority_epsg() {
+                Some(code) => Some(Crs::Epsg(code)),
+                None => Some(Crs::Wkt(t.to_string())),
+            },
+            // A bare name (scenarios written before issue 34 kept only a GeoTIFF citation): all
+            // that is known is the name, so a local grid of that name.
+            Err(_) => Some(Crs::local(t)),
         }
-        Some(Crs::Wkt(t.to_string()))
     }
 
     /// The GeoKeys that declare this CRS in a GeoTIFF (`RasterPixelIsArea`). An EPSG code in

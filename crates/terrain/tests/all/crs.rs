@@ -185,6 +185,13 @@ fn unsupported_and_malformed_keys_are_errors() {
         keys.to_crs(),
         Err(CrsError::Unsupported { key: 3075, .. })
     ));
+    // A projected model naming an EPSG projection (UTM 11N, 16011) without its parameters.
+    let keys = GeoKeyDirectory::parse(&[1, 1, 0, 2, 1024, 0, 1, 1, 3074, 0, 1, 16011], &[], "")
+        .expect("parse");
+    assert!(matches!(
+        keys.to_crs(),
+        Err(CrsError::Unsupported { key: 3074, .. })
+    ));
     // A key pointing past the doubles; a header declaring more keys than it holds.
     assert!(GeoKeyDirectory::parse(&[1, 1, 0, 1, 2057, 34736, 1, 5], &[1.0], "").is_err());
     assert!(GeoKeyDirectory::parse(&[1, 1, 0, 9, 1024, 0, 1, 1], &[], "").is_err());
