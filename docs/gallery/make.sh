@@ -17,4 +17,21 @@ $r dem fixtures/terrain/mars_hirise_dteec_010228_1490_crop.asc --out "$tmp/mars.
     --ptfo-friction 0.4 --sticking-svg $g/mars-sticking.svg --phi-svg $g/mars-phi.svg --hill-svg $g/mars-hill.svg >/dev/null
 $r track fixtures/tracking/kumar.json --robot1 fixtures/tracking/robot1-partial.json \
     --robot2 fixtures/tracking/robot2-descent.json --svg $g/track-kumar.svg --svg3d $g/track-kumar-3d.svg >/dev/null || true
+# The GIS exports drawn by GDAL (docs/geospatial.md): the stability GeoTIFF's margin over a
+# hillshade of the Mars equirectangular DEM, the plan's tethers (FlatGeobuf) burnt in blue.
+if command -v gdaldem >/dev/null 2>&1; then
+    dem=fixtures/terrain/mars_equirectangular_crop.tif
+    $r dem $dem --out "$tmp/eqc.ron" >/dev/null
+    $r stability "$tmp/eqc.ron" --grid 0.7 --geotiff "$tmp/stab.tif" >/dev/null 2>&1
+    $r plan "$tmp/eqc.ron" --export "$tmp/plan.fgb" >/dev/null
+    gdaldem hillshade -q -compute_edges -z 2 $dem "$tmp/hs.tif"
+    gdal_translate -q -b 1 -b 1 -b 1 -colorinterp red,green,blue -a_nodata none "$tmp/hs.tif" "$tmp/hs_rgb.tif"
+    printf "nv 0 0 0\n0.2 215 25 28\n0.3 253 174 97\n0.4 166 217 106\n0.5 26 150 65\n" > "$tmp/ramp.txt"
+    gdaldem color-relief -q -b 2 "$tmp/stab.tif" "$tmp/ramp.txt" "$tmp/margin.tif"
+    gdalbuildvrt -q -srcnodata "0 0 0" -vrtnodata none "$tmp/both.vrt" "$tmp/hs_rgb.tif" "$tmp/margin.tif"
+    gdal_translate -q -outsize 400% 400% -r nearest "$tmp/both.vrt" "$tmp/both.tif"
+    gdal_rasterize -q -b 1 -b 2 -b 3 -burn 30 -burn 60 -burn 230 -where "layer='tether'" "$tmp/plan.fgb" "$tmp/both.tif"
+    gdal_translate -q -of PNG "$tmp/both.tif" $g/geospatial-mars-stability.png
+    rm -f $g/geospatial-mars-stability.png.aux.xml
+fi
 echo "gallery written to $g"

@@ -44,13 +44,18 @@ pub fn print_report<T: rappel::report::Report>(report: &T) -> Result<(), CliErro
 /// Writes a text file atomically, creating missing parent directories (so that `--svg out/x.svg`
 /// works in a fresh checkout), naming the file in any error.
 pub fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
+    write_bytes(path, text.as_bytes())
+}
+
+/// Writes `bytes` to `path` as [`write_file`] does (binary outputs: GeoTIFFs).
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
     let cannot = |e: std::io::Error| CliError(format!("{}: cannot write: {e}", path.display()));
     if let Some(dir) = path.parent()
         && !dir.as_os_str().is_empty()
     {
         std::fs::create_dir_all(dir).map_err(cannot)?;
     }
-    rappel::io::write_atomically(path, text.as_bytes()).map_err(cannot)
+    rappel::io::write_atomically(path, bytes).map_err(cannot)
 }
 
 /// The path `p` with symbolic links resolved: the file itself when it exists, else its existing

@@ -1,6 +1,6 @@
 //! `rappel plan FILE [--classes K] [--max-length-factor F] [--simple-only] [--max-expansions N|auto]
 //! [--time-limit SECONDS] [--json | --jsonl] [--reachable-areas] [--svg OUT] [--html OUT] [--window XMIN,YMIN,XMAX,YMAX]
-//! [--export OUT.geojson|OUT.csv] [--progress]`:
+//! [--export OUT.fgb|OUT.geojson|OUT.csv] [--progress]`:
 //! the Chapter-2 planner (thesis Alg. 3-6). Lists the homotopy classes shortest first (rank,
 //! length, anchors, feasible or why not, waypoints) and the chosen ascent/descent pair; `--svg`
 //! draws the BTM, sleeve, SHP, anchors, friction cones, visibility edges, waypoints and both paths,
@@ -25,7 +25,7 @@
 //! otherwise shown only when stderr is a terminal.
 
 use crate::output::{
-    Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_file,
+    Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_bytes,
 };
 use crate::progress::{Progress, Show};
 use rappel::plan::{
@@ -81,8 +81,9 @@ pub struct Args {
     /// The picture's crop.
     #[command(flatten)]
     window: WindowArg,
-    /// Export tethers, anchors, waypoints and paths to this file: GeoJSON (.geojson) or CSV
-    /// (.csv), in the DEM's coordinates for scenarios made by `rappel dem`.
+    /// Export tethers, anchors, waypoints and paths to this file: FlatGeobuf (.fgb, carries any
+    /// CRS), GeoJSON (.geojson, WGS 84 or EPSG CRSs) or CSV (.csv), in the DEM's coordinates and
+    /// CRS for scenarios made by `rappel dem`.
     #[arg(long, value_name = "OUT")]
     export: Option<PathBuf>,
 }
@@ -137,7 +138,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
         Some(out) => {
             let format = ExportFormat::of_path(out).ok_or_else(|| {
                 CliError(format!(
-                    "--export {}: unknown format; use a .geojson or .csv file",
+                    "--export {}: unknown format; use a .fgb, .geojson or .csv file",
                     out.display()
                 ))
             })?;
@@ -228,7 +229,9 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
             plan.report
         };
         if let Some((out, format)) = export {
-            write_file(out, &export_plan(&report, s.georeference.as_ref(), format))?;
+            let bytes = export_plan(&report, s.georeference.as_ref(), format)
+                .map_err(|e| CliError(format!("--export {}: {e}", out.display())))?;
+            write_bytes(out, &bytes)?;
         }
         if args.json {
             crate::output::print_report(&report)?;

@@ -1,13 +1,16 @@
 //! `rappel stability FILE [--tension-limit N] [--grid STEP] [--time-limit SECONDS] [--json]
-//! [--svg OUT] [--html OUT] [--window XMIN,YMIN,XMAX,YMAX]`: a stability map over the scenario's
+//! [--svg OUT] [--html OUT] [--window XMIN,YMIN,XMAX,YMAX] [--geotiff OUT.tif]`: a stability map over the scenario's
 //! terrain planes (Kumar Fig. 5): stable poses as discs coloured by margin on a colour scale,
 //! unstable poses as rings, sized to the grid step; the JSON lists each dot with its margin.
 //! `--time-limit SECONDS` bounds the map and Ctrl-C stops it ([`crate::stop`]): the map is then
 //! partial (the poses assessed before), `stopped_by` names the condition, and the exit code is 1;
-//! a whole map exits 0.
+//! a whole map exits 0. `--geotiff` also writes the map in the DEM's grid and CRS
+//! ([`rappel_render::raster_export`]; a scenario made by `rappel dem`), and says on stderr which
+//! CRS it wrote.
 
 use crate::output::{
-    Answer, CliError, PictureArgs, WindowArg, print_report, refuse_clashing_outputs,
+    Answer, CliError, PictureArgs, WindowArg, print_report, refuse_clashing_outputs, write_bytes,
+    write_file,
 };
 use rappel::scenario::Scenario;
 use rappel::stability::{StabilityOptions, stability_observed};
@@ -42,11 +45,22 @@ pub struct Args {
     /// The picture's crop.
     #[command(flatten)]
     window: WindowArg,
+    /// Also write the map as a GeoTIFF in the DEM's grid and CRS: band 1 the verdict (1 stable,
+    /// 0 not), band 2 the smallest margin, -9999 where no pose was assessed (a scenario made by
+    /// `rappel dem`).
+    #[arg(long, value_name = "OUT.tif")]
+    geotiff: Option<PathBuf>,
 }
 
 /// Runs `rappel stability`.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
-    refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
+    let mut outputs = args.picture.outputs();
+    let aux = args.geotiff.as_ref().map(|p| aux_xml_path(p));
+    if let (Some(out), Some(aux)) = (&args.geotiff, &aux) {
+        outputs.push(("--geotiff", out.as_path()));
+        outputs.push(("--geotiff's .aux.xml", aux.as_path()));
+    }
+    refuse_clashing_outputs(&outputs, &[&args.file])?;
     let stop = crate::stop::condition(
         rappel::planners::budget::ExpansionBudget::Auto,
         &args.time_limit,
@@ -55,6 +69,22 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     // Read, then validated once: the proof carries the valid map to the BTM build.
     let s = Scenario::read(&args.file)?;
     let valid = s.validate_at(&args.file)?;
+    // The DEM's grid, read before the map is made: a scenario without one fails at once.
+    let dem_grid = match &args.geotiff {
+        None => None,
+        Some(_) => {
+            let Some(geo) = &s.georeference else {
+                return Err(CliError(format!(
+                    "--geotiff: {} has no georeference (it was not made by `rappel dem`), so there is no DEM grid to write in",
+                    args.file.display()
+                )));
+            };
+            let dem = geo.dem_path(&args.file);
+            let grid = rappel::terrain::dem::read_dem(&dem)
+                .map_err(|e| CliError(format!("--geotiff: {e}")))?;
+            Some((geo.clone(), grid))
+        }
+    };
     let options = StabilityOptions {
         grid_step: args.grid,
         tension_limit: args.tension_limit,
@@ -78,6 +108,38 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             &rappel_render::stability::picture(&report, &s, window.as_ref(), &title),
             &title,
         )?;
+    }
+    if let (Some(out), Some((geo, grid))) = (&args.geotiff, &dem_grid) {
+        let (image, outside) =
+            rappel_render::raster_export::stability_geotiff(&report, geo, grid.geometry())
+                .map_err(|e| CliError(format!("--geotiff {}: {e}", out.display())))?;
+        write_bytes(out, &image.bytes)?;
+        match (&image.aux_xml, &aux) {
+            (Some(xml), Some(aux)) => write_file(aux, xml)?,
+            // A sidecar left by an earlier export would override the keys just written.
+            (None, Some(aux)) if aux.exists() => std::fs::remove_file(aux).map_err(|e| {
+                CliError(format!(
+                    "{}: cannot remove the stale sidecar: {e}",
+                    aux.display()
+                ))
+            })?,
+            _ => {}
+        }
+        eprintln!(
+            "wrote {}: verdict and margin in the DEM's grid, CRS {}{}",
+            out.display(),
+            image.crs_written,
+            if image.aux_xml.is_some() {
+                " (WKT in the .aux.xml beside it)"
+            } else {
+                ""
+            }
+        );
+        if outside > 0 {
+            eprintln!(
+                "warning: {outside} poses fall outside the DEM's grid and are not in the GeoTIFF"
+            );
+        }
     }
     if args.json {
         return print_report(&report).map(|()| answer);
@@ -113,4 +175,11 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         crate::output::outln!("stopped     the map stopped at {r}: a partial map");
     }
     Ok(answer)
+}
+
+/// GDAL's PAM sidecar of a raster: `OUT.tif.aux.xml`.
+fn aux_xml_path(p: &std::path::Path) -> PathBuf {
+    let mut s = p.as_os_str().to_os_string();
+    s.push(".aux.xml");
+    PathBuf::from(s)
 }

@@ -1,24 +1,36 @@
-//! Plans exported for other tools (issue 16): the chosen class's taut tether, anchors, waypoints,
-//! ascent and descent, and every other class's tether, as GeoJSON or CSV. For scenarios made from
-//! a DEM ([`rappel::georeference`]) coordinates are the DEM's own `(east, north)`, so a plan lays
-//! over the DEM in a GIS; otherwise they are planning-frame coordinates, and the file says so.
+//! Plans exported for other tools (issues 16, 34): the chosen class's taut tether, anchors,
+//! waypoints, ascent and descent, and every other class's tether, as FlatGeobuf, GeoJSON or CSV.
+//! For scenarios made from a DEM ([`rappel::georeference`]) coordinates are the DEM's own
+//! `(east, north)`, so a plan lays over the DEM in a GIS; otherwise they are planning-frame
+//! coordinates, and the file says so.
 //!
-//! GeoJSON: a `FeatureCollection` of `LineString` and `Point` features with `layer` and `class`
-//! properties (anchors also `index`, `psi_deg`, `obstacle`). RFC 7946 assumes WGS 84
+//! FlatGeobuf (`.fgb`, the format that carries **any** CRS): one layer `rappel_plan` of mixed
+//! `LineString` and `Point` features with columns `layer`, `class`, and the anchors' `index`,
+//! `psi_deg`, `obstacle`; the CRS in the header: `EPSG` and its code, or the DEM's WKT, or a
+//! `LOCAL_CS` naming the planning frame or "CRS unknown" ([`export_crs`]). GDAL and QGIS read it.
+//!
+//! GeoJSON: a `FeatureCollection` of the same features and properties. RFC 7946 means WGS 84
 //! longitude/latitude; projected DEM coordinates are declared with the 2008 `crs` member when the
 //! DEM names an EPSG code (QGIS and GDAL read it), and otherwise with a foreign member
-//! `rappel_crs` holding the DEM's WKT or citation (set the layer's CRS by hand). CSV: one row per
-//! vertex, `layer,class,index,x,y` and, when georeferenced, `east,north`.
+//! `rappel_crs` holding the DEM's WKT (GDAL ignores it: use the FlatGeobuf export), and a
+//! `rappel_note` saying so. CSV: one row per vertex, `layer,class,index,x,y,psi_deg,obstacle` and,
+//! when georeferenced, `east,north`; `class` is the integer rank, anchors fill `psi_deg` and
+//! `obstacle`.
 
+use flatgeobuf::{ColumnType, FgbCrs, FgbWriter, FgbWriterOptions, GeometryType};
+use geozero::{ColumnValue, GeomProcessor, GeozeroGeometry, PropertyProcessor};
 use nalgebra::Point2;
 use rappel::georeference::Georeference;
 use rappel::plan::PlanReport;
+use rappel_terrain::crs::{Crs, PLANNING_FRAME_NAME, UNKNOWN_CRS_NAME};
 use serde_json::{Map as JsonMap, Value, json};
 use std::fmt::Write;
 
 /// An export format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ExportFormat {
+    /// FlatGeobuf (`.fgb`): any CRS.
+    FlatGeobuf,
     /// GeoJSON (`.geojson`).
     GeoJson,
     /// Comma-separated values (`.csv`).
@@ -26,13 +38,36 @@ pub enum ExportFormat {
 }
 
 impl ExportFormat {
-    /// The format of an output path by its extension (`.geojson` or `.csv`, any case).
+    /// The format of an output path by its extension (`.fgb`, `.geojson` or `.csv`, any case).
     pub fn of_path(path: &std::path::Path) -> Option<ExportFormat> {
         match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "fgb" => Some(ExportFormat::FlatGeobuf),
             "geojson" => Some(ExportFormat::GeoJson),
             "csv" => Some(ExportFormat::Csv),
             _ => None,
         }
+    }
+}
+
+/// Why an export could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    /// The FlatGeobuf writer failed.
+    #[error("FlatGeobuf: {0}")]
+    FlatGeobuf(String),
+}
+
+/// The CRS an export is written in: the DEM's (`EPSG:n` or its WKT), a local grid named
+/// [`UNKNOWN_CRS_NAME`] when the DEM declared none, or the planning frame
+/// ([`PLANNING_FRAME_NAME`]) for a scenario not made from a DEM.
+pub fn export_crs(geo: Option<&Georeference>) -> Crs {
+    match geo {
+        None => Crs::local(PLANNING_FRAME_NAME),
+        Some(g) => g
+            .crs
+            .as_deref()
+            .and_then(Crs::parse)
+            .unwrap_or_else(|| Crs::local(UNKNOWN_CRS_NAME)),
     }
 }
 
@@ -190,6 +225,10 @@ pub fn geojson(features: &[Feature], geo: Option<&Georeference>) -> String {
                 }
                 Some(c) => {
                     top.insert("rappel_crs".into(), json!(c));
+                    top.insert(
+                        "rappel_note".into(),
+                        json!("GeoJSON (RFC 7946) readers assume WGS 84 longitude/latitude and ignore rappel_crs; these are DEM coordinates in the CRS above: use the .fgb export, which carries it"),
+                    );
                 }
                 None => {
                     top.insert(
@@ -212,15 +251,31 @@ pub fn geojson(features: &[Feature], geo: Option<&Georeference>) -> String {
 
 /// The features as CSV, one row per vertex (module docs).
 pub fn csv(features: &[Feature], geo: Option<&Georeference>) -> String {
-    let mut out = String::from("layer,class,index,x,y");
+    let mut out = String::from("layer,class,index,x,y,psi_deg,obstacle");
     if geo.is_some() {
         out.push_str(",east,north");
     }
     out.push('\n');
+    let text = |v: Option<&Value>| match v {
+        Some(Value::Null) | None => String::new(),
+        Some(v) => v.to_string(),
+    };
     for f in features {
         let class = f.class.map(|c| c.to_string()).unwrap_or_default();
         for (i, p) in f.points.iter().enumerate() {
-            let _ = write!(out, "{},{class},{i},{},{}", f.layer, p.x, p.y);
+            let props = f.properties.get(i);
+            let index = props
+                .and_then(|m| m.get("index"))
+                .map_or(i.to_string(), |v| text(Some(v)));
+            let _ = write!(
+                out,
+                "{},{class},{index},{},{},{},{}",
+                f.layer,
+                p.x,
+                p.y,
+                text(props.and_then(|m| m.get("psi_deg"))),
+                text(props.and_then(|m| m.get("obstacle")))
+            );
             if let Some(g) = geo {
                 let w = g.to_world(p);
                 let _ = write!(out, ",{},{}", w.x, w.y);
@@ -231,15 +286,146 @@ pub fn csv(features: &[Feature], geo: Option<&Georeference>) -> String {
     out
 }
 
-/// The plan in `format` (see [`plan_features`]).
+/// One exported geometry in output coordinates, for the FlatGeobuf writer.
+enum FgbGeometry {
+    Line(Vec<[f64; 2]>),
+    Point([f64; 2]),
+}
+
+impl GeozeroGeometry for FgbGeometry {
+    fn process_geom<P: GeomProcessor>(&self, p: &mut P) -> geozero::error::Result<()> {
+        match self {
+            FgbGeometry::Line(pts) => {
+                p.linestring_begin(true, pts.len(), 0)?;
+                for (i, c) in pts.iter().enumerate() {
+                    p.xy(c[0], c[1], i)?;
+                }
+                p.linestring_end(true, 0)
+            }
+            FgbGeometry::Point(c) => {
+                p.point_begin(0)?;
+                p.xy(c[0], c[1], 0)?;
+                p.point_end(0)
+            }
+        }
+    }
+}
+
+/// The FlatGeobuf columns: `layer`, `class`, then the points' extra properties (anchors'
+/// `index`, `psi_deg`, `obstacle`), typed by their first non-null value.
+fn fgb_columns(features: &[Feature]) -> Vec<(String, ColumnType)> {
+    let mut cols = vec![
+        ("layer".to_string(), ColumnType::String),
+        ("class".to_string(), ColumnType::Long),
+    ];
+    for m in features.iter().flat_map(|f| &f.properties) {
+        for (k, v) in m {
+            let t = match v {
+                Value::Bool(_) => ColumnType::Bool,
+                Value::Number(n) if n.is_i64() || n.is_u64() => ColumnType::Long,
+                Value::Number(_) => ColumnType::Double,
+                Value::String(_) => ColumnType::String,
+                _ => continue,
+            };
+            if !cols.iter().any(|(c, _)| c == k) {
+                cols.push((k.clone(), t));
+            }
+        }
+    }
+    cols
+}
+
+/// A property's value in its column's type; `None` for null or a value of another type.
+fn fgb_value(v: &Value, t: ColumnType) -> Option<ColumnValue<'_>> {
+    match (t, v) {
+        (ColumnType::Bool, Value::Bool(b)) => Some(ColumnValue::Bool(*b)),
+        (ColumnType::Long, Value::Number(n)) => n.as_i64().map(ColumnValue::Long),
+        (ColumnType::Double, Value::Number(n)) => n.as_f64().map(ColumnValue::Double),
+        (ColumnType::String, Value::String(s)) => Some(ColumnValue::String(s)),
+        _ => None,
+    }
+}
+
+/// The features as a FlatGeobuf file in [`export_crs`] (module docs).
+pub fn flatgeobuf(
+    features: &[Feature],
+    geo: Option<&Georeference>,
+) -> Result<Vec<u8>, ExportError> {
+    fn err(e: impl std::fmt::Display) -> ExportError {
+        ExportError::FlatGeobuf(e.to_string())
+    }
+    let crs = export_crs(geo);
+    let (wkt, code, org) = match &crs {
+        Crs::Epsg(c) => (None, i32::try_from(*c).unwrap_or(0), Some("EPSG")),
+        Crs::Wkt(w) => (Some(w.as_str()), 0, None),
+    };
+    let description = crs.describe();
+    let options = FgbWriterOptions {
+        write_index: false,
+        // One layer of mixed lines and points: no type detection, no promotion to multi types.
+        detect_type: false,
+        promote_to_multi: false,
+        crs: FgbCrs {
+            org,
+            code,
+            wkt,
+            name: Some(&description),
+            ..Default::default()
+        },
+        description: Some("rappel plan: tethers, anchors, waypoints, ascent, descent, start, goal"),
+        ..Default::default()
+    };
+    let mut fgb = FgbWriter::create_with_options("rappel_plan", GeometryType::Unknown, options)
+        .map_err(err)?;
+    let columns = fgb_columns(features);
+    for (name, t) in &columns {
+        fgb.add_column(name, *t, |_, c| c.nullable = true);
+    }
+    let mut add = |geom: FgbGeometry, f: &Feature, extra: Option<&JsonMap<String, Value>>| {
+        fgb.add_feature_geom(geom, |w| {
+            let _ = w.property(0, "layer", &ColumnValue::String(f.layer));
+            if let Some(c) = f.class {
+                let _ = w.property(1, "class", &ColumnValue::Long(c as i64));
+            }
+            for (i, (name, t)) in columns.iter().enumerate().skip(2) {
+                if let Some(v) = extra
+                    .and_then(|m| m.get(name))
+                    .and_then(|v| fgb_value(v, *t))
+                {
+                    let _ = w.property(i, name, &v);
+                }
+            }
+        })
+        .map_err(err)
+    };
+    for f in features {
+        match f.geometry {
+            Geometry::Line => {
+                let pts = f.points.iter().map(|p| coords(p, geo)).collect();
+                add(FgbGeometry::Line(pts), f, None)?;
+            }
+            Geometry::Points => {
+                for (i, p) in f.points.iter().enumerate() {
+                    add(FgbGeometry::Point(coords(p, geo)), f, f.properties.get(i))?;
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    fgb.write(&mut out).map_err(err)?;
+    Ok(out)
+}
+
+/// The plan in `format` (see [`plan_features`]), as the file's bytes.
 pub fn export_plan(
     report: &PlanReport,
     geo: Option<&Georeference>,
     format: ExportFormat,
-) -> String {
+) -> Result<Vec<u8>, ExportError> {
     let f = plan_features(report);
-    match format {
-        ExportFormat::GeoJson => geojson(&f, geo),
-        ExportFormat::Csv => csv(&f, geo),
-    }
+    Ok(match format {
+        ExportFormat::FlatGeobuf => flatgeobuf(&f, geo)?,
+        ExportFormat::GeoJson => geojson(&f, geo).into_bytes(),
+        ExportFormat::Csv => csv(&f, geo).into_bytes(),
+    })
 }

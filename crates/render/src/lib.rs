@@ -35,6 +35,7 @@ pub mod navigate;
 pub mod online;
 pub mod picture;
 pub mod plan;
+pub mod raster_export;
 pub mod relief;
 #[cfg(feature = "mesh")]
 pub mod settle;

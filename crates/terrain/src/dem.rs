@@ -67,7 +67,7 @@ pub fn read_dem(path: impl AsRef<Path>) -> Result<HeightGrid, DemError> {
 const MAX_PRJ_BYTES: u64 = 64 * 1024;
 
 /// The coordinate reference system of the DEM at `path`, when its file says: a GeoTIFF's GeoKeys
-/// ([`crate::geotiff::geotiff_crs`]: `EPSG:n` or a user-defined system's citation), or for an
+/// ([`crate::geotiff::geotiff_crs`]: `EPSG:n` or the WKT of a user-defined system), or for an
 /// ESRI ASCII grid the WKT of the `.prj` file beside it (same stem). `None` when neither says.
 ///
 /// ```
@@ -83,12 +83,12 @@ pub fn dem_crs(path: &Path) -> Result<Option<String>, DemError> {
     match ext.as_deref() {
         Some("tif") | Some("tiff") => {
             let (file, _) = crate::input::open_input(path, crate::input::max_input_bytes()?)?;
-            crate::geotiff::geotiff_crs(std::io::BufReader::new(file)).map_err(|source| {
-                DemError::GeoTiff {
+            crate::geotiff::geotiff_crs(std::io::BufReader::new(file))
+                .map(|c| c.map(|c| c.to_string()))
+                .map_err(|source| DemError::GeoTiff {
                     path: path.to_path_buf(),
                     source,
-                }
-            })
+                })
         }
         Some("asc") => {
             let prj = path.with_extension("prj");

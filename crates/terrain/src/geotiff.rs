@@ -23,12 +23,8 @@ use tiff::ColorType;
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::tags::Tag;
 
+use crate::crs::{Crs, CrsError, GeoKeyDirectory};
 use crate::grid::{DemLimits, GridError, GridGeometry, HeightGrid};
-
-/// `GTRasterTypeGeoKey` in the GeoKey directory.
-const GT_RASTER_TYPE_GEO_KEY: u16 = 1025;
-/// Its value for `RasterPixelIsPoint`.
-const RASTER_PIXEL_IS_POINT: u16 = 2;
 
 /// Why a GeoTIFF could not be read as a DEM. Fixes: convert multi-band or rotated rasters with
 /// `gdal_translate -b 1` / `gdalwarp` first; add a georeference with `gdal_edit.py -a_ullr`.
@@ -133,6 +129,9 @@ pub enum GeoTiffError {
     /// A `ModelTransformation` that rotates or shears the grid.
     #[error("the ModelTransformation tag rotates or shears the grid; only north-up grids are read")]
     RotatedGrid,
+    /// GeoKeys that are malformed or declare a system this reader does not honour.
+    #[error("coordinate reference system: {0}")]
+    Crs(#[from] CrsError),
     /// A `GDAL_NODATA` tag that is not a number.
     #[error("the GDAL_NODATA tag `{text}` is not a number")]
     BadNodata {
@@ -166,74 +165,46 @@ fn f64_tag<R: Read + Seek>(
     Ok(Some(v))
 }
 
-/// `ProjectedCSTypeGeoKey`: the projected coordinate system's EPSG code.
-const PROJECTED_CS_TYPE_GEO_KEY: u16 = 3072;
-/// `GeographicTypeGeoKey`: the geographic coordinate system's EPSG code.
-const GEOGRAPHIC_TYPE_GEO_KEY: u16 = 2048;
-/// `PCSCitationGeoKey` and `GTCitationGeoKey`: free-text names of the system.
-const CITATION_GEO_KEYS: [u16; 2] = [3073, 1026];
-/// The GeoKey value meaning "user-defined" (no EPSG code).
-const USER_DEFINED: u16 = 32767;
+/// The GeoTIFF's whole GeoKey directory ([`crate::crs`]), `None` when it has none.
+fn geokeys<R: Read + Seek>(dec: &mut Decoder<R>) -> Result<Option<GeoKeyDirectory>, GeoTiffError> {
+    let Some(v) = dec.find_tag(Tag::GeoKeyDirectoryTag)? else {
+        return Ok(None);
+    };
+    let dir = v.into_u16_vec()?;
+    let doubles = match dec.find_tag(Tag::GeoDoubleParamsTag)? {
+        Some(v) => v.into_f64_vec()?,
+        None => Vec::new(),
+    };
+    let ascii = match dec.find_tag(Tag::GeoAsciiParamsTag)? {
+        Some(v) => v.into_string()?,
+        None => String::new(),
+    };
+    Ok(Some(GeoKeyDirectory::parse(&dir, &doubles, &ascii)?))
+}
 
-/// The coordinate reference system a GeoTIFF declares in its GeoKeys: `EPSG:n` for a projected or
-/// geographic system with an EPSG code, else the citation text of a user-defined one (planetary
-/// DEMs, e.g. Mars equirectangular); `None` when it declares none.
+/// The coordinate reference system a GeoTIFF declares in its GeoKeys ([`crate::crs`]):
+/// `EPSG:n` for a system with an EPSG code, else the WKT its keys define (user-defined projected
+/// or geographic systems such as a Mars equirectangular, engineering grids); `None` when it
+/// declares none.
 ///
 /// ```
 /// use rappel_terrain::geotiff::geotiff_crs;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/mars_hirise_dteec_010228_1490_crop.tif");
-/// // The shipped crop carries no GeoKeys.
-/// assert_eq!(geotiff_crs(std::fs::File::open(path).unwrap()).unwrap(), None);
+/// // The shipped crop is a projected model with metres and no projection: a local grid.
+/// let crs = geotiff_crs(std::fs::File::open(path).unwrap()).unwrap().unwrap();
+/// assert!(crs.to_string().starts_with("LOCAL_CS[\"unnamed\""), "{crs}");
 /// ```
-pub fn geotiff_crs<R: Read + Seek>(reader: R) -> Result<Option<String>, GeoTiffError> {
+pub fn geotiff_crs<R: Read + Seek>(reader: R) -> Result<Option<Crs>, GeoTiffError> {
     let mut dec = Decoder::new(reader)?;
-    let Some(v) = dec.find_tag(Tag::GeoKeyDirectoryTag)? else {
-        return Ok(None);
-    };
-    let keys = v.into_u16_vec()?;
-    let entries: Vec<&[u16]> = keys.get(4..).unwrap_or(&[]).chunks_exact(4).collect();
-    let code = |key: u16| {
-        entries
-            .iter()
-            .find(|k| k[0] == key && k[1] == 0)
-            .map(|k| k[3])
-            .filter(|&c| c != 0 && c != USER_DEFINED)
-    };
-    if let Some(c) = code(PROJECTED_CS_TYPE_GEO_KEY).or_else(|| code(GEOGRAPHIC_TYPE_GEO_KEY)) {
-        return Ok(Some(format!("EPSG:{c}")));
+    match geokeys(&mut dec)? {
+        Some(keys) => Ok(keys.to_crs()?),
+        None => Ok(None),
     }
-    let ascii = match dec.find_tag(Tag::GeoAsciiParamsTag)? {
-        Some(v) => v.into_string()?,
-        None => return Ok(None),
-    };
-    for key in CITATION_GEO_KEYS {
-        if let Some(k) = entries.iter().find(|k| k[0] == key && k[1] == 34737) {
-            let (count, offset) = (usize::from(k[2]), usize::from(k[3]));
-            // A count running past the text (a sloppy writer) is clamped to it.
-            let end = offset.saturating_add(count).min(ascii.len());
-            if let Some(text) = ascii.get(offset..end) {
-                let text = text.trim_end_matches(['|', '\0']).trim();
-                if !text.is_empty() {
-                    return Ok(Some(text.chars().take(500).collect()));
-                }
-            }
-        }
-    }
-    Ok(None)
 }
 
 /// `true` when the GeoKey directory declares `RasterPixelIsPoint`.
 fn pixel_is_point<R: Read + Seek>(dec: &mut Decoder<R>) -> Result<bool, GeoTiffError> {
-    let Some(v) = dec.find_tag(Tag::GeoKeyDirectoryTag)? else {
-        return Ok(false);
-    };
-    let keys = v.into_u16_vec()?;
-    // Header of 4 shorts, then entries (key id, location, count, value).
-    Ok(keys
-        .get(4..)
-        .unwrap_or(&[])
-        .chunks_exact(4)
-        .any(|k| k[0] == GT_RASTER_TYPE_GEO_KEY && k[1] == 0 && k[3] == RASTER_PIXEL_IS_POINT))
+    Ok(geokeys(dec)?.is_some_and(|k| k.pixel_is_point()))
 }
 
 /// The grid's cell size and north-west corner from the georeferencing tags.

@@ -14,10 +14,12 @@
 //! ingredients) and [`synthetic`] (DEMs with known answers).
 
 mod block_index;
+pub mod crs;
 pub mod dem;
 pub mod esri_ascii;
 pub mod frame;
 pub mod geotiff;
+pub mod geotiff_writer;
 pub mod grid;
 pub mod ingest;
 pub mod input;

@@ -7,6 +7,7 @@ mod common;
 mod dem;
 mod field;
 mod friction;
+mod gdal;
 mod hostile;
 mod input_files;
 mod json_reports;

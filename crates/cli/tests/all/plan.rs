@@ -263,10 +263,22 @@ fn plan_exports_geojson_and_csv_and_refuses_unknown_or_clashing_outputs() {
     let run = rappel(&["plan", &input, "--export", csv.to_str().unwrap_or_default()]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
     let text = std::fs::read_to_string(&csv).expect("csv");
-    assert!(text.starts_with("layer,class,index,x,y\n"));
+    assert!(text.starts_with("layer,class,index,x,y,psi_deg,obstacle\n"));
+    // Anchors keep their attributes; classes are integer ranks.
+    for row in text.lines().skip(1) {
+        let cells: Vec<&str> = row.split(',').collect();
+        assert_eq!(cells.len(), 7, "{row}");
+        assert!(
+            cells[1].is_empty() || cells[1].parse::<usize>().is_ok(),
+            "{row}"
+        );
+        if cells[0] == "anchor" {
+            assert!(cells[5].parse::<f64>().is_ok(), "{row}");
+        }
+    }
     check_error(
         &["plan", &input, "--export", "plan.txt"],
-        "unknown format; use a .geojson or .csv file",
+        "unknown format; use a .fgb, .geojson or .csv file",
     );
     check_error(
         &["plan", &input, "--export", g, "--svg", g],

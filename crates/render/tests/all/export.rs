@@ -23,7 +23,9 @@ fn exported_points_fall_on_the_dem_cells_they_came_from() {
         .georeference
         .as_ref()
         .expect("a DEM scenario is georeferenced");
-    let text = export_plan(&report, Some(geo), ExportFormat::GeoJson);
+    let text =
+        String::from_utf8(export_plan(&report, Some(geo), ExportFormat::GeoJson).expect("exports"))
+            .expect("UTF-8");
     let json: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
     assert_eq!(json["type"], "FeatureCollection");
     let g = d.grid.geometry();
@@ -67,8 +69,10 @@ fn exported_points_fall_on_the_dem_cells_they_came_from() {
     // Start, goal, and the chosen class's anchor and waypoint.
     assert!(checked >= 4, "{checked}");
     // CSV: a header with the DEM coordinates, one row per vertex.
-    let csv = export_plan(&report, Some(geo), ExportFormat::Csv);
-    assert!(csv.starts_with("layer,class,index,x,y,east,north\n"));
+    let csv =
+        String::from_utf8(export_plan(&report, Some(geo), ExportFormat::Csv).expect("exports"))
+            .expect("UTF-8");
+    assert!(csv.starts_with("layer,class,index,x,y,psi_deg,obstacle,east,north\n"));
     let vertices: usize = report.classes.iter().map(|c| c.points.len()).sum();
     assert!(csv.lines().count() > vertices);
 }
