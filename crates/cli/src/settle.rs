@@ -8,7 +8,6 @@
 
 use crate::field_arg::FieldArg;
 use crate::output::{Answer, CliError, print_report, refuse_clashing_outputs, write_file};
-use rappel::geometry::compact::Rounded;
 use rappel::settle::{SettleRobot, four_wheel_report_with, load_ground, settle_report_with};
 use std::path::PathBuf;
 
@@ -68,17 +67,8 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     }
     let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
     let at = crate::numbers::numbers("--at", &args.at, 2)?;
-    let (lo, hi) = ground.bounds();
-    if !(lo.x..=hi.x).contains(&at[0]) || !(lo.y..=hi.y).contains(&at[1]) {
-        return Err(CliError(format!(
-            "--at {}: outside the ground, which spans x {} to {} and y {} to {}",
-            args.at,
-            Rounded(lo.x, 3),
-            Rounded(hi.x, 3),
-            Rounded(lo.y, 3),
-            Rounded(hi.y, 3)
-        )));
-    }
+    rappel::settle::within_ground(&ground, at[0], at[1])
+        .map_err(|why| CliError(format!("--at {}: {why}", args.at)))?;
     let anchor = match &args.anchor {
         Some(a) => {
             let a = crate::numbers::numbers("--anchor", a, 3)?;

@@ -89,6 +89,8 @@ fn settle(
     let own = CancelFlag::new();
     detached(py, &own, move || {
         let ground = load_ground(&path)?;
+        rappel::settle::within_ground(&ground, at.0, at.1)
+            .map_err(|why| errors::input(format!("at=({}, {}): {why}", at.0, at.1)))?;
         let anchor = anchor.map(|(x, y, z)| [x, y, z]);
         let d = distances(&ground, field)?;
         let settled = match robot {

@@ -121,13 +121,26 @@ def test_dem_errors_same_message_as_cli(cli, tmp_path):
 
 
 def test_not_settled_is_the_cli_s_no(tmp_path):
+    import json
     import subprocess
     from conftest import _bin
 
+    # Over the scene's edge: the wheels find no ground (the CLI's clean "no", exit 1).
     scene = FIXTURES / "paton" / "ledge.ron"
-    p = subprocess.run([str(_bin()), "settle", str(scene), "--at", "500,500", "--yaw", "0", "--json"],
-                       capture_output=True, text=True)
+    args = [str(_bin()), "settle", str(scene), "--at", "17.7,19.9", "--yaw", "90"]
+    p = subprocess.run(args, capture_output=True, text=True)
     assert p.returncode == 1
     with pytest.raises(rappel.NotSettled) as e:
-        rappel.settle(scene, at=(500, 500), yaw=0)
+        rappel.settle(scene, at=(17.7, 19.9), yaw=90)
     assert str(e.value) == p.stdout.strip()
+    # --json says the same as a report.
+    j = subprocess.run(args + ["--json"], capture_output=True, text=True)
+    assert j.returncode == 1
+    report = json.loads(j.stdout)
+    assert report["report"] == "settle_not_settled"
+    assert "not settled: " + report["reason"] == str(e.value)
+    # Far off the ground is bad input in both (exit 2, InputError).
+    far = subprocess.run(args[:3] + ["--at", "500,500", "--yaw", "0"], capture_output=True, text=True)
+    assert far.returncode == 2 and "outside the ground" in far.stderr
+    with pytest.raises(rappel.InputError, match="outside the ground"):
+        rappel.settle(scene, at=(500, 500), yaw=0)

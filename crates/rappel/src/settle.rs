@@ -83,6 +83,30 @@ pub fn load_ground(path: &Path) -> Result<TriMesh, SettleFileError> {
     }
 }
 
+/// `Err` with the ground's extent when the ground point `(x, y)` lies outside the ground's
+/// bounding box (a request to settle there is bad input, not a pose that does not settle).
+///
+/// ```
+/// let ground = rappel::terrain::paton_scene::PatonScene::paper(false).mesh().unwrap();
+/// assert!(rappel::settle::within_ground(&ground, 0.0, 0.0).is_ok());
+/// let e = rappel::settle::within_ground(&ground, 500.0, 0.0).unwrap_err();
+/// assert_eq!(e, "outside the ground, which spans x -20.000 to 17.801 and y -20.000 to 20.000");
+/// ```
+pub fn within_ground(ground: &TriMesh, x: f64, y: f64) -> Result<(), String> {
+    use rappel_geometry::compact::Rounded;
+    let (lo, hi) = ground.bounds();
+    if (lo.x..=hi.x).contains(&x) && (lo.y..=hi.y).contains(&y) {
+        return Ok(());
+    }
+    Err(format!(
+        "outside the ground, which spans x {} to {} and y {} to {}",
+        Rounded(lo.x, 3),
+        Rounded(hi.x, 3),
+        Rounded(lo.y, 3),
+        Rounded(hi.y, 3)
+    ))
+}
+
 /// A settled pose, for printing.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SettleReport {
