@@ -282,12 +282,20 @@ impl WindowArg {
         let Some(text) = &self.window else {
             return Ok(None);
         };
-        let v = crate::numbers::numbers("--window", text, 4)?;
-        let (x0, y0, x1, y1) = (v[0], v[1], v[2], v[3]);
+        let bad = |why: &str| CliError(format!("--window {text}: {why}"));
+        let v: Vec<f64> = text
+            .split(',')
+            .map(|p| p.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| bad("give four numbers XMIN,YMIN,XMAX,YMAX"))?;
+        let [x0, y0, x1, y1] = v[..] else {
+            return Err(bad("give four numbers XMIN,YMIN,XMAX,YMAX"));
+        };
+        if !v.iter().all(|x| x.is_finite()) {
+            return Err(bad("the numbers must be finite"));
+        }
         if !(x0 < x1 && y0 < y1) {
-            return Err(CliError(format!(
-                "--window {text}: XMIN must be below XMAX and YMIN below YMAX"
-            )));
+            return Err(bad("XMIN must be below XMAX and YMIN below YMAX"));
         }
         Ok(Some(rappel::geometry::polygon::Aabb {
             min: rappel::nalgebra::Point2::new(x0, y0),
