@@ -27,6 +27,7 @@ pub mod budget;
 pub mod feasibility;
 pub mod frictional;
 mod min_heap;
+pub mod mouth_cover;
 pub mod online;
 pub mod path_pair;
 pub mod report_units;

@@ -100,6 +100,9 @@ pub struct SearchStatsReport {
     pub expansions: usize,
     /// Funnels dropped by dominance pruning.
     pub pruned_dominated: usize,
+    /// Funnels dropped because their mouth is covered (one class wanted).
+    #[serde(default)]
+    pub pruned_covered: usize,
     /// Funnels dropped by the length bound.
     pub pruned_length: usize,
     /// Funnels never queued because enough queued goals are at least as short.
@@ -133,6 +136,7 @@ impl From<SearchStats> for SearchStatsReport {
         SearchStatsReport {
             expansions: s.expansions,
             pruned_dominated: s.pruned_dominated,
+            pruned_covered: s.pruned_covered,
             pruned_length: s.pruned_length,
             pruned_incumbent: s.pruned_incumbent,
             pruned_simple: s.pruned_simple,

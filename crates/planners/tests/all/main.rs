@@ -5,6 +5,7 @@ mod anchor_prediction;
 mod common;
 mod feasibility;
 mod frictional;
+mod mouth_cover;
 mod online;
 mod online_pair;
 mod shortest_path_map;
