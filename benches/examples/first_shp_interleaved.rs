@@ -1,29 +1,40 @@
-//! The first SHP beside polyanya, interleaved (issue 10): `first_shp_interleaved [ROUNDS] [N...]`
-//! builds the N-obstacle crater strip (seed 1; default 1,000 and 10,000 obstacles), then runs the
-//! first SHP from the strip's start to its goal ROUNDS times each way (default 5, at most 1,000),
-//! alternating rappel's [`SptPlanner::shortest_path`] (the class answer) and polyanya's
-//! `Mesh::path` round by round, the order of the pair alternating too, and prints each side's
-//! median wall time and CPU time (this process's, `getrusage`-free: `/proc/self/stat`), the
-//! ratio, the search's counters and a digest of the answer (the length's bits and the class's
-//! crossing count) so that two builds can be checked for identical answers.
+//! The first SHP beside polyanya, interleaved (issues 10, 35): `first_shp_interleaved [ROUNDS]
+//! [N...] [--side=SIDE] [--tsv]` builds the N-obstacle crater strip (seed 1; default 1,000 and
+//! 10,000 obstacles), then runs the first SHP from the strip's start to its goal ROUNDS times on
+//! each side (default 5, at most 1,000), round by round in alternating order, and prints one row
+//! per side: its set-up time, the median wall and CPU time of a query (this process's user +
+//! system time from `/proc/self/stat`), rappel's time over the side's (below 1: rappel is
+//! faster), the peak memory of a query, the
+//! length found and rappel's search counters.
 //!
-//! On a shared machine whose load changes within a minute the pairing keeps the ratio meaningful
-//! where criterion's consecutive groups do not. The 100,000-obstacle strip takes tens of seconds
-//! per query and side: give it explicitly (`first_shp_interleaved 1 100000`).
+//! The sides:
+//! - `rappel`: [`SptPlanner::shortest_path`] (the class answer: SHP, sleeve, crossings,
+//!   H-signature); its set-up is the BTM and the planner (kite table);
+//! - `polyanya`: polyanya's `Mesh::path` on the BTM's free triangles (the raw CDT), set-up the
+//!   mesh built from the BTM and baked;
+//! - `polyanya-merged`: the same on polyanya's own merged convex polygons (`merge_polygons`, then
+//!   baked: its point-location BVH and islands), polyanya's best configuration for long queries;
+//!   its set-up adds the merge.
 //!
-//! Memory: before each query the process's peak resident set is reset (`/proc/self/clear_refs`),
-//! and after it the growth of the peak over the resident set before is that query's peak memory
-//! (the largest over the rounds is printed, with the search's own count `peak_bytes` and the
-//! planner's kite table, which is built before the rounds and so not in rappel's figure). With
-//! `--side=rappel` or `--side=polyanya` only that side runs (for `/usr/bin/time -v` on separate
-//! processes); its ratio columns are then meaningless.
+//! **Answers.** A timing counts only when every side found a path and all lengths agree within
+//! 1e-4 relative (polyanya works in `f32`); otherwise the program exits 2 naming the sides.
+//!
+//! **Memory.** With `--side=SIDE` only that side runs (its structures are the only ones built
+//! beyond the strip), so each side's memory is measured in its own process: before each query the
+//! process's peak resident set is reset (`/proc/self/clear_refs`), and after it the growth of the
+//! peak over the resident set before is that query's peak memory (the largest over the rounds).
+//! Without `--side` all sides share one process and the memory column is indicative only.
+//!
+//! `--tsv` prints the rows tab-separated with plain numbers (seconds, MB), for `cargo xtask
+//! growth`. The 100,000-obstacle strip takes seconds per query and side: give it explicitly
+//! (`first_shp_interleaved 1 100000`).
 
 use nalgebra::Point2;
-use rappel_benches::{median_by, polyanya_mesh, to_vec2};
+use polyanya::Mesh;
+use rappel_benches::{median_by, polyanya_mesh, polyanya_mesh_merged, to_vec2};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::generate::{CraterStripOptions, crater_strip};
-use rappel_homotopy::kite::KiteTable;
-use rappel_planners::spt::{SearchOptions, SptPlanner};
+use rappel_planners::spt::{SearchOptions, SearchStats, SptPlanner};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -73,6 +84,19 @@ fn fail(message: String) -> ! {
     std::process::exit(2);
 }
 
+/// The sides, in the order of the rows.
+const SIDES: [&str; 3] = ["rappel", "polyanya", "polyanya-merged"];
+
+/// What one side measured on one strip.
+#[derive(Default)]
+struct Measured {
+    setup: Duration,
+    wall: Vec<Duration>,
+    cpu: Vec<Duration>,
+    peak_mb: Option<f64>,
+    length: Option<f64>,
+}
+
 fn main() {
     let mut args = std::env::args().skip(1);
     let rounds: usize = args
@@ -81,103 +105,153 @@ fn main() {
         .unwrap_or(5)
         .clamp(1, 1000);
     let rest: Vec<String> = args.collect();
-    // `--side=rappel` or `--side=polyanya`: run one side only (module docs).
+    let tsv = rest.iter().any(|a| a == "--tsv");
+    // `--side=SIDE`: run one side only (module docs).
     let only = rest
         .iter()
         .find_map(|a| a.strip_prefix("--side="))
-        .map(|side| match side {
-            "rappel" => 0,
-            "polyanya" => 1,
-            other => fail(format!("--side={other}: expected rappel or polyanya")),
+        .map(|side| {
+            SIDES.iter().position(|s| *s == side).unwrap_or_else(|| {
+                fail(format!(
+                    "--side={side}: expected rappel, polyanya or polyanya-merged"
+                ))
+            })
         });
+    if let Some(a) = rest
+        .iter()
+        .find(|a| a.starts_with("--") && *a != "--tsv" && !a.starts_with("--side="))
+    {
+        fail(format!("unknown option {a}"));
+    }
     let mut sizes: Vec<usize> = rest.iter().filter_map(|s| s.parse().ok()).collect();
     if sizes.is_empty() {
         sizes = vec![1_000, 10_000];
     }
-    println!(
-        "obstacles  rappel (median wall / cpu)  polyanya (median wall / cpu)  ratio wall / cpu  rounds  expansions  pruned dominated  queue peak  length bits  crossings  peak MB rappel / polyanya  search MB  kite table MB"
-    );
+    if tsv {
+        println!(
+            "obstacles\tside\tsetup_s\twall_s\tcpu_s\trappel_over_side\tpeak_mb\tlength_m\texpansions\trounds"
+        );
+    } else {
+        println!(
+            "obstacles  side              set-up      query wall / cpu (median)   rappel/side  peak MB  length m          expansions  rounds"
+        );
+    }
     for n in sizes {
         let strip = crater_strip(&CraterStripOptions::new(n, 1))
             .unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
-        let btm = Btm::from_map(&strip.map).unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
         let (a, b) = (strip.start, strip.goal);
         let mid = Point2::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
-        let mesh = polyanya_mesh(&btm, mid);
         let (pa, pb) = (to_vec2(a, mid), to_vec2(b, mid));
-        let planner = SptPlanner::new(&btm);
-        // The 100k first SHP needs 16.5 million expansions: above the default budget.
+        let runs = |side: usize| only.is_none_or(|o| o == side);
+        let mut m: [Measured; 3] = Default::default();
+        // Set-up. rappel's BTM is also the input polyanya's meshes are built from (outside
+        // their set-up time: it stands for reading a mesh file).
+        let t = Instant::now();
+        let btm = Btm::from_map(&strip.map).unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
+        let planner = runs(0).then(|| SptPlanner::new(&btm));
+        m[0].setup = t.elapsed();
+        let mut meshes: [Option<Mesh>; 2] = [None, None];
+        for (k, mesh) in meshes.iter_mut().enumerate() {
+            if runs(k + 1) {
+                let t = Instant::now();
+                *mesh = Some(if k == 0 {
+                    polyanya_mesh(&btm, mid)
+                } else {
+                    polyanya_mesh_merged(&btm, mid)
+                });
+                m[k + 1].setup = t.elapsed();
+            }
+        }
+        // The 100k first SHP needs millions of expansions: above the default budget.
         let options = SearchOptions::default()
             .with_max_classes(Some(1))
-            .and_then(|o| o.with_max_expansions(100_000_000))
+            .and_then(|o| o.with_max_expansions(1_000_000_000))
             .unwrap_or_else(|e| fail(e.to_string()));
-        let (mut ours, mut theirs) = (Vec::new(), Vec::new());
-        let (mut ours_cpu, mut theirs_cpu) = (Vec::new(), Vec::new());
-        let kite_mb = KiteTable::new(&btm).held_bytes() as f64 / 1e6;
-        let mut digest = None;
-        let mut their_length: Option<f64> = None;
-        let mut peaks: [Option<f64>; 2] = [None, None];
+        let mut stats = SearchStats::default();
         for round in 0..rounds {
-            for side in [round % 2, 1 - round % 2] {
-                if only.is_some_and(|o| o != side) {
+            let order: Vec<usize> = (0..3).map(|i| (i + round) % 3).collect();
+            for side in order {
+                if !runs(side) {
                     continue;
                 }
                 let rss = reset_peak();
                 let (t, c) = (Instant::now(), cpu_time());
-                if side == 0 {
-                    let outcome = planner
-                        .search(black_box(a), black_box(b), &options)
-                        .and_then(|s| s.run())
-                        .unwrap_or_else(|e| fail(format!("rappel: {e}")));
-                    ours.push(t.elapsed());
-                    ours_cpu.extend(cpu_time().zip(c).map(|(after, before)| after - before));
-                    let first = outcome
-                        .classes
-                        .first()
-                        .unwrap_or_else(|| fail(format!("rappel: no path ({n} obstacles)")));
-                    digest = Some((outcome.stats, first.length(), first.shp.crossings.len()));
-                } else {
-                    let length = mesh
-                        .path(black_box(pa), black_box(pb))
-                        .map(|p| p.length)
-                        .unwrap_or_else(|| fail(format!("polyanya: no path ({n} obstacles)")));
-                    theirs.push(t.elapsed());
-                    theirs_cpu.extend(cpu_time().zip(c).map(|(after, before)| after - before));
-                    their_length = Some(f64::from(black_box(length)));
-                }
+                let length = match side {
+                    0 => {
+                        let Some(planner) = planner.as_ref() else {
+                            continue;
+                        };
+                        let outcome = planner
+                            .search(black_box(a), black_box(b), &options)
+                            .and_then(|s| s.run())
+                            .unwrap_or_else(|e| fail(format!("rappel: {e}")));
+                        stats = outcome.stats;
+                        outcome.classes.first().map(|c| c.length())
+                    }
+                    k => meshes[k - 1]
+                        .as_ref()
+                        .and_then(|mesh| mesh.path(black_box(pa), black_box(pb)))
+                        .map(|p| f64::from(p.length)),
+                };
+                let wall = t.elapsed();
+                let cpu = cpu_time().zip(c).map(|(after, before)| after - before);
+                let Some(length) = length else {
+                    fail(format!("{}: no path ({n} obstacles)", SIDES[side]));
+                };
+                let s = &mut m[side];
+                s.wall.push(wall);
+                s.cpu.extend(cpu);
+                s.length = Some(black_box(length));
                 if let Some(mb) = peak_growth_mb(rss) {
-                    peaks[side] = Some(peaks[side].map_or(mb, |p: f64| p.max(mb)));
+                    s.peak_mb = Some(s.peak_mb.map_or(mb, |p: f64| p.max(mb)));
                 }
             }
         }
-        // A timing is a figure only when both answered the same: polyanya works in f32, so its
-        // length agrees with ours to about 1e-7 relative (1e-4 allowed, as the criterion bench).
-        if let (Some((_, ours_length, _)), Some(theirs_length)) = (&digest, their_length)
-            && (ours_length - theirs_length).abs() > 1e-4 * ours_length
-        {
-            fail(format!(
-                "{n} obstacles: rappel's first SHP is {ours_length} m, polyanya's {theirs_length} m"
-            ));
+        // A timing is a figure only when every side answered the same (module docs).
+        let lengths: Vec<(usize, f64)> =
+            (0..3).filter_map(|k| m[k].length.map(|l| (k, l))).collect();
+        for &(k, l) in &lengths {
+            let (k0, l0) = lengths[0];
+            if (l - l0).abs() > 1e-4 * l0 {
+                fail(format!(
+                    "{n} obstacles: {} found {l0} m, {} found {l} m",
+                    SIDES[k0], SIDES[k]
+                ));
+            }
         }
-        let (stats, length, crossings) = match digest {
-            Some(d) => d,
-            // Polyanya alone: no rappel answer to digest.
-            None => (Default::default(), 0.0, 0),
-        };
-        let mb = |p: Option<f64>| p.map_or("-".to_string(), |p| format!("{p:.0}"));
-        let (w0, w1) = (median(ours), median(theirs));
-        let (c0, c1) = (median(ours_cpu), median(theirs_cpu));
-        println!(
-            "{n:>9}  {w0:>12.2?} / {c0:>10.2?}  {w1:>14.2?} / {c1:>10.2?}  {:>6.3} / {:>5.3}  {rounds:>6}  {:>10}  {:>16}  {:>10}  {:016x}  {crossings:>9}  {:>12} / {:>8}  {:>9.0}  {kite_mb:>13.1}",
-            w0.as_secs_f64() / w1.as_secs_f64(),
-            c0.as_secs_f64() / c1.as_secs_f64().max(1e-9),
-            stats.expansions,
-            stats.pruned_dominated,
-            stats.queue_peak,
-            length.to_bits(),
-            mb(peaks[0]),
-            mb(peaks[1]),
-            stats.peak_bytes as f64 / 1e6,
-        );
+        let ours = median(m[0].wall.clone());
+        for (k, s) in m.iter().enumerate() {
+            if !runs(k) {
+                continue;
+            }
+            let (wall, cpu) = (median(s.wall.clone()), median(s.cpu.clone()));
+            // rappel's time over this side's (below 1: rappel is faster).
+            let ratio = if k == 0 || only.is_some() {
+                f64::NAN
+            } else {
+                ours.as_secs_f64() / wall.as_secs_f64()
+            };
+            let expansions = if k == 0 {
+                stats.expansions.to_string()
+            } else {
+                "-".into()
+            };
+            let peak = s.peak_mb.map_or(f64::NAN, |p| p);
+            let length = s.length.unwrap_or(f64::NAN);
+            if tsv {
+                println!(
+                    "{n}\t{}\t{:.6}\t{:.6}\t{:.6}\t{ratio:.4}\t{peak:.1}\t{length:.6}\t{expansions}\t{rounds}",
+                    SIDES[k],
+                    s.setup.as_secs_f64(),
+                    wall.as_secs_f64(),
+                    cpu.as_secs_f64(),
+                );
+            } else {
+                println!(
+                    "{n:>9}  {:<16}  {:>9.2?}  {:>12.2?} / {:>10.2?}  {ratio:>11.3}  {peak:>7.0}  {length:>16.6}  {expansions:>10}  {rounds:>6}",
+                    SIDES[k], s.setup, wall, cpu
+                );
+            }
+        }
     }
 }

@@ -72,6 +72,16 @@ pub fn polyanya_mesh(btm: &Btm, origin: Point2<f64>) -> Mesh {
     mesh
 }
 
+/// [`polyanya_mesh`] in polyanya's best configuration for long queries: its triangles merged into
+/// convex polygons (`Mesh::merge_polygons`, polyanya's own merger), then baked again (the
+/// point-location BVH and the island labels).
+pub fn polyanya_mesh_merged(btm: &Btm, origin: Point2<f64>) -> Mesh {
+    let mut mesh = polyanya_mesh(btm, origin);
+    mesh.merge_polygons();
+    mesh.bake();
+    mesh
+}
+
 /// `p - origin` in polyanya's `f32`.
 pub fn to_vec2(p: Point2<f64>, origin: Point2<f64>) -> Vec2 {
     Vec2::new((p.x - origin.x) as f32, (p.y - origin.y) as f32)

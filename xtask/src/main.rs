@@ -2,9 +2,12 @@
 //! `regress` runs the regression suites that reproduce the papers' figures and our invariants,
 //! `journeys` runs every subcommand the way a user does and checks the outcomes,
 //! `gen-fixtures` regenerates the generated fixtures from their seeds, `schemas` writes (or with
-//! `--check` checks) the JSON Schema documents in `docs/schemas/` (`docs/output-format.md`).
+//! `--check` checks) the JSON Schema documents in `docs/schemas/` (`docs/output-format.md`),
+//! `growth` measures the growth table of `docs/planner.md` (first SHP, BTM and `plan` at 1k-1M
+//! obstacles beside the peers).
 
 mod fixtures;
+mod growth;
 mod journeys;
 mod readme;
 mod regress;
@@ -47,6 +50,16 @@ enum Command {
     },
     /// Regenerate the generated fixtures (random maps) from their seeds.
     GenFixtures,
+    /// Measure the growth table (first SHP beside polyanya, BTM beside spade, whole `rappel plan`
+    /// runs at K = 1, 10, 100) on the 1k, 10k and 100k strips; release builds; needs GNU time.
+    Growth {
+        /// Also the 1,000,000-obstacle strip (10-15 minutes, several GB).
+        #[arg(long)]
+        full: bool,
+        /// Put the table into docs/planner.md between its growth markers.
+        #[arg(long)]
+        write: bool,
+    },
     /// Write the JSON Schema documents of the scenario and every report to docs/schemas/.
     Schemas {
         /// Write nothing; fail when the committed documents differ from the code.
@@ -82,6 +95,7 @@ fn main() -> ExitCode {
             },
         ),
         Command::GenFixtures => fixtures::generate(),
+        Command::Growth { full, write } => growth::run(full, write),
         Command::Schemas { check } => schemas(check),
         Command::Tidy => tidy::run(),
         Command::Readme { bin } => readme::run(bin),
