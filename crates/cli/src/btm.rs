@@ -20,7 +20,7 @@ pub struct Args {
     picture: PictureArgs,
     /// The picture's crop.
     #[command(flatten)]
-    window: crate::output::WindowArg,
+    window: crate::window::WindowArg,
 }
 
 /// Runs `rappel btm`.

@@ -82,22 +82,19 @@ pub struct Args {
     picture: PictureArgs,
 }
 
-/// `LO` or `LO,HI`.
+/// `LO` or `LO,HI`: finite numbers ([`crate::numbers::numbers`]) forming a friction interval
+/// (non-negative, `LO <= HI`: [`rappel::mechanics::friction::FrictionInterval::new`]).
 fn friction_range(text: &str) -> Result<FrictionRange, CliError> {
-    let bad = || {
-        CliError(format!(
-            "--ptfo-friction: `{text}` is not LO or LO,HI (numbers)"
-        ))
-    };
-    let mut parts = text.split(',').map(|p| p.trim().parse::<f64>());
-    let lo = parts.next().ok_or_else(bad)?.map_err(|_| bad())?;
-    let hi = match parts.next() {
-        None => lo,
-        Some(v) => v.map_err(|_| bad())?,
-    };
-    if parts.next().is_some() {
-        return Err(bad());
+    let count = text.split(',').count();
+    if count > 2 {
+        return Err(CliError(format!(
+            "--ptfo-friction {text}: give LO or LO,HI (found {count} numbers)"
+        )));
     }
+    let v = crate::numbers::numbers("--ptfo-friction", text, count)?;
+    let (lo, hi) = (v[0], v[count - 1]);
+    rappel::mechanics::friction::FrictionInterval::new(lo, hi)
+        .map_err(|e| CliError(format!("--ptfo-friction {text}: {e}")))?;
     Ok(FrictionRange { lo, hi })
 }
 

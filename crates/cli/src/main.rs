@@ -24,6 +24,7 @@ mod stability;
 mod stop;
 mod track;
 mod validate;
+mod window;
 
 use clap::{Parser, Subcommand};
 use output::{Answer, CliError};

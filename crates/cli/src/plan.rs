@@ -24,10 +24,9 @@
 //! `--progress` forces the progress over the K classes on stderr (`crate::progress`), which is
 //! otherwise shown only when stderr is a terminal.
 
-use crate::output::{
-    Answer, CliError, PictureArgs, WindowArg, refuse_clashing_outputs, write_bytes,
-};
+use crate::output::{Answer, CliError, PictureArgs, refuse_clashing_outputs, write_bytes};
 use crate::progress::{Progress, Show};
+use crate::window::WindowArg;
 use rappel::plan::{
     ClassReport, PlanOptions, PlanOutcome, PlanReport, PlanSetting, plan_detailed_each,
     plan_streamed, plan_summary,

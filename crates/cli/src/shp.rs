@@ -30,7 +30,7 @@ pub struct Args {
     picture: PictureArgs,
     /// The picture's crop.
     #[command(flatten)]
-    window: crate::output::WindowArg,
+    window: crate::window::WindowArg,
 }
 
 /// Arguments of `rappel homotopic`.

@@ -9,9 +9,9 @@
 //! CRS it wrote.
 
 use crate::output::{
-    Answer, CliError, PictureArgs, WindowArg, print_report, refuse_clashing_outputs, write_bytes,
-    write_file,
+    Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs, write_bytes, write_file,
 };
+use crate::window::WindowArg;
 use rappel::scenario::Scenario;
 use rappel::stability::{StabilityOptions, stability_observed};
 use std::path::PathBuf;

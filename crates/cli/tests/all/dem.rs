@@ -104,11 +104,19 @@ fn dem_labels_ptfos_that_the_frictional_planner_then_judges() {
     let o = out.to_str().unwrap_or_default();
     check_error(
         &["dem", &input, "--out", o, "--ptfo-friction", "0.4,x"],
-        "--ptfo-friction: `0.4,x` is not LO or LO,HI (numbers)",
+        "--ptfo-friction 0.4,x: number 2 (`x`) is not a number",
+    );
+    check_error(
+        &["dem", &input, "--out", o, "--ptfo-friction", "NaN"],
+        "--ptfo-friction NaN: number 1 (`NaN`) is not a finite number",
+    );
+    check_error(
+        &["dem", &input, "--out", o, "--ptfo-friction", "0.1,0.2,0.3"],
+        "--ptfo-friction 0.1,0.2,0.3: give LO or LO,HI (found 3 numbers)",
     );
     check_error(
         &["dem", &input, "--out", o, "--ptfo-friction", "0.6,0.4"],
-        "tether-terrain friction 0.6..0.4 must satisfy 0 < lo <= hi",
+        "--ptfo-friction 0.6,0.4: friction interval [0.6, 0.4] is empty",
     );
     check_error(
         &[
