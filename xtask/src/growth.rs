@@ -134,59 +134,43 @@ pub fn run(full: bool, write: bool) -> Result<ExitCode, String> {
         }
     }
     let mut rows = Vec::new();
+    let mut row = |name: String, unit: &'static str, values: &[Option<f64>]| {
+        rows.push(Row {
+            name,
+            unit,
+            values: values.to_vec(),
+        })
+    };
     let labels = ["rappel", "polyanya (raw CDT)", "polyanya (merged polygons)"];
-    for k in 0..3 {
-        rows.push(Row {
-            name: format!("first SHP query, {}", labels[k]),
-            unit: "s",
-            values: shp_wall[k].clone(),
-        });
+    for (label, values) in labels.iter().zip(&shp_wall) {
+        row(format!("first SHP query, {label}"), "s", values);
     }
-    rows.push(Row {
-        name: "first SHP expansions, rappel".into(),
-        unit: "",
-        values: expansions,
-    });
-    for k in 0..3 {
-        rows.push(Row {
-            name: format!("first SHP query peak memory, {} (own process)", labels[k]),
-            unit: "MB",
-            values: shp_peak[k].clone(),
-        });
+    row("first SHP expansions, rappel".into(), "", &expansions);
+    for (label, values) in labels.iter().zip(&shp_peak) {
+        row(
+            format!("first SHP query peak memory, {label} (own process)"),
+            "MB",
+            values,
+        );
     }
-    rows.push(Row {
-        name: "set-up, rappel (BTM + planner)".into(),
-        unit: "s",
-        values: shp_setup[0].clone(),
-    });
-    rows.push(Row {
-        name: "set-up, polyanya (mesh from the BTM, baked)".into(),
-        unit: "s",
-        values: shp_setup[1].clone(),
-    });
-    rows.push(Row {
-        name: "set-up, polyanya (merged, baked)".into(),
-        unit: "s",
-        values: shp_setup[2].clone(),
-    });
-    rows.push(Row {
-        name: "BTM build, rappel".into(),
-        unit: "s",
-        values: btm[0].clone(),
-    });
-    rows.push(Row {
-        name: "CDT bulk load, spade".into(),
-        unit: "s",
-        values: btm[1].clone(),
-    });
+    let setups = [
+        "set-up, rappel (BTM + planner)",
+        "set-up, polyanya (mesh from the BTM, baked)",
+        "set-up, polyanya (merged, baked)",
+    ];
+    for (name, values) in setups.iter().zip(&shp_setup) {
+        row(name.to_string(), "s", values);
+    }
+    row("BTM build, rappel".into(), "s", &btm[0]);
+    row("CDT bulk load, spade".into(), "s", &btm[1]);
     for (i, k) in [1, 10, 100].into_iter().enumerate() {
         let what = ["wall", "CPU", "peak resident set"];
         for (j, unit) in ["s", "s", "MB"].into_iter().enumerate() {
-            rows.push(Row {
-                name: format!("`rappel plan --classes {k}`, whole process, {}", what[j]),
+            row(
+                format!("`rappel plan --classes {k}`, whole process, {}", what[j]),
                 unit,
-                values: plan[i][j].clone(),
-            });
+                &plan[i][j],
+            );
         }
     }
     let table = markdown(&sizes, &rows);

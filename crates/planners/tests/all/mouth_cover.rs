@@ -5,6 +5,8 @@
 
 use nalgebra::Point2;
 use proptest::prelude::*;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use rappel_planners::mouth_cover::{Arrival, MouthEnd, is_covered, is_covered_with};
 
 /// Samples of the mouth for the dense check.
@@ -64,13 +66,8 @@ fn the_test_drops_the_funnels_clearly_covered() {
     // Deterministic sweep: count the clearly covered cases (excess above 1e-6 at every sample) and
     // how many of them the test drops.
     let (mut clear, mut dropped, mut any_with_arrival) = (0usize, 0usize, 0usize);
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = ChaCha8Rng::seed_from_u64(35);
+    let mut next = || rng.random::<f64>();
     for _ in 0..20_000 {
         let mut p = || Point2::new(20.0 * next() - 10.0, 20.0 * next() - 10.0);
         let (a, b, apex, s, start) = (p(), p(), p(), p(), p());
