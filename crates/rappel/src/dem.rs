@@ -212,13 +212,24 @@ pub fn dem_scenario_with(
 ) -> Result<DemScenario, DemScenarioError> {
     let grid = read_dem_with(path, limits)?;
     let crs = read_dem_crs(path)?;
+    file_scenario(grid, path, crs.crs, &crs.ignored, options)
+}
+
+/// [`dem_scenario_of_grid`] of the grid read from the file at `path` (its stem the scenario's
+/// name), with the file's keys not used (`ignored`) as warnings naming it.
+fn file_scenario(
+    grid: HeightGrid,
+    path: &Path,
+    crs: Option<String>,
+    ignored: &[String],
+    options: &IngestOptions,
+) -> Result<DemScenario, DemScenarioError> {
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let mut d = dem_scenario_of_grid(grid, &path.display().to_string(), &name, crs.crs, options)?;
-    d.warnings = crs
-        .ignored
+    let mut d = dem_scenario_of_grid(grid, &path.display().to_string(), &name, crs, options)?;
+    d.warnings = ignored
         .iter()
         .map(|w| format!("{}: {w}", path.display()))
         .collect();
@@ -290,17 +301,7 @@ pub fn point_cloud_dem_scenario(
         }
         (a, b) => a.or(b),
     };
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let mut d = dem_scenario_of_grid(pc.grid, &path.display().to_string(), &name, crs, options)?;
-    d.warnings = pc
-        .ignored
-        .iter()
-        .map(|w| format!("{}: {w}", path.display()))
-        .collect();
-    Ok(d)
+    Ok(file_scenario(pc.grid, path, crs, &pc.ignored, options)?)
 }
 
 /// A scenario from a terrain mesh (OBJ, PLY or STL, as `rappel settle` reads them; `x` east,
@@ -339,17 +340,7 @@ pub fn mesh_dem_scenario(
                 source,
             }
         })?;
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    Ok(dem_scenario_of_grid(
-        grid,
-        &path.display().to_string(),
-        &name,
-        crs,
-        options,
-    )?)
+    Ok(file_scenario(grid, path, crs, &[], options)?)
 }
 
 /// [`dem_scenario`] of a grid already in memory (the Python package hands over a 2-D height

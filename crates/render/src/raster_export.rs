@@ -131,6 +131,8 @@ pub fn dem_bands(d: &DemScenario, labelled: bool) -> (Vec<f32>, Vec<f32>) {
         .map(|c| mask_code(*c))
         .collect();
     let mut ptfo = vec![f32::NAN; mask.len()];
+    // Loops over the DEM's cells (within its reader's cell cap) and the PTFOs' cells (each cell
+    // in at most one patch).
     if labelled {
         for (i, v) in ptfo.iter_mut().enumerate() {
             let (r, c) = d.grid.geometry().row_col(i);
@@ -194,6 +196,7 @@ pub fn settle_map_grid(
 pub fn settle_map_bands(map: &rappel::settle_map::StabilityMap) -> (Vec<f32>, Vec<f32>) {
     let n = map.nx * map.ny;
     let (mut verdict, mut margin) = (vec![f32::NAN; n], vec![f32::NAN; n]);
+    // One pass over the map's cells (at most `MAX_MAP_CELLS`).
     for (k, cell) in map.cells.iter().enumerate().take(n) {
         let (i, j) = (k % map.nx, k / map.nx);
         let out = (map.ny - 1 - j) * map.nx + i;
