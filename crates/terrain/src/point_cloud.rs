@@ -229,7 +229,8 @@ pub struct PointCloudGrid {
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/lidar/boulder_slope_utm10n.laz");
 /// let pc = read_point_cloud(path.as_ref(), 0.5, Statistic::Max, &DemLimits::default()).unwrap();
 /// assert_eq!(pc.crs.as_deref(), Some("EPSG:32610"));
-/// assert!(pc.grid.known_count() > 0);
+/// assert_eq!(pc.points, 9504);
+/// assert!(pc.grid.unknown_count() < pc.grid.geometry().len());
 /// ```
 pub fn read_point_cloud(
     path: &Path,
