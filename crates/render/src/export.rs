@@ -187,8 +187,11 @@ pub fn online_features(
     start: Point2<f64>,
     goal: Point2<f64>,
 ) -> Vec<Feature> {
-    let text = |v: serde_json::Result<Value>| match v {
+    // An enum as its name: a plain string, or the tag of an internally tagged object
+    // (`{"decision": "switched", "backtrack_m": ..}` is `switched`), else its JSON text.
+    let text = |v: serde_json::Result<Value>, tag: &str| match v {
         Ok(Value::String(s)) => json!(s),
+        Ok(Value::Object(o)) if o.get(tag).is_some_and(Value::is_string) => o[tag].clone(),
         Ok(other) => json!(other.to_string()),
         Err(_) => Value::Null,
     };
@@ -209,12 +212,12 @@ pub fn online_features(
                 m.insert("step".into(), json!(e.step));
                 m.insert(
                     "change".into(),
-                    text(serde_json::to_value(&e.outcome.change)),
+                    text(serde_json::to_value(&e.outcome.change), "change"),
                 );
                 m.insert("case".into(), json!(e.outcome.case.describe()));
                 m.insert(
                     "decision".into(),
-                    text(serde_json::to_value(&e.outcome.decision)),
+                    text(serde_json::to_value(&e.outcome.decision), "decision"),
                 );
                 m.insert("travelled_m".into(), json!(e.travelled_m));
                 m.insert("backtracked_m".into(), json!(e.backtracked_m));

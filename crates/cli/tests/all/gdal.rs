@@ -669,7 +669,16 @@ fn online_run_exports_as_flatgeobuf_in_the_dems_crs() {
     let (mut events, mut lines) = (0, 0);
     for (props, vertices) in features_inside(f, dem_grid, "online") {
         match props["layer"].as_str() {
-            Some("event") => events += 1,
+            Some("event") => {
+                events += 1;
+                // Enum names as plain text: the decision's tag, not a JSON object.
+                let decision = props["decision"].as_str().unwrap_or_default();
+                assert!(
+                    !decision.is_empty()
+                        && decision.chars().all(|c| c.is_ascii_lowercase() || c == '_'),
+                    "event decision {decision:?}"
+                );
+            }
             Some("travelled") => {
                 lines += 1;
                 assert_eq!(vertices.len(), travelled.len());
