@@ -45,11 +45,26 @@ fn gdal_available() -> bool {
     ok
 }
 
+/// A fresh directory named after `tag` for a test that needs GDAL, or `None` (after saying why)
+/// when GDAL is absent and not required.
+fn gdal_dir(tag: &str) -> Option<std::path::PathBuf> {
+    gdal_available().then(|| temp_dir(tag))
+}
+
 /// Runs a GDAL tool and returns its standard output.
 fn gdal(tool: &str, args: &[&str]) -> String {
     let o = Command::new(tool).args(args).output().expect("GDAL runs");
     assert!(o.status.success(), "{tool} {args:?}: {}", stderr(&o));
     stdout(&o)
+}
+
+/// Runs rappel, which must exit 0 and say `says` on stderr (the CRS an export wrote, a
+/// warning); its output.
+fn rappel_saying(args: &[&str], says: &str) -> std::process::Output {
+    let o = rappel(args);
+    assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+    assert!(stderr(&o).contains(says), "{args:?}: {}", stderr(&o));
+    o
 }
 
 /// GDAL's reading of a dataset's CRS, for comparison: its PROJ string (the system's
@@ -113,10 +128,9 @@ fn band_of(path: &str, b: usize, dir: &Path) -> Vec<f32> {
 
 /// DEM -> scenario -> stability map -> GeoTIFF -> GDAL, for one fixture; `grid` is the pose step.
 fn check_stability_geotiff(fixture_name: &str, grid: &str, expected_crs: &str) {
-    if !gdal_available() {
+    let Some(dir) = gdal_dir(&format!("gdal-{fixture_name}")) else {
         return;
-    }
-    let dir = temp_dir(&format!("gdal-{fixture_name}"));
+    };
     let dem = fixture(&format!("terrain/{fixture_name}.tif"));
     check_dem(&dir, fixture_name, &dem, grid, expected_crs);
 }
@@ -221,10 +235,9 @@ fn local_grid_stability_reads_back_in_gdal() {
 /// `.prj`): the WKT goes to the `.aux.xml` sidecar and GDAL reads the same system.
 #[test]
 fn wkt_beyond_geokeys_reads_back_through_the_sidecar() {
-    if !gdal_available() {
+    let Some(dir) = gdal_dir("gdal-ortho") else {
         return;
-    }
-    let dir = temp_dir("gdal-ortho");
+    };
     let dem = dir.join("ortho.asc");
     std::fs::copy(
         fixture("terrain/mars_hirise_dteec_010228_1490_crop.asc"),
@@ -295,10 +308,9 @@ const EDGE_TOLERANCE: f64 = 1e-9;
 fn check_plan_flatgeobuf(fixture_name: &str) {
     use rappel::geometry::polygon::{PointInPolygon, Polygon};
     use rappel::nalgebra::Point2;
-    if !gdal_available() {
+    let Some(dir) = gdal_dir(&format!("gdal-plan-{fixture_name}")) else {
         return;
-    }
-    let dir = temp_dir(&format!("gdal-plan-{fixture_name}"));
+    };
     let dem = fixture(&format!("terrain/{fixture_name}.tif"));
     let scenario = dir.join("s.ron");
     let s = scenario.to_str().unwrap_or_default();
@@ -408,22 +420,19 @@ fn check_dem_geotiff(fixture_name: &str, expected_crs: &str) -> usize {
     let s = scenario.to_str().unwrap_or_default();
     let tif = dir.join("detection.tif");
     let t = tif.to_str().unwrap_or_default();
-    let o = rappel(&[
-        "dem",
-        &dem,
-        "--out",
-        s,
-        "--ptfo-friction",
-        "0.4,0.6",
-        "--geotiff",
-        t,
-        "--json",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains(&format!("CRS {expected_crs}")),
-        "{}",
-        stderr(&o)
+    let o = rappel_saying(
+        &[
+            "dem",
+            &dem,
+            "--out",
+            s,
+            "--ptfo-friction",
+            "0.4,0.6",
+            "--geotiff",
+            t,
+            "--json",
+        ],
+        &format!("CRS {expected_crs}"),
     );
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     assert_eq!(report["crs"], expected_crs, "{fixture_name}");
@@ -514,10 +523,9 @@ fn dem_obstacle_mask_and_ptfo_labels_read_back_in_gdal() {
 /// the JSON report's pose whose ground point GDAL's geotransform puts in it.
 #[test]
 fn settle_map_on_a_dem_reads_back_in_gdal() {
-    if !gdal_available() {
+    let Some(dir) = gdal_dir("gdal-settle-map") else {
         return;
-    }
-    let dir = temp_dir("gdal-settle-map");
+    };
     let dem = fixture("terrain/earth_mt_st_helens_utm10n.tif");
     let (ncols, nrows, gt) = grid_of(&dem);
     // A 5 x 5 map of 10 m around the DEM's centre, the root anchor 40 m up the grid's north.
@@ -534,27 +542,28 @@ fn settle_map_on_a_dem_reads_back_in_gdal() {
     let root = format!("{},{},{}", cx, cy + 40.0, at(cx, cy + 40.0) + 1.0);
     let tif = dir.join("settle.tif");
     let t = tif.to_str().unwrap_or_default();
-    let o = rappel(&[
-        "settle-map",
-        &dem,
-        "--x",
-        &range(cx),
-        "--y",
-        &range(cy),
-        "--step",
-        "10",
-        "--start",
-        &format!("{cx},{cy}"),
-        "--root",
-        &root,
-        "--yaw",
-        "-90",
-        "--geotiff",
-        t,
-        "--json",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(stderr(&o).contains("CRS EPSG:32610"), "{}", stderr(&o));
+    let o = rappel_saying(
+        &[
+            "settle-map",
+            &dem,
+            "--x",
+            &range(cx),
+            "--y",
+            &range(cy),
+            "--step",
+            "10",
+            "--start",
+            &format!("{cx},{cy}"),
+            "--root",
+            &root,
+            "--yaw",
+            "-90",
+            "--geotiff",
+            t,
+            "--json",
+        ],
+        "CRS EPSG:32610",
+    );
     assert_eq!(crs_of(&dem), crs_of(t));
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     let (nx, ny, sgt) = grid_of(t);
@@ -594,27 +603,23 @@ fn settle_map_on_a_dem_reads_back_in_gdal() {
 /// A settle-map over a Paton scene (no CRS) is written in the scene's local frame, named so.
 #[test]
 fn settle_map_on_a_scene_is_written_in_its_local_frame() {
-    if !gdal_available() {
+    let Some(dir) = gdal_dir("gdal-settle-map-scene") else {
         return;
-    }
-    let dir = temp_dir("gdal-settle-map-scene");
+    };
     let tif = dir.join("scene.tif");
     let t = tif.to_str().unwrap_or_default();
-    let o = rappel(&[
-        "settle-map",
-        &fixture("paton/ledge.ron"),
-        "--test",
-        "1",
-        "--step",
-        "1",
-        "--geotiff",
-        t,
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("CRS LOCAL_CS \"rappel Paton scene frame"),
-        "{}",
-        stderr(&o)
+    rappel_saying(
+        &[
+            "settle-map",
+            &fixture("paton/ledge.ron"),
+            "--test",
+            "1",
+            "--step",
+            "1",
+            "--geotiff",
+            t,
+        ],
+        "CRS LOCAL_CS \"rappel Paton scene frame",
     );
     let wkt = gdal("gdalsrsinfo", &["-o", "wkt1", t]);
     assert!(wkt.contains("Paton scene frame"), "{wkt}");
@@ -626,10 +631,9 @@ fn settle_map_on_a_scene_is_written_in_its_local_frame() {
 /// event point per timeline event.
 #[test]
 fn online_run_exports_as_flatgeobuf_in_the_dems_crs() {
-    if !gdal_available() {
+    let Some(dir) = gdal_dir("gdal-online") else {
         return;
-    }
-    let dir = temp_dir("gdal-online");
+    };
     let dem = fixture("terrain/mars_equirectangular_crop.tif");
     let prior = dir.join("prior.ron");
     let p = prior.to_str().unwrap_or_default();
@@ -713,10 +717,9 @@ fn online_run_exports_as_flatgeobuf_in_the_dems_crs() {
 /// nothing else are no value.
 #[test]
 fn mesh_into_dem_reads_back_in_gdal() {
-    if !gdal_available() {
+    let Some(dir) = gdal_dir("gdal-mesh-dem") else {
         return;
-    }
-    let dir = temp_dir("gdal-mesh-dem");
+    };
     let (x0, y0) = (562_000.0, 5_121_000.0);
     let plane = |x: f64, y: f64| 0.6 * (y - y0) + 0.1 * (x - x0) + 1000.0;
     // Vertices every 5 m (7 x 11), two triangles per square; the square (2..3, 4..5) is a hole.
@@ -792,10 +795,9 @@ fn mesh_into_dem_reads_back_in_gdal() {
 /// as VerticalCSTypeGeoKey): `rappel dem` warns that the key is not used, naming it.
 #[test]
 fn vertical_crs_keys_are_warned_about() {
-    if !gdal_available() {
+    let Some(dir) = gdal_dir("gdal-vertical") else {
         return;
-    }
-    let dir = temp_dir("gdal-vertical");
+    };
     let tif = dir.join("compound.tif");
     let t = tif.to_str().unwrap_or_default();
     gdal(
@@ -809,14 +811,11 @@ fn vertical_crs_keys_are_warned_about() {
         ],
     );
     let scenario = dir.join("s.ron");
-    let o = rappel(&["dem", t, "--out", scenario.to_str().unwrap_or_default()]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("warning:")
-            && stderr(&o).contains("GeoKey VerticalCSTypeGeoKey (4096) = 5703 ignored"),
-        "{}",
-        stderr(&o)
+    let o = rappel_saying(
+        &["dem", t, "--out", scenario.to_str().unwrap_or_default()],
+        "GeoKey VerticalCSTypeGeoKey (4096) = 5703 ignored",
     );
+    assert!(stderr(&o).starts_with("warning: "), "{}", stderr(&o));
     assert!(
         stdout(&o).contains("crs                EPSG:32610"),
         "{}",
