@@ -545,15 +545,25 @@ pub fn export_features(
 /// ```
 /// use rappel_render::export::{ExportFormat, crs_note};
 /// assert!(crs_note(None, ExportFormat::FlatGeobuf).starts_with("LOCAL_CS \"rappel planning frame"));
+/// assert!(crs_note(None, ExportFormat::Csv).ends_with("(x, y columns; CSV carries no CRS)"));
+/// assert!(crs_note(None, ExportFormat::GeoJson).contains("rappel_frame"));
 /// ```
 pub fn crs_note(geo: Option<&Georeference>, format: ExportFormat) -> String {
     let crs = export_crs(geo);
     let described = crs.describe();
-    match (format, &crs) {
-        (ExportFormat::GeoJson, Crs::Wkt(_)) => format!(
+    match (format, geo, &crs) {
+        (ExportFormat::GeoJson, None, _) => {
+            format!("{described} (GeoJSON: named in rappel_frame; readers will assume WGS 84)")
+        }
+        (ExportFormat::GeoJson, Some(_), Crs::Wkt(_)) => format!(
             "{described} (GeoJSON readers assume WGS 84: the WKT is in rappel_crs; use .fgb to carry it)"
         ),
-        (ExportFormat::Csv, _) => format!("{described} (east, north columns; CSV carries no CRS)"),
+        (ExportFormat::Csv, Some(_), _) => {
+            format!("{described} (east, north columns; CSV carries no CRS)")
+        }
+        (ExportFormat::Csv, None, _) => {
+            format!("{described} (x, y columns; CSV carries no CRS)")
+        }
         _ => described,
     }
 }
