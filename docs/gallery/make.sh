@@ -33,5 +33,15 @@ if command -v gdaldem >/dev/null 2>&1; then
     gdal_rasterize -q -b 1 -b 2 -b 3 -burn 30 -burn 60 -burn 230 -where "layer='tether'" "$tmp/plan.fgb" "$tmp/both.tif"
     gdal_translate -q -of PNG "$tmp/both.tif" $g/geospatial-mars-stability.png
     rm -f $g/geospatial-mars-stability.png.aux.xml
+    # `rappel dem --geotiff`: the obstacle mask (foot orange, raised red, sunken blue) and the
+    # PTFO labels (green) over the same hillshade.
+    $r dem $dem --out "$tmp/det.ron" --ptfo-friction 0.4,0.6 --geotiff "$tmp/det.tif" >/dev/null 2>&1
+    printf "nv 0 0 0\n0 0 0 0\n1 253 174 97\n2 215 25 28\n3 44 123 182\n" > "$tmp/mask.txt"
+    printf "nv 0 0 0\n0 0 0 0\n1 26 150 65\n200 26 150 65\n" > "$tmp/ptfo.txt"
+    gdaldem color-relief -q -nearest_color_entry -b 1 "$tmp/det.tif" "$tmp/mask.txt" "$tmp/mask.tif"
+    gdaldem color-relief -q -b 2 "$tmp/det.tif" "$tmp/ptfo.txt" "$tmp/ptfo.tif"
+    gdalbuildvrt -q -srcnodata "0 0 0" -vrtnodata none "$tmp/det.vrt" "$tmp/hs_rgb.tif" "$tmp/ptfo.tif" "$tmp/mask.tif"
+    gdal_translate -q -outsize 400% 400% -r nearest -of PNG "$tmp/det.vrt" $g/geospatial-mars-detection.png
+    rm -f $g/geospatial-mars-detection.png.aux.xml
 fi
 echo "gallery written to $g"

@@ -10,6 +10,7 @@ mod dem;
 mod field_arg;
 mod friction_out;
 mod gen_map;
+mod gis_out;
 mod navigate;
 mod numbers;
 mod online;

@@ -1,5 +1,6 @@
 //! `rappel online PRIOR.ron --truth TRUE.ron [--sensor-range R] [--step S] [--max-steps N]
-//! [--classes K] [--switch-to-shorter] [--time-limit SECONDS] [--json] [--svg OUT] [--html OUT] [--frames DIR]`: the online planner
+//! [--classes K] [--switch-to-shorter] [--time-limit SECONDS] [--json] [--svg OUT] [--html OUT] [--frames DIR]
+//! [--export OUT.fgb|OUT.geojson|OUT.csv]`: the online planner
 //! (thesis Alg. 11-13) simulated. The robot descends by the plan made on the prior map; every
 //! difference from the true map that comes within sensor range is a map change. Prints the
 //! timeline (event, case, decision, distance travelled and backtracked) and the end state.
@@ -8,6 +9,9 @@
 //! `--time-limit SECONDS` bounds the whole run (every search shares its clock) and Ctrl-C stops it
 //! ([`crate::stop`]): the run ends where it stands, the verdict says "the run stopped at the time
 //! limit of SECONDS s" (or "... at a cancel request"), and the exit code is 1.
+//! `--export` writes the path travelled, the final ascent and the timeline's events
+//! ([`rappel_render::export::online_features`]) in the prior scenario's DEM coordinates and CRS
+//! when it was made by `rappel dem`, else in the planning frame, and says which.
 
 use crate::output::{Answer, CliError, PictureArgs, refuse_clashing_outputs, write_file};
 use rappel::planners::online::simulate::{
@@ -58,12 +62,25 @@ pub struct Args {
     /// Draw one SVG per event into this directory.
     #[arg(long, value_name = "DIR")]
     frames: Option<PathBuf>,
+    /// Export the path travelled, the final ascent and the timeline's events (FlatGeobuf
+    /// carries any CRS; GeoJSON; CSV), in the DEM's coordinates for a scenario made by
+    /// `rappel dem`.
+    #[arg(long, value_name = "OUT.fgb|OUT.geojson|OUT.csv")]
+    export: Option<PathBuf>,
 }
 
 /// Runs `rappel online`: yes when the goal is reached with ascent and descent homotopic, a clean no
 /// when no feasible class is left, the goal is covered or the step budget is spent.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
-    refuse_clashing_outputs(&args.picture.outputs(), &[&args.prior, &args.truth])?;
+    let mut outputs = args.picture.outputs();
+    if let Some(out) = &args.export {
+        outputs.push(("--export", out.as_path()));
+    }
+    refuse_clashing_outputs(&outputs, &[&args.prior, &args.truth])?;
+    let export = match &args.export {
+        None => None,
+        Some(out) => Some((out, crate::gis_out::export_format(out)?)),
+    };
     if args.classes == 0 {
         return Err(CliError("--classes 0: examine at least one class".into()));
     }
@@ -112,6 +129,12 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         let title = format!("{}: {}", truth.name, verdict(r));
         args.picture
             .write(&picture(&result.session, &title), &title)?;
+    }
+    if let Some((out, format)) = export {
+        let geo = prior.georeference.as_ref();
+        let bytes = rappel_render::export::export_online(r, prior.start, prior.goal, geo, format)
+            .map_err(|e| CliError(format!("--export {}: {e}", out.display())))?;
+        crate::gis_out::write_export(out, &bytes, geo, format, "the online run")?;
     }
     if args.json {
         crate::output::print_report(r)?;

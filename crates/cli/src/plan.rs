@@ -24,7 +24,7 @@
 //! `--progress` forces the progress over the K classes on stderr (`crate::progress`), which is
 //! otherwise shown only when stderr is a terminal.
 
-use crate::output::{Answer, CliError, PictureArgs, refuse_clashing_outputs, write_bytes};
+use crate::output::{Answer, CliError, PictureArgs, refuse_clashing_outputs};
 use crate::progress::{Progress, Show};
 use crate::window::WindowArg;
 use rappel::plan::{
@@ -33,7 +33,7 @@ use rappel::plan::{
 };
 use rappel::plan_stream::{PlanStreamLine, PlanSummary};
 use rappel::scenario::Scenario;
-use rappel_render::export::{ExportFormat, export_plan};
+use rappel_render::export::export_plan;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `rappel plan`.
@@ -134,15 +134,7 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
     refuse_clashing_outputs(&outputs, &[&args.file])?;
     let export = match &args.export {
         None => None,
-        Some(out) => {
-            let format = ExportFormat::of_path(out).ok_or_else(|| {
-                CliError(format!(
-                    "--export {}: unknown format; use a .fgb, .geojson or .csv file",
-                    out.display()
-                ))
-            })?;
-            Some((out, format))
-        }
+        Some(out) => Some((out, crate::gis_out::export_format(out)?)),
     };
     if let Some(f) = args.max_length_factor
         && !(f.is_finite() && f >= 1.0)
@@ -228,9 +220,10 @@ fn run_marked(args: &Args, began: &mut bool) -> Result<Answer, CliError> {
             plan.report
         };
         if let Some((out, format)) = export {
-            let bytes = export_plan(&report, s.georeference.as_ref(), format)
+            let geo = s.georeference.as_ref();
+            let bytes = export_plan(&report, geo, format)
                 .map_err(|e| CliError(format!("--export {}: {e}", out.display())))?;
-            write_bytes(out, &bytes)?;
+            crate::gis_out::write_export(out, &bytes, geo, format, "the plan")?;
         }
         if args.json {
             crate::output::print_report(&report)?;

@@ -11,9 +11,13 @@
 //! stops it ([`crate::stop`]): the map is then partial, the cells not computed are failed with
 //! "not computed: the map stopped at ...", the report's `stopped_by` names the condition, the
 //! picture shows what was computed, and the exit code is 1.
+//! `--geotiff OUT.tif` writes the verdicts and margins in the map's own grid (one cell per pose,
+//! centred on its ground point), in the DEM's CRS when the ground is an elevation model, else in
+//! the scene's or mesh's local frame, named so ([`rappel_render::raster_export::settle_map_geotiff`]).
 //! Exit 0 when the whole map was computed, 1 when it was stopped; bad input exits 2.
 
 use crate::field_arg::FieldArg;
+use crate::gis_out::GeoTiffOut;
 use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
 use rappel::nalgebra::Point3;
 use rappel::planners::anchor_prediction::AnchorHistory;
@@ -81,6 +85,38 @@ pub struct Args {
     /// Print the map as JSON.
     #[arg(long)]
     json: bool,
+    /// Also write the map as a GeoTIFF, one cell per pose centred on its ground point: band 1
+    /// the verdict (1 stable, 0 not), band 2 the best margin of a stable pose, -9999 where no
+    /// pose was assessed; in the DEM's CRS for an elevation model, else in the ground's local
+    /// frame (named so in the file).
+    #[arg(long, value_name = "OUT.tif")]
+    geotiff: Option<PathBuf>,
+}
+
+/// The CRS of a settle-map's ground (`--geotiff`): an elevation model's own (or a local grid
+/// saying it declared none; its unused GeoKeys printed as warnings), else the local frame of a
+/// Paton scene or a mesh file.
+fn ground_crs(file: &std::path::Path) -> Result<rappel::terrain::crs::Crs, CliError> {
+    use rappel::terrain::crs::{Crs, UNKNOWN_CRS_NAME};
+    let ext = file
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    Ok(match ext.as_deref() {
+        Some("asc" | "tif" | "tiff") => {
+            let c = rappel::terrain::dem::read_dem_crs(file)
+                .map_err(|e| CliError(format!("--geotiff: {e}")))?;
+            for w in &c.ignored {
+                eprintln!("warning: {}: {w}", file.display());
+            }
+            c.crs
+                .as_deref()
+                .and_then(Crs::parse)
+                .unwrap_or_else(|| Crs::local(UNKNOWN_CRS_NAME))
+        }
+        Some("ron") => Crs::local(rappel_render::raster_export::SCENE_FRAME_NAME),
+        _ => Crs::local(rappel_render::raster_export::MESH_FRAME_NAME),
+    })
 }
 
 /// Runs `rappel settle-map`.
@@ -90,7 +126,19 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         rappel::planners::budget::ExpansionBudget::Auto,
         &args.time_limit,
     )?;
-    refuse_clashing_outputs(&args.picture.outputs(), &[&args.file])?;
+    let geotiff = args
+        .geotiff
+        .as_ref()
+        .map(|p| GeoTiffOut::new("--geotiff", p));
+    let mut outputs = args.picture.outputs();
+    if let Some(g) = &geotiff {
+        outputs.extend(g.outputs());
+    }
+    refuse_clashing_outputs(&outputs, &[&args.file])?;
+    let crs = geotiff
+        .as_ref()
+        .map(|_| ground_crs(&args.file))
+        .transpose()?;
     let ground = load_ground(&args.file).map_err(|e| CliError(e.to_string()))?;
     let is_scene = args
         .file
@@ -183,6 +231,17 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
     if args.picture.wanted() {
         args.picture
             .write(&map_svg(&map, &ground), "rappel settle-map")?;
+    }
+    if let (Some(out), Some(crs)) = (&geotiff, &crs) {
+        let image = rappel_render::raster_export::settle_map_geotiff(&map, crs)
+            .map_err(|e| CliError(format!("{}: {e}", out.context())))?;
+        out.write(
+            &image,
+            &format!(
+                "verdict and margin, {} x {} poses of {} m",
+                map.nx, map.ny, spec.step
+            ),
+        )?;
     }
     if args.json {
         print_report(&map)?;

@@ -8,9 +8,8 @@
 //! ([`rappel_render::raster_export`]; a scenario made by `rappel dem`), and says on stderr which
 //! CRS it wrote.
 
-use crate::output::{
-    Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs, write_bytes, write_file,
-};
+use crate::gis_out::GeoTiffOut;
+use crate::output::{Answer, CliError, PictureArgs, print_report, refuse_clashing_outputs};
 use crate::window::WindowArg;
 use rappel::scenario::Scenario;
 use rappel::stability::{StabilityOptions, stability_observed};
@@ -55,10 +54,12 @@ pub struct Args {
 /// Runs `rappel stability`.
 pub fn run(args: &Args) -> Result<Answer, CliError> {
     let mut outputs = args.picture.outputs();
-    let aux = args.geotiff.as_ref().map(|p| aux_xml_path(p));
-    if let (Some(out), Some(aux)) = (&args.geotiff, &aux) {
-        outputs.push(("--geotiff", out.as_path()));
-        outputs.push(("--geotiff's .aux.xml", aux.as_path()));
+    let geotiff = args
+        .geotiff
+        .as_ref()
+        .map(|p| GeoTiffOut::new("--geotiff", p));
+    if let Some(g) = &geotiff {
+        outputs.extend(g.outputs());
     }
     refuse_clashing_outputs(&outputs, &[&args.file])?;
     let stop = crate::stop::condition(
@@ -109,32 +110,11 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
             &title,
         )?;
     }
-    if let (Some(out), Some((geo, grid))) = (&args.geotiff, &dem_grid) {
+    if let (Some(out), Some((geo, grid))) = (&geotiff, &dem_grid) {
         let (image, outside) =
             rappel_render::raster_export::stability_geotiff(&report, geo, grid.geometry())
-                .map_err(|e| CliError(format!("--geotiff {}: {e}", out.display())))?;
-        write_bytes(out, &image.bytes)?;
-        match (&image.aux_xml, &aux) {
-            (Some(xml), Some(aux)) => write_file(aux, xml)?,
-            // A sidecar left by an earlier export would override the keys just written.
-            (None, Some(aux)) if aux.exists() => std::fs::remove_file(aux).map_err(|e| {
-                CliError(format!(
-                    "{}: cannot remove the stale sidecar: {e}",
-                    aux.display()
-                ))
-            })?,
-            _ => {}
-        }
-        eprintln!(
-            "wrote {}: verdict and margin in the DEM's grid, CRS {}{}",
-            out.display(),
-            image.crs_written,
-            if image.aux_xml.is_some() {
-                " (WKT in the .aux.xml beside it)"
-            } else {
-                ""
-            }
-        );
+                .map_err(|e| CliError(format!("{}: {e}", out.context())))?;
+        out.write(&image, "verdict and margin in the DEM's grid")?;
         if outside > 0 {
             eprintln!(
                 "warning: {outside} poses fall outside the DEM's grid and are not in the GeoTIFF"
@@ -175,11 +155,4 @@ pub fn run(args: &Args) -> Result<Answer, CliError> {
         crate::output::outln!("stopped     the map stopped at {r}: a partial map");
     }
     Ok(answer)
-}
-
-/// GDAL's PAM sidecar of a raster: `OUT.tif.aux.xml`.
-fn aux_xml_path(p: &std::path::Path) -> PathBuf {
-    let mut s = p.as_os_str().to_os_string();
-    s.push(".aux.xml");
-    PathBuf::from(s)
 }

@@ -125,6 +125,8 @@ pub struct DetectedPtfo {
     pub surface: HeightPatch,
     /// Cells of the patch.
     pub cells: usize,
+    /// The patch's cells, row-major indices into the grid (what a PTFO label raster marks).
+    pub patch: Vec<usize>,
 }
 
 /// What [`detect_ptfos`] found.
@@ -196,10 +198,12 @@ pub fn detect_ptfos(
             ));
             continue;
         };
+        let g = grid.geometry();
         found.ptfos.push(DetectedPtfo {
             hull,
             surface,
             cells: cells.len(),
+            patch: cells.iter().map(|&(r, c)| g.index(r, c)).collect(),
         });
     }
     Ok(found)

@@ -5,7 +5,7 @@
 
 use crate::georeference::Georeference;
 use crate::scenario::{RobotParams, Scenario, Terrain};
-use rappel_terrain::dem::{DemError, dem_crs, read_dem_with};
+use rappel_terrain::dem::{DemError, read_dem_crs, read_dem_with};
 use rappel_terrain::grid::{DemLimits, HeightGrid};
 use rappel_terrain::ingest::{IngestError, IngestOptions, IngestSummary, Ingested, ingest};
 use rappel_terrain::plane_class::PlaneClass;
@@ -76,6 +76,14 @@ pub struct DemReport {
     pub counts: IngestSummary,
     /// PTFO labelling, when asked for (`--ptfo-friction`).
     pub ptfos: Option<PtfoLabels>,
+    /// The CRS recorded in the scenario, in one line (`EPSG:32610`, `PROJCS "Mars ..."`), or
+    /// the local grid results are written in when the DEM declared none.
+    #[serde(default)]
+    pub crs: String,
+    /// What was read but not used, one message each (GeoKeys the CRS does not take: vertical
+    /// CRS keys, unused projection parameters, a non-metre unit).
+    #[serde(default)]
+    pub warnings: Vec<String>,
     /// The start, `[x, y]` in the planning frame.
     #[schemars(with = "[f64; 2]")]
     pub start: nalgebra::Point2<f64>,
@@ -94,6 +102,13 @@ pub struct DemScenario {
     pub ingested: Ingested,
     /// The elevation model read (for analyses after ingestion, e.g. PTFO labelling).
     pub grid: HeightGrid,
+    /// What the DEM's file holds that was not used, one message each naming the file and the
+    /// key ([`rappel_terrain::dem::DemCrs::ignored`]); callers show them as warnings.
+    pub warnings: Vec<String>,
+    /// The cells of each labelled PTFO (row-major indices into [`DemScenario::grid`]), in the
+    /// order of the scenario's `friction.ptfos`; empty until
+    /// [`crate::dem_ptfo::label_ptfos`] labels them.
+    pub ptfo_cells: Vec<Vec<usize>>,
 }
 
 impl DemScenario {
@@ -111,6 +126,22 @@ impl DemScenario {
             .planes
             .iter()
             .zip(self.ingested.plane_classes.iter().copied())
+    }
+
+    /// The CRS results are written in, in one line: the scenario's (`EPSG:n`, `PROJCS "name"`)
+    /// or the local grid named [`rappel_terrain::crs::UNKNOWN_CRS_NAME`] when the DEM declared
+    /// none.
+    pub fn crs_written(&self) -> String {
+        let crs = self
+            .scenario
+            .georeference
+            .as_ref()
+            .and_then(|g| g.crs.as_deref());
+        crs.and_then(rappel_terrain::crs::Crs::parse)
+            .unwrap_or_else(|| {
+                rappel_terrain::crs::Crs::local(rappel_terrain::crs::UNKNOWN_CRS_NAME)
+            })
+            .describe()
     }
 
     /// The report of `rappel dem`: the DEM `dem` turned into the scenario file `scenario`, with
@@ -138,6 +169,8 @@ impl DemScenario {
                 .collect(),
             counts: self.summary(),
             ptfos,
+            crs: self.crs_written(),
+            warnings: self.warnings.clone(),
             start: s.start,
             goal: s.goal,
         }
@@ -178,12 +211,136 @@ pub fn dem_scenario_with(
     limits: &DemLimits,
 ) -> Result<DemScenario, DemScenarioError> {
     let grid = read_dem_with(path, limits)?;
-    let crs = dem_crs(path)?;
+    let crs = read_dem_crs(path)?;
+    file_scenario(grid, path, crs.crs, &crs.ignored, options)
+}
+
+/// [`dem_scenario_of_grid`] of the grid read from the file at `path` (its stem the scenario's
+/// name), with the file's keys not used (`ignored`) as warnings naming it.
+fn file_scenario(
+    grid: HeightGrid,
+    path: &Path,
+    crs: Option<String>,
+    ignored: &[String],
+    options: &IngestOptions,
+) -> Result<DemScenario, DemScenarioError> {
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    dem_scenario_of_grid(grid, &path.display().to_string(), &name, crs, options)
+    let mut d = dem_scenario_of_grid(grid, &path.display().to_string(), &name, crs, options)?;
+    d.warnings = ignored
+        .iter()
+        .map(|w| format!("{}: {w}", path.display()))
+        .collect();
+    Ok(d)
+}
+
+/// Why a mesh or a point cloud could not become a scenario.
+#[cfg(feature = "mesh")]
+#[derive(Debug, thiserror::Error)]
+pub enum GriddedDemError {
+    /// The mesh file could not be read.
+    #[error(transparent)]
+    Read(#[from] rappel_terrain::mesh_file::MeshFileError),
+    /// The point cloud could not be read or gridded.
+    #[error(transparent)]
+    PointCloud(#[from] rappel_terrain::point_cloud::PointCloudError),
+    /// A CRS was given for a file that declares its own.
+    #[error("{path} declares its CRS ({declared}); the CRS given is for files that declare none")]
+    CrsConflict {
+        /// The file.
+        path: String,
+        /// What it declares, in one line.
+        declared: String,
+    },
+    /// The mesh could not be rasterised.
+    #[error("{path}: {source}")]
+    Raster {
+        /// The file.
+        path: String,
+        /// The cause.
+        source: rappel_terrain::mesh_raster::MeshRasterError,
+    },
+    /// The height grid could not become a scenario.
+    #[error(transparent)]
+    Scenario(#[from] DemScenarioError),
+}
+
+/// A scenario from a lidar point cloud (LAS or LAZ): the points gridded to `cell` metre cells
+/// by `statistic` (the max of a cell's heights, or their mean), cells without a point unknown
+/// ([`rappel_terrain::point_cloud`]), then ingested as a DEM. The CRS is the file's (its WKT or
+/// GeoTIFF-key records; keys not used become [`DemScenario::warnings`]), else `crs`; both is an
+/// error. As for a mesh, the georeference names the file: write the grid as a GeoTIFF and point
+/// the georeference at it to export results (`rappel dem` does).
+///
+/// ```
+/// use rappel::dem::point_cloud_dem_scenario;
+/// use rappel::terrain::{grid::DemLimits, point_cloud::Statistic};
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/lidar/boulder_slope_utm10n.laz");
+/// let d = point_cloud_dem_scenario(path.as_ref(), 1.0, Statistic::Max, None, &Default::default(), &DemLimits::default()).unwrap();
+/// assert_eq!(d.scenario.georeference.unwrap().crs.as_deref(), Some("EPSG:32610"));
+/// ```
+#[cfg(feature = "mesh")]
+pub fn point_cloud_dem_scenario(
+    path: &Path,
+    cell: f64,
+    statistic: rappel_terrain::point_cloud::Statistic,
+    crs: Option<String>,
+    options: &IngestOptions,
+    limits: &DemLimits,
+) -> Result<DemScenario, GriddedDemError> {
+    let pc = rappel_terrain::point_cloud::read_point_cloud(path, cell, statistic, limits)?;
+    let crs = match (pc.crs, crs) {
+        (Some(declared), Some(_)) => {
+            return Err(GriddedDemError::CrsConflict {
+                path: path.display().to_string(),
+                declared: rappel_terrain::crs::Crs::parse(&declared)
+                    .map_or(declared, |c| c.describe()),
+            });
+        }
+        (a, b) => a.or(b),
+    };
+    Ok(file_scenario(pc.grid, path, crs, &pc.ignored, options)?)
+}
+
+/// A scenario from a terrain mesh (OBJ, PLY or STL, as `rappel settle` reads them; `x` east,
+/// `y` north, `z` up): the mesh rasterised to `cell` metre cells, the highest surface at each
+/// cell's centre, holes unknown ([`rappel_terrain::mesh_raster`]), then ingested as a DEM. `crs`
+/// is the mesh's coordinate reference system when the caller knows it (a mesh file declares
+/// none). The scenario's georeference names the mesh; write the grid
+/// ([`DemScenario::grid`]) as a GeoTIFF and point the georeference at it to export results in
+/// its grid (`rappel dem` does).
+///
+/// ```
+/// use rappel::dem::mesh_dem_scenario;
+/// use rappel::terrain::grid::DemLimits;
+/// let dir = std::env::temp_dir().join("rappel-doc-mesh-dem");
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let path = dir.join("wall.obj");
+/// // A 40 m x 60 m wall rising 0.8 m per metre northwards, two triangles.
+/// std::fs::write(&path, "v 0 0 0\nv 40 0 0\nv 40 60 48\nv 0 60 48\nf 1 2 3\nf 1 3 4\n").unwrap();
+/// let d = mesh_dem_scenario(&path, 1.0, Some("EPSG:32610".into()), &Default::default(), &DemLimits::default()).unwrap();
+/// assert_eq!(d.grid.geometry().ncols, 40);
+/// assert_eq!(d.scenario.georeference.unwrap().crs.as_deref(), Some("EPSG:32610"));
+/// ```
+#[cfg(feature = "mesh")]
+pub fn mesh_dem_scenario(
+    path: &Path,
+    cell: f64,
+    crs: Option<String>,
+    options: &IngestOptions,
+    limits: &DemLimits,
+) -> Result<DemScenario, GriddedDemError> {
+    let mesh = rappel_terrain::mesh_file::read_mesh(path)?;
+    let grid =
+        rappel_terrain::mesh_raster::rasterize_mesh(&mesh, cell, limits).map_err(|source| {
+            GriddedDemError::Raster {
+                path: path.display().to_string(),
+                source,
+            }
+        })?;
+    Ok(file_scenario(grid, path, crs, &[], options)?)
 }
 
 /// [`dem_scenario`] of a grid already in memory (the Python package hands over a 2-D height
@@ -261,6 +418,8 @@ pub fn dem_scenario_of_grid(
         scenario,
         ingested,
         grid,
+        warnings: Vec::new(),
+        ptfo_cells: Vec::new(),
     })
 }
 
@@ -300,6 +459,10 @@ pub struct PtfoLabels {
     pub patches: usize,
     /// PTFOs added to the scenario.
     pub ptfos: usize,
+    /// Cells of each PTFO's patch, in the order of the scenario's `friction.ptfos` (PTFO `k`
+    /// is label `k + 1` in `rappel dem --geotiff`'s band 2).
+    #[serde(default)]
+    pub cells: Vec<usize>,
     /// Patches dropped because their hull would make the map invalid, or beyond [`crate::dem_ptfo::MAX_PTFOS`],
     /// or without a usable height patch; with the reason.
     pub dropped: Vec<String>,

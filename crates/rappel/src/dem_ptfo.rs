@@ -95,6 +95,7 @@ pub fn label_ptfos(
     let (i, map) = (&d.ingested, &mut d.scenario.map);
     let found = detect_ptfos(&d.grid, &i.frame, &i.plane_fits, map, &detection);
     let found = found.map_err(options)?;
+    d.ptfo_cells = found.ptfos.iter().map(|p| p.patch.clone()).collect();
     let ptfos: Vec<PtfoSpec> = found
         .ptfos
         .into_iter()
@@ -112,6 +113,7 @@ pub fn label_ptfos(
         saddle_cells: found.saddle_cells,
         patches: found.patches,
         ptfos: ptfos.len(),
+        cells: d.ptfo_cells.iter().map(Vec::len).collect(),
         dropped: found.dropped,
     };
     if !ptfos.is_empty() {

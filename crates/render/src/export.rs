@@ -1,12 +1,16 @@
-//! Plans exported for other tools (issues 16, 34): the chosen class's taut tether, anchors,
-//! waypoints, ascent and descent, and every other class's tether, as FlatGeobuf, GeoJSON or CSV.
+//! Results exported for other tools (issues 16, 34) as FlatGeobuf, GeoJSON or CSV, all through
+//! one writer per format over [`Feature`]s: a plan (the chosen class's taut tether, anchors,
+//! waypoints, ascent and descent, and every other class's tether: [`plan_features`]) and an
+//! online run (the path travelled, the final ascent, one point per timeline event:
+//! [`online_features`]).
 //! For scenarios made from a DEM ([`rappel::georeference`]) coordinates are the DEM's own
 //! `(east, north)`, so a plan lays over the DEM in a GIS; otherwise they are planning-frame
 //! coordinates, and the file says so.
 //!
-//! FlatGeobuf (`.fgb`, the format that carries **any** CRS): one layer `rappel_plan` of mixed
-//! `LineString` and `Point` features with columns `layer`, `class`, and the anchors' `index`,
-//! `psi_deg`, `obstacle`; the CRS in the header: `EPSG` and its code, or the DEM's WKT, or a
+//! FlatGeobuf (`.fgb`, the format that carries **any** CRS): one layer (`rappel_plan`,
+//! `rappel_online`) of mixed `LineString` and `Point` features with columns `layer`, `class`,
+//! and the points' properties (anchors' `index`, `psi_deg`, `obstacle`; events' `step`,
+//! `change`, `case`, `decision`, `travelled_m`, `backtracked_m`); the CRS in the header: `EPSG` and its code, or the DEM's WKT, or a
 //! `LOCAL_CS` naming the planning frame or "CRS unknown" ([`export_crs`]). GDAL and QGIS read it.
 //!
 //! GeoJSON: a `FeatureCollection` of the same features and properties. RFC 7946 means WGS 84
@@ -15,13 +19,14 @@
 //! `rappel_crs` holding the DEM's WKT (GDAL ignores it: use the FlatGeobuf export), and a
 //! `rappel_note` saying so. CSV: one row per vertex, `layer,class,index,x,y,psi_deg,obstacle` and,
 //! when georeferenced, `east,north`; `class` is the integer rank, anchors fill `psi_deg` and
-//! `obstacle`.
+//! `obstacle` (events' other properties are in the FlatGeobuf and GeoJSON exports).
 
 use flatgeobuf::{ColumnType, FgbCrs, FgbWriter, FgbWriterOptions, GeometryType};
 use geozero::{ColumnValue, GeomProcessor, GeozeroGeometry, PropertyProcessor};
 use nalgebra::Point2;
 use rappel::georeference::Georeference;
 use rappel::plan::PlanReport;
+use rappel::planners::online::SimulationReport;
 use rappel_terrain::crs::{Crs, PLANNING_FRAME_NAME, UNKNOWN_CRS_NAME};
 use serde_json::{Map as JsonMap, Value, json};
 use std::fmt::Write;
@@ -83,7 +88,8 @@ pub enum Geometry {
 /// A named set of planning-frame points with their properties.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Feature {
-    /// `tether`, `anchor`, `waypoint`, `ascent`, `descent`, `start`, `goal`.
+    /// `tether`, `anchor`, `waypoint`, `ascent`, `descent`, `start`, `goal`; `travelled`,
+    /// `event` (online runs).
     pub layer: &'static str,
     /// The class's rank (1 = shortest), when it belongs to one.
     pub class: Option<usize>,
@@ -154,19 +160,84 @@ pub fn plan_features(report: &PlanReport) -> Vec<Feature> {
         out.push(line("ascent", Some(pair.rank), &pair.ascent));
         out.push(line("descent", Some(pair.rank), &pair.descent));
     }
-    for (layer, p) in [
-        ("start", report.setting.start),
-        ("goal", report.setting.goal),
-    ] {
-        out.push(Feature {
-            layer,
-            class: None,
-            geometry: Geometry::Points,
-            points: vec![p],
-            properties: Vec::new(),
-        });
-    }
+    out.extend(end_points(report.setting.start, report.setting.goal));
     out
+}
+
+/// The features of an online run (`rappel online`): the path travelled, the final selected
+/// ascent (goal to start, when a class was selected), one point per timeline event where the
+/// robot was (properties `step`, `change`, `case`, `decision`, `travelled_m`,
+/// `backtracked_m`), and the start and the goal.
+///
+/// ```
+/// use rappel::planners::online::SimulationOptions;
+/// use rappel::scenario::Scenario;
+/// use rappel_render::export::online_features;
+/// let prior = Scenario::from_ron_str(r#"(
+///     map: (boundary: [(0.0, 0.0), (20.0, 0.0), (20.0, 40.0), (0.0, 40.0)], obstacles: []),
+///     start: (10.0, 38.0), goal: (10.0, 2.0))"#).unwrap();
+/// let mut truth = prior.clone();
+/// truth.map.obstacles.push(rappel::geometry::polygon::Polygon::rectangle(9.0, 20.0, 2.0, 1.0));
+/// let run = rappel::online::run(&prior, &truth, &SimulationOptions::default(), &mut |_, _| {}).unwrap();
+/// let f = online_features(&run.report, prior.start, prior.goal);
+/// assert_eq!(f.iter().filter(|f| f.layer == "event").map(|f| f.points.len()).sum::<usize>(), run.report.timeline.len());
+/// ```
+pub fn online_features(
+    report: &SimulationReport,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+) -> Vec<Feature> {
+    // An enum as its name: a plain string, or the tag of an internally tagged object
+    // (`{"decision": "switched", "backtrack_m": ..}` is `switched`), else its JSON text.
+    let text = |v: serde_json::Result<Value>, tag: &str| match v {
+        Ok(Value::String(s)) => json!(s),
+        Ok(Value::Object(o)) if o.get(tag).is_some_and(Value::is_string) => o[tag].clone(),
+        Ok(other) => json!(other.to_string()),
+        Err(_) => Value::Null,
+    };
+    let mut out = vec![line("travelled", None, &report.travelled)];
+    if !report.ascent.is_empty() {
+        out.push(line("ascent", None, &report.ascent));
+    }
+    out.push(Feature {
+        layer: "event",
+        class: None,
+        geometry: Geometry::Points,
+        points: report.timeline.iter().map(|e| e.robot).collect(),
+        properties: report
+            .timeline
+            .iter()
+            .map(|e| {
+                let mut m = JsonMap::new();
+                m.insert("step".into(), json!(e.step));
+                m.insert(
+                    "change".into(),
+                    text(serde_json::to_value(&e.outcome.change), "change"),
+                );
+                m.insert("case".into(), json!(e.outcome.case.describe()));
+                m.insert(
+                    "decision".into(),
+                    text(serde_json::to_value(&e.outcome.decision), "decision"),
+                );
+                m.insert("travelled_m".into(), json!(e.travelled_m));
+                m.insert("backtracked_m".into(), json!(e.backtracked_m));
+                m
+            })
+            .collect(),
+    });
+    out.extend(end_points(start, goal));
+    out
+}
+
+/// The start and the goal as point features.
+fn end_points(start: Point2<f64>, goal: Point2<f64>) -> [Feature; 2] {
+    [("start", start), ("goal", goal)].map(|(layer, p)| Feature {
+        layer,
+        class: None,
+        geometry: Geometry::Points,
+        points: vec![p],
+        properties: Vec::new(),
+    })
 }
 
 /// `[x, y]` of a planning-frame point in the output's coordinates.
@@ -346,10 +417,13 @@ fn fgb_value(v: &Value, t: ColumnType) -> Option<ColumnValue<'_>> {
     }
 }
 
-/// The features as a FlatGeobuf file in [`export_crs`] (module docs).
+/// The features as a FlatGeobuf file in [`export_crs`] (module docs), one layer named `layer`
+/// described by `about`.
 pub fn flatgeobuf(
     features: &[Feature],
     geo: Option<&Georeference>,
+    layer: &str,
+    about: &str,
 ) -> Result<Vec<u8>, ExportError> {
     fn err(e: impl std::fmt::Display) -> ExportError {
         ExportError::FlatGeobuf(e.to_string())
@@ -372,11 +446,11 @@ pub fn flatgeobuf(
             name: Some(&description),
             ..Default::default()
         },
-        description: Some("rappel plan: tethers, anchors, waypoints, ascent, descent, start, goal"),
+        description: Some(about),
         ..Default::default()
     };
-    let mut fgb = FgbWriter::create_with_options("rappel_plan", GeometryType::Unknown, options)
-        .map_err(err)?;
+    let mut fgb =
+        FgbWriter::create_with_options(layer, GeometryType::Unknown, options).map_err(err)?;
     let columns = fgb_columns(features);
     for (name, t) in &columns {
         fgb.add_column(name, *t, |_, c| c.nullable = true);
@@ -422,10 +496,74 @@ pub fn export_plan(
     geo: Option<&Georeference>,
     format: ExportFormat,
 ) -> Result<Vec<u8>, ExportError> {
-    let f = plan_features(report);
+    export_features(
+        &plan_features(report),
+        geo,
+        format,
+        "rappel_plan",
+        "rappel plan: tethers, anchors, waypoints, ascent, descent, start, goal",
+    )
+}
+
+/// An online run in `format` (see [`online_features`]; `start` and `goal` are the scenario's),
+/// as the file's bytes.
+pub fn export_online(
+    report: &SimulationReport,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+    geo: Option<&Georeference>,
+    format: ExportFormat,
+) -> Result<Vec<u8>, ExportError> {
+    export_features(
+        &online_features(report, start, goal),
+        geo,
+        format,
+        "rappel_online",
+        "rappel online: path travelled, final ascent, timeline events, start, goal",
+    )
+}
+
+/// Features in `format` as the file's bytes (`layer` and `description` name the FlatGeobuf
+/// layer).
+pub fn export_features(
+    features: &[Feature],
+    geo: Option<&Georeference>,
+    format: ExportFormat,
+    layer: &str,
+    description: &str,
+) -> Result<Vec<u8>, ExportError> {
     Ok(match format {
-        ExportFormat::FlatGeobuf => flatgeobuf(&f, geo)?,
-        ExportFormat::GeoJson => geojson(&f, geo).into_bytes(),
-        ExportFormat::Csv => csv(&f, geo).into_bytes(),
+        ExportFormat::FlatGeobuf => flatgeobuf(features, geo, layer, description)?,
+        ExportFormat::GeoJson => geojson(features, geo).into_bytes(),
+        ExportFormat::Csv => csv(features, geo).into_bytes(),
     })
+}
+
+/// The one line an export says about its CRS: the CRS written ([`export_crs`], described), and
+/// for GeoJSON whether readers see it (only an EPSG code, in the 2008 `crs` member).
+///
+/// ```
+/// use rappel_render::export::{ExportFormat, crs_note};
+/// assert!(crs_note(None, ExportFormat::FlatGeobuf).starts_with("LOCAL_CS \"rappel planning frame"));
+/// assert!(crs_note(None, ExportFormat::Csv).ends_with("(x, y columns; CSV carries no CRS)"));
+/// assert!(crs_note(None, ExportFormat::GeoJson).contains("rappel_frame"));
+/// ```
+pub fn crs_note(geo: Option<&Georeference>, format: ExportFormat) -> String {
+    let crs = export_crs(geo);
+    let described = crs.describe();
+    match (format, geo, &crs) {
+        (ExportFormat::GeoJson, None, _) => {
+            format!("{described} (GeoJSON: named in rappel_frame; readers will assume WGS 84)")
+        }
+        (ExportFormat::GeoJson, Some(_), Crs::Wkt(_)) => format!(
+            "{described} (GeoJSON readers assume WGS 84: the WKT is in rappel_crs; use .fgb to carry it)"
+        ),
+        (ExportFormat::Csv, Some(_), _) => {
+            format!("{described} (east, north columns; CSV carries no CRS)")
+        }
+        (ExportFormat::Csv, None, _) => {
+            format!("{described} (x, y columns; CSV carries no CRS)")
+        }
+        _ => described,
+    }
 }

@@ -289,6 +289,69 @@ impl GeoKeyDirectory {
         }
     }
 
+    /// The keys present that the CRS read from them ([`GeoKeyDirectory::to_crs`]) does not use,
+    /// one message each naming the key, its value and why it is not used (nothing is ignored
+    /// silently; `rappel dem` prints them as warnings):
+    /// - vertical CRS keys (4096-4099): heights are used as stored, in metres; the vertical
+    ///   datum and unit are not kept;
+    /// - projection parameters (3078-3095) the projection read does not take, or any of them
+    ///   when the system is an EPSG code, an ESRI WKT citation or a local grid;
+    /// - a linear unit other than the metre: the CRS keeps it, but cell sizes and heights are
+    ///   taken as metres.
+    ///
+    /// ```
+    /// use rappel_terrain::crs::GeoKeyDirectory;
+    /// // Projected EPSG:32611 with VerticalCSTypeGeoKey = 5773 (EGM96 height).
+    /// let dir = [1, 1, 0, 3, 1024, 0, 1, 1, 3072, 0, 1, 32611, 4096, 0, 1, 5773];
+    /// let keys = GeoKeyDirectory::parse(&dir, &[], "").unwrap();
+    /// let ignored = keys.ignored_keys();
+    /// assert_eq!(ignored.len(), 1);
+    /// assert!(ignored[0].starts_with("GeoKey VerticalCSTypeGeoKey (4096) = 5773 ignored"), "{}", ignored[0]);
+    /// ```
+    pub fn ignored_keys(&self) -> Vec<String> {
+        let code = |id| self.short(id).filter(|&c| c != 0 && c != USER_DEFINED);
+        let esri = [key::CITATION, key::PCS_CITATION].iter().any(|&id| {
+            self.text(id)
+                .is_some_and(|t| t.starts_with("ESRI PE String = "))
+        });
+        let projected_by_keys = !esri
+            && code(key::PROJECTED_CS_TYPE).is_none()
+            && self.short(key::MODEL_TYPE) == Some(1);
+        let taken: &[(&str, u16, f64)] = match self
+            .short(key::COORD_TRANS)
+            .and_then(|ct| PROJECTIONS.iter().find(|p| p.coord_trans == ct))
+        {
+            Some(p) if projected_by_keys => p.params,
+            _ => &[],
+        };
+        let mut out = Vec::new();
+        // One pass over the directory's keys (at most u16::MAX entries, its count field).
+        for (id, value) in &self.keys {
+            let why = match *id {
+                4096..=4099 => {
+                    "a vertical CRS key: heights are used as stored, taken as metres; the vertical datum and unit are not kept"
+                }
+                3078..=3095 if !taken.iter().any(|(_, k, _)| k == id) => {
+                    "a projection parameter the CRS read from these keys does not take (its EPSG code or its projection defines the system)"
+                }
+                key::LINEAR_UNITS if self.short(key::LINEAR_UNITS) != Some(9001) => {
+                    "the CRS keeps this unit, but rappel takes cell sizes and heights as metres: convert the DEM to metres (gdalwarp -t_srs with +units=m, gdal_calc for heights)"
+                }
+                _ => continue,
+            };
+            let value = match value {
+                GeoKeyValue::Short(v) => v.to_string(),
+                GeoKeyValue::Double(d) => d.iter().map(|v| num(*v)).collect::<Vec<_>>().join(", "),
+                GeoKeyValue::Ascii(t) => format!("\"{t}\""),
+            };
+            out.push(format!(
+                "GeoKey {} ({id}) = {value} ignored: {why}",
+                key_name(*id)
+            ));
+        }
+        out
+    }
+
     /// `true` when `GTRasterTypeGeoKey` says `RasterPixelIsPoint`.
     pub fn pixel_is_point(&self) -> bool {
         self.short(key::RASTER_TYPE) == Some(2)
@@ -513,6 +576,36 @@ impl GeoKeyDirectory {
             quote(p.wkt_name),
             self.linear_unit_wkt()?
         ))
+    }
+}
+
+/// The GeoTIFF 1.1 name of the keys [`GeoKeyDirectory::ignored_keys`] reports.
+fn key_name(id: u16) -> &'static str {
+    match id {
+        3076 => "ProjLinearUnitsGeoKey",
+        3078 => "ProjStdParallel1GeoKey",
+        3079 => "ProjStdParallel2GeoKey",
+        3080 => "ProjNatOriginLongGeoKey",
+        3081 => "ProjNatOriginLatGeoKey",
+        3082 => "ProjFalseEastingGeoKey",
+        3083 => "ProjFalseNorthingGeoKey",
+        3084 => "ProjFalseOriginLongGeoKey",
+        3085 => "ProjFalseOriginLatGeoKey",
+        3086 => "ProjFalseOriginEastingGeoKey",
+        3087 => "ProjFalseOriginNorthingGeoKey",
+        3088 => "ProjCenterLongGeoKey",
+        3089 => "ProjCenterLatGeoKey",
+        3090 => "ProjCenterEastingGeoKey",
+        3091 => "ProjCenterNorthingGeoKey",
+        3092 => "ProjScaleAtNatOriginGeoKey",
+        3093 => "ProjScaleAtCenterGeoKey",
+        3094 => "ProjAzimuthAngleGeoKey",
+        3095 => "ProjStraightVertPoleLongGeoKey",
+        4096 => "VerticalCSTypeGeoKey",
+        4097 => "VerticalCitationGeoKey",
+        4098 => "VerticalDatumGeoKey",
+        4099 => "VerticalUnitsGeoKey",
+        _ => "GeoKey",
     }
 }
 

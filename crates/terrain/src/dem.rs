@@ -76,6 +76,31 @@ const MAX_PRJ_BYTES: u64 = 64 * 1024;
 /// assert_eq!(dem_crs(path.as_ref()).unwrap(), None);
 /// ```
 pub fn dem_crs(path: &Path) -> Result<Option<String>, DemError> {
+    read_dem_crs(path).map(|c| c.crs)
+}
+
+/// A DEM's coordinate reference system and the GeoKeys its file holds that the CRS does not use.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DemCrs {
+    /// `EPSG:n` or a WKT; `None` when the file declares none.
+    pub crs: Option<String>,
+    /// One message per GeoKey present and not used
+    /// ([`crate::crs::GeoKeyDirectory::ignored_keys`]); empty for an ESRI ASCII grid.
+    pub ignored: Vec<String>,
+}
+
+/// [`dem_crs`] with the GeoKeys present that it does not use (vertical CRS keys, projection
+/// parameters the system does not take, a linear unit other than the metre), so a caller can
+/// say so.
+///
+/// ```
+/// use rappel_terrain::dem::read_dem_crs;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/earth_mt_st_helens_utm10n.tif");
+/// let c = read_dem_crs(path.as_ref()).unwrap();
+/// assert_eq!(c.crs.as_deref(), Some("EPSG:32610"));
+/// assert!(c.ignored.is_empty());
+/// ```
+pub fn read_dem_crs(path: &Path) -> Result<DemCrs, DemError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -83,8 +108,11 @@ pub fn dem_crs(path: &Path) -> Result<Option<String>, DemError> {
     match ext.as_deref() {
         Some("tif") | Some("tiff") => {
             let (file, _) = crate::input::open_input(path, crate::input::max_input_bytes()?)?;
-            crate::geotiff::geotiff_crs(std::io::BufReader::new(file))
-                .map(|c| c.map(|c| c.to_string()))
+            crate::geotiff::geotiff_crs_and_ignored(std::io::BufReader::new(file))
+                .map(|(c, ignored)| DemCrs {
+                    crs: c.map(|c| c.to_string()),
+                    ignored,
+                })
                 .map_err(|source| DemError::GeoTiff {
                     path: path.to_path_buf(),
                     source,
@@ -93,14 +121,17 @@ pub fn dem_crs(path: &Path) -> Result<Option<String>, DemError> {
         Some("asc") => {
             let prj = path.with_extension("prj");
             if !prj.exists() {
-                return Ok(None);
+                return Ok(DemCrs::default());
             }
             let (file, _) = crate::input::open_input(&prj, crate::input::max_input_bytes()?)?;
             let mut text = String::new();
             std::io::Read::read_to_string(&mut std::io::Read::take(file, MAX_PRJ_BYTES), &mut text)
                 .map_err(|source| DemError::Io { path: prj, source })?;
             let text = text.trim();
-            Ok((!text.is_empty()).then(|| text.to_string()))
+            Ok(DemCrs {
+                crs: (!text.is_empty()).then(|| text.to_string()),
+                ignored: Vec::new(),
+            })
         }
         _ => Err(DemError::UnknownFormat {
             path: path.to_path_buf(),

@@ -195,10 +195,27 @@ fn geokeys<R: Read + Seek>(dec: &mut Decoder<R>) -> Result<Option<GeoKeyDirector
 /// assert!(crs.to_string().starts_with("LOCAL_CS[\"unnamed\""), "{crs}");
 /// ```
 pub fn geotiff_crs<R: Read + Seek>(reader: R) -> Result<Option<Crs>, GeoTiffError> {
+    geotiff_crs_and_ignored(reader).map(|(crs, _)| crs)
+}
+
+/// [`geotiff_crs`] with the GeoKeys present that it does not use, one message each
+/// ([`crate::crs::GeoKeyDirectory::ignored_keys`]: vertical CRS keys, projection parameters the
+/// system does not take, a linear unit other than the metre).
+///
+/// ```
+/// use rappel_terrain::geotiff::geotiff_crs_and_ignored;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/terrain/earth_mt_st_helens_utm10n.tif");
+/// let (crs, ignored) = geotiff_crs_and_ignored(std::fs::File::open(path).unwrap()).unwrap();
+/// assert_eq!(crs.unwrap().to_string(), "EPSG:32610");
+/// assert!(ignored.is_empty(), "{ignored:?}");
+/// ```
+pub fn geotiff_crs_and_ignored<R: Read + Seek>(
+    reader: R,
+) -> Result<(Option<Crs>, Vec<String>), GeoTiffError> {
     let mut dec = Decoder::new(reader)?;
     match geokeys(&mut dec)? {
-        Some(keys) => Ok(keys.to_crs()?),
-        None => Ok(None),
+        Some(keys) => Ok((keys.to_crs()?, keys.ignored_keys())),
+        None => Ok((None, Vec::new())),
     }
 }
 

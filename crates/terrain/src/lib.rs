@@ -28,6 +28,7 @@ pub mod least_squares;
 pub mod mesh;
 #[cfg(feature = "mesh")]
 pub mod mesh_file;
+pub mod mesh_raster;
 pub mod multi_slope;
 pub mod obstacle_detection;
 #[cfg(feature = "mesh")]
@@ -37,6 +38,8 @@ pub mod plane_class;
 pub mod plane_fit;
 pub mod plane_series;
 pub mod plane_series_terrain;
+#[cfg(feature = "mesh")]
+pub mod point_cloud;
 pub mod sdf;
 pub mod slope;
 pub mod sparse_sdf;

@@ -248,3 +248,83 @@ fn negative_option_values_are_judged_by_their_option() {
     );
     assert!(!out.exists());
 }
+
+/// Meshes and point clouds into `rappel dem`: their options are refused where they do not
+/// apply, and required where they do, each with one located error and exit code 2; a bad mesh
+/// is the mesh reader's error.
+#[test]
+fn mesh_and_point_cloud_options_are_checked() {
+    let dir = temp_dir("dem-gridded");
+    let out = dir.join("s.ron");
+    let o = out.to_str().unwrap_or_default();
+    let tif = fixture("terrain/earth_mt_st_helens_utm10n.tif");
+    let laz = fixture("lidar/boulder_slope_utm10n.laz");
+    let obj = dir.join("ramp.obj");
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 40 0 0\nv 40 60 48\nv 0 60 48\nf 1 2 3\nf 1 3 4\n",
+    )
+    .expect("OBJ");
+    let obj = obj.to_str().unwrap_or_default();
+    check_error(&["dem", &tif, "--out", o, "--cell", "1"], "--cell: ");
+    check_error(&["dem", &tif, "--out", o, "--crs", "EPSG:4326"], "--crs: ");
+    check_error(
+        &["dem", &tif, "--out", o, "--grid-out", "g.tif"],
+        "--grid-out: ",
+    );
+    check_error(
+        &["dem", obj, "--out", o],
+        "give the cell size with --cell M",
+    );
+    check_error(
+        &["dem", obj, "--out", o, "--cell", "1", "--crs", "EPSG:north"],
+        "the EPSG code is not a positive integer",
+    );
+    check_error(
+        &["dem", obj, "--out", o, "--cell", "1", "--crs", "Mars"],
+        "not EPSG:N, a WKT 1",
+    );
+    check_error(&["dem", obj, "--out", o, "--cell", "0"], "cell size 0");
+    check_error(
+        &["dem", obj, "--out", o, "--cell", "1", "--statistic", "max"],
+        "is not a point cloud",
+    );
+    check_error(
+        &[
+            "dem",
+            &laz,
+            "--out",
+            o,
+            "--cell",
+            "1",
+            "--statistic",
+            "median",
+        ],
+        "--statistic median: use max or mean",
+    );
+    check_error(
+        &["dem", &laz, "--out", o, "--cell", "1", "--crs", "EPSG:4326"],
+        "declares its CRS (EPSG:32610)",
+    );
+    check_error(
+        &[
+            "dem",
+            &fixture("hostile/mesh-non-manifold.obj"),
+            "--out",
+            o,
+            "--cell",
+            "1",
+        ],
+        "mesh-non-manifold.obj",
+    );
+    assert!(!out.exists(), "no scenario written on bad input");
+    // A mesh with its CRS: the grid written beside the scenario by default.
+    let ok = rappel(&["dem", obj, "--out", o, "--cell", "2", "--crs", "EPSG:32610"]);
+    assert_eq!(ok.status.code(), Some(0), "{}", stderr(&ok));
+    assert!(dir.join("s.dem.tif").exists());
+    assert!(
+        stdout(&ok).contains("crs                EPSG:32610"),
+        "{}",
+        stdout(&ok)
+    );
+}

@@ -8,6 +8,7 @@ mod ground_along;
 mod ground_below;
 mod mesh_file;
 mod parry_mesh;
+mod point_cloud;
 mod sparse_sdf;
 mod surfaces;
 mod terrain_distance;
