@@ -28,13 +28,13 @@
 //! leaves an *arrival*: its apex `s` with length `g(s)`, reaching every mouth point `x` with
 //! `g(s) + |s - x|` along a free straight segment. [`is_covered_with`] also accepts a funnel when
 //! the part of the mouth the endpoints leave uncovered (one interval, by the monotonicity above)
-//! is covered by an arrival. Where `g(p) + |p - x| = g(s) + |s - x| + delta` is a branch of a
-//! hyperbola with foci `p` and `s`; squaring twice turns it into a quadratic in the mouth's
+//! is covered by an arrival. The boundary `g(p) + |p - x| = g(s) + |s - x| + delta` is a branch
+//! of a hyperbola with foci `p` and `s`; squaring twice turns it into a quadratic in the mouth's
 //! parameter whose roots include every point where the arrival's excess changes sign, so when
 //! none lies in the interval (widened by [`PARAMETER_SLACK`]) the excess has one sign there and
 //! the middle decides. Every numerically doubtful case (a vanishing leading coefficient, a
-//! non-finite value) keeps the funnel. [`ArrivalStore`] keeps one arrival per edge per query, the
-//! one reaching the mouth's middle first.
+//! non-finite value) keeps the funnel. The arrival store (`ArrivalStore`) keeps one arrival per
+//! edge per query, the one reaching the mouth's middle first.
 //!
 //! Because the covering path may lie in another homotopy class, the test is valid only where one
 //! class is wanted: the globally shortest path (the goal-less map, or the SPT search with a class
@@ -103,7 +103,7 @@ pub struct Arrival {
 /// Relative width by which the computed interval ends are widened before the arrival's part of the
 /// test, and below which a quadratic's leading coefficient counts as vanishing (the test then
 /// answers `false`).
-const PARAMETER_SLACK: f64 = 1e-9;
+pub const PARAMETER_SLACK: f64 = 1e-9;
 
 /// [`is_covered`] with a third cover: a point that sees the whole mouth (module docs). `true`
 /// only when every point of the mouth is covered by one of the three with the margin; every
