@@ -758,9 +758,13 @@ impl RoverProblem {
         termination: Termination,
         stop: &StopCondition,
     ) -> Result<PlannerStatus<RoverState, AnchorHistory>, String> {
-        if !self.root.iter().all(|c| c.is_finite()) {
-            return Err("the root anchor is not finite".into());
-        }
+        self.solve_with(self.settings(seed)?, termination, stop)
+    }
+
+    /// The planner settings [`RoverProblem::solve`] uses with `seed`: [`rover_settings`], the
+    /// shadow bias of [`RoverProblem::shadow_sample_fraction`] and with it
+    /// [`SHADOW_RGG_K_FACTOR`].
+    pub fn settings(&self, seed: u64) -> Result<AbitSettings, String> {
         let mut settings = rover_settings(seed)
             .with_biased_sample_fraction(self.shadow_sample_fraction)
             .map_err(|e| e.to_string())?;
@@ -768,6 +772,20 @@ impl RoverProblem {
             settings = settings
                 .with_rgg_k_factor(SHADOW_RGG_K_FACTOR)
                 .map_err(|e| e.to_string())?;
+        }
+        Ok(settings)
+    }
+
+    /// [`RoverProblem::solve_until`] with the planner settings given (for studies of the
+    /// settings; [`RoverProblem::settings`] gives the default ones).
+    pub fn solve_with(
+        &self,
+        settings: AbitSettings,
+        termination: Termination,
+        stop: &StopCondition,
+    ) -> Result<PlannerStatus<RoverState, AnchorHistory>, String> {
+        if !self.root.iter().all(|c| c.is_finite()) {
+            return Err("the root anchor is not finite".into());
         }
         let run = PlanningRun {
             problem: self,

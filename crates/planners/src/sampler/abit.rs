@@ -108,6 +108,37 @@ pub struct PlannerStatus<S, H> {
     /// flag ended the last [`Abit::solve_until`] (`None` for the cost threshold, and outside
     /// `solve`). A cancel has no [`Stop`] (`stopped_by` is then `None`).
     pub stop_reason: Option<StopReason>,
+    /// Where the iterations went.
+    pub counters: AbitCounters,
+}
+
+/// Where the iterations of a run went (`docs/sampler.md`, "Where the iterations go"): every
+/// iteration is a search start or one popped edge, and every popped edge ends in exactly one
+/// of the edge outcomes below.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct AbitCounters {
+    /// Searches started (the greedy search of a batch, or its final search).
+    pub searches: u64,
+    /// States expanded (their outgoing edges queued).
+    pub expansions: u64,
+    /// Popped tree edges (`v` already the parent of `x`): the child re-expanded if needed.
+    pub tree_edges: u64,
+    /// Popped edges dropped unevaluated by truncation (they cannot improve the solution).
+    pub truncated: u64,
+    /// Popped edges dropped unevaluated because their child is already reached more cheaply.
+    pub covered: u64,
+    /// Popped edges whose motion was checked for the first time and found valid.
+    pub checks_valid: u64,
+    /// Popped edges whose motion was checked for the first time and found invalid.
+    pub checks_invalid: u64,
+    /// Popped edges whose motion (or the same geometric motion) was already checked.
+    pub checks_cached: u64,
+    /// Valid motions that did not improve their child or could not improve the solution.
+    pub no_improvement: u64,
+    /// Valid improving motions refused for their history (no rewiring across histories).
+    pub history_refused: u64,
+    /// Edges added to the tree.
+    pub edges_added: u64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -160,6 +191,7 @@ where
     iterations: u64,
     batches: u64,
     biased_samples: u64,
+    counters: AbitCounters,
     events: Vec<SolutionEvent>,
     created: Instant,
     /// The wall-time limit of the running [`Abit::solve`], checked between samples of a batch.
@@ -213,6 +245,7 @@ where
             iterations: 0,
             batches: 0,
             biased_samples: 0,
+            counters: AbitCounters::default(),
             events: Vec::new(),
             created: Instant::now(),
             deadline: None,
@@ -345,6 +378,7 @@ where
             events: self.events.clone(),
             stopped_by: None,
             stop_reason: None,
+            counters: self.counters,
         }
     }
 
@@ -401,6 +435,7 @@ where
         self.expanded_at
             .resize(self.graph.nodes.len(), f64::INFINITY);
         self.truncation = 1.0 + self.settings.truncation_scaling / self.n();
+        self.counters.searches += 1;
         self.expand(self.start);
     }
 
@@ -410,6 +445,7 @@ where
     fn expand(&mut self, v: u32) {
         let gv = self.graph.nodes[v as usize].g;
         self.expanded_at[v as usize] = gv;
+        self.counters.expansions += 1;
         for i in 0..self.graph.nodes[v as usize].children.len() {
             let x = self.graph.nodes[v as usize].children[i];
             let key = gv + self.c_hat(v, x) + self.inflation * self.h(x);
@@ -501,6 +537,7 @@ where
     fn process(&mut self, v: u32, x: u32) {
         let gv = self.graph.nodes[v as usize].g;
         if self.graph.nodes[x as usize].parent == Some(v) {
+            self.counters.tree_edges += 1;
             if self.expanded_at[x as usize] > self.graph.nodes[x as usize].g {
                 self.expand(x);
             }
@@ -509,7 +546,12 @@ where
         let gx = self.graph.nodes[x as usize].g;
         let c_hat = self.c_hat(v, x);
         let h = self.h(x);
-        if self.truncation * (gv + c_hat + h) >= self.best_cost || gv + c_hat >= gx {
+        if self.truncation * (gv + c_hat + h) >= self.best_cost {
+            self.counters.truncated += 1;
+            return;
+        }
+        if gv + c_hat >= gx {
+            self.counters.covered += 1;
             return;
         }
         let Some((c, hist)) = self.motion(v, x) else {
@@ -517,6 +559,7 @@ where
         };
         let g_new = gv + c;
         if g_new + h >= self.best_cost || g_new >= gx {
+            self.counters.no_improvement += 1;
             return;
         }
         let node = &self.graph.nodes[x as usize];
@@ -540,8 +583,10 @@ where
             None => true,
         };
         if !accept {
+            self.counters.history_refused += 1;
             return;
         }
+        self.counters.edges_added += 1;
         if !node.in_tree() {
             self.graph.nodes[x as usize].history = Some(hist);
         }
@@ -552,6 +597,7 @@ where
 
     fn motion(&mut self, v: u32, x: u32) -> Motion<V::History> {
         if let Some(m) = self.motions.get(&(v, x)) {
+            self.counters.checks_cached += 1;
             return m.clone();
         }
         let nv = &self.graph.nodes[v as usize];
@@ -561,6 +607,11 @@ where
                 .motion(&nv.state, hv, &self.graph.nodes[x as usize].state),
             None => None,
         };
+        if m.is_some() {
+            self.counters.checks_valid += 1;
+        } else {
+            self.counters.checks_invalid += 1;
+        }
         self.motions.insert((v, x), m.clone());
         m
     }
