@@ -187,7 +187,10 @@ where
     best_goal: Option<u32>,
     inflation: f64,
     truncation: f64,
-    search_in_batch: u32,
+    /// The running search is the batch's final (uninflated) one (OMPL's `isFinalSearchOnBatch_`).
+    final_search: bool,
+    /// The running search met an edge that truncation drops: it is over (OMPL's `isSearchDone_`).
+    search_done: bool,
     iterations: u64,
     batches: u64,
     biased_samples: u64,
@@ -241,7 +244,8 @@ where
             best_goal: None,
             inflation: 1.0,
             truncation: 1.0,
-            search_in_batch: 0,
+            final_search: false,
+            search_done: false,
             iterations: 0,
             batches: 0,
             biased_samples: 0,
@@ -382,16 +386,17 @@ where
         }
     }
 
-    /// One iteration: process the best edge, or start the next search when the queue is empty.
+    /// One iteration: process the best edge, or start the next search when the queue is empty
+    /// or the search is done (its best edge could not improve the solution).
     pub fn iterate(&mut self) -> Result<(), AbitError> {
         self.iterations += 1;
-        match self.queue.pop() {
-            Some(Reverse((_, v, x))) => {
-                self.process(v, x);
-                Ok(())
-            }
-            None => self.next_search(),
+        if !self.search_done
+            && let Some(Reverse((_, v, x))) = self.queue.pop()
+        {
+            self.process(v, x);
+            return Ok(());
         }
+        self.next_search()
     }
 
     fn n(&self) -> f64 {
@@ -416,15 +421,18 @@ where
         )
     }
 
-    /// The queue ran empty: the next search of this batch with a smaller inflation, or a new
-    /// batch searched greedily again.
+    /// The search is over (OMPL's `BITstar::iterate`): after the batch's final search, or when
+    /// no solution exists yet, a new batch searched greedily from the start; otherwise the
+    /// batch's final search with the inflation `1 + inflation_scaling / n`.
     fn next_search(&mut self) -> Result<(), AbitError> {
-        if self.search_in_batch == 0 {
-            self.search_in_batch = 1;
-            self.inflation = 1.0 + self.settings.inflation_scaling / self.n();
-        } else {
+        if self.final_search || !self.best_cost.is_finite() {
             self.new_batch()?;
+            self.final_search = false;
+        } else {
+            self.inflation = 1.0 + self.settings.inflation_scaling / self.n();
+            self.final_search = true;
         }
+        self.search_done = false;
         self.restart_search();
         Ok(())
     }
@@ -547,7 +555,9 @@ where
         let c_hat = self.c_hat(v, x);
         let h = self.h(x);
         if self.truncation * (gv + c_hat + h) >= self.best_cost {
+            // The best edge cannot improve the solution: the search is done (OMPL).
             self.counters.truncated += 1;
+            self.search_done = true;
             return;
         }
         if gv + c_hat >= gx {
@@ -649,7 +659,6 @@ where
     /// Adds one batch of valid samples (informed once a solution exists).
     fn new_batch(&mut self) -> Result<(), AbitError> {
         self.batches += 1;
-        self.search_in_batch = 0;
         self.inflation = self.settings.initial_inflation;
         let start_state = self.graph.nodes[self.start as usize].state.clone();
         for _ in 0..self.settings.batch_size {
