@@ -191,6 +191,9 @@ where
     final_search: bool,
     /// The running search met an edge that truncation drops: it is over (OMPL's `isSearchDone_`).
     search_done: bool,
+    /// States improved after their expansion in this batch's searches (OMPL's inconsistent
+    /// set): the final search expands them again instead of restarting from the start.
+    inconsistent: Vec<u32>,
     iterations: u64,
     batches: u64,
     biased_samples: u64,
@@ -246,6 +249,7 @@ where
             truncation: 1.0,
             final_search: false,
             search_done: false,
+            inconsistent: Vec::new(),
             iterations: 0,
             batches: 0,
             biased_samples: 0,
@@ -428,17 +432,40 @@ where
         if self.final_search || !self.best_cost.is_finite() {
             self.new_batch()?;
             self.final_search = false;
+            self.search_done = false;
+            self.restart_search();
         } else {
             self.inflation = 1.0 + self.settings.inflation_scaling / self.n();
             self.final_search = true;
+            self.search_done = false;
+            self.repair_search();
         }
-        self.search_done = false;
-        self.restart_search();
         Ok(())
+    }
+
+    /// The batch's final search (OMPL's `rebuildEdgeQueue` and
+    /// `insertOutgoingEdgesOfInconsistentVertices`): the edges still queued re-keyed with the
+    /// new inflation, and the states whose cost fell after their expansion expanded again. The
+    /// expansions of the batch's greedy search stand.
+    fn repair_search(&mut self) {
+        self.counters.searches += 1;
+        let queued = std::mem::take(&mut self.queue).into_vec();
+        for Reverse((_, v, x)) in queued {
+            let key =
+                self.graph.nodes[v as usize].g + self.c_hat(v, x) + self.inflation * self.h(x);
+            self.queue.push(Reverse((Key(key), v, x)));
+        }
+        for v in std::mem::take(&mut self.inconsistent) {
+            let g = self.graph.nodes[v as usize].g;
+            if self.graph.nodes[v as usize].in_tree() && g < self.expanded_at[v as usize] {
+                self.expand(v);
+            }
+        }
     }
 
     fn restart_search(&mut self) {
         self.queue.clear();
+        self.inconsistent.clear();
         self.expanded_at.clear();
         self.expanded_at
             .resize(self.graph.nodes.len(), f64::INFINITY);
@@ -602,7 +629,12 @@ where
         }
         self.graph.attach(x, v, g_new);
         self.update_solution();
-        self.expand(x);
+        if self.expanded_at[x as usize].is_finite() {
+            // Expanded before in this batch: repaired by the final search (OMPL).
+            self.inconsistent.push(x);
+        } else {
+            self.expand(x);
+        }
     }
 
     fn motion(&mut self, v: u32, x: u32) -> Motion<V::History> {
