@@ -181,6 +181,9 @@ where
     goal_state: S::State,
     goals: Vec<u32>,
     queue: BinaryHeap<Reverse<(Key, u32, u32)>>,
+    /// Checked motions by parent state and the child's location: the states at one location
+    /// (goal copies, history copies) share the geometric motion, which the parent's history
+    /// decides, so it is checked once (OMPL's edge white- and blacklists).
     motions: HashMap<(u32, u32), Motion<V::History>>,
     expanded_at: Vec<f64>,
     best_cost: f64,
@@ -519,7 +522,11 @@ where
             } else {
                 x
             };
-            if matches!(self.motions.get(&(v, x)), Some(None)) {
+            if matches!(
+                self.motions
+                    .get(&(v, self.graph.nodes[x as usize].location)),
+                Some(None)
+            ) {
                 continue;
             }
             self.queue
@@ -638,7 +645,8 @@ where
     }
 
     fn motion(&mut self, v: u32, x: u32) -> Motion<V::History> {
-        if let Some(m) = self.motions.get(&(v, x)) {
+        let edge = (v, self.graph.nodes[x as usize].location);
+        if let Some(m) = self.motions.get(&edge) {
             self.counters.checks_cached += 1;
             return m.clone();
         }
@@ -654,7 +662,7 @@ where
         } else {
             self.counters.checks_invalid += 1;
         }
-        self.motions.insert((v, x), m.clone());
+        self.motions.insert(edge, m.clone());
         m
     }
 
