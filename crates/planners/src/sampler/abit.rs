@@ -4,16 +4,22 @@
 //!
 //! 1. **Batches.** Each batch adds `batch_size` valid samples to the edge-implicit RGG; once a
 //!    solution of cost `c_best` exists they are drawn from the informed set (Gammell et al. 2018).
-//! 2. **Searches.** A batch is searched forward from the start twice: first with the cost-to-go
-//!    inflated by `initial_inflation` (a greedy search that finds a first solution quickly), then
-//!    with `1 + inflation_scaling / n`. The tree persists across searches and batches; a tree edge
-//!    met in the queue just re-expands its child (the repair of ABIT*'s anytime search).
+//! 2. **Searches** (OMPL's `BITstar::iterate`). A batch is first searched forward from the start
+//!    with the cost-to-go inflated by `initial_inflation` (a greedy search that finds a first
+//!    solution quickly). When that search ends without a solution, a new batch is added; with
+//!    one, the batch's final search follows with the inflation `1 + inflation_scaling / n`, and
+//!    after it a new batch. A state expanded in a batch is not expanded again in its searches
+//!    when its cost falls: it joins the *inconsistent* set, and the final search re-keys the
+//!    queue and expands just those states (ABIT*'s repairing search) rather than restarting.
+//!    The tree persists across searches and batches; a tree edge met in the queue re-expands its
+//!    child if the child's cost fell since its expansion.
 //! 3. **Edge queue.** Edges `(v, x)` are ordered by `g(v) + ĉ(v, x) + ε ĥ(x)` (inflated potential
 //!    solution quality; ties by ids, so the order is deterministic).
-//! 4. **Truncation.** An edge whose uninflated `f = g(v) + ĉ + ĥ` satisfies
-//!    `(1 + truncation_scaling / n) f >= c_best` is dropped without evaluation.
+//! 4. **Truncation.** When the best edge's uninflated `f = g(v) + ĉ + ĥ` satisfies
+//!    `(1 + truncation_scaling / n) f >= c_best`, the search is done (the next one starts).
 //! 5. **Lazy evaluation.** Only a popped edge that could still improve its child and the solution
-//!    is checked by [`MotionValidator::motion`], at most once per ordered pair.
+//!    is checked by [`MotionValidator::motion`], at most once per parent and child location (the
+//!    states at a location share the geometric motion).
 //! 6. **Histories.** The motion extends the parent's history; a child whose history is already
 //!    set (in the tree, or copied at sampling) accepts only a parent whose extension equals it:
 //!    no rewiring across incompatible histories. A fraction `history_copy_fraction` of new
