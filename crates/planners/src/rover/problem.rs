@@ -209,6 +209,28 @@ impl StateSpace<4> for RoverSpace {
     }
 }
 
+/// The indices `0..n` in the order OMPL's `DiscreteMotionValidator` checks the states of a
+/// motion: the two ends, then the midpoint of the whole, then the midpoints of its halves, and
+/// so on (breadth first), so an obstacle anywhere along the motion is met after a few checks.
+pub fn bisection_order(n: usize) -> Vec<usize> {
+    let mut order: Vec<usize> = match n {
+        0 => return Vec::new(),
+        1 => return vec![0],
+        _ => vec![0, n - 1],
+    };
+    let mut intervals = std::collections::VecDeque::from([(0, n - 1)]);
+    while let Some((a, b)) = intervals.pop_front() {
+        if b - a < 2 {
+            continue;
+        }
+        let m = a + (b - a) / 2;
+        order.push(m);
+        intervals.push_back((a, m));
+        intervals.push_back((m, b));
+    }
+    order
+}
+
 /// The poses of the motion from `a` to `b` (see the module doc), `a` first and `b` last, each
 /// with the drive length since the previous pose (0 in turns). `None` when it needs more than
 /// [`MAX_MOTION_POSES`] poses.
@@ -390,7 +412,11 @@ impl RoverProblem {
     /// Walks `poses` (each with the drive length since the previous one) from `history` at the
     /// first pose: settles each, checks the height change against [`MAX_CLIMB`], predicts the
     /// anchor history from pivot to pivot and checks every pose's stability with it. The first
-    /// pose is checked too. The error names the first failing pose. On the exact mesh (its
+    /// pose is checked too. The history-free checks (settling, climb) come first, the poses
+    /// settled in bisection order ([`bisection_order`], as OMPL's `DiscreteMotionValidator`
+    /// checks states), so a motion through an obstacle fails without predicting the tether; then
+    /// prediction and stability from the first pose on. The error names the first failing pose
+    /// found in that order. On the exact mesh (its
     /// brute-force distances and triangles: independent of the planner's BVH).
     pub fn walk(
         &self,
@@ -422,39 +448,59 @@ impl RoverProblem {
         memo: Option<&MotionMemo>,
     ) -> Result<Walk, String> {
         let axel = AxelParams::default();
+        let last = poses.len().saturating_sub(1);
+        let at = |k: usize, why: String| {
+            let s = &poses[k].0;
+            format!("pose {k} at ({:.3}, {:.3}): {why}", s.x, s.y)
+        };
+        // The history-free checks: every pose settled, in bisection order.
+        let mut settled: Vec<Option<SettledPose>> = vec![None; poses.len()];
+        for k in bisection_order(poses.len()) {
+            let s = &poses[k].0;
+            let settle = || settle_from(ground, self.z_top, s.x, s.y, s.yaw.to_degrees());
+            settled[k] = Some(
+                match memo {
+                    // The ends of a motion are graph states: settled when sampled, and again
+                    // by every motion from or to them.
+                    Some(m) if k == 0 || k == last => m.settled(s, settle),
+                    _ => settle(),
+                }
+                .map_err(|e| at(k, e))?,
+            );
+        }
+        let settled: Vec<SettledPose> = settled.into_iter().flatten().collect();
+        // The climb between consecutive poses.
+        for k in 1..settled.len() {
+            // The wheels' travel since the previous pose: the drive step, or in a turn the
+            // arc of a wheel about the axle centre.
+            let step = poses[k].1;
+            let travel = if step > 0.0 {
+                step
+            } else {
+                0.5 * axel.track * angle_diff(poses[k - 1].0.yaw, poses[k].0.yaw).abs()
+            };
+            let dz = (settled[k].origin.z - settled[k - 1].origin.z).abs();
+            if dz > MAX_CLIMB * travel {
+                return Err(at(
+                    k,
+                    format!("height changes {dz:.3} m over {travel:.3} m"),
+                ));
+            }
+        }
+        // The tether: prediction and stability from the first pose on.
         let mut h = history.clone();
         let mut cost = 0.0;
-        let mut prev: Option<SettledPose> = None;
+        let mut prev: Option<&SettledPose> = None;
         let mut out = Vec::with_capacity(poses.len());
-        let last = poses.len().saturating_sub(1);
-        for (k, (s, step)) in poses.iter().enumerate() {
-            let at = |why: String| format!("pose {k} at ({:.3}, {:.3}): {why}", s.x, s.y);
-            let settle = || settle_from(ground, self.z_top, s.x, s.y, s.yaw.to_degrees());
-            let pose = match memo {
-                // The ends of a motion are graph states: settled when sampled, and again by
-                // every motion from or to them.
-                Some(m) if k == 0 || k == last => m.settled(s, settle),
-                _ => settle(),
-            }
-            .map_err(at)?;
-            if let Some(p) = &prev {
-                // The wheels' travel since the previous pose: the drive step, or in a turn the
-                // arc of a wheel about the axle centre.
-                let travel = if *step > 0.0 {
-                    *step
-                } else {
-                    0.5 * axel.track * angle_diff(poses[k - 1].0.yaw, s.yaw).abs()
-                };
-                let dz = (pose.origin.z - p.origin.z).abs();
-                if dz > MAX_CLIMB * travel {
-                    return Err(at(format!("height changes {dz:.3} m over {travel:.3} m")));
-                }
+        for (k, ((s, step), pose)) in poses.iter().zip(&settled).enumerate() {
+            let at = |why: String| at(k, why);
+            if let Some(p) = prev {
                 h = predict(
                     ground,
                     params,
                     &h,
                     &tether_end(p, &axel),
-                    &tether_end(&pose, &axel),
+                    &tether_end(pose, &axel),
                 )
                 .map_err(|e| at(e.to_string()))?
                 .history;
@@ -462,11 +508,11 @@ impl RoverProblem {
             }
             let (stable, margin) = match memo {
                 None => {
-                    let st = pose_stability(boom_ground, &pose, &h);
+                    let st = pose_stability(boom_ground, pose, &h);
                     (st.stable, st.margin)
                 }
                 Some(m) => {
-                    let verdict = || pose_is_stable(boom_ground, &pose, &axel, &h);
+                    let verdict = || pose_is_stable(boom_ground, pose, &axel, &h);
                     // The first pose of every motion from a tree state is that state with its
                     // history: checked once per run.
                     let stable = if k == 0 {
@@ -478,7 +524,7 @@ impl RoverProblem {
                 }
             };
             let held = self.held_within_boom_reach
-                && (h.last().point - tether_end(&pose, &axel)).norm() < axel.boom_length;
+                && (h.last().point - tether_end(pose, &axel)).norm() < axel.boom_length;
             if !stable && !held {
                 return Err(at(format!(
                     "unstable with the tether to the anchor at ({:.3}, {:.3}, {:.3})",
@@ -758,9 +804,13 @@ impl RoverProblem {
         termination: Termination,
         stop: &StopCondition,
     ) -> Result<PlannerStatus<RoverState, AnchorHistory>, String> {
-        if !self.root.iter().all(|c| c.is_finite()) {
-            return Err("the root anchor is not finite".into());
-        }
+        self.solve_with(self.settings(seed)?, termination, stop)
+    }
+
+    /// The planner settings [`RoverProblem::solve`] uses with `seed`: [`rover_settings`], the
+    /// shadow bias of [`RoverProblem::shadow_sample_fraction`] and with it
+    /// [`SHADOW_RGG_K_FACTOR`].
+    pub fn settings(&self, seed: u64) -> Result<AbitSettings, String> {
         let mut settings = rover_settings(seed)
             .with_biased_sample_fraction(self.shadow_sample_fraction)
             .map_err(|e| e.to_string())?;
@@ -768,6 +818,20 @@ impl RoverProblem {
             settings = settings
                 .with_rgg_k_factor(SHADOW_RGG_K_FACTOR)
                 .map_err(|e| e.to_string())?;
+        }
+        Ok(settings)
+    }
+
+    /// [`RoverProblem::solve_until`] with the planner settings given (for studies of the
+    /// settings; [`RoverProblem::settings`] gives the default ones).
+    pub fn solve_with(
+        &self,
+        settings: AbitSettings,
+        termination: Termination,
+        stop: &StopCondition,
+    ) -> Result<PlannerStatus<RoverState, AnchorHistory>, String> {
+        if !self.root.iter().all(|c| c.is_finite()) {
+            return Err("the root anchor is not finite".into());
         }
         let run = PlanningRun {
             problem: self,
@@ -786,6 +850,19 @@ mod tests {
 
     fn problem(anchor: usize, pole: bool) -> RoverProblem {
         RoverProblem::paton(&PatonScene::paper(pole), anchor).unwrap()
+    }
+
+    #[test]
+    fn bisection_order_visits_every_pose_once_ends_then_midpoints() {
+        assert_eq!(bisection_order(0), Vec::<usize>::new());
+        assert_eq!(bisection_order(1), vec![0]);
+        assert_eq!(bisection_order(2), vec![0, 1]);
+        assert_eq!(bisection_order(9), vec![0, 8, 4, 2, 6, 1, 3, 5, 7]);
+        for n in 0..70 {
+            let mut o = bisection_order(n);
+            o.sort_unstable();
+            assert_eq!(o, (0..n).collect::<Vec<_>>());
+        }
     }
 
     #[test]

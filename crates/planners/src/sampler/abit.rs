@@ -4,16 +4,22 @@
 //!
 //! 1. **Batches.** Each batch adds `batch_size` valid samples to the edge-implicit RGG; once a
 //!    solution of cost `c_best` exists they are drawn from the informed set (Gammell et al. 2018).
-//! 2. **Searches.** A batch is searched forward from the start twice: first with the cost-to-go
-//!    inflated by `initial_inflation` (a greedy search that finds a first solution quickly), then
-//!    with `1 + inflation_scaling / n`. The tree persists across searches and batches; a tree edge
-//!    met in the queue just re-expands its child (the repair of ABIT*'s anytime search).
+//! 2. **Searches** (OMPL's `BITstar::iterate`). A batch is first searched forward from the start
+//!    with the cost-to-go inflated by `initial_inflation` (a greedy search that finds a first
+//!    solution quickly). When that search ends without a solution, a new batch is added; with
+//!    one, the batch's final search follows with the inflation `1 + inflation_scaling / n`, and
+//!    after it a new batch. A state expanded in a batch is not expanded again in its searches
+//!    when its cost falls: it joins the *inconsistent* set, and the final search re-keys the
+//!    queue and expands just those states (ABIT*'s repairing search) rather than restarting.
+//!    The tree persists across searches and batches; a tree edge met in the queue re-expands its
+//!    child if the child's cost fell since its expansion.
 //! 3. **Edge queue.** Edges `(v, x)` are ordered by `g(v) + ĉ(v, x) + ε ĥ(x)` (inflated potential
 //!    solution quality; ties by ids, so the order is deterministic).
-//! 4. **Truncation.** An edge whose uninflated `f = g(v) + ĉ + ĥ` satisfies
-//!    `(1 + truncation_scaling / n) f >= c_best` is dropped without evaluation.
+//! 4. **Truncation.** When the best edge's uninflated `f = g(v) + ĉ + ĥ` satisfies
+//!    `(1 + truncation_scaling / n) f >= c_best`, the search is done (the next one starts).
 //! 5. **Lazy evaluation.** Only a popped edge that could still improve its child and the solution
-//!    is checked by [`MotionValidator::motion`], at most once per ordered pair.
+//!    is checked by [`MotionValidator::motion`], at most once per parent and child location (the
+//!    states at a location share the geometric motion).
 //! 6. **Histories.** The motion extends the parent's history; a child whose history is already
 //!    set (in the tree, or copied at sampling) accepts only a parent whose extension equals it:
 //!    no rewiring across incompatible histories. A fraction `history_copy_fraction` of new
@@ -108,6 +114,37 @@ pub struct PlannerStatus<S, H> {
     /// flag ended the last [`Abit::solve_until`] (`None` for the cost threshold, and outside
     /// `solve`). A cancel has no [`Stop`] (`stopped_by` is then `None`).
     pub stop_reason: Option<StopReason>,
+    /// Where the iterations went.
+    pub counters: AbitCounters,
+}
+
+/// Where the iterations of a run went (`docs/sampler.md`, "Where the iterations go"): every
+/// iteration is a search start or one popped edge, and every popped edge ends in exactly one
+/// of the edge outcomes below.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct AbitCounters {
+    /// Searches started (the greedy search of a batch, or its final search).
+    pub searches: u64,
+    /// States expanded (their outgoing edges queued).
+    pub expansions: u64,
+    /// Popped tree edges (`v` already the parent of `x`): the child re-expanded if needed.
+    pub tree_edges: u64,
+    /// Popped edges dropped unevaluated by truncation (they cannot improve the solution).
+    pub truncated: u64,
+    /// Popped edges dropped unevaluated because their child is already reached more cheaply.
+    pub covered: u64,
+    /// Popped edges whose motion was checked for the first time and found valid.
+    pub checks_valid: u64,
+    /// Popped edges whose motion was checked for the first time and found invalid.
+    pub checks_invalid: u64,
+    /// Popped edges whose motion (or the same geometric motion) was already checked.
+    pub checks_cached: u64,
+    /// Valid motions that did not improve their child or could not improve the solution.
+    pub no_improvement: u64,
+    /// Valid improving motions refused for their history (no rewiring across histories).
+    pub history_refused: u64,
+    /// Edges added to the tree.
+    pub edges_added: u64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -150,16 +187,26 @@ where
     goal_state: S::State,
     goals: Vec<u32>,
     queue: BinaryHeap<Reverse<(Key, u32, u32)>>,
+    /// Checked motions by parent state and the child's location: the states at one location
+    /// (goal copies, history copies) share the geometric motion, which the parent's history
+    /// decides, so it is checked once (OMPL's edge white- and blacklists).
     motions: HashMap<(u32, u32), Motion<V::History>>,
     expanded_at: Vec<f64>,
     best_cost: f64,
     best_goal: Option<u32>,
     inflation: f64,
     truncation: f64,
-    search_in_batch: u32,
+    /// The running search is the batch's final (uninflated) one (OMPL's `isFinalSearchOnBatch_`).
+    final_search: bool,
+    /// The running search met an edge that truncation drops: it is over (OMPL's `isSearchDone_`).
+    search_done: bool,
+    /// States improved after their expansion in this batch's searches (OMPL's inconsistent
+    /// set): the final search expands them again instead of restarting from the start.
+    inconsistent: Vec<u32>,
     iterations: u64,
     batches: u64,
     biased_samples: u64,
+    counters: AbitCounters,
     events: Vec<SolutionEvent>,
     created: Instant,
     /// The wall-time limit of the running [`Abit::solve`], checked between samples of a batch.
@@ -209,10 +256,13 @@ where
             best_goal: None,
             inflation: 1.0,
             truncation: 1.0,
-            search_in_batch: 0,
+            final_search: false,
+            search_done: false,
+            inconsistent: Vec::new(),
             iterations: 0,
             batches: 0,
             biased_samples: 0,
+            counters: AbitCounters::default(),
             events: Vec::new(),
             created: Instant::now(),
             deadline: None,
@@ -345,19 +395,21 @@ where
             events: self.events.clone(),
             stopped_by: None,
             stop_reason: None,
+            counters: self.counters,
         }
     }
 
-    /// One iteration: process the best edge, or start the next search when the queue is empty.
+    /// One iteration: process the best edge, or start the next search when the queue is empty
+    /// or the search is done (its best edge could not improve the solution).
     pub fn iterate(&mut self) -> Result<(), AbitError> {
         self.iterations += 1;
-        match self.queue.pop() {
-            Some(Reverse((_, v, x))) => {
-                self.process(v, x);
-                Ok(())
-            }
-            None => self.next_search(),
+        if !self.search_done
+            && let Some(Reverse((_, v, x))) = self.queue.pop()
+        {
+            self.process(v, x);
+            return Ok(());
         }
+        self.next_search()
     }
 
     fn n(&self) -> f64 {
@@ -382,25 +434,52 @@ where
         )
     }
 
-    /// The queue ran empty: the next search of this batch with a smaller inflation, or a new
-    /// batch searched greedily again.
+    /// The search is over (OMPL's `BITstar::iterate`): after the batch's final search, or when
+    /// no solution exists yet, a new batch searched greedily from the start; otherwise the
+    /// batch's final search with the inflation `1 + inflation_scaling / n`.
     fn next_search(&mut self) -> Result<(), AbitError> {
-        if self.search_in_batch == 0 {
-            self.search_in_batch = 1;
-            self.inflation = 1.0 + self.settings.inflation_scaling / self.n();
-        } else {
+        if self.final_search || !self.best_cost.is_finite() {
             self.new_batch()?;
+            self.final_search = false;
+            self.search_done = false;
+            self.restart_search();
+        } else {
+            self.inflation = 1.0 + self.settings.inflation_scaling / self.n();
+            self.final_search = true;
+            self.search_done = false;
+            self.repair_search();
         }
-        self.restart_search();
         Ok(())
+    }
+
+    /// The batch's final search (OMPL's `rebuildEdgeQueue` and
+    /// `insertOutgoingEdgesOfInconsistentVertices`): the edges still queued re-keyed with the
+    /// new inflation, and the states whose cost fell after their expansion expanded again. The
+    /// expansions of the batch's greedy search stand.
+    fn repair_search(&mut self) {
+        self.counters.searches += 1;
+        let queued = std::mem::take(&mut self.queue).into_vec();
+        for Reverse((_, v, x)) in queued {
+            let key =
+                self.graph.nodes[v as usize].g + self.c_hat(v, x) + self.inflation * self.h(x);
+            self.queue.push(Reverse((Key(key), v, x)));
+        }
+        for v in std::mem::take(&mut self.inconsistent) {
+            let g = self.graph.nodes[v as usize].g;
+            if self.graph.nodes[v as usize].in_tree() && g < self.expanded_at[v as usize] {
+                self.expand(v);
+            }
+        }
     }
 
     fn restart_search(&mut self) {
         self.queue.clear();
+        self.inconsistent.clear();
         self.expanded_at.clear();
         self.expanded_at
             .resize(self.graph.nodes.len(), f64::INFINITY);
         self.truncation = 1.0 + self.settings.truncation_scaling / self.n();
+        self.counters.searches += 1;
         self.expand(self.start);
     }
 
@@ -410,6 +489,7 @@ where
     fn expand(&mut self, v: u32) {
         let gv = self.graph.nodes[v as usize].g;
         self.expanded_at[v as usize] = gv;
+        self.counters.expansions += 1;
         for i in 0..self.graph.nodes[v as usize].children.len() {
             let x = self.graph.nodes[v as usize].children[i];
             let key = gv + self.c_hat(v, x) + self.inflation * self.h(x);
@@ -448,7 +528,11 @@ where
             } else {
                 x
             };
-            if matches!(self.motions.get(&(v, x)), Some(None)) {
+            if matches!(
+                self.motions
+                    .get(&(v, self.graph.nodes[x as usize].location)),
+                Some(None)
+            ) {
                 continue;
             }
             self.queue
@@ -501,6 +585,7 @@ where
     fn process(&mut self, v: u32, x: u32) {
         let gv = self.graph.nodes[v as usize].g;
         if self.graph.nodes[x as usize].parent == Some(v) {
+            self.counters.tree_edges += 1;
             if self.expanded_at[x as usize] > self.graph.nodes[x as usize].g {
                 self.expand(x);
             }
@@ -509,7 +594,14 @@ where
         let gx = self.graph.nodes[x as usize].g;
         let c_hat = self.c_hat(v, x);
         let h = self.h(x);
-        if self.truncation * (gv + c_hat + h) >= self.best_cost || gv + c_hat >= gx {
+        if self.truncation * (gv + c_hat + h) >= self.best_cost {
+            // The best edge cannot improve the solution: the search is done (OMPL).
+            self.counters.truncated += 1;
+            self.search_done = true;
+            return;
+        }
+        if gv + c_hat >= gx {
+            self.counters.covered += 1;
             return;
         }
         let Some((c, hist)) = self.motion(v, x) else {
@@ -517,6 +609,7 @@ where
         };
         let g_new = gv + c;
         if g_new + h >= self.best_cost || g_new >= gx {
+            self.counters.no_improvement += 1;
             return;
         }
         let node = &self.graph.nodes[x as usize];
@@ -540,18 +633,27 @@ where
             None => true,
         };
         if !accept {
+            self.counters.history_refused += 1;
             return;
         }
+        self.counters.edges_added += 1;
         if !node.in_tree() {
             self.graph.nodes[x as usize].history = Some(hist);
         }
         self.graph.attach(x, v, g_new);
         self.update_solution();
-        self.expand(x);
+        if self.expanded_at[x as usize].is_finite() {
+            // Expanded before in this batch: repaired by the final search (OMPL).
+            self.inconsistent.push(x);
+        } else {
+            self.expand(x);
+        }
     }
 
     fn motion(&mut self, v: u32, x: u32) -> Motion<V::History> {
-        if let Some(m) = self.motions.get(&(v, x)) {
+        let edge = (v, self.graph.nodes[x as usize].location);
+        if let Some(m) = self.motions.get(&edge) {
+            self.counters.checks_cached += 1;
             return m.clone();
         }
         let nv = &self.graph.nodes[v as usize];
@@ -561,7 +663,12 @@ where
                 .motion(&nv.state, hv, &self.graph.nodes[x as usize].state),
             None => None,
         };
-        self.motions.insert((v, x), m.clone());
+        if m.is_some() {
+            self.counters.checks_valid += 1;
+        } else {
+            self.counters.checks_invalid += 1;
+        }
+        self.motions.insert(edge, m.clone());
         m
     }
 
@@ -598,7 +705,6 @@ where
     /// Adds one batch of valid samples (informed once a solution exists).
     fn new_batch(&mut self) -> Result<(), AbitError> {
         self.batches += 1;
-        self.search_in_batch = 0;
         self.inflation = self.settings.initial_inflation;
         let start_state = self.graph.nodes[self.start as usize].state.clone();
         for _ in 0..self.settings.batch_size {

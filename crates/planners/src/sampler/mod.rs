@@ -35,7 +35,7 @@ mod tests_geometric;
 #[cfg(test)]
 mod tests_history;
 
-pub use abit::{Abit, PlannerStatus, Solution, SolutionEvent};
+pub use abit::{Abit, AbitCounters, PlannerStatus, Solution, SolutionEvent};
 pub use obstacle_world::{Obstacle, ObstacleWorld, WorldError, WorldFile};
 pub use real_vector::RealVectorSpace;
 pub use settings::{AbitSettings, SettingsError};

@@ -25,7 +25,7 @@ pub enum SettingsError {
 /// | `batch_size` | 100 | samples added per batch (OMPL's `samples_per_batch`) |
 /// | `rgg_k_factor` | 1.0 | multiplier of the RGG's `k = e (1 + 1/d) ln n` (1 = BIT*'s asymptotically optimal value) |
 /// | `initial_inflation` | 1e6 | inflation of the cost-to-go in the first search of a batch (a greedy search) |
-/// | `inflation_scaling` | 10.0 | the later searches of a batch use `1 + inflation_scaling / n` (n = graph states) |
+/// | `inflation_scaling` | 10.0 | the final search of a batch (once a solution exists) uses `1 + inflation_scaling / n` (n = graph states) |
 /// | `truncation_scaling` | 5.0 | a search stops once `(1 + truncation_scaling / n) f_min >= c_best` |
 /// | `history_copy_fraction` | 0.0 | fraction of new samples that copy a neighbour's history (Paton §V-A) |
 /// | `biased_sample_fraction` | 0.0 | fraction of new samples drawn from the space's bias distribution ([`super::StateSpace::sample_biased`]); 0 = uniform (and informed) sampling only |
