@@ -16,6 +16,12 @@
 //! the three states on the lip and the slope by at most 1.2e-6 m (the flat-top states are
 //! unchanged); the iterations, batches, states, motions and shadow samples are those recorded
 //! from 02bc40b.
+//!
+//! Updated a second time, deliberately: ABIT* as OMPL runs it (issue 33, commits `be3ff33`, a
+//! state whose cost falls after its expansion is repaired rather than the search restarted, and
+//! `2546cb3`, one motion check per parent and child location) reaches the same first solution
+//! (the same 12 states, 8 anchors and cost) after 260 iterations and 190 motion checks instead
+//! of 284 and 194.
 
 use rappel::navigate::{PATON_ITERATIONS, RoverProblem, SHADOW_SAMPLE_FRACTION, navigate};
 use rappel::planners::sampler::Termination;
@@ -31,10 +37,10 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
     let term = Termination::iterations(PATON_ITERATIONS).or_cost_at_most(f64::MAX);
     let r = navigate(&problem, 0, term, &StopCondition::none()).unwrap();
     assert!(r.found, "{:?}", r.unsafe_reason);
-    assert_eq!(r.first_solution_iteration, Some(284));
-    assert_eq!(r.iterations, 284);
+    assert_eq!(r.first_solution_iteration, Some(260));
+    assert_eq!(r.iterations, 260);
     assert_eq!((r.batches, r.states), (1, 128));
-    assert_eq!(r.motions_checked, 194);
+    assert_eq!(r.motions_checked, 190);
     assert_eq!(r.shadow_samples, 16);
     let cost = r.cost.unwrap();
     assert!((cost - 32.3722868241735).abs() < 1e-9, "cost {cost}");
