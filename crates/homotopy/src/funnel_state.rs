@@ -25,9 +25,10 @@
 //! nodes linear.
 //!
 //! # Funnel states
-//! A funnel (Fig. 2.12) is then four words, a [`FunnelState`]: the left tip node (on `alpha`),
-//! the right tip node (on `beta`), the apex node (the cusp `c`, their lowest common ancestor) and
-//! the mouth (the half-edge `d` crossed next). Its left chain is the tree path from the left tip
+//! A funnel (Fig. 2.12) is then six words, a [`FunnelState`]: the left tip node (on `alpha`),
+//! the right tip node (on `beta`), the apex node (the cusp `c`, their lowest common ancestor),
+//! the mouth (the half-edge `d` crossed next), and each chain's node next to the apex (the apex
+//! itself for an empty chain). Its left chain is the tree path from the left tip
 //! up to the apex, its right chain likewise, its apex chain the tree path from the apex to the
 //! root. Funnel states are `Copy`; splitting one (Alg. 2) appends one node and returns two new
 //! states sharing everything else, so a priority queue of thousands of funnels costs a few words
@@ -39,8 +40,9 @@
 //! strictly left of the ray `parent(x) -> x`; otherwise, scanning the right chain from its tip,
 //! the first node with `v` strictly right of its ray; otherwise the apex. Along a chain the test
 //! is monotone (false near the tip, true towards the apex: the chains of a funnel turn by less
-//! than pi), so the scan follows Myers' skew-binary jump pointers, stored in each node, and
-//! takes `O(log n)` tests. The two children are the funnels through the edges `alpha v` and
+//! than pi), so a chain holds the predecessor exactly when its node next to the apex turns: that
+//! one test chooses the chain (or the apex, in two tests), and the scan of the chosen chain
+//! follows Myers' skew-binary jump pointers, stored in each node, in `O(log n)` tests. The two children are the funnels through the edges `alpha v` and
 //! `v beta`; a child whose mouth is a map edge is dead (Alg. 2 line 3). The child on the side
 //! where the predecessor was found gets it as its apex; the other keeps the old apex (Alg. 2
 //! lines 10-13).
@@ -338,31 +340,59 @@ impl FunnelTree {
         )
     }
 
-    /// Scans the chain from `tip` up to (excluding) `apex` for the first node whose incoming ray
-    /// has `p` strictly on `side`.
-    ///
-    /// The chain's nodes are the tip's ancestors-or-self with an id above the apex's (module
-    /// docs: ids decrease towards the root), so the bound is an id comparison.
-    fn first_turn(&self, tip: NodeId, apex: NodeId, p: &Point2<f64>, side: Side) -> Option<NodeId> {
-        let links = &self.links[..];
-        let turns = |x: u32| {
-            let n = &links[x as usize];
-            let parent = &links[n.parent as usize].point;
-            match side {
-                Side::Left => strictly_left(parent, &n.point, p),
-                Side::Right => strictly_right(parent, &n.point, p),
-            }
-        };
-        let mut x = tip.0;
-        while x > apex.0 {
-            if turns(x) {
-                return Some(NodeId(x));
-            }
-            let n = &links[x as usize];
-            let j = n.jump(x);
-            x = if j > apex.0 && !turns(j) { j } else { n.parent };
+    /// Whether `p` lies strictly on `side` of node `x`'s incoming ray `parent(x) -> x` (the
+    /// sector test of the module docs).
+    #[inline]
+    fn turns(&self, x: u32, p: &Point2<f64>, side: Side) -> bool {
+        let n = &self.links[x as usize];
+        let parent = &self.links[n.parent as usize].point;
+        match side {
+            Side::Left => strictly_left(parent, &n.point, p),
+            Side::Right => strictly_right(parent, &n.point, p),
         }
-        None
+    }
+
+    /// Scans the chain from `tip` towards the apex for the first node that turns (`p` strictly
+    /// on `side` of its incoming ray), when the chain's node next to the apex, `first`, is known
+    /// to turn: returns that node `t` and its child on the chain towards the tip (`t` itself
+    /// when `t` is the tip).
+    ///
+    /// The test is monotone along the chain (false near the tip, true towards the apex), so the
+    /// scan follows the jump pointers keeping the lowest node known not to turn (`x`) and the
+    /// highest known to turn (`floor`), and tests each node at most once. A chain's nodes are
+    /// the tip's ancestors-or-self down to `first`, with ids above the apex's (module docs: ids
+    /// decrease towards the root), so every bound is an id comparison.
+    fn first_turn(
+        &self,
+        tip: NodeId,
+        first: NodeId,
+        p: &Point2<f64>,
+        side: Side,
+    ) -> (NodeId, NodeId) {
+        let mut x = tip.0;
+        if x == first.0 || self.turns(x, p, side) {
+            return (tip, tip);
+        }
+        // Invariant: `x` does not turn, `floor` turns, and `floor` is a proper ancestor of `x`
+        // on the chain: the first turn from the tip lies in `(x, floor]`.
+        let mut floor = first.0;
+        loop {
+            let n = &self.links[x as usize];
+            let j = n.jump(x);
+            if j > floor {
+                if self.turns(j, p, side) {
+                    floor = j;
+                } else {
+                    x = j;
+                    continue;
+                }
+            }
+            let parent = n.parent;
+            if parent == floor || self.turns(parent, p, side) {
+                return (NodeId(parent), NodeId(x));
+            }
+            x = parent;
+        }
     }
 }
 
@@ -393,13 +423,19 @@ pub enum FunnelStateError {
     RootNotInTriangle(TriangleId),
 }
 
-/// A funnel on the universal cover: left tip, right tip, apex and mouth (module docs).
+/// A funnel on the universal cover: left tip, right tip, apex and mouth, and each chain's node
+/// next to the apex (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct FunnelState {
     left: NodeId,
     right: NodeId,
     apex: NodeId,
     mouth: HalfEdgeId,
+    /// The left chain's node whose parent is the apex; the apex itself when the chain is empty
+    /// (the left tip is the apex).
+    left_first: NodeId,
+    /// The right chain's node whose parent is the apex, or the apex (empty chain).
+    right_first: NodeId,
 }
 
 /// The result of splitting a funnel at the vertex beyond its mouth (Alg. 2).
@@ -476,6 +512,8 @@ impl FunnelState {
             right,
             apex: root,
             mouth,
+            left_first: left,
+            right_first: right,
         })
     }
 
@@ -510,13 +548,20 @@ impl FunnelState {
         self.locate(tree, p).0
     }
 
-    fn locate(&self, tree: &FunnelTree, p: &Point2<f64>) -> (NodeId, Found) {
-        if let Some(x) = tree.first_turn(self.left, self.apex, p, Side::Left) {
-            (x, Found::Left)
-        } else if let Some(x) = tree.first_turn(self.right, self.apex, p, Side::Right) {
-            (x, Found::Right)
+    /// The predecessor of `p`, the chain it was found on, and the predecessor's child on that
+    /// chain towards the tip (the predecessor itself when it is the tip or the apex).
+    ///
+    /// Along a chain the sector test is monotone, so some node of the left chain turns exactly
+    /// when its node next to the apex does: one test decides the chain (module docs, "Split").
+    fn locate(&self, tree: &FunnelTree, p: &Point2<f64>) -> (NodeId, Found, NodeId) {
+        if self.left_first != self.apex && tree.turns(self.left_first.0, p, Side::Left) {
+            let (t, child) = tree.first_turn(self.left, self.left_first, p, Side::Left);
+            (t, Found::Left, child)
+        } else if self.right_first != self.apex && tree.turns(self.right_first.0, p, Side::Right) {
+            let (t, child) = tree.first_turn(self.right, self.right_first, p, Side::Right);
+            (t, Found::Right, child)
         } else {
-            (self.apex, Found::Apex)
+            (self.apex, Found::Apex, self.apex)
         }
     }
 
@@ -544,19 +589,43 @@ impl FunnelState {
         let (vertex, vp) = kite
             .vertex()
             .ok_or(FunnelStateError::ClosedMouth(self.mouth))?;
-        let (t, found) = self.locate(tree, &vp);
+        let (t, found, child) = self.locate(tree, &vp);
         let node = tree.extend(t, vp, Some(vertex));
+        // The child on the predecessor's side has it as its apex, with the rest of that chain
+        // (from `child` on) and `node` alone on the other side; the other child keeps the apex,
+        // its chain on that side, and `node` ends its chain on the predecessor's side (next to
+        // the apex only when the predecessor is the apex).
         let left = kite.left_exit().map(|mouth| FunnelState {
             left: self.left,
             right: node,
             apex: if found == Found::Left { t } else { self.apex },
             mouth,
+            left_first: if found == Found::Left {
+                child
+            } else {
+                self.left_first
+            },
+            right_first: if found == Found::Right {
+                self.right_first
+            } else {
+                node
+            },
         });
         let right = kite.right_exit().map(|mouth| FunnelState {
             left: node,
             right: self.right,
             apex: if found == Found::Right { t } else { self.apex },
             mouth,
+            left_first: if found == Found::Left {
+                self.left_first
+            } else {
+                node
+            },
+            right_first: if found == Found::Right {
+                child
+            } else {
+                self.right_first
+            },
         });
         Ok(Split {
             vertex,
@@ -640,5 +709,91 @@ mod tests {
             assert_eq!(tree.node(tree.root()).parent(), None);
             assert_eq!(tree.links[0].level(0), 0);
         }
+    }
+
+    /// The chain's node next to the apex, found by walking up from the tip (independent of the
+    /// state's own record).
+    fn walked_first(tree: &FunnelTree, tip: NodeId, apex: NodeId) -> NodeId {
+        let mut x = tip;
+        while x != apex {
+            let parent = NodeId(tree.links[x.index()].parent);
+            if parent == apex {
+                return x;
+            }
+            x = parent;
+        }
+        apex
+    }
+
+    /// The sector scan of the module docs node by node, without jump pointers or the recorded
+    /// chain ends: the left chain from its tip, then the right chain, then the apex.
+    fn linear_predecessor(tree: &FunnelTree, f: &FunnelState, p: &Point2<f64>) -> NodeId {
+        for (tip, side) in [(f.left, Side::Left), (f.right, Side::Right)] {
+            let mut x = tip;
+            while x != f.apex {
+                if tree.turns(x.0, p, side) {
+                    return x;
+                }
+                x = NodeId(tree.links[x.index()].parent);
+            }
+        }
+        f.apex
+    }
+
+    /// Every funnel of a breadth-first exploration of a generated crater strip's universal cover
+    /// (20,000 splits) records its chains' nodes next to the apex as walking the tree finds them,
+    /// and locates the vertex beyond its mouth and far points beyond the mouth (the kind of
+    /// target the A* bound uses) where the linear scan does.
+    #[test]
+    fn recorded_chain_ends_and_located_sectors_match_linear_scans() {
+        use rappel_geometry::btm::Location;
+        use rappel_geometry::generate::{CraterStripOptions, crater_strip};
+        use rappel_geometry::predicates::orient2d;
+        let strip = crater_strip(&CraterStripOptions::new(60, 3)).unwrap();
+        let btm = Btm::from_map(&strip.map).unwrap();
+        let Location::Triangle(t) = btm.locate(&strip.start) else {
+            panic!("the start lies inside a free triangle");
+        };
+        let mut tree = FunnelTree::new(strip.start);
+        let mut queue: std::collections::VecDeque<FunnelState> =
+            FunnelState::initial(&mut tree, &btm, t).unwrap().into();
+        let d = btm.dcel();
+        let (mut splits, mut by_chain) = (0, [0usize; 3]);
+        while let Some(f) = queue.pop_front() {
+            if splits == 20_000 {
+                break;
+            }
+            assert_eq!(f.left_first, walked_first(&tree, f.left, f.apex));
+            assert_eq!(f.right_first, walked_first(&tree, f.right, f.apex));
+            let Some((_, v)) = Kite::across(&btm, f.mouth).vertex() else {
+                continue;
+            };
+            // Far points beyond the mouth: the goal, and points 1 km out along the mouth's
+            // normal and either side of it.
+            let (a, b) = (d.point(d.origin(f.mouth)), d.point(d.destination(f.mouth)));
+            let (mid, along) = (nalgebra::center(&a, &b), (b - a).normalize());
+            let out = nalgebra::Vector2::new(along.y, -along.x);
+            let targets = [
+                strip.goal,
+                mid + 1e3 * out,
+                mid + 1e3 * (out + along),
+                mid + 1e3 * (out - along),
+                v,
+            ];
+            for p in targets {
+                if orient2d(&a, &b, &p) < 0.0 {
+                    let (found, kind, _) = f.locate(&tree, &p);
+                    assert_eq!(found, linear_predecessor(&tree, &f, &p));
+                    by_chain[kind as usize] += 1;
+                }
+            }
+            let split = f.split(&mut tree, &btm).unwrap();
+            splits += 1;
+            queue.extend(split.left);
+            queue.extend(split.right);
+        }
+        assert_eq!(splits, 20_000);
+        // All three outcomes occur.
+        assert!(by_chain.iter().all(|&n| n > 100), "{by_chain:?}");
     }
 }
