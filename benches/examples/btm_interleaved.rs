@@ -7,10 +7,17 @@
 //! ratios move by tens of percent between runs, which this pairing avoids. `--tsv` prints the rows
 //! tab-separated with plain numbers (seconds), for `cargo xtask growth`.
 //!
+//! **Memory.** With `--side=rappel` or `--side=spade` only that side is built, in its own process:
+//! each build's peak resident set over the resident set before it (`/proc/self/clear_refs`; the
+//! map and spade's input are resident before) and what the finished structure keeps resident
+//! while it is held (the resident set after the build over the one before), the largest over the
+//! rounds.
+//!
 //! rappel's side is `Btm::build` (exact validation, triangulation, map edges, face labels, point
 //! location index); spade's is `bulk_load_cdt` on the same vertices and edges (no validation, no
 //! labels), its input copied outside the timed part.
 
+use rappel_benches::proc_stats::{peak_growth_mb, reset_peak, status_kb};
 use rappel_benches::{median_by, spade_input};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::generate::{CraterStripOptions, crater_strip};
@@ -32,7 +39,21 @@ fn main() {
         .clamp(1, 1000);
     let rest: Vec<String> = args.collect();
     let tsv = rest.iter().any(|a| a == "--tsv");
-    if let Some(a) = rest.iter().find(|a| a.starts_with("--") && *a != "--tsv") {
+    let only = rest
+        .iter()
+        .find_map(|a| a.strip_prefix("--side="))
+        .map(|side| match side {
+            "rappel" => 0,
+            "spade" => 1,
+            _ => {
+                eprintln!("error: --side={side}: the sides are rappel and spade");
+                std::process::exit(2);
+            }
+        });
+    if let Some(a) = rest
+        .iter()
+        .find(|a| a.starts_with("--") && *a != "--tsv" && !a.starts_with("--side="))
+    {
         eprintln!("error: unknown option {a}");
         std::process::exit(2);
     }
@@ -40,7 +61,16 @@ fn main() {
     if sizes.is_empty() {
         sizes = vec![1_000, 10_000, 100_000];
     }
-    if tsv {
+    if let Some(side) = only {
+        let name = ["rappel", "spade"][side];
+        if tsv {
+            println!("obstacles\tside\tbuild_s\tpeak_mb\tretained_mb\trounds");
+        } else {
+            println!(
+                "obstacles  side    build (median)  peak MB  retained MB  rounds  ({name} alone)"
+            );
+        }
+    } else if tsv {
         println!("obstacles\trappel_s\tspade_s\tratio\trounds\ttriangles");
     } else {
         println!("obstacles  rappel build (median)  spade bulk_load_cdt (median)  ratio  rounds");
@@ -56,15 +86,30 @@ fn main() {
         let (pts, edges) = spade_input(&map);
         let (mut ours, mut theirs) = (Vec::new(), Vec::new());
         let mut triangles = 0;
+        // The largest peak growth and retained size over the rounds, MB (with `--side`).
+        let (mut peak, mut retained) = (0.0f64, 0.0f64);
+        let mut measure = |before: Option<u64>| {
+            let after = status_kb("VmRSS").zip(before);
+            retained =
+                retained.max(after.map_or(0.0, |(a, b)| a.saturating_sub(b) as f64 / 1024.0));
+            peak = peak.max(peak_growth_mb(before).unwrap_or(0.0));
+        };
         for round in 0..rounds {
             // Alternate which side goes first, so neither always follows the other's frees.
             for side in [round % 2, 1 - round % 2] {
+                if only.is_some_and(|o| o != side) {
+                    continue;
+                }
                 if side == 0 {
+                    let before = reset_peak();
                     let t = Instant::now();
-                    let r = Btm::from_map(black_box(&map)).map(|b| b.triangle_count());
+                    let r = Btm::from_map(black_box(&map));
                     ours.push(t.elapsed());
                     match r {
-                        Ok(count) => triangles = count,
+                        Ok(btm) => {
+                            triangles = btm.triangle_count();
+                            measure(before);
+                        }
                         Err(e) => {
                             eprintln!("error: rappel: {e}");
                             std::process::exit(2);
@@ -72,17 +117,38 @@ fn main() {
                     }
                 } else {
                     let (p, e) = (pts.clone(), edges.clone());
+                    let before = reset_peak();
                     let t = Instant::now();
                     let r =
-                        ConstrainedDelaunayTriangulation::<SpadePoint<f64>>::bulk_load_cdt(p, e)
-                            .map(|t| t.num_inner_faces());
+                        ConstrainedDelaunayTriangulation::<SpadePoint<f64>>::bulk_load_cdt(p, e);
                     theirs.push(t.elapsed());
-                    if r.is_err() {
-                        eprintln!("error: spade refused the strip");
-                        std::process::exit(2);
+                    match r {
+                        Ok(cdt) => {
+                            black_box(cdt.num_inner_faces());
+                            measure(before);
+                        }
+                        Err(_) => {
+                            eprintln!("error: spade refused the strip");
+                            std::process::exit(2);
+                        }
                     }
                 }
             }
+        }
+        if let Some(side) = only {
+            let (name, t) = (["rappel", "spade"][side], median([ours, theirs].concat()));
+            if tsv {
+                println!(
+                    "{n}\t{name}\t{:.6}\t{peak:.1}\t{retained:.1}\t{rounds}",
+                    t.as_secs_f64()
+                );
+            } else {
+                println!(
+                    "{n:>9}  {name:<6}  {:>14.2?}  {peak:>7.0}  {retained:>11.0}  {rounds:>6}",
+                    t
+                );
+            }
+            continue;
         }
         let (a, b) = (median(ours), median(theirs));
         if tsv {

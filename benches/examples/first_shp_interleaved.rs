@@ -31,6 +31,7 @@
 
 use nalgebra::Point2;
 use polyanya::Mesh;
+use rappel_benches::proc_stats::{cpu_time, peak_growth_mb, reset_peak};
 use rappel_benches::{median_by, polyanya_mesh, polyanya_mesh_merged, to_vec2};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::generate::{CraterStripOptions, crater_strip};
@@ -41,42 +42,6 @@ use std::time::{Duration, Instant};
 /// The median of `v` (zero when empty).
 fn median(mut v: Vec<Duration>) -> Duration {
     median_by(&mut v, Ord::cmp).unwrap_or_default()
-}
-
-/// This process's user + system CPU time (`/proc/self/stat` fields 14 and 15, in clock ticks of
-/// 1/100 s; `None` off Linux).
-fn cpu_time() -> Option<Duration> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // The command name (field 2) is parenthesised and may hold spaces: count after its `)`.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    let ticks: u64 = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
-    Some(Duration::from_millis(ticks * 10))
-}
-
-/// A field of `/proc/self/status` in kB (`VmRSS`, `VmHWM`; `None` off Linux).
-fn status_kb(field: &str) -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with(field))?;
-    line[field.len()..]
-        .trim_start_matches(':')
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()
-}
-
-/// Resets the peak resident set to the current one and returns the current one, kB (`None` when
-/// the kernel does not allow it).
-fn reset_peak() -> Option<u64> {
-    std::fs::write("/proc/self/clear_refs", "5").ok()?;
-    status_kb("VmRSS")
-}
-
-/// Growth of the peak resident set since `before` (from [`reset_peak`]), MB.
-fn peak_growth_mb(before: Option<u64>) -> Option<f64> {
-    let (before, peak) = (before?, status_kb("VmHWM")?);
-    Some(peak.saturating_sub(before) as f64 / 1024.0)
 }
 
 fn fail(message: String) -> ! {

@@ -2,6 +2,8 @@
 //! peers in `tests/`. The benchmarks live in their own crate so that peers used only for
 //! comparison (spade, polyanya) stay out of the library crates.
 
+pub mod proc_stats;
+
 use glam::Vec2;
 use nalgebra::Point2;
 use polyanya::{Mesh, Polygon as PolyPolygon, Vertex as PolyVertex};

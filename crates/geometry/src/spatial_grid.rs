@@ -89,6 +89,35 @@ impl SpatialGrid {
         self
     }
 
+    /// This grid's cells holding point `i` (id `i`) for every `i` in `0..points.len()` that
+    /// `keep` accepts, each in the one cell holding it ([`SpatialGrid::cell_of`]), each cell's
+    /// ids in increasing order; whatever the grid held before is dropped. Packed as in
+    /// [`SpatialGrid::packed`], with no per-item temporary beyond the cell counts: ids index
+    /// the caller's own point array, so a sparse subset needs no id map.
+    ///
+    /// ```
+    /// use nalgebra::Point2;
+    /// use rappel_geometry::{polygon::Aabb, spatial_grid::SpatialGrid};
+    /// let p = |x, y| Point2::new(x, y);
+    /// let bounds = Aabb { min: p(0.0, 0.0), max: p(10.0, 10.0) };
+    /// let points = [p(0.5, 0.5), p(9.5, 9.5), p(0.6, 0.4), p(9.6, 9.4)];
+    /// let grid = SpatialGrid::new(bounds, 4).pack_points(&points, |i| i != 3);
+    /// assert_eq!(grid.at(&p(0.1, 0.1)), &[0, 2]);
+    /// assert_eq!(grid.at(&p(9.9, 9.9)), &[1]);
+    /// ```
+    pub fn pack_points(mut self, points: &[Point2<f64>], keep: impl Fn(usize) -> bool) -> Self {
+        let buckets = packed_buckets(
+            self.cols * self.rows,
+            &PointCells {
+                grid: &self,
+                points,
+                keep,
+            },
+        );
+        self.buckets = buckets;
+        self
+    }
+
     /// This grid's cells holding segment `i` (id `i`) in every cell that the closed segment
     /// `segments[i]` meets, each cell's ids in increasing order; whatever it held before is
     /// dropped. The cells are those [`SpatialGrid::visit_near_convex`] visits for the segment
@@ -371,6 +400,26 @@ trait CellsOf {
     fn visit(&self, id: usize, f: impl FnMut(usize));
 }
 
+/// The cell of each kept point ([`SpatialGrid::pack_points`]).
+struct PointCells<'a, K> {
+    grid: &'a SpatialGrid,
+    points: &'a [Point2<f64>],
+    keep: K,
+}
+
+impl<K: Fn(usize) -> bool> CellsOf for PointCells<'_, K> {
+    fn count(&self) -> usize {
+        self.points.len()
+    }
+
+    #[inline]
+    fn visit(&self, id: usize, mut f: impl FnMut(usize)) {
+        if (self.keep)(id) {
+            f(self.grid.cell_of(&self.points[id]));
+        }
+    }
+}
+
 /// The cells of bounding boxes, as cell ranges `[c0, r0, c1, r1]` ([`SpatialGrid::pack`]).
 struct BoxCells {
     ranges: Vec<[usize; 4]>,
@@ -413,8 +462,8 @@ impl CellsOf for SegmentCells<'_> {
 
 /// The packed buckets of `cells` cells holding the items of `of`, each cell's ids in increasing
 /// order: a counting sort in two passes over the items (count, then fill), shared by
-/// [`SpatialGrid::pack`] (cells of a box) and [`SpatialGrid::pack_segments`] (cells along a
-/// segment).
+/// [`SpatialGrid::pack`] (cells of a box), [`SpatialGrid::pack_segments`] (cells along a
+/// segment) and [`SpatialGrid::pack_points`] (the cell of a point).
 fn packed_buckets(cells: usize, of: &impl CellsOf) -> Buckets {
     let mut start = vec![0u32; cells + 1];
     for id in 0..of.count() {

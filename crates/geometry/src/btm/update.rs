@@ -62,7 +62,8 @@ impl Btm {
 
         let mark = self.begin_update();
         let kind = EdgeKind::Obstacle(id);
-        let vertices = super::build::add_ring(&mut self.dcel, polygon, false, kind);
+        let ids = super::build::add_ring(&mut self.dcel, polygon, false, kind);
+        let vertices: Vec<u32> = ids.clone().collect();
         let mut rng = WalkRng::new();
         let mut stack = Vec::new();
         let result = (|| {
@@ -90,7 +91,7 @@ impl Btm {
         for t in inside {
             self.dcel.set_face(t, FaceKind::Obstacle(id));
         }
-        self.obstacles.push(Some(ObstacleRecord { vertices }));
+        self.obstacles.push(Some(ObstacleRecord::of(ids)));
         Ok((id, self.end_update(mark)))
     }
 
@@ -101,7 +102,7 @@ impl Btm {
             .get_mut(id.index())
             .and_then(Option::take)
             .ok_or(BtmError::UnknownObstacle(id))?;
-        let vs = record.vertices;
+        let vs: Vec<u32> = record.vertices().collect();
         let mark = self.begin_update();
         let inside = self.region_of_ring(&vs, false);
         for t in inside {
