@@ -9,7 +9,8 @@
 //!   is not run at 1,000,000 obstacles (its mesh conversion and search are beyond the machine's
 //!   budget there, and the row says so);
 //! - **set-up**: the BTM and planner against polyanya's mesh build, from the same run;
-//! - **BTM**: rappel's BTM build beside spade's CDT bulk load (`btm_interleaved`);
+//! - **BTM**: rappel's BTM build beside spade's CDT bulk load (`btm_interleaved`), times in one
+//!   process and each side's peak memory in its own;
 //! - **plan K = 1, 10, 100**: the whole `rappel plan --classes K` process (the default text
 //!   report) on the strip written by `rappel gen-map`, timed by GNU `time` (wall and CPU to
 //!   10 ms, peak resident set), and counted only when it exits 0 with the chosen ascent and
@@ -66,6 +67,7 @@ pub fn run(full: bool, write: bool) -> Result<ExitCode, String> {
     let mut shp_peak: Vec<Vec<Option<f64>>> = vec![Vec::new(); 3];
     let mut expansions = Vec::new();
     let mut btm = [Vec::new(), Vec::new()];
+    let mut btm_peak = [Vec::new(), Vec::new()];
     let mut plan: Vec<[Vec<Option<f64>>; 3]> = vec![Default::default(); 3];
     for &n in &sizes {
         eprintln!("growth: {n} obstacles");
@@ -113,6 +115,19 @@ pub fn run(full: bool, write: bool) -> Result<ExitCode, String> {
         )?)?;
         btm[0].push(rows.first().and_then(|r| num(r, "rappel_s")));
         btm[1].push(rows.first().and_then(|r| num(r, "spade_s")));
+        // The build's peak memory: each side alone in its own process.
+        for (k, side) in ["rappel", "spade"].into_iter().enumerate() {
+            let rows = tsv(&run_checked(
+                &examples.join("btm_interleaved"),
+                &[
+                    "1".into(),
+                    n.to_string(),
+                    "--tsv".into(),
+                    format!("--side={side}"),
+                ],
+            )?)?;
+            btm_peak[k].push(rows.first().and_then(|r| num(r, "peak_mb")));
+        }
         let strip = work.join(format!("strip-{n}.ron"));
         if !strip.exists() {
             run_checked(
@@ -163,6 +178,16 @@ pub fn run(full: bool, write: bool) -> Result<ExitCode, String> {
     }
     row("BTM build, rappel".into(), "s", &btm[0]);
     row("CDT bulk load, spade".into(), "s", &btm[1]);
+    row(
+        "BTM build peak memory, rappel (own process)".into(),
+        "MB",
+        &btm_peak[0],
+    );
+    row(
+        "CDT bulk load peak memory, spade (own process)".into(),
+        "MB",
+        &btm_peak[1],
+    );
     for (i, k) in [1, 10, 100].into_iter().enumerate() {
         let what = ["wall", "CPU", "peak resident set"];
         for (j, unit) in ["s", "s", "MB"].into_iter().enumerate() {
