@@ -281,6 +281,46 @@ fn world_files_round_trip_and_name_bad_fields() {
     assert!(serde_json::from_str::<WorldFile>(&json).is_err());
 }
 
+/// The discrete motion check visits OMPL's `DiscreteMotionValidator` states in its order (the
+/// end state, then the middle of each unchecked interval, first in first out), so the state
+/// checks counted by the native OMPL peer and by ours agree motion by motion.
+#[test]
+fn motion_checks_visit_the_states_in_ompls_bisection_order() {
+    // Diagonal 5, step 0.1 * 5 = 0.5: the motion (0, 0) -> (0, 4) has n = 8 segments.
+    let w = ObstacleWorld {
+        space: RealVectorSpace::new([0.0, 0.0], [3.0, 4.0]).unwrap(),
+        obstacles: Vec::new(),
+        start: [0.0, 0.0],
+        goal: [0.0, 4.0],
+        resolution: 0.1,
+    };
+    let mut seen = Vec::new();
+    let len = w.motion_with(&w.start, &w.goal, |p| {
+        seen.push(p[1]);
+        true
+    });
+    assert_eq!(len, Some(4.0));
+    // j = 8 (the end), then 4, 2, 6, 1, 3, 5, 7 of 8.
+    assert_eq!(seen, [4.0, 2.0, 1.0, 3.0, 0.5, 1.5, 2.5, 3.5]);
+    // An invalid state stops the check where OMPL's would stop.
+    let mut count = 0;
+    let blocked = w.motion_with(&w.start, &w.goal, |p| {
+        count += 1;
+        p[1] != 3.0
+    });
+    assert_eq!((blocked, count), (None, 4));
+    // A zero-length motion checks its end state only.
+    let mut count = 0;
+    assert_eq!(
+        w.motion_with(&w.start, &w.start, |_| {
+            count += 1;
+            true
+        }),
+        Some(0.0)
+    );
+    assert_eq!(count, 1);
+}
+
 /// The box world with every motion blocked (so each search ends at once and the next batch
 /// follows) and state checks that take 1 ms once `slow` is set: a batch of 1000 samples then
 /// takes at least 1 s.
