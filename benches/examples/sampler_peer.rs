@@ -7,7 +7,7 @@
 //!
 //! The native comparison with OMPL's C++ library (`benches/ompl_peer/native.sh`):
 //! - `header BUDGET_S` prints the TSV header shared with `benches/ompl_peer/native/ompl_peer.cpp`;
-//! - `native WORLD.json abit|bit SEED BUDGET_S [PATH_OUT]` runs our planner once, until the
+//! - `native WORLD.json abit|bit[:k=F] SEED BUDGET_S [PATH_OUT]` runs our planner once, until the
 //!   process has used `BUDGET_S` of CPU time, and prints one TSV row: CPU and wall time and
 //!   state checks to the first solution, the best cost at fixed CPU-time checkpoints, the final
 //!   cost, and the independent re-check of the final path (written to `PATH_OUT`);
@@ -191,9 +191,20 @@ fn header(budget_s: f64) -> String {
 /// defaults (OMPL's ABIT* parameters: initial inflation 1e6, inflation scaling 10, truncation
 /// scaling 5); `bit` is the same planner with OMPL's BIT* parameters (initial inflation 1,
 /// inflation and truncation scaling 0), which is how OMPL derives its ABIT* from its BIT*.
+/// A suffix `:k=F` sets `rgg_k_factor` (a sensitivity run; OMPL's rewire factor is 1.1).
 fn planner_settings(planner: &str) -> Result<AbitSettings, String> {
+    let (name, k) = match planner.split_once(":k=") {
+        Some((name, k)) => (
+            name,
+            Some(
+                k.parse::<f64>()
+                    .map_err(|e| format!("PLANNER `{planner}`: k factor: {e}"))?,
+            ),
+        ),
+        None => (planner, None),
+    };
     let s = AbitSettings::default();
-    match planner {
+    let s = match name {
         "abit" => Ok(s),
         "bit" => s
             .with_initial_inflation(1.0)
@@ -201,6 +212,10 @@ fn planner_settings(planner: &str) -> Result<AbitSettings, String> {
             .and_then(|s| s.with_truncation_scaling(0.0))
             .map_err(|e| e.to_string()),
         other => Err(format!("PLANNER: `{other}` is neither abit nor bit")),
+    }?;
+    match k {
+        Some(k) => s.with_rgg_k_factor(k).map_err(|e| e.to_string()),
+        None => Ok(s),
     }
 }
 
@@ -477,7 +492,7 @@ fn run(args: &[String]) -> Result<(), String> {
             }
         }
         _ => Err(
-            "usage: sampler_peer worlds | header BUDGET_S | native WORLD.json abit|bit SEED \
+            "usage: sampler_peer worlds | header BUDGET_S | native WORLD.json abit|bit[:k=F] SEED \
              BUDGET_S [PATH_OUT] | verify WORLD.json PATH_FILE | anytime WORLD.json [TIME_S] [RUNS]"
                 .into(),
         ),
