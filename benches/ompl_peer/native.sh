@@ -39,7 +39,7 @@ fi
 mkdir -p "$out/paths"
 # Debian's ompl.pc lists the boost libraries' unversioned .so files, which only the boost -dev
 # packages provide; libompl.so links them itself, so -lompl is all the program needs.
-g++ -std=c++17 -O2 -DNDEBUG -Wall -Wextra -Werror -o "$out/ompl_peer" \
+g++ -O2 -DNDEBUG -Wall -Wextra -Werror -o "$out/ompl_peer" \
   benches/ompl_peer/native/ompl_peer.cpp $(pkg-config --cflags ompl) -lompl
 cargo build --quiet --release --locked -p rappel-benches --example sampler_peer
 ours="$target/release/examples/sampler_peer"
