@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# Runs rappel's ABIT* and OMPL's BIT* side by side on the 2D and 3D peer worlds
-# (docs/sampler.md, "Peer: OMPL's BIT*"). Usage: benches/ompl_peer/run.sh [TIME_S] [RUNS]
+# A smoke test only: runs rappel's ABIT* and the OMPL Python package's BIT* side by side on the
+# 2D and 3D peer worlds (docs/sampler.md, "Peer: OMPL's BIT* (Python smoke test)"). OMPL's
+# validity checker is a Python callback here, so its wall times measure Python, not OMPL; the
+# fair comparison is benches/ompl_peer/native.sh (OMPL's C++ ABIT* and BIT*, CPU time).
+# Usage: benches/ompl_peer/run.sh [TIME_S] [RUNS]
 # The OMPL Python package is installed from requirements.txt into a virtual environment
 # ($OMPL_VENV, default target/ompl-venv) on first use.
 set -euo pipefail

@@ -4,8 +4,11 @@
 //! Semantics (shared with the OMPL peer in `benches/ompl_peer/`): a state is valid if it lies in
 //! the closed bounds and in no closed obstacle; a motion is valid if its end state and the
 //! interpolated states at `j / n`, `j = 1..n-1`, `n = ceil(length / (resolution * extent))` are
-//! valid, where `extent` is the bounds' diagonal (OMPL's `setStateValidityCheckingResolution`).
+//! valid, where `extent` is the bounds' diagonal (OMPL's `setStateValidityCheckingResolution`),
+//! checked in the order of OMPL's `DiscreteMotionValidator`: the end state, then by bisection.
 //! Between checked states a motion may clip an obstacle by at most half a check step.
+
+use std::collections::VecDeque;
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -81,10 +84,23 @@ impl<const D: usize> ObstacleWorld<D> {
         }
         // Bounded: both ends lie in the bounds, so length <= diagonal and n <= 1 / resolution + 1.
         let n = (len / self.step()).ceil().max(1.0) as usize;
-        for j in 1..n {
-            let p = self.space.interpolate(from, to, j as f64 / n as f64);
-            if !valid(&p) {
-                return None;
+        if n >= 2 {
+            // OMPL's `DiscreteMotionValidator` order: the middle index of an interval of unchecked
+            // indices first, the two halves queued first in, first out. The verdict is that of
+            // any order; the number of states checked before an invalid one is OMPL's.
+            let mut intervals = VecDeque::from([(1, n - 1)]);
+            while let Some((a, b)) = intervals.pop_front() {
+                let mid = (a + b) / 2;
+                let p = self.space.interpolate(from, to, mid as f64 / n as f64);
+                if !valid(&p) {
+                    return None;
+                }
+                if a < mid {
+                    intervals.push_back((a, mid - 1));
+                }
+                if b > mid {
+                    intervals.push_back((mid + 1, b));
+                }
             }
         }
         Some(len)

@@ -281,6 +281,46 @@ fn world_files_round_trip_and_name_bad_fields() {
     assert!(serde_json::from_str::<WorldFile>(&json).is_err());
 }
 
+/// The discrete motion check visits OMPL's `DiscreteMotionValidator` states in its order (the
+/// end state, then the middle of each unchecked interval, first in first out), so the state
+/// checks counted by the native OMPL peer and by ours agree motion by motion.
+#[test]
+fn motion_checks_visit_the_states_in_ompls_bisection_order() {
+    // Diagonal 5, step 0.1 * 5 = 0.5: the motion (0, 0) -> (0, 4) has n = 8 segments.
+    let w = ObstacleWorld {
+        space: RealVectorSpace::new([0.0, 0.0], [3.0, 4.0]).unwrap(),
+        obstacles: Vec::new(),
+        start: [0.0, 0.0],
+        goal: [0.0, 4.0],
+        resolution: 0.1,
+    };
+    let mut seen = Vec::new();
+    let len = w.motion_with(&w.start, &w.goal, |p| {
+        seen.push(p[1]);
+        true
+    });
+    assert_eq!(len, Some(4.0));
+    // j = 8 (the end), then 4, 2, 6, 1, 3, 5, 7 of 8.
+    assert_eq!(seen, [4.0, 2.0, 1.0, 3.0, 0.5, 1.5, 2.5, 3.5]);
+    // An invalid state stops the check where OMPL's would stop.
+    let mut count = 0;
+    let blocked = w.motion_with(&w.start, &w.goal, |p| {
+        count += 1;
+        p[1] != 3.0
+    });
+    assert_eq!((blocked, count), (None, 4));
+    // A zero-length motion checks its end state only.
+    let mut count = 0;
+    assert_eq!(
+        w.motion_with(&w.start, &w.start, |_| {
+            count += 1;
+            true
+        }),
+        Some(0.0)
+    );
+    assert_eq!(count, 1);
+}
+
 /// The box world with every motion blocked (so each search ends at once and the next batch
 /// follows) and state checks that take 1 ms once `slow` is set: a batch of 1000 samples then
 /// takes at least 1 s.
@@ -318,4 +358,56 @@ fn a_time_budget_interrupts_a_batch_and_says_so() {
     assert!(slow.batches > st.batches, "a new batch was started");
     // Without the time check between samples the new batch alone would take over 1 s.
     assert!(took < std::time::Duration::from_millis(600), "{took:?}");
+}
+
+/// The generated peer worlds: deterministic per seed, start and goal valid with the promised
+/// clearance, and the narrow passage open (a motion through its centre is valid) while the wall
+/// blocks a motion beside it.
+#[test]
+fn generated_peer_worlds_keep_their_promises() {
+    use super::peer_worlds::{
+        CLEARANCE, GAP_2D, GAP_3D, narrow_2d, narrow_3d, random_2d, random_3d,
+    };
+    use super::validator::MotionValidator;
+    fn clear<const D: usize>(w: &ObstacleWorld<D>, p: &[f64; D]) {
+        assert!(w.state_valid(p), "{p:?} invalid");
+        // Every point at distance CLEARANCE along each axis is free too.
+        for i in 0..D {
+            for s in [-1.0, 1.0] {
+                let mut q = *p;
+                q[i] += s * CLEARANCE;
+                assert!(!w.obstacles.iter().any(|o| o.contains(&q)), "{q:?}");
+            }
+        }
+    }
+    for seed in [1, 2, super::peer_worlds::GENERATED_SEED] {
+        let (a, b) = (random_2d(seed), random_3d(seed));
+        assert_eq!((a.obstacles.len(), b.obstacles.len()), (40, 60));
+        assert_eq!(a, random_2d(seed));
+        clear(&a, &a.start);
+        clear(&a, &a.goal);
+        clear(&b, &b.start);
+        clear(&b, &b.goal);
+        let (n2, g2) = narrow_2d(seed);
+        assert_eq!(n2.obstacles.len(), 2 + 12);
+        clear(&n2, &n2.start);
+        clear(&n2, &n2.goal);
+        assert!(n2.motion(&[4.5, g2[1]], &(), &[5.5, g2[1]]).is_some());
+        let beside = g2[1] + GAP_2D / 2.0 + 0.01;
+        assert!(n2.motion(&[4.5, beside], &(), &[5.5, beside]).is_none());
+        let (n3, g3) = narrow_3d(seed);
+        assert_eq!(n3.obstacles.len(), 4 + 20);
+        clear(&n3, &n3.start);
+        clear(&n3, &n3.goal);
+        assert!(
+            n3.motion(&[4.5, g3[1], g3[2]], &(), &[5.5, g3[1], g3[2]])
+                .is_some()
+        );
+        for (dy, dz) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
+            let off = GAP_3D / 2.0 + 0.01;
+            let (y, z) = (g3[1] + dy * off, g3[2] + dz * off);
+            assert!(n3.motion(&[4.5, y, z], &(), &[5.5, y, z]).is_none());
+        }
+    }
+    assert_ne!(random_2d(1), random_2d(2));
 }
