@@ -21,6 +21,7 @@
 //! | [`robot`] | the robot-model trait, planes, poses, placement | Paton §IV-A |
 //! | [`axel`] | the Axel model and its tether-tension estimate | eq. 3.32 |
 //! | [`four_wheel`] | a generic four-wheel rover | Kumar §II |
+//! | [`point_body`] | Kumar's free body: one ground force in one pyramid | Kumar Fig. 4, eq. 3c |
 //! | [`traversability`] | the stability-criterion seam, settings | GUIDE §2 |
 //! | [`stability_error`] | why a stability question could not be answered | GUIDE §3 |
 //! | [`conic`] | the clarabel adapter and status mapping | GUIDE §3 |
@@ -55,6 +56,7 @@ pub mod friction;
 pub mod friction_cone;
 pub mod heavy_rope;
 pub mod ode;
+pub mod point_body;
 pub mod ptfo;
 pub mod ptfo_detection;
 pub mod ptfo_surface;

@@ -9,6 +9,12 @@
 //!   "surfaces": [ { "vertices": [[x, y, z], ...], "friction": 0.4 }, ... ],
 //!   "obstacles": [ { "surface": 0, "base": [[x, y, z], ...], "height": 1.0, "friction": 0.4 } ] }
 //! ```
+//! An optional `"model"` chooses how Kumar's text is read where rappel's default departs from it
+//! ([`TrackModel`]; unknown fields refused): `{"ground_anchors": "crests" | "valleys",
+//! "robot2": "wheels" | "body", "friction_pyramid": "circumscribed" | "inscribed"}`, each field
+//! optional (defaults: crests, wheels, circumscribed; [`TrackModel::kumar`] is valleys, body,
+//! circumscribed).
+//!
 //! Surfaces are convex planar polygons in the world, each sharing an edge with the one before.
 //! Paths are JSON arrays of `[x, y]` points in the **frame** (surface 0 laid flat: origin at its
 //! first vertex, `x` along its first edge).
@@ -17,6 +23,8 @@ use nalgebra::Point2;
 use rappel_mechanics::four_wheel::FourWheelRover;
 use rappel_mechanics::robot::RobotModel;
 use rappel_mechanics::tension_limit::HoldingRobot;
+pub use rappel_planners::tether_tracking::GroundAnchorEdges;
+pub use rappel_planners::tether_tracking::two_robots::{PyramidChoice, Robot2Contact, TrackModel};
 use rappel_planners::tether_tracking::two_robots::{TwoRobotError, TwoRobots, WaypointReport};
 use rappel_terrain::multi_slope::{MultiSlopeError, MultiSlopeTerrain, ObstacleSpec, SurfaceSpec};
 use rappel_terrain::surface::Terrain;
@@ -54,6 +62,9 @@ pub struct TrackScenario {
     /// The obstacles.
     #[serde(default)]
     pub obstacles: Vec<ObstacleSpec>,
+    /// How Kumar's text is read where rappel departs from it (default: rappel's model).
+    #[serde(default)]
+    pub model: TrackModel,
 }
 
 /// Why a track run failed.
@@ -163,6 +174,8 @@ pub fn load_path(path: &Path) -> Result<Vec<Point2<f64>>, TrackRunError> {
 pub struct TrackReport {
     /// The scenario's name.
     pub name: String,
+    /// The model the verdicts were computed in (the scenario's `model`).
+    pub model: TrackModel,
     /// Robot 2 at each waypoint.
     pub waypoints: Vec<WaypointReport>,
     /// The first waypoint where Robot 2 is not stable, if any.
@@ -192,6 +205,7 @@ pub fn track(
         gravity: scenario.gravity,
         robot2: &rover as &(dyn RobotModel + Sync),
         tether_height: rover.params().tether_exit.z,
+        model: scenario.model,
     };
     let waypoints = two.run(path1, path2)?;
     let first_unstable = waypoints.iter().position(|w| !w.stable);
@@ -218,6 +232,7 @@ pub fn track(
     };
     Ok(TrackReport {
         name: scenario.name.clone(),
+        model: scenario.model,
         waypoints,
         first_unstable,
         verdict,

@@ -46,7 +46,7 @@ pub struct KnownDifference {
 pub const KNOWN_DIFFERENCES: &[KnownDifference] = &[
     KnownDifference {
         suite: "tracking",
-        case: "Kumar Fig. 5a, Robot 2 on S1: red / green / yellow",
+        case: "Kumar Fig. 5a, Robot 2 on S1 (rappel's model): red / green / yellow",
         reason: "none hold with the depicted 200 N alone (green 0, as in Fig. 5a), but the tether \
                  rests on the S0/S1 crest, a ground anchor whose capstan gain exp(0.4 * 55 deg) = \
                  1.47 (eq. 2 over every anchor, Kumar's own yellow case) holds poses Fig. 5a shows red",
@@ -54,17 +54,48 @@ pub const KNOWN_DIFFERENCES: &[KnownDifference] = &[
     },
     KnownDifference {
         suite: "tracking",
-        case: "Kumar Fig. 5a, Robot 2 on S2: red / green / yellow",
+        case: "Kumar Fig. 5a, Robot 2 on S2 (rappel's model): red / green / yellow",
         reason: "as 5a S1: the two crests (0/55 and 55/65 deg) add capstan gain \
                  exp(0.4 * 65 deg) = 1.57; with the depicted 200 N alone no pose holds",
         derivation: "docs/mechanics.md, Kumar Fig. 5 from tracked windings",
     },
     KnownDifference {
         suite: "tracking",
-        case: "Kumar Fig. 5b, Robot 2 on S2: red / green / yellow",
+        case: "Kumar Fig. 5b, Robot 2 on S2 (rappel's model): red / green / yellow",
         reason: "closed form: straight below its anchor Robot 2 needs m g (sin 65 - 0.4 cos 65) = \
                  253 N < 300 N (eq. 3 as printed), so some 65 deg poses hold even without ground \
                  anchors; Fig. 5b shows all of S2 red",
+        derivation: "docs/mechanics.md, Kumar Fig. 5 from tracked windings",
+    },
+    KnownDifference {
+        suite: "tracking",
+        case: "Kumar Fig. 5c: T2max from Robot 1's windings (eq. 2), Robot 2 at start",
+        reason: "Robot 1's path as §IV describes it (partly round O2, almost a full round, 290 deg, \
+                 round O1) gives 1,953 N; eq. 2 with mu = 0.4 and F_0 >= 0 allows at most \
+                 ln(500 / 137.3) / 0.4 = 185 deg of winding in all for the stated 500 N, and 270 \
+                 deg on one obstacle alone already gives 904 N: the description and the number \
+                 cannot both hold",
+        derivation: "docs/mechanics.md, Kumar Fig. 5 from tracked windings",
+    },
+    KnownDifference {
+        suite: "tracking",
+        case: "Kumar Fig. 5a, Robot 2 on S1 (Kumar's text: valley anchors, free body, eq. 3c): \
+               red / green / yellow",
+        reason: "no ground anchor on S1 (the S0/S1 change is a crest), so no yellow; but eq. 3c \
+                 on the free body of Fig. 4 circumscribes the friction cone: a pose theta off the \
+                 tether's line needs only G cos theta - mu N (with G sin theta <= mu N), <= 199 N \
+                 for theta in 7.7..16.3 deg on 55 deg (least 191 N), and 11 grid poses lie there \
+                 (the wheeled rover's moments and the exact cone refuse them)",
+        derivation: "docs/mechanics.md, Kumar Fig. 5 from tracked windings",
+    },
+    KnownDifference {
+        suite: "tracking",
+        case: "Kumar Fig. 5b, Robot 2 on S2 (Kumar's text: valley anchors, free body, eq. 3c): \
+               red / green / yellow",
+        reason: "closed form: the free body needs G cos theta - mu N <= m g (sin 65 - 0.4 cos 65) \
+                 = 253 N < 300 N wherever friction holds it sideways (theta <= 10.7 deg), so \
+                 the whole wedge below the anchor is stable in eq. 3 as printed; Fig. 5b shows all \
+                 of S2 red",
         derivation: "docs/mechanics.md, Kumar Fig. 5 from tracked windings",
     },
     KnownDifference {

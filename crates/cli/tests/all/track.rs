@@ -84,3 +84,46 @@ fn a_path_through_an_obstacle_is_a_positioned_error() {
         "robot 1: step 0 passes through obstacle 1",
     );
 }
+
+/// The scenario's `model` (Kumar's text against rappel's defaults): with ground anchors at
+/// valleys no pose on Kumar's convex hillside is ground-anchored, the report names the model,
+/// and an unknown field of `model` is an error.
+#[test]
+fn the_scenario_model_chooses_the_reading_of_kumar_and_refuses_unknown_fields() {
+    let dir = temp_dir("track-model");
+    let mut s: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(fixture("tracking/kumar.json")).expect("read"),
+    )
+    .expect("JSON");
+    s["model"] = serde_json::json!({"ground_anchors": "valleys", "robot2": "body"});
+    let kumar = dir.join("kumar-text.json");
+    std::fs::write(&kumar, s.to_string()).expect("write");
+    let run = |scenario: &std::path::Path| {
+        rappel(&[
+            "track",
+            scenario.to_str().unwrap_or_default(),
+            "--robot1",
+            &fixture("tracking/robot1-nearly-full-turn.json"),
+            "--robot2",
+            &fixture("tracking/robot2-descent.json"),
+            "--json",
+        ])
+    };
+    let o = run(&kumar);
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(v["model"]["ground_anchors"], "valleys");
+    assert_eq!(v["model"]["robot2"], "body");
+    assert_eq!(v["model"]["friction_pyramid"], "circumscribed");
+    let w = v["waypoints"].as_array().expect("waypoints");
+    // The default model puts a ground anchor at the crest above waypoint 4 (the test above);
+    // Kumar's "concave" read as a valley puts none anywhere on this hillside.
+    assert!(w.iter().all(|x| x["ground_anchored"] == false));
+    assert!(w.iter().all(|x| x["t2max_n"] == x["t2max_obstacles_n"]));
+    s["model"] = serde_json::json!({"robot_2": "body"});
+    let bad = dir.join("bad-model.json");
+    std::fs::write(&bad, s.to_string()).expect("write");
+    let o = run(&bad);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("robot_2"), "{}", stderr(&o));
+}

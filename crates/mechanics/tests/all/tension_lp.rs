@@ -208,3 +208,66 @@ fn the_dense_simplex_agrees_with_clarabel() {
         "{stable} stable, {unstable} unstable"
     );
 }
+
+/// Kumar's point body (Fig. 4, eq. 3c: one ground force in one pyramid aligned with the tether)
+/// against the four-wheel rover at 14° off the tether's line on 55°, μ = 0.4, 35 kg, limit
+/// 199 N. The body needs the closed form `G cos θ - μN` = 194.1 N (lateral `G sin θ` = 68.1 N <=
+/// μN = 78.8 N), so eq. 3c holds it; the rover's saturated longitudinal friction leaves a yaw
+/// moment its wheels cannot balance at 14°, so it is refused; the exact cone needs
+/// `G cos θ - sqrt((μN)² - (G sin θ)²)` = 233.5 N and the inscribed pyramid more still.
+#[test]
+fn kumar_point_body_admits_what_the_rover_and_the_inscribed_pyramid_refuse() {
+    use rappel_mechanics::point_body::PointBody;
+    use rappel_mechanics::tension_lp::FrictionPyramid;
+    let w = 35.0 * STANDARD_GRAVITY;
+    let eta = 55f64.to_radians();
+    let (g_along, mu_n) = (w * eta.sin(), 0.4 * w * eta.cos());
+    let theta = 14f64.to_radians();
+    let slope = SlopePlane::new(eta, 0.4).unwrap();
+    let limit = 199.0;
+    let body = PointBody::new(35.0).unwrap();
+    // The body's tether leaves at its point, parallel to the plane.
+    let tether = TetherSpec {
+        anchor: Point3::new(20.0 * theta.sin(), 20.0 * theta.cos(), 0.0),
+        max_tension: Some(limit),
+    };
+    let placed = place(
+        &body,
+        &PlanarPose::new(0.0, 0.0, PI - theta),
+        &slope,
+        Some(&tether),
+    )
+    .unwrap();
+    let r = TensionLimitedLp::default().check(&placed).unwrap();
+    let pyramid = g_along * theta.cos() - mu_n;
+    assert!(r.stable, "eq. 3c holds the body at 14 degrees");
+    let t = r.required_tension.unwrap();
+    assert!(((t - pyramid) / pyramid).abs() < 1e-6, "{t} vs {pyramid}");
+    // The same body with the exact cone's requirement is beyond the limit, and so is the
+    // inscribed pyramid (contained in the cone).
+    let cone = g_along * theta.cos() - (mu_n.powi(2) - (g_along * theta.sin()).powi(2)).sqrt();
+    assert!(cone > limit);
+    let inscribed = TensionLimitedLp::default()
+        .with_pyramid(FrictionPyramid::Inscribed)
+        .check(&placed)
+        .unwrap();
+    assert!(!inscribed.stable, "the inscribed pyramid refuses 199 N");
+    // The four-wheel rover, its tether exit 0.35 m high and 0.3 m behind centre, on the same
+    // line: refused at 199 N.
+    let rover_tether = TetherSpec {
+        anchor: Point3::new(20.3 * theta.sin(), 20.3 * theta.cos(), 0.35),
+        max_tension: Some(limit),
+    };
+    let rover = place(
+        &FourWheelRover::default(),
+        &PlanarPose::new(0.0, 0.0, PI - theta),
+        &slope,
+        Some(&rover_tether),
+    )
+    .unwrap();
+    assert!(!TensionLimitedLp::default().check(&rover).unwrap().stable);
+    // The clarabel oracle agrees on the body.
+    let oracle = TensionLimitedLp::default().check_clarabel(&placed).unwrap();
+    assert!(oracle.stable);
+    assert!((oracle.required_tension.unwrap() - t).abs() < 1e-3 * w);
+}

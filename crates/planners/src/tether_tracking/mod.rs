@@ -26,9 +26,13 @@
 //!   Membership is `orient2d` against the heading, the step's line and the end ray; the tie on
 //!   one ray is decided by comparing coordinates.
 //! - **ground anchors** (`rotatewrtAnchorSurface`): wherever a straight frame segment of the
-//!   tether crosses a crest edge ([`EdgeKind::Crest`], Kumar's "concave" change) the folded tether
-//!   rests on the edge; the anchor is that crossing, so it slides along the edge as the robot
-//!   moves. They are recomputed from the obstacle anchors after each step (Alg. 1 pops them).
+//!   tether crosses a crest edge ([`EdgeKind::Crest`]) the folded tether rests on the edge; the
+//!   anchor is that crossing, so it slides along the edge as the robot moves (Kumar's
+//!   Assumption 2.2: the tether slides laterally at slope changes). They are recomputed from the
+//!   obstacle anchors after each step (Alg. 1 pops them). Kumar §III-A adds a ground anchor at a
+//!   "concave" slope change and none at a "convex" one; which edges those are is a reading of
+//!   the paper, chosen with [`GroundAnchorEdges`] ([`TetherTracker::with_ground_anchor_edges`]):
+//!   crests by default (the physics of a taut tether), valleys for the other reading.
 //!   Whether a segment crosses an edge is exact; the crossing point (a position, not a decision)
 //!   is rounded, and so is its order along the segment when two edges cross it.
 //!
@@ -53,6 +57,65 @@ use serde::{Deserialize, Serialize};
 /// (degenerate input).
 pub const EVENTS_PER_VERTEX: usize = 4;
 
+/// Which slope changes hold the tether as ground anchors (Kumar §III-A: "If the angle is concave
+/// ... this is added to the tether configuration as a ground anchor ... If the angle between the
+/// surfaces is convex, then no changes are made").
+///
+/// The paper does not say from which side the angle is measured, and the two readings differ:
+/// - [`GroundAnchorEdges::Crests`] (the default): the lower surface falls away below the upper
+///   one's plane ([`EdgeKind::Crest`]; the angle on the air side is reflex, "concave"). A taut
+///   tether between the two surfaces would cut through the ground, so it rests on the edge: the
+///   physics, and what rappel models.
+/// - [`GroundAnchorEdges::Valleys`]: the slope flattens downhill ([`EdgeKind::Valley`]; concave
+///   in the usual sense of a hillside profile, seen from above). The tether is taken to follow the
+///   ground through the valley (its geodesic there, straight in the unfolding) and to bend at the
+///   edge, where a taut tether would span it through the air. On Kumar's Fig. 5 hillside (flat,
+///   55°, 65°, flat) no pose on S1 or S2 then has a ground anchor.
+///
+/// Either way the anchor slides along its edge (Kumar's Assumption 2.2).
+///
+/// # Example
+/// ```
+/// use nalgebra::Point2;
+/// use rappel_planners::tether_tracking::{GroundAnchorEdges, TetherTracker};
+/// use rappel_terrain::plane_series::TerrainPlane;
+/// use rappel_terrain::plane_series_terrain::PlaneSeriesTerrain;
+/// // Flat above y = 10, 30 degrees below it: a crest.
+/// let planes = [TerrainPlane::new(20.0, 10.0, 0.0, 0.4), TerrainPlane::new(10.0, 0.0, 30.0, 0.4)];
+/// let t = PlaneSeriesTerrain::new(&planes, (0.0, 20.0), vec![]).unwrap();
+/// let anchors = |edges| {
+///     let mut tr = TetherTracker::new(&t, Point2::new(5.0, 15.0), Point2::new(5.0, 12.0))
+///         .unwrap()
+///         .with_ground_anchor_edges(edges);
+///     tr.step(Point2::new(5.0, 5.0)).unwrap();
+///     tr.configuration().len() - 2
+/// };
+/// assert_eq!(anchors(GroundAnchorEdges::Crests), 1);
+/// assert_eq!(anchors(GroundAnchorEdges::Valleys), 0);
+/// ```
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum GroundAnchorEdges {
+    /// Ground anchors at crests (rappel's default; a taut tether rests on a crest).
+    #[default]
+    Crests,
+    /// Ground anchors at valleys (Kumar's "concave" read as a hillside that flattens downhill).
+    Valleys,
+}
+
+impl GroundAnchorEdges {
+    /// Whether an edge of `kind` holds the tether as a ground anchor.
+    pub fn holds(self, kind: EdgeKind) -> bool {
+        matches!(
+            (self, kind),
+            (GroundAnchorEdges::Crests, EdgeKind::Crest)
+                | (GroundAnchorEdges::Valleys, EdgeKind::Valley)
+        )
+    }
+}
+
 /// What holds the tether at an anchor (Kumar's anchor `type`: 'r', 'o', 'g').
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
@@ -69,7 +132,8 @@ pub enum AnchorKind {
         /// Turn side seen from the base.
         left: bool,
     },
-    /// A crossing of the tether with crest edge `edge`.
+    /// A crossing of the tether with edge `edge` (a crest, or a valley with
+    /// [`GroundAnchorEdges::Valleys`]).
     Ground {
         /// Index into [`Terrain::edges`].
         edge: usize,
@@ -163,6 +227,8 @@ pub struct TetherTracker<'t, T: Terrain + ?Sized> {
     heading: Option<Heading>,
     steps: usize,
     event_limit: usize,
+    /// Which slope changes hold the tether.
+    ground_edges: GroundAnchorEdges,
 }
 
 /// The exact direction of the tether's last segment from the apex (the top anchor, or the base):
@@ -254,6 +320,7 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
             heading: None,
             steps: 0,
             event_limit: EVENTS_PER_VERTEX * n + 16,
+            ground_edges: GroundAnchorEdges::default(),
         };
         t.check_point("the base", &base)?;
         t.check_point("the robot's start", &robot)?;
@@ -277,6 +344,19 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
         t.robot = robot;
         t.check_point("the robot's start", &robot)?;
         Ok(t)
+    }
+
+    /// The same tracker with ground anchors at the slope changes `edges` selects (default:
+    /// crests; see [`GroundAnchorEdges`]). Only [`TetherTracker::configuration`] and what is
+    /// computed from it (length, windings) depend on it; the obstacle anchors do not.
+    pub fn with_ground_anchor_edges(mut self, edges: GroundAnchorEdges) -> Self {
+        self.ground_edges = edges;
+        self
+    }
+
+    /// Which slope changes hold the tether.
+    pub fn ground_anchor_edges(&self) -> GroundAnchorEdges {
+        self.ground_edges
     }
 
     fn check_point(&self, what: &str, p: &Point2<f64>) -> Result<(), TrackError> {
@@ -608,7 +688,7 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
             .collect();
         for e in ends {
             let a = pts.last().map_or(self.base, |x| x.point);
-            pts.extend(ground_anchors(t, &a, &e.point));
+            pts.extend(ground_anchors_at(t, &a, &e.point, self.ground_edges));
             pts.push(e);
         }
         pts
@@ -689,9 +769,20 @@ pub fn ground_anchors<T: Terrain + ?Sized>(
     a: &Point2<f64>,
     b: &Point2<f64>,
 ) -> Vec<TetherAnchor> {
+    ground_anchors_at(t, a, b, GroundAnchorEdges::Crests)
+}
+
+/// The ground anchors where the frame segment `a -> b` crosses the edges `edges` selects, in
+/// order from `a`.
+pub fn ground_anchors_at<T: Terrain + ?Sized>(
+    t: &T,
+    a: &Point2<f64>,
+    b: &Point2<f64>,
+    edges: GroundAnchorEdges,
+) -> Vec<TetherAnchor> {
     let mut hits: Vec<(f64, TetherAnchor)> = Vec::new();
     for (i, e) in t.edges().iter().enumerate() {
-        if e.kind != EdgeKind::Crest {
+        if !edges.holds(e.kind) {
             continue;
         }
         let (sa, sb) = (sign(orient2d(&e.a, &e.b, a)), sign(orient2d(&e.a, &e.b, b)));

@@ -4,19 +4,111 @@
 //! the actual windings (eq. 2, ground anchors included) and Robot 2's tension-limited stability LP
 //! (eqs. 3a-3e) with the tether pulling towards its last anchor.
 //!
+//! How the paper's text is read where rappel's default differs is a [`TrackModel`]: which slope
+//! changes hold ground anchors ([`GroundAnchorEdges`]), Robot 2 as its wheels or as Kumar's free
+//! body of Fig. 4 ([`Robot2Contact`]), and the friction pyramid of eq. 3c ([`PyramidChoice`]).
+//! [`TrackModel::default`] is rappel's model, [`TrackModel::kumar`] the paper's text as written.
+//! The tether slides laterally at slope changes (Kumar's Assumption 2.2) in both: a ground anchor
+//! is where the straight unfolded tether crosses the edge, recomputed at every step.
+//!
 //! Both phases use one [`TetherTracker`]: phase 1 with Robot 2's start as the base and Robot 1 as
 //! the moving end, phase 2 on the reversed anchor list (turn sides flipped) with Robot 1 as the base
 //! (Kumar: "the same algorithm can be used ... for the motion of Robot 1").
 
-use super::{AnchorKind, TetherAnchor, TetherTracker, TrackError, windings_of};
+use super::{AnchorKind, GroundAnchorEdges, TetherAnchor, TetherTracker, TrackError, windings_of};
 use nalgebra::{Point2, Point3};
+use rappel_mechanics::point_body::PointBody;
 use rappel_mechanics::robot::{PlanarPose, RobotModel, SlopePlane, TetherSpec, place};
 use rappel_mechanics::stability_error::StabilityError;
 use rappel_mechanics::tension_limit::{HoldingRobot, TensionLimitError, tension_limit};
-use rappel_mechanics::tension_lp::TensionLimitedLp;
+use rappel_mechanics::tension_lp::{FrictionPyramid, TensionLimitedLp};
 use rappel_terrain::surface::Terrain;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+/// How Robot 2 meets the ground in the stability LP (Kumar eqs. 3a-3e).
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Robot2Contact {
+    /// The robot model given ([`TwoRobots::robot2`]): a friction pyramid per wheel and a rigid
+    /// body whose moments balance, the tether leaving at its exit height (rappel's default).
+    #[default]
+    Wheels,
+    /// Kumar's free body (Fig. 4, eq. 3c): one ground force `(F_X, F_Y, F_Z)` in one pyramid
+    /// aligned with the tether, weight, ground force and tether concurrent (a
+    /// [`PointBody`] of the model's mass), the tether parallel to the surface.
+    Body,
+}
+
+/// The friction pyramid of the stability LP (Kumar eq. 3c).
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum PyramidChoice {
+    /// Kumar's eq. 3c, `|F_X|, |F_Y| <= μ F_Z`: it contains the friction cone (optimistic off
+    /// its axes by up to `sqrt 2`); the default.
+    #[default]
+    Circumscribed,
+    /// `|F_X|, |F_Y| <= μ F_Z / sqrt 2`: inside the cone (conservative).
+    Inscribed,
+}
+
+impl PyramidChoice {
+    /// The mechanics crate's pyramid.
+    pub fn pyramid(self) -> FrictionPyramid {
+        match self {
+            PyramidChoice::Circumscribed => FrictionPyramid::Circumscribed,
+            PyramidChoice::Inscribed => FrictionPyramid::Inscribed,
+        }
+    }
+}
+
+/// How Kumar's text is read where rappel's default model departs from it (the input file's
+/// `model` of `rappel track`; unknown fields are refused).
+///
+/// # Example
+/// ```
+/// use rappel_planners::tether_tracking::GroundAnchorEdges;
+/// use rappel_planners::tether_tracking::two_robots::{PyramidChoice, Robot2Contact, TrackModel};
+/// let ours = TrackModel::default();
+/// assert_eq!(ours.ground_anchors, GroundAnchorEdges::Crests);
+/// assert_eq!(ours.robot2, Robot2Contact::Wheels);
+/// let paper = TrackModel::kumar();
+/// assert_eq!(paper.ground_anchors, GroundAnchorEdges::Valleys);
+/// assert_eq!(paper.robot2, Robot2Contact::Body);
+/// assert_eq!(paper.friction_pyramid, PyramidChoice::Circumscribed);
+/// let m: TrackModel = serde_json::from_str(r#"{"robot2": "body"}"#).unwrap();
+/// assert_eq!(m.ground_anchors, GroundAnchorEdges::Crests);
+/// assert!(serde_json::from_str::<TrackModel>(r#"{"robot_2": "body"}"#).is_err());
+/// ```
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(default, deny_unknown_fields)]
+pub struct TrackModel {
+    /// Which slope changes hold the tether as ground anchors (Kumar §III-A's "concave" changes;
+    /// see [`GroundAnchorEdges`]).
+    pub ground_anchors: GroundAnchorEdges,
+    /// Robot 2 as its wheels or as Kumar's free body (Fig. 4).
+    pub robot2: Robot2Contact,
+    /// The friction pyramid (Kumar eq. 3c).
+    pub friction_pyramid: PyramidChoice,
+}
+
+impl TrackModel {
+    /// Kumar's text as written: ground anchors at valleys (§III-A's "concave" read as a
+    /// hillside flattening downhill), Robot 2 as the free body of Fig. 4, the pyramid of eq. 3c.
+    pub const fn kumar() -> Self {
+        TrackModel {
+            ground_anchors: GroundAnchorEdges::Valleys,
+            robot2: Robot2Contact::Body,
+            friction_pyramid: PyramidChoice::Circumscribed,
+        }
+    }
+}
 
 /// Why a two-robot run failed.
 #[derive(Debug, thiserror::Error)]
@@ -95,6 +187,8 @@ pub struct TwoRobots<'a, T: Terrain + ?Sized> {
     pub robot2: &'a (dyn RobotModel + Sync),
     /// Height of Robot 2's tether exit (the anchor height `h_t` in its plane frame), m.
     pub tether_height: f64,
+    /// How the paper is read where rappel departs from it (default: rappel's model).
+    pub model: TrackModel,
 }
 
 /// Reverses a configuration's obstacle anchors (base becomes end): turn sides flip.
@@ -127,6 +221,7 @@ impl<'a, T: Terrain + Sync + ?Sized> TwoRobots<'a, T> {
         };
         // Phase 1's tracker runs from Robot 2's start (its base) to Robot 1's start: an
         // objection to the base is about Robot 2's path, not Robot 1's.
+        let edges = self.model.ground_anchors;
         let mut phase1 = TetherTracker::new(self.terrain, s2, s1).map_err(|e| match e.what() {
             Some("the base") => t2(e.renamed("the start")),
             Some("the robot's start") => t1(e.renamed("the start")),
@@ -136,7 +231,9 @@ impl<'a, T: Terrain + Sync + ?Sized> TwoRobots<'a, T> {
         phase1.follow(&path1[1..]).map_err(t1)?;
         let r1 = phase1.robot();
         let anchors = reversed(phase1.obstacle_anchors());
-        let mut phase2 = TetherTracker::with_anchors(self.terrain, r1, anchors, s2).map_err(t2)?;
+        let mut phase2 = TetherTracker::with_anchors(self.terrain, r1, anchors, s2)
+            .map_err(t2)?
+            .with_ground_anchor_edges(edges);
         let t1_limit = self.holding.holding_limit(self.gravity)?;
         let mut out = Vec::with_capacity(path2.len());
         let mut lasts = Vec::with_capacity(path2.len());
@@ -227,18 +324,28 @@ impl<'a, T: Terrain + Sync + ?Sized> TwoRobots<'a, T> {
         } else {
             std::f64::consts::PI
         };
+        let body;
+        let (robot, height): (&dyn RobotModel, f64) = match self.model.robot2 {
+            Robot2Contact::Wheels => (self.robot2, self.tether_height),
+            Robot2Contact::Body => {
+                body = PointBody::new(self.robot2.total_mass())
+                    .map_err(|_| TwoRobotError::Surface { waypoint, surface })?;
+                (&body, 0.0)
+            }
+        };
         let tether = TetherSpec {
-            anchor: Point3::new(ax, ay, self.tether_height),
+            anchor: Point3::new(ax, ay, height),
             max_tension: Some(t2max),
         };
         let placed = place(
-            self.robot2,
+            robot,
             &PlanarPose::new(0.0, 0.0, heading),
             &plane,
             Some(&tether),
         )
         .map_err(|_| TwoRobotError::Surface { waypoint, surface })?;
         let r = TensionLimitedLp::default()
+            .with_pyramid(self.model.friction_pyramid.pyramid())
             .check(&placed)
             .map_err(|source| TwoRobotError::Stability { waypoint, source })?;
         Ok((r.stable, r.required_tension))

@@ -544,3 +544,88 @@ fn dyadic_walks_that_went_wrong() {
         check_dyadic_walk(seed, 40);
     }
 }
+
+/// Kumar's text against rappel's model on Kumar's scene (Fig. 5a: Robot 1 partly round O2;
+/// Robot 2's last anchor O2's corner (4, 19)), Robot 2 at (2, 10.5) on S1, 5.5 m below the crest,
+/// `θ = atan(2 / 8.5)` off its anchor's line in the unfolding. Independent closed forms: with
+/// ground anchors at valleys no anchor lies on this convex hillside, so the tether is the straight
+/// 3D line from the corner (the literal reading: "no changes are made") and `T_2max =
+/// μ m_1 g exp(0.4 (φ_(4,21) + φ_(4,19)))` with the angles of that polyline; Kumar's free body
+/// with eq. 3c needs `G cos θ - μN` (`G sin θ <= μN`).
+#[test]
+fn kumars_reading_valley_anchors_and_free_body_against_rappels_model() {
+    use nalgebra::Vector3;
+    use rappel_mechanics::four_wheel::FourWheelRover;
+    use rappel_mechanics::robot::{RobotModel, STANDARD_GRAVITY};
+    use rappel_mechanics::tension_limit::HoldingRobot;
+    use rappel_planners::tether_tracking::GroundAnchorEdges;
+    use rappel_planners::tether_tracking::two_robots::{Robot2Contact, TrackModel, TwoRobots};
+    let terrain = rappel_terrain::kumar::kumar_scene().unwrap();
+    let rover = FourWheelRover::default();
+    let two = |model| TwoRobots {
+        terrain: &terrain,
+        holding: HoldingRobot {
+            max_pull: 0.0,
+            friction: 0.4,
+            mass: 35.0,
+        },
+        gravity: STANDARD_GRAVITY,
+        robot2: &rover as &dyn RobotModel,
+        tether_height: rover.params().tether_exit.z,
+        model,
+    };
+    let path1 = [p(5.0, 18.0), p(5.0, 23.0), p(3.0, 23.0)];
+    let path2 = [p(3.0, 17.0), p(2.0, 16.0), p(2.0, 10.5)];
+    let at = |model| two(model).run(&path1, &path2).unwrap().pop().unwrap();
+    let crests = at(TrackModel::default());
+    let valleys = at(TrackModel {
+        ground_anchors: GroundAnchorEdges::Valleys,
+        ..TrackModel::default()
+    });
+    let kumar = at(TrackModel::kumar());
+    let n = kumar.configuration.len();
+    assert_eq!(kumar.configuration[n - 2].point, p(4.0, 19.0));
+    // Crests: the S0/S1 crest is a ground anchor that adds capstan gain; valleys: none.
+    assert!(crests.ground_anchored && crests.t2max_n > crests.t2max_obstacles_n * 1.01);
+    assert!(!valleys.ground_anchored && !kumar.ground_anchored);
+    assert_eq!(valleys.t2max_n, valleys.t2max_obstacles_n);
+    // T2max of the straight 3D tether (4, 21) -> (4, 19) -> Robot 2, folded by hand: S1 falls
+    // at 55 degrees from the crest y = 16.
+    let eta = 55f64.to_radians();
+    let d = 16.0 - 10.5;
+    let robot = Vector3::new(2.0, 16.0 - d * eta.cos(), -d * eta.sin());
+    let angle = |u: Vector3<f64>, v: Vector3<f64>| (u.dot(&v) / (u.norm() * v.norm())).acos();
+    let phi = angle(Vector3::new(1.0, -2.0, 0.0), Vector3::new(0.0, -2.0, 0.0))
+        + angle(
+            Vector3::new(0.0, -2.0, 0.0),
+            robot - Vector3::new(4.0, 19.0, 0.0),
+        );
+    let t1 = 0.4 * 35.0 * STANDARD_GRAVITY;
+    let t2max = t1 * (0.4 * phi).exp();
+    assert!(
+        (kumar.t2max_n - t2max).abs() < 1e-9 * t2max,
+        "{} vs {t2max}",
+        kumar.t2max_n
+    );
+    // Kumar's free body: the closed form of eq. 3c, below the limit here.
+    let w = 35.0 * STANDARD_GRAVITY;
+    let theta = (2.0f64 / 8.5).atan();
+    let (g, mu_n) = (w * eta.sin(), 0.4 * w * eta.cos());
+    assert!(g * theta.sin() <= mu_n);
+    let want = g * theta.cos() - mu_n;
+    assert!(want < t2max);
+    assert!(
+        kumar.stable,
+        "Kumar's free body holds at {want} N <= {t2max} N"
+    );
+    let t = kumar.required_tension_n.unwrap();
+    assert!((t - want).abs() < 1e-6 * w, "{t} vs {want}");
+    // The wheeled rover in the same tether needs more, or is refused.
+    assert!(!valleys.stable || valleys.required_tension_n.unwrap() > want);
+    // The free body alone (crest anchors kept) holds too, with the crest's gain in the limit.
+    let body = at(TrackModel {
+        robot2: Robot2Contact::Body,
+        ..TrackModel::default()
+    });
+    assert!(body.stable && body.ground_anchored);
+}
