@@ -1,5 +1,6 @@
 //! `rappel validate FILE [--kind KIND] [--json]`: checks any input file rappel reads (a
-//! scenario, a Paton scene, a tracking terrain, a path or pairs file, a mesh, an elevation model)
+//! scenario, a Paton scene, a tracking terrain, a path or pairs file, a mesh, an elevation model,
+//! a lidar point cloud)
 //! with the loader of the commands that read it, says which kind it checked, and prints a
 //! one-line summary (or its JSON form). The kind is detected from the extension and the file's
 //! top-level shape ([`rappel::input_kind::detect`]) unless `--kind` names it.
@@ -12,10 +13,11 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct Args {
     /// The file: a scenario (.ron, .json), a Paton scene (.ron), a tracking terrain (.json), a
-    /// path or pairs file (.json), a mesh (.obj, .ply, .stl) or an elevation model (.asc, .tif).
+    /// path or pairs file (.json), a mesh (.obj, .ply, .stl), an elevation model (.asc, .tif) or
+    /// a lidar point cloud (.las, .laz).
     file: PathBuf,
     /// Check the file as this kind instead of the detected one: scenario, paton-scene,
-    /// tracking-terrain, path, pairs, mesh or dem.
+    /// tracking-terrain, path, pairs, mesh, dem or point-cloud.
     #[arg(long, value_name = "KIND", value_parser = kind)]
     kind: Option<InputKind>,
     /// Print the summary as JSON.

@@ -29,11 +29,13 @@ pub enum InputKind {
     Mesh,
     /// An elevation model (`.asc`, `.tif`): `dem`, `settle`, `settle-map`.
     Dem,
+    /// A lidar point cloud (`.las`, `.laz`): `dem --cell`.
+    PointCloud,
 }
 
 impl InputKind {
     /// Every kind, in the order of the docs.
-    pub const ALL: [InputKind; 7] = [
+    pub const ALL: [InputKind; 8] = [
         InputKind::Scenario,
         InputKind::PatonScene,
         InputKind::TrackingTerrain,
@@ -41,6 +43,7 @@ impl InputKind {
         InputKind::Pairs,
         InputKind::Mesh,
         InputKind::Dem,
+        InputKind::PointCloud,
     ];
 
     /// The kind's name on the command line and in reports (`paton-scene`, ...).
@@ -59,6 +62,7 @@ impl InputKind {
             InputKind::Pairs => "pairs",
             InputKind::Mesh => "mesh",
             InputKind::Dem => "dem",
+            InputKind::PointCloud => "point-cloud",
         }
     }
 
@@ -142,6 +146,7 @@ pub fn detect(path: &Path) -> InputKind {
     match ext.as_deref() {
         Some("obj" | "ply" | "stl") => return InputKind::Mesh,
         Some("asc" | "tif" | "tiff") => return InputKind::Dem,
+        Some("las" | "laz") => return InputKind::PointCloud,
         _ => {}
     }
     let Ok(text) = rappel_terrain::input::read_text(path) else {
@@ -169,6 +174,12 @@ pub fn detect(path: &Path) -> InputKind {
         _ => InputKind::Scenario,
     }
 }
+
+/// The cell, metres, of the grid a point cloud is read into when it is only checked: 1,000 km,
+/// so that any survey grids to a handful of cells whatever its extent (`rappel dem --cell`
+/// checks the user's own cell against the grid limits).
+#[cfg(feature = "mesh")]
+const VALIDATE_CELL_M: f64 = 1.0e6;
 
 /// Checks `path` as a file of `kind` with the loader of the commands that read it.
 ///
@@ -258,8 +269,31 @@ pub fn check(path: &Path, kind: InputKind) -> Result<InputSummary, InputKindErro
                 mesh.triangles().len()
             )))
         }
+        #[cfg(feature = "mesh")]
+        InputKind::PointCloud => {
+            // `rappel dem`'s reader, every point decoded and checked; the cell only sizes the
+            // throw-away grid (one cell per VALIDATE_CELL_M square), since the cell a user
+            // grids with is theirs to choose.
+            use rappel_terrain::point_cloud::{Statistic, read_point_cloud};
+            let pc = read_point_cloud(
+                path,
+                VALIDATE_CELL_M,
+                Statistic::Max,
+                &rappel_terrain::grid::DemLimits::default(),
+            )
+            .map_err(|e| fail(e.to_string()))?;
+            Ok(done(format!(
+                "{} points, CRS {}{}",
+                pc.points,
+                pc.crs.as_deref().unwrap_or("none (local coordinates)"),
+                match pc.ignored.len() {
+                    0 => String::new(),
+                    n => format!(", {n} GeoKeys not used"),
+                }
+            )))
+        }
         #[cfg(not(feature = "mesh"))]
-        InputKind::Mesh | InputKind::PatonScene => Err(fail(format!(
+        InputKind::Mesh | InputKind::PatonScene | InputKind::PointCloud => Err(fail(format!(
             "{}: this build has no mesh support (the `mesh` feature is off)",
             path.display()
         ))),

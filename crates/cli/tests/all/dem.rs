@@ -328,3 +328,38 @@ fn mesh_and_point_cloud_options_are_checked() {
         stdout(&ok)
     );
 }
+
+/// `rappel validate` knows lidar point clouds by their extension and checks them with `rappel
+/// dem`'s reader: the point count against the count in the file's own header (the legacy
+/// "number of point records", a little-endian `u32` at byte 107 of every LAS 1.0-1.4 header,
+/// uncompressed in a LAZ file too) and the CRS its records give; a file that is not LAS, and a
+/// truncated one, are errors naming the kind checked, with exit 2.
+#[test]
+fn validate_checks_point_clouds_with_the_dem_reader() {
+    let laz = fixture("lidar/boulder_slope_utm10n.laz");
+    let bytes = std::fs::read(&laz).expect("fixture");
+    assert_eq!(&bytes[..4], b"LASF");
+    let count = u32::from_le_bytes([bytes[107], bytes[108], bytes[109], bytes[110]]);
+    let o = rappel(&["validate", &laz]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains(&format!(
+            "valid point-cloud: {count} points, CRS EPSG:32610"
+        )),
+        "{out}"
+    );
+    let dir = temp_dir("validate-lidar");
+    let not_las = dir.join("scan.las");
+    std::fs::write(&not_las, "x y z\n1 2 3\n").expect("write");
+    check_error(
+        &["validate", not_las.to_str().unwrap_or_default()],
+        "(checked as a point-cloud file)",
+    );
+    let truncated = dir.join("cut.laz");
+    std::fs::write(&truncated, &bytes[..bytes.len().min(600)]).expect("write");
+    check_error(
+        &["validate", truncated.to_str().unwrap_or_default()],
+        "(checked as a point-cloud file)",
+    );
+}
