@@ -512,6 +512,12 @@ impl SparseSdf {
                 // Per candidate and point: a lower bound on the distance to the triangle, or
                 // infinity when the point lies in its face region (its distance is then known).
                 let mut lower = vec![0.0; cand.len()];
+                // Per candidate: a lower bound on its distance from every point of the block
+                // (a point lies within `r_b` of the centre), less the rounding slack. The
+                // candidates are sorted by it, so once one exceeds the best distance so far
+                // (which only falls), it and every later candidate can neither be closer nor
+                // tie: the scans below stop there, with the same answer as a full scan.
+                let block_lower: Vec<f64> = cand.iter().map(|c| c.0 - r_b - plane_slack).collect();
                 for (l, (slot, tri_slot)) in out.iter_mut().zip(tri_out.iter_mut()).enumerate() {
                     let g = [l % BLOCK, (l / BLOCK) % BLOCK, l / (BLOCK * BLOCK)];
                     let q = origin
@@ -523,9 +529,14 @@ impl SparseSdf {
                     // `q` lies a distance `e` beyond an edge's plane and `pd` off the triangle's
                     // plane, two orthogonal directions: the triangle is at least
                     // `sqrt(pd^2 + e^2)` away.
-                    for (((_, t, a, n), (region, whole)), lb) in
-                        cand.iter().zip(&regions).zip(lower.iter_mut())
+                    let mut stop = cand.len();
+                    for (i, (((_, t, a, n), (region, whole)), lb)) in
+                        cand.iter().zip(&regions).zip(lower.iter_mut()).enumerate()
                     {
+                        if block_lower[i] > best.abs() + plane_slack {
+                            stop = i;
+                            break;
+                        }
                         let pd = (q - a).dot(n);
                         let e = match region {
                             _ if *whole => 0.0,
@@ -545,7 +556,12 @@ impl SparseSdf {
                         }
                     }
                     // Then the edges and corners of the triangles that may still be closer.
-                    for ((_, t, _, _), &lb) in cand.iter().zip(&lower) {
+                    for (((_, t, _, _), &lb), &lb_block) in
+                        cand[..stop].iter().zip(&lower).zip(&block_lower)
+                    {
+                        if lb_block > best.abs().min(reach_k) + plane_slack {
+                            break;
+                        }
                         if lb > best.abs().min(reach_k) + plane_slack {
                             continue;
                         }
@@ -594,22 +610,26 @@ impl SparseSdf {
             .map(|v| local_flood(v, tf))
             .collect();
         if exact.iter().any(|e| !e) {
-            let kept = exact.iter().filter(|e| **e).count();
-            let mut kept_values = Vec::with_capacity(kept * BLOCK_POINTS);
-            let mut kept_cells = Vec::with_capacity(kept);
+            // In place: block `k`'s values move down to the `kept`-th slot (`kept <= k`).
+            let mut kept = 0;
             for (k, &keep) in exact.iter().enumerate() {
                 let c = block_cells[k];
                 if keep {
-                    index.set(split(c), kept_cells.len() as u32);
-                    kept_cells.push(c);
-                    kept_values
-                        .extend_from_slice(&values[k * BLOCK_POINTS..(k + 1) * BLOCK_POINTS]);
+                    index.set(split(c), kept as u32);
+                    block_cells[kept] = c;
+                    if kept != k {
+                        values.copy_within(
+                            k * BLOCK_POINTS..(k + 1) * BLOCK_POINTS,
+                            kept * BLOCK_POINTS,
+                        );
+                    }
+                    kept += 1;
                 } else {
                     index.set(split(c), UNKNOWN);
                 }
             }
-            values = kept_values;
-            block_cells = kept_cells;
+            values.truncate(kept * BLOCK_POINTS);
+            block_cells.truncate(kept);
         }
         let block_cells = block_cells;
 
@@ -723,11 +743,15 @@ impl SparseSdf {
         // Seeds: unknown nodes with a known neighbour in the initial state (assigned after the
         // scan, so that the fronts advance evenly from every exact point).
         let mut seeds: Vec<(Node, bool)> = Vec::new();
-        let unknown_nodes = values
-            .iter()
+        let unknown_points: Vec<usize> = values
+            .par_iter()
             .enumerate()
             .filter(|(_, v)| v.is_nan())
-            .map(|(i, _)| Node::Point(i))
+            .map(|(i, _)| i)
+            .collect();
+        let unknown_nodes = unknown_points
+            .into_iter()
+            .map(Node::Point)
             .chain(index.paged_cells(UNKNOWN).map(|c| Node::Cell(cell_id(c))))
             .chain(index.uniform_tops(UNKNOWN).map(Node::Top))
             .collect::<Vec<_>>();
@@ -765,9 +789,10 @@ impl SparseSdf {
             }
         }
         // Unreached nodes cannot exist (the grid is connected and holds exact points); air if so.
-        for v in values.iter_mut().filter(|v| v.is_nan()) {
-            *v = tf;
-        }
+        values
+            .par_iter_mut()
+            .filter(|v| v.is_nan())
+            .for_each(|v| *v = tf);
         index.replace_unknown(AIR);
         let values = pad_blocks(&index, cells, &block_cells, &values, tf);
         let value_ranges = stored_ranges(&values);
@@ -1364,18 +1389,34 @@ fn pad_blocks(
                     b => Apron::Block(block(b as usize)),
                 }
             });
+            // Row by row: a row's first `BLOCK` values come from one source, its last from the
+            // source one step up in `x`.
             for z in 0..PADDED {
                 for y in 0..PADDED {
-                    for x in 0..PADDED {
-                        let g = [x, y, z];
-                        let n = (0..3).fold(0, |n, a| n | usize::from(g[a] == BLOCK) << a);
-                        let at = |v: &[f32], l: [usize; 3]| v[(l[2] * BLOCK + l[1]) * BLOCK + l[0]];
-                        o[(z * PADDED + y) * PADDED + x] = match sources[n] {
-                            Apron::Block(v) => at(v, g.map(|u| u % BLOCK)),
-                            Apron::Uniform(u) => u,
-                            Apron::PastGrid => at(block(k), g.map(|u| u.min(BLOCK - 1))),
-                        };
+                    let n = usize::from(y == BLOCK) << 1 | usize::from(z == BLOCK) << 2;
+                    let row = |yy: usize, zz: usize| (zz * BLOCK + yy) * BLOCK;
+                    let out = &mut o[(z * PADDED + y) * PADDED..(z * PADDED + y + 1) * PADDED];
+                    let (body, last) = out.split_at_mut(BLOCK);
+                    match sources[n] {
+                        Apron::Block(v) => {
+                            let r = row(y % BLOCK, z % BLOCK);
+                            body.copy_from_slice(&v[r..r + BLOCK]);
+                        }
+                        Apron::Uniform(u) => body.fill(u),
+                        Apron::PastGrid => {
+                            let v = block(k);
+                            let r = row(y.min(BLOCK - 1), z.min(BLOCK - 1));
+                            body.copy_from_slice(&v[r..r + BLOCK]);
+                        }
                     }
+                    last[0] = match sources[n | 1] {
+                        Apron::Block(v) => v[row(y % BLOCK, z % BLOCK)],
+                        Apron::Uniform(u) => u,
+                        Apron::PastGrid => {
+                            let v = block(k);
+                            v[row(y.min(BLOCK - 1), z.min(BLOCK - 1)) + BLOCK - 1]
+                        }
+                    };
                 }
             }
         });
@@ -1393,15 +1434,35 @@ enum Apron<'a> {
     PastGrid,
 }
 
-/// The least and the greatest value of each stored block (no NaN left).
+/// The least and the greatest value of each stored block (no NaN left). Eight lanes per block
+/// (vectorised; `min` and `max` are exact, so the lanes' order does not matter), blocks in
+/// parallel.
 fn stored_ranges(values: &[f32]) -> Vec<[f32; 2]> {
+    const LANES: usize = 8;
     values
-        .chunks(PADDED_POINTS)
+        .par_chunks(PADDED_POINTS)
         .map(|v| {
-            v.iter()
-                .fold([f32::INFINITY, f32::NEG_INFINITY], |[lo, hi], &x| {
-                    [lo.min(x), hi.max(x)]
-                })
+            let mut lo = [f32::INFINITY; LANES];
+            let mut hi = [f32::NEG_INFINITY; LANES];
+            let chunks = v.chunks_exact(LANES);
+            let rest = chunks.remainder();
+            for c in chunks {
+                for k in 0..LANES {
+                    lo[k] = if c[k] < lo[k] { c[k] } else { lo[k] };
+                    hi[k] = if c[k] > hi[k] { c[k] } else { hi[k] };
+                }
+            }
+            let fold = |a: f32, b: f32, less: bool| if (b < a) == less { b } else { a };
+            let mut r = [f32::INFINITY, f32::NEG_INFINITY];
+            for k in 0..LANES {
+                r[0] = fold(r[0], lo[k], true);
+                r[1] = fold(r[1], hi[k], false);
+            }
+            for &x in rest {
+                r[0] = fold(r[0], x, true);
+                r[1] = fold(r[1], x, false);
+            }
+            r
         })
         .collect()
 }
