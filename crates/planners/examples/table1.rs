@@ -7,7 +7,9 @@
 //! `cargo run --release -p rappel-planners --example table1 -- TEST ITERATIONS SEEDS [shadow]`
 //! (defaults: test 3, 750 iterations, seeds 0-99, Paton's uniform sampling; `shadow` uses our
 //! shadow sampling, `SHADOW_SAMPLE_FRACTION`); rayon across seeds (`RAYON_NUM_THREADS`).
-//! `VERBOSE` prints a line per seed; `KF` and `BATCH` override `rgg_k_factor` and `batch_size`.
+//! `VERBOSE` prints a line per seed; `KF` and `BATCH` override `rgg_k_factor` and `batch_size`;
+//! `POLE_R` sets test 3's pole radius, metres (Paton does not state it; ours is 0.3 m), for a
+//! sensitivity study of the scene.
 use rappel_planners::rover::problem::{RoverProblem, SHADOW_SAMPLE_FRACTION};
 use rappel_planners::sampler::{AbitCounters, Termination};
 use rappel_planners::stop::StopCondition;
@@ -34,7 +36,13 @@ fn main() {
     let arg = |i: usize, d: u64| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let (test, iters, seeds) = (arg(1, 3), arg(2, 750), arg(3, 100));
     let shadow = args.get(4).is_some_and(|s| s == "shadow");
-    let scene = PatonScene::paper(test == 3);
+    let mut scene = PatonScene::paper(test == 3);
+    if let (Some(pole), Some(r)) = (
+        scene.pole.as_mut(),
+        std::env::var("POLE_R").ok().and_then(|v| v.parse::<f64>().ok()),
+    ) {
+        pole.radius = r;
+    }
     let mut p = match RoverProblem::paton(&scene, if test == 1 { 0 } else { 1 }) {
         Ok(p) => p,
         Err(e) => {
