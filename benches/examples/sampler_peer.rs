@@ -8,9 +8,10 @@
 //! The native comparison with OMPL's C++ library (`benches/ompl_peer/native.sh`):
 //! - `header BUDGET_S` prints the TSV header shared with `benches/ompl_peer/native/ompl_peer.cpp`;
 //! - `native WORLD.json abit|bit[:k=F] SEED BUDGET_S [PATH_OUT]` runs our planner once, until the
-//!   process has used `BUDGET_S` of CPU time, and prints one TSV row: CPU and wall time and
-//!   state checks to the first solution, the best cost at fixed CPU-time checkpoints, the final
-//!   cost, and the independent re-check of the final path (written to `PATH_OUT`);
+//!   process has used `BUDGET_S` of CPU time, and prints one TSV row: CPU and wall time, state
+//!   checks and the number of batches sampled to the first solution, the best cost at fixed
+//!   CPU-time checkpoints, the final cost, and the independent re-check of the final path
+//!   (written to `PATH_OUT`);
 //! - `verify WORLD.json PATH_FILE` re-checks a path file (OMPL's, in the script) with our checker.
 //!
 //! `anytime WORLD.json [TIME_S] [RUNS]` is the older wall-clock table of the Python smoke test
@@ -179,7 +180,7 @@ fn checkpoints(budget_s: f64) -> Vec<f64> {
 
 fn header(budget_s: f64) -> String {
     let mut h = String::from(
-        "side\tplanner\tworld\tseed\tsolved\tfirst_cpu_ms\tfirst_wall_ms\tchecks_first\tcost_first",
+        "side\tplanner\tworld\tseed\tsolved\tfirst_cpu_ms\tfirst_wall_ms\tchecks_first\tcost_first\tbatches_first",
     );
     for c in checkpoints(budget_s) {
         h += &format!("\tc@{c}ms");
@@ -285,7 +286,8 @@ fn native<const D: usize>(
     // (iterations done, CPU time) after each chunk: an improvement is dated at the end of the
     // chunk it came in (at most CLOCK_EVERY iterations late, never early).
     let mut marks: Vec<(u64, Duration)> = Vec::new();
-    let mut first: Option<(Duration, Duration, u64, f64)> = None;
+    // (CPU time, wall time, state checks, cost, batches) at the first solution.
+    let mut first: Option<(Duration, Duration, u64, f64, u64)> = None;
     let mut cpu = cpu_now()? - cpu0;
     while cpu < budget {
         let chunk = Termination::iterations(CLOCK_EVERY);
@@ -301,7 +303,13 @@ fn native<const D: usize>(
         if first.is_none()
             && let Some(sol) = &st.solution
         {
-            first = Some((cpu, wall0.elapsed(), counting.checks.get(), sol.cost));
+            first = Some((
+                cpu,
+                wall0.elapsed(),
+                counting.checks.get(),
+                sol.cost,
+                st.batches,
+            ));
         }
     }
     let checks_total = counting.checks.get();
@@ -320,10 +328,14 @@ fn native<const D: usize>(
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     let mut row = format!("rappel\t{planner}\t{name}\t{seed}");
     match first {
-        Some((c, w, checks, cost)) => {
-            row += &format!("\tyes\t{:.4}\t{:.4}\t{checks}\t{cost:.6}", ms(c), ms(w))
+        Some((c, w, checks, cost, batches)) => {
+            row += &format!(
+                "\tyes\t{:.4}\t{:.4}\t{checks}\t{cost:.6}\t{batches}",
+                ms(c),
+                ms(w)
+            )
         }
-        None => row += "\tno\t-\t-\t-\t-",
+        None => row += "\tno\t-\t-\t-\t-\t-",
     }
     for c in checkpoints(budget_s) {
         let best = dated.iter().take_while(|(t, _)| ms(*t) <= c).last();
