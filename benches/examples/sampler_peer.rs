@@ -191,7 +191,8 @@ fn header(budget_s: f64) -> String {
 /// The settings of the planner named on the command line: `abit` is our ABIT* with its
 /// defaults (OMPL's ABIT* parameters: initial inflation 1e6, inflation scaling 10, truncation
 /// scaling 5); `bit` is the same planner with OMPL's BIT* parameters (initial inflation 1,
-/// inflation and truncation scaling 0), which is how OMPL derives its ABIT* from its BIT*.
+/// inflation and truncation scaling 0, no cascading rewirings), which is how OMPL derives its
+/// ABIT* from its BIT*.
 /// A suffix `:k=F` sets `rgg_k_factor` (a sensitivity run; OMPL's rewire factor is 1.1).
 fn planner_settings(planner: &str) -> Result<AbitSettings, String> {
     let (name, k) = match planner.split_once(":k=") {
@@ -211,6 +212,7 @@ fn planner_settings(planner: &str) -> Result<AbitSettings, String> {
             .with_initial_inflation(1.0)
             .and_then(|s| s.with_inflation_scaling(0.0))
             .and_then(|s| s.with_truncation_scaling(0.0))
+            .map(|s| s.with_cascading_rewirings(false))
             .map_err(|e| e.to_string()),
         other => Err(format!("PLANNER: `{other}` is neither abit nor bit")),
     }?;
