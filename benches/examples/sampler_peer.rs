@@ -8,9 +8,10 @@
 //! The native comparison with OMPL's C++ library (`benches/ompl_peer/native.sh`):
 //! - `header BUDGET_S` prints the TSV header shared with `benches/ompl_peer/native/ompl_peer.cpp`;
 //! - `native WORLD.json abit|bit[:k=F] SEED BUDGET_S [PATH_OUT]` runs our planner once, until the
-//!   process has used `BUDGET_S` of CPU time, and prints one TSV row: CPU and wall time and
-//!   state checks to the first solution, the best cost at fixed CPU-time checkpoints, the final
-//!   cost, and the independent re-check of the final path (written to `PATH_OUT`);
+//!   process has used `BUDGET_S` of CPU time, and prints one TSV row: CPU and wall time, state
+//!   checks and the number of batches sampled to the first solution, the best cost at fixed
+//!   CPU-time checkpoints, the final cost, and the independent re-check of the final path
+//!   (written to `PATH_OUT`);
 //! - `verify WORLD.json PATH_FILE` re-checks a path file (OMPL's, in the script) with our checker.
 //!
 //! `anytime WORLD.json [TIME_S] [RUNS]` is the older wall-clock table of the Python smoke test
@@ -179,7 +180,7 @@ fn checkpoints(budget_s: f64) -> Vec<f64> {
 
 fn header(budget_s: f64) -> String {
     let mut h = String::from(
-        "side\tplanner\tworld\tseed\tsolved\tfirst_cpu_ms\tfirst_wall_ms\tchecks_first\tcost_first",
+        "side\tplanner\tworld\tseed\tsolved\tfirst_cpu_ms\tfirst_wall_ms\tchecks_first\tcost_first\tbatches_first",
     );
     for c in checkpoints(budget_s) {
         h += &format!("\tc@{c}ms");
@@ -190,7 +191,8 @@ fn header(budget_s: f64) -> String {
 /// The settings of the planner named on the command line: `abit` is our ABIT* with its
 /// defaults (OMPL's ABIT* parameters: initial inflation 1e6, inflation scaling 10, truncation
 /// scaling 5); `bit` is the same planner with OMPL's BIT* parameters (initial inflation 1,
-/// inflation and truncation scaling 0), which is how OMPL derives its ABIT* from its BIT*.
+/// inflation and truncation scaling 0, no cascading rewirings), which is how OMPL derives its
+/// ABIT* from its BIT*.
 /// A suffix `:k=F` sets `rgg_k_factor` (a sensitivity run; OMPL's rewire factor is 1.1).
 fn planner_settings(planner: &str) -> Result<AbitSettings, String> {
     let (name, k) = match planner.split_once(":k=") {
@@ -210,6 +212,7 @@ fn planner_settings(planner: &str) -> Result<AbitSettings, String> {
             .with_initial_inflation(1.0)
             .and_then(|s| s.with_inflation_scaling(0.0))
             .and_then(|s| s.with_truncation_scaling(0.0))
+            .map(|s| s.with_cascading_rewirings(false))
             .map_err(|e| e.to_string()),
         other => Err(format!("PLANNER: `{other}` is neither abit nor bit")),
     }?;
@@ -285,7 +288,8 @@ fn native<const D: usize>(
     // (iterations done, CPU time) after each chunk: an improvement is dated at the end of the
     // chunk it came in (at most CLOCK_EVERY iterations late, never early).
     let mut marks: Vec<(u64, Duration)> = Vec::new();
-    let mut first: Option<(Duration, Duration, u64, f64)> = None;
+    // (CPU time, wall time, state checks, cost, batches) at the first solution.
+    let mut first: Option<(Duration, Duration, u64, f64, u64)> = None;
     let mut cpu = cpu_now()? - cpu0;
     while cpu < budget {
         let chunk = Termination::iterations(CLOCK_EVERY);
@@ -301,7 +305,13 @@ fn native<const D: usize>(
         if first.is_none()
             && let Some(sol) = &st.solution
         {
-            first = Some((cpu, wall0.elapsed(), counting.checks.get(), sol.cost));
+            first = Some((
+                cpu,
+                wall0.elapsed(),
+                counting.checks.get(),
+                sol.cost,
+                st.batches,
+            ));
         }
     }
     let checks_total = counting.checks.get();
@@ -320,10 +330,14 @@ fn native<const D: usize>(
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     let mut row = format!("rappel\t{planner}\t{name}\t{seed}");
     match first {
-        Some((c, w, checks, cost)) => {
-            row += &format!("\tyes\t{:.4}\t{:.4}\t{checks}\t{cost:.6}", ms(c), ms(w))
+        Some((c, w, checks, cost, batches)) => {
+            row += &format!(
+                "\tyes\t{:.4}\t{:.4}\t{checks}\t{cost:.6}\t{batches}",
+                ms(c),
+                ms(w)
+            )
         }
-        None => row += "\tno\t-\t-\t-\t-",
+        None => row += "\tno\t-\t-\t-\t-\t-",
     }
     for c in checkpoints(budget_s) {
         let best = dated.iter().take_while(|(t, _)| ms(*t) <= c).last();

@@ -10,10 +10,10 @@
 //
 // `run` plans once (one process per seed: OMPL's RNG::setSeed works once per process) until
 // the process has used BUDGET_S of CPU time and prints one TSV row in the format of
-// `sampler_peer native` (the Rust side): CPU and wall time and state checks to the first
-// solution, the best cost at fixed CPU-time checkpoints, the final cost, and whether the final
-// path passes an independent re-check (every segment's states at the world's resolution, cost
-// equal to the path length). `verify` re-checks a path file written by either side.
+// `sampler_peer native` (the Rust side): CPU and wall time, state checks and batches sampled to
+// the first solution, the best cost at fixed CPU-time checkpoints, the final cost, and whether
+// the final path passes an independent re-check (every segment's states at the world's
+// resolution, cost equal to the path length). `verify` re-checks a path file written by either side.
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/SpaceInformation.h>
 #include <ompl/base/StateValidityChecker.h>
@@ -323,7 +323,8 @@ namespace
 
     std::string header(double budget_s)
     {
-        std::string h = "side\tplanner\tworld\tseed\tsolved\tfirst_cpu_ms\tfirst_wall_ms\tchecks_first\tcost_first";
+        std::string h = "side\tplanner\tworld\tseed\tsolved\tfirst_cpu_ms\tfirst_wall_ms\tchecks_first\tcost_first"
+                        "\tbatches_first";
         for (double c : checkpoints(budget_s))
         {
             std::ostringstream o;
@@ -405,6 +406,9 @@ namespace
         pdef->setOptimizationObjective(std::make_shared<ob::PathLengthOptimizationObjective>(si));
 
         std::vector<Event> events;
+        // Declared before the callback, which reads the planner's batch count at the first solution.
+        std::shared_ptr<og::BITstar> planner;
+        unsigned batches_first = 0;
         std::uint64_t checks_first = 0;
         double first_wall = NAN;
         double cpu0 = 0, wall0 = 0;
@@ -417,6 +421,7 @@ namespace
                 if (events.empty())
                 {
                     checks_first = checker->checks;
+                    batches_first = planner->numBatches();
                     first_wall = wall_now() - wall0;
                 }
                 events.push_back({cpu, cost.value()});
@@ -427,7 +432,6 @@ namespace
         checker->checks = 0;
         cpu0 = cpu_now();
         wall0 = wall_now();
-        std::shared_ptr<og::BITstar> planner;
         // Named as OMPL names its k-nearest variants (else it warns and renames them).
         if (planner_name == "abit")
             planner = std::make_shared<og::ABITstar>(si, "kABITstar");
@@ -489,9 +493,9 @@ namespace
         row << "ompl\t" << planner_name << "\t" << w.name << "\t" << seed_s << "\t" << (solved ? "yes" : "no");
         if (solved)
             row << "\t" << fmt(events.front().cpu * 1e3, 4) << "\t" << fmt(first_wall * 1e3, 4) << "\t"
-                << checks_first << "\t" << fmt(events.front().cost, 6);
+                << checks_first << "\t" << fmt(events.front().cost, 6) << "\t" << batches_first;
         else
-            row << "\t-\t-\t-\t-";
+            row << "\t-\t-\t-\t-\t-";
         for (double c : checkpoints(budget))
         {
             double best = NAN;

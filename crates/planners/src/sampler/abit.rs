@@ -145,6 +145,9 @@ pub struct AbitCounters {
     pub history_refused: u64,
     /// Edges added to the tree.
     pub edges_added: u64,
+    /// Edges queued to states already in the tree that are not the expanded state's children
+    /// (rewiring candidates).
+    pub rewiring_edges_queued: u64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -192,6 +195,9 @@ where
     /// decides, so it is checked once (OMPL's edge white- and blacklists).
     motions: HashMap<(u32, u32), Motion<V::History>>,
     expanded_at: Vec<f64>,
+    /// States expanded at least once in any search (OMPL's `hasEverBeenExpandedAsRewiring`):
+    /// without cascading rewirings, their later expansions queue no edges to tree states.
+    expanded_ever: Vec<bool>,
     best_cost: f64,
     best_goal: Option<u32>,
     inflation: f64,
@@ -252,6 +258,7 @@ where
             queue: BinaryHeap::new(),
             motions: HashMap::new(),
             expanded_at: Vec::new(),
+            expanded_ever: Vec::new(),
             best_cost: f64::INFINITY,
             best_goal: None,
             inflation: 1.0,
@@ -367,6 +374,12 @@ where
     #[cfg(test)]
     pub(crate) fn graph(&self) -> &Graph<S::State, V::History, K> {
         &self.graph
+    }
+
+    /// States expanded at least once in any search, for white-box tests.
+    #[cfg(test)]
+    pub(crate) fn states_ever_expanded(&self) -> usize {
+        self.expanded_ever.iter().filter(|&&e| e).count()
     }
 
     /// The current best solution and statistics.
@@ -490,6 +503,14 @@ where
         let gv = self.graph.nodes[v as usize].g;
         self.expanded_at[v as usize] = gv;
         self.counters.expansions += 1;
+        if self.expanded_ever.len() < self.graph.nodes.len() {
+            self.expanded_ever.resize(self.graph.nodes.len(), false);
+        }
+        // OMPL's BIT* (no cascading rewirings) queues edges to tree states only on a state's
+        // first expansion: the state is always among its own neighbours and in the tree, so
+        // every expansion marks it (`SearchQueue::enqueueEdges`).
+        let rewirings = self.settings.cascading_rewirings || !self.expanded_ever[v as usize];
+        self.expanded_ever[v as usize] = true;
         for i in 0..self.graph.nodes[v as usize].children.len() {
             let x = self.graph.nodes[v as usize].children[i];
             let key = gv + self.c_hat(v, x) + self.inflation * self.h(x);
@@ -512,7 +533,7 @@ where
                 continue;
             }
             let node = &self.graph.nodes[x as usize];
-            if node.parent == Some(v) {
+            if node.parent == Some(v) || (!rewirings && node.in_tree()) {
                 continue;
             }
             let c = self.c_hat(v, x);
@@ -534,6 +555,9 @@ where
                 Some(None)
             ) {
                 continue;
+            }
+            if self.graph.nodes[x as usize].in_tree() {
+                self.counters.rewiring_edges_queued += 1;
             }
             self.queue
                 .push(Reverse((Key(gv + c + self.inflation * h), v, x)));

@@ -31,6 +31,7 @@ pub enum SettingsError {
 /// | `biased_sample_fraction` | 0.0 | fraction of new samples drawn from the space's bias distribution ([`super::StateSpace::sample_biased`]); 0 = uniform (and informed) sampling only |
 /// | `max_sample_attempts` | 10000 | rejection-sampling attempts per batch per requested sample, the bound of the sampling loop |
 /// | `history_copies_on_expansion` | false | expanding a state next to one that a different history class claimed cheaper creates a copy of that location with undetermined history for this class (see `docs/sampler.md`) |
+/// | `cascading_rewirings` | true | every expansion of a state queues its edges to states already in the tree (rewirings), as OMPL's ABIT* does; off, only a state's first expansion ever does, as OMPL's BIT* does (`SearchQueue::enqueueEdges`, `hasEverBeenExpandedAsRewiring`) |
 /// | `seed` | 0 | the ChaCha8 seed: same seed, same settings, same iterations give the same path |
 #[derive(Debug, Clone, PartialEq)]
 pub struct AbitSettings {
@@ -43,6 +44,7 @@ pub struct AbitSettings {
     pub(crate) biased_sample_fraction: f64,
     pub(crate) max_sample_attempts: usize,
     pub(crate) history_copies_on_expansion: bool,
+    pub(crate) cascading_rewirings: bool,
     pub(crate) seed: u64,
 }
 
@@ -58,6 +60,7 @@ impl Default for AbitSettings {
             biased_sample_fraction: 0.0,
             max_sample_attempts: 10_000,
             history_copies_on_expansion: false,
+            cascading_rewirings: true,
             seed: 0,
         }
     }
@@ -163,6 +166,13 @@ impl AbitSettings {
     /// Whether expansions copy locations for other history classes (see the settings table).
     pub fn with_history_copies_on_expansion(mut self, on: bool) -> Self {
         self.history_copies_on_expansion = on;
+        self
+    }
+
+    /// Whether every expansion of a state queues its rewiring edges (OMPL's ABIT*, the default)
+    /// or only its first expansion ever (OMPL's BIT*); see the settings table.
+    pub fn with_cascading_rewirings(mut self, on: bool) -> Self {
+        self.cascading_rewirings = on;
         self
     }
 

@@ -411,3 +411,52 @@ fn generated_peer_worlds_keep_their_promises() {
     }
     assert_ne!(random_2d(1), random_2d(2));
 }
+
+#[test]
+fn without_cascading_rewirings_only_a_first_expansion_queues_rewirings() {
+    // OMPL's BIT* (`SearchQueue::enqueueEdges` without cascading rewirings): a state queues edges
+    // to tree states only on its first expansion ever. `narrow_2d` seed 1 needs four batches,
+    // so states are expanded again in later searches.
+    let (w, _) = super::peer_worlds::narrow_2d(super::peer_worlds::GENERATED_SEED);
+    let run = |cascading: bool| {
+        let settings = AbitSettings::default()
+            .with_initial_inflation(1.0)
+            .and_then(|s| s.with_inflation_scaling(0.0))
+            .and_then(|s| s.with_truncation_scaling(0.0))
+            .unwrap()
+            .with_cascading_rewirings(cascading)
+            .with_seed(1);
+        let mut p = Abit::new(&w.space, &w, w.start, w.goal, settings).unwrap();
+        let mut later_expansion_queued_rewirings = false;
+        for _ in 0..3000 {
+            let (before, first_before) = (p.status().counters, p.states_ever_expanded());
+            p.iterate().unwrap();
+            let (after, first_after) = (p.status().counters, p.states_ever_expanded());
+            // Rewirings queued in an iteration that expanded no state for the first time.
+            if after.rewiring_edges_queued > before.rewiring_edges_queued
+                && first_after == first_before
+            {
+                later_expansion_queued_rewirings = true;
+            }
+        }
+        let st = p.status();
+        assert!(st.batches >= 3, "{} batches", st.batches);
+        (
+            st.counters.rewiring_edges_queued,
+            later_expansion_queued_rewirings,
+        )
+    };
+    // ABIT*'s cascading rewirings (the default): later expansions queue rewirings too.
+    let (on, on_later) = run(true);
+    let (off, off_later) = run(false);
+    assert!(on_later, "cascading: no later expansion queued a rewiring");
+    assert!(
+        !off_later,
+        "without cascading a repeated expansion queued a rewiring"
+    );
+    assert!(
+        off < on,
+        "{off} rewiring edges without cascading, {on} with"
+    );
+    assert!(AbitSettings::default().cascading_rewirings);
+}
