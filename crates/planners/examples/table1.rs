@@ -39,7 +39,9 @@ fn main() {
     let mut scene = PatonScene::paper(test == 3);
     if let (Some(pole), Some(r)) = (
         scene.pole.as_mut(),
-        std::env::var("POLE_R").ok().and_then(|v| v.parse::<f64>().ok()),
+        std::env::var("POLE_R")
+            .ok()
+            .and_then(|v| v.parse::<f64>().ok()),
     ) {
         pole.radius = r;
     }
