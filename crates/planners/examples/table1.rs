@@ -118,24 +118,13 @@ fn main() {
     );
     let mut sum = AbitCounters::default();
     for r in &runs {
-        let c = r.2;
-        sum.searches += c.searches;
-        sum.expansions += c.expansions;
-        sum.tree_edges += c.tree_edges;
-        sum.truncated += c.truncated;
-        sum.covered += c.covered;
-        sum.checks_valid += c.checks_valid;
-        sum.checks_invalid += c.checks_invalid;
-        sum.checks_cached += c.checks_cached;
-        sum.no_improvement += c.no_improvement;
-        sum.history_refused += c.history_refused;
-        sum.edges_added += c.edges_added;
+        sum += r.2;
     }
     let batches: u64 = runs.iter().map(|r| r.4).sum();
     let n = runs.len().max(1) as f64;
     let per = |x: u64| x as f64 / n;
     println!(
-        "per seed: batches {:.2} searches {:.2} expansions {:.1} tree edges {:.1} truncated {:.1} covered {:.1} checks new valid {:.1} invalid {:.1} cached {:.1} no improvement {:.1} history refused {:.1} edges added {:.1}",
+        "per seed: batches {:.2} searches {:.2} expansions {:.1} tree edges {:.1} truncated {:.1} covered {:.1} checks new valid {:.1} invalid {:.1} cached {:.1} no improvement {:.1} history refused {:.1} edges added {:.1} rewiring edges queued {:.1}",
         per(batches),
         per(sum.searches),
         per(sum.expansions),
@@ -147,6 +136,7 @@ fn main() {
         per(sum.checks_cached),
         per(sum.no_improvement),
         per(sum.history_refused),
-        per(sum.edges_added)
+        per(sum.edges_added),
+        per(sum.rewiring_edges_queued)
     );
 }

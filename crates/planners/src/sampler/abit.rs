@@ -150,6 +150,47 @@ pub struct AbitCounters {
     pub rewiring_edges_queued: u64,
 }
 
+/// Counter by counter: the totals of several runs.
+///
+/// ```
+/// use rappel_planners::sampler::AbitCounters;
+/// let mut total = AbitCounters::default();
+/// total += AbitCounters { expansions: 3, ..Default::default() };
+/// total += AbitCounters { expansions: 4, edges_added: 1, ..Default::default() };
+/// assert_eq!((total.expansions, total.edges_added), (7, 1));
+/// ```
+impl std::ops::AddAssign for AbitCounters {
+    fn add_assign(&mut self, c: AbitCounters) {
+        // Destructured, so that a new counter cannot be left out of the sum.
+        let AbitCounters {
+            searches,
+            expansions,
+            tree_edges,
+            truncated,
+            covered,
+            checks_valid,
+            checks_invalid,
+            checks_cached,
+            no_improvement,
+            history_refused,
+            edges_added,
+            rewiring_edges_queued,
+        } = c;
+        self.searches += searches;
+        self.expansions += expansions;
+        self.tree_edges += tree_edges;
+        self.truncated += truncated;
+        self.covered += covered;
+        self.checks_valid += checks_valid;
+        self.checks_invalid += checks_invalid;
+        self.checks_cached += checks_cached;
+        self.no_improvement += no_improvement;
+        self.history_refused += history_refused;
+        self.edges_added += edges_added;
+        self.rewiring_edges_queued += rewiring_edges_queued;
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Key(f64);
 impl Eq for Key {}
