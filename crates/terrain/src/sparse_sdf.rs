@@ -743,18 +743,14 @@ impl SparseSdf {
         // Seeds: unknown nodes with a known neighbour in the initial state (assigned after the
         // scan, so that the fronts advance evenly from every exact point).
         let mut seeds: Vec<(Node, bool)> = Vec::new();
-        let unknown_points: Vec<usize> = values
+        let mut unknown_nodes: Vec<Node> = values
             .par_iter()
             .enumerate()
             .filter(|(_, v)| v.is_nan())
-            .map(|(i, _)| i)
+            .map(|(i, _)| Node::Point(i))
             .collect();
-        let unknown_nodes = unknown_points
-            .into_iter()
-            .map(Node::Point)
-            .chain(index.paged_cells(UNKNOWN).map(|c| Node::Cell(cell_id(c))))
-            .chain(index.uniform_tops(UNKNOWN).map(Node::Top))
-            .collect::<Vec<_>>();
+        unknown_nodes.extend(index.paged_cells(UNKNOWN).map(|c| Node::Cell(cell_id(c))));
+        unknown_nodes.extend(index.uniform_tops(UNKNOWN).map(Node::Top));
         for n in unknown_nodes {
             let mut found = None;
             neighbours(&index, n, &mut |m| {
