@@ -351,6 +351,15 @@ impl<'a> Tracer<'a> {
         &self.crossings
     }
 
+    /// Hands over the raw crossings recorded so far and forgets them; the walk goes on from the
+    /// same point and triangle, so the crossings of later pushes (and of [`Tracer::finish`])
+    /// are the sequence's continuation ([`crate::homotopy::LoopPrefix`]).
+    pub(crate) fn take_crossings(&mut self) -> Vec<HalfEdgeId> {
+        // The fan is scratch: emptied so that a clone of the tracer allocates nothing.
+        self.fan.clear();
+        std::mem::take(&mut self.crossings)
+    }
+
     /// Walks the segment from the current point to `q`. On error (the segment leaves free space,
     /// or `q` is not finite) nothing changes.
     pub fn push(&mut self, q: Point2<f64>) -> Result<(), PathError> {

@@ -3,13 +3,13 @@
 
 use crate::common;
 
-use common::{p, segment_clear, small_strip, square_map};
+use common::{p, random_walk, segment_clear, small_strip, square_map, steps};
 use nalgebra::Point2;
 use proptest::prelude::*;
 use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::dcel::ObstacleId;
 use rappel_homotopy::crossing::{CrossingSequence, Tracer};
-use rappel_homotopy::homotopy::{HomotopyError, are_homotopic, is_contractible};
+use rappel_homotopy::homotopy::{HomotopyError, LoopPrefix, are_homotopic, is_contractible};
 use rappel_homotopy::path::{Blocker, Path, PathError};
 
 fn path(points: &[(f64, f64)]) -> Path {
@@ -284,6 +284,49 @@ proptest! {
                 let here = btm.locate(&b);
                 prop_assert_eq!(here, Location::Triangle(tracer.triangle()));
             }
+        }
+    }
+
+    /// A loop's prefix traced once answers every closing as the whole loop's contractibility
+    /// test does: loops made of two random walks from the strip's start (one out, the other
+    /// back; walks snap to obstacle vertices, so the degenerate cases occur), split at every
+    /// point, plus a closing straight back to the start (often through an obstacle: the same
+    /// error on both sides).
+    #[test]
+    fn a_traced_loop_prefix_closes_as_the_whole_loop(
+        seed in 0u64..1000,
+        n in 2usize..8,
+        out in steps(10),
+        back in steps(10),
+    ) {
+        let (g, btm) = small_strip(n, seed);
+        let mut points = random_walk(&g.map, g.start, &out);
+        let mut home = random_walk(&g.map, g.start, &back);
+        let last = *points.last().expect("non-empty");
+        let mut skip = 0;
+        if !segment_clear(&g.map, &last, home.last().expect("non-empty")) {
+            // The walks' ends do not see each other: back the way it came (contractible).
+            home = points.clone();
+            skip = 1;
+        }
+        home.reverse();
+        points.extend(home.into_iter().skip(skip));
+        if points.len() < 2 {
+            points.push(g.start);
+        }
+        for split in 1..points.len() {
+            let mut prefix = LoopPrefix::new(&btm, &points[..split]).expect("walks stay free");
+            let whole = Path::new(points.clone()).expect("finite");
+            let expected = is_contractible(&btm, &whole).expect("walks stay free");
+            prop_assert_eq!(prefix.closes_contractibly(&points[split..]), Ok(expected));
+            // Straight back from the split point.
+            let mut short = points[..split].to_vec();
+            short.push(g.start);
+            let short_whole = Path::new(short).expect("finite");
+            prop_assert_eq!(
+                prefix.closes_contractibly(&[g.start]).ok(),
+                is_contractible(&btm, &short_whole).ok()
+            );
         }
     }
 }

@@ -57,7 +57,7 @@
 use super::{Climb, Evaluation, MIN_WAYPOINT_STEP_FRACTION, admits_direction, in_wedge};
 use nalgebra::{Point2, Vector2};
 use rappel_geometry::predicates::orient2d;
-use rappel_homotopy::homotopy::is_contractible;
+use rappel_homotopy::homotopy::{LoopPrefix, is_contractible};
 use rappel_homotopy::path::Path;
 use rappel_mechanics::anchor_traversability::TetherLimit;
 use std::cell::Cell;
@@ -287,21 +287,35 @@ impl Climb<'_, '_> {
     /// whenever `from` is beyond it from `a_j`, so the verdict does not depend on those bits.
     pub(super) fn sweep_clear(&self, j: usize, from: &Point2<f64>, w: &Point2<f64>) -> bool {
         let apex = self.points[j];
-        if *w == apex || *from == apex || from == w {
-            // The sweep degenerates to a part of the tether or of the visible ray, both free.
+        if Self::sweep_degenerates(&apex, from, w) {
             return true;
         }
+        let mut corners = self.tether_to(j, from);
+        corners.extend([*w, apex]);
+        Path::new(corners)
+            .ok()
+            .and_then(|loop_| is_contractible(self.ctx.btm, &loop_).ok())
+            .unwrap_or(false)
+    }
+
+    /// `true` when the sweep `a_j -> from -> w -> a_j` degenerates to a part of the tether or of
+    /// the visible ray, both free (so clear).
+    fn sweep_degenerates(apex: &Point2<f64>, from: &Point2<f64>, w: &Point2<f64>) -> bool {
+        w == apex || from == apex || from == w
+    }
+
+    /// The sweep loop's tether part, `a_j -> [a_{j+1}] -> from` ([`Climb::sweep_clear`]: through
+    /// the released anchor when `from` is beyond it from `a_j`).
+    fn tether_to(&self, j: usize, from: &Point2<f64>) -> Vec<Point2<f64>> {
+        let apex = self.points[j];
         let mut corners = vec![apex];
         if let Some(released) = self.points.get(j + 1)
             && (from - apex).norm_squared() > (released - apex).norm_squared()
         {
             corners.push(*released);
         }
-        corners.extend([*from, *w, apex]);
-        Path::new(corners)
-            .ok()
-            .and_then(|loop_| is_contractible(self.ctx.btm, &loop_).ok())
-            .unwrap_or(false)
+        corners.push(*from);
+        corners
     }
 
     /// The start of the move on `route` at `t` if `w(t)` is reached on that route (module docs).
@@ -585,7 +599,25 @@ impl Climb<'_, '_> {
         step: f64,
         tie: f64,
     ) -> f64 {
-        if self.sweep_at(j, q, route, v) {
+        // The direct route's tether `a_j -> [a_{j+1}] -> q` is the same loop part at every `t`:
+        // traced once, each probe walks only `q -> w(t) -> a_j` (same verdicts as
+        // [`Climb::sweep_at`], which debug builds compare in `check_sweep_prefix`).
+        let apex = self.points[j];
+        let mut tether = match route {
+            Route::Direct => Some(LoopPrefix::new(self.ctx.btm, &self.tether_to(j, q))),
+            Route::Via => None,
+        };
+        let mut sweep_at = |t: f64| match &mut tether {
+            None => self.sweep_at(j, q, route, t),
+            Some(tether) => {
+                let w = apex + self.direction(j) * t;
+                Self::sweep_degenerates(&apex, q, &w)
+                    || tether
+                        .as_mut()
+                        .is_ok_and(|tether| tether.closes_contractibly(&[w, apex]).unwrap_or(false))
+            }
+        };
+        if sweep_at(v) {
             return v;
         }
         let (mut clear, mut blocked) = (u, v);
@@ -594,7 +626,7 @@ impl Climb<'_, '_> {
             if probe >= blocked {
                 break;
             }
-            if self.sweep_at(j, q, route, probe) {
+            if sweep_at(probe) {
                 clear = probe;
                 probe = u + 2.0 * (probe - u);
             } else {
@@ -602,7 +634,7 @@ impl Climb<'_, '_> {
                 break;
             }
         }
-        if clear == u && !self.sweep_at(j, q, route, u) {
+        if clear == u && !sweep_at(u) {
             return u;
         }
         for _ in 0..MAX_BISECTION_STEPS {
@@ -610,7 +642,7 @@ impl Climb<'_, '_> {
             if blocked - clear <= tie || mid <= clear || mid >= blocked {
                 break;
             }
-            if self.sweep_at(j, q, route, mid) {
+            if sweep_at(mid) {
                 clear = mid;
             } else {
                 blocked = mid;
