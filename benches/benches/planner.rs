@@ -25,8 +25,8 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use nalgebra::Point2;
 use polyanya::Mesh;
-use rappel_benches::{map_from_polyanya_v2, polyanya_mesh, scenario_pairs, to_vec2};
-use rappel_geometry::btm::{Btm, Location};
+use rappel_benches::{map_from_polyanya_v2, polyanya_mesh, scenario_pairs, short_query, to_vec2};
+use rappel_geometry::btm::Btm;
 use rappel_geometry::generate::{CraterStripOptions, GeneratedMap, crater_strip};
 use rappel_homotopy::h_signature::HSignature;
 use rappel_planners::spt::{SearchOptions, SptPlanner};
@@ -74,23 +74,6 @@ fn measure_once<T>(f: impl FnOnce() -> T) -> (T, Duration, Option<f64>) {
     (out, elapsed, growth)
 }
 
-/// `true` when `p` is a point of free space (on a free triangle, edge or map vertex).
-fn free(btm: &Btm, p: &Point2<f64>) -> bool {
-    matches!(
-        btm.locate(p),
-        Location::Triangle(_) | Location::Edge(_) | Location::Vertex(_)
-    )
-}
-
-/// The first free point at or to the right of `p` in steps of 0.25 m (the strips leave at least
-/// 0.5 m between obstacles, so a few steps always suffice).
-fn nudge_free(btm: &Btm, p: Point2<f64>) -> Point2<f64> {
-    (0..400)
-        .map(|i| Point2::new(p.x + 0.25 * f64::from(i), p.y))
-        .find(|q| free(btm, q))
-        .expect("free space within 100 m")
-}
-
 /// One generated strip with its BTM, planner, polyanya mesh and queries.
 struct Strip {
     n: usize,
@@ -119,8 +102,8 @@ impl Strip {
         if mesh.is_none() {
             eprintln!("{n} obstacles: polyanya could not build its mesh; no peer on this strip");
         }
-        let a = nudge_free(&btm, Point2::new(mid.x - 20.0, mid.y + 25.0));
-        let b = nudge_free(&btm, Point2::new(mid.x + 20.0, mid.y - 25.0));
+        let (a, b) = short_query(&btm, generated.start, generated.goal)
+            .expect("free space within 100 m of the short query's ends");
         Strip {
             n,
             generated,

@@ -25,6 +25,13 @@
 //! peak over the resident set before is that query's peak memory (the largest over the rounds).
 //! Without `--side` all sides share one process and the memory column is indicative only.
 //!
+//! **Short queries.** `--short` answers the strip's short query instead (about 64 m across the
+//! strip's middle, [`rappel_benches::short_query`]; the same as the criterion bench's) and the
+//! memory column becomes the side's **resident memory**: the growth of the peak resident set over
+//! its set-up and its queries together (rappel: the BTM, the planner and the queries; polyanya:
+//! its mesh and the queries, its input BTM standing for a mesh file read beforehand), for a
+//! process that answers short queries. Measure it with `--side`, one side per process.
+//!
 //! `--tsv` prints the rows tab-separated with plain numbers (seconds, MB), for `cargo xtask
 //! growth`. The 100,000-obstacle strip takes seconds per query and side: give it explicitly
 //! (`first_shp_interleaved 1 100000`).
@@ -32,7 +39,7 @@
 use nalgebra::Point2;
 use polyanya::Mesh;
 use rappel_benches::proc_stats::{cpu_time, peak_growth_mb, reset_peak};
-use rappel_benches::{median_by, polyanya_mesh, polyanya_mesh_merged, to_vec2};
+use rappel_benches::{median_by, polyanya_mesh, polyanya_mesh_merged, short_query, to_vec2};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::generate::{CraterStripOptions, crater_strip};
 use rappel_planners::spt::{SearchOptions, SearchStats, SptPlanner};
@@ -71,6 +78,7 @@ fn main() {
         .clamp(1, 1000);
     let rest: Vec<String> = args.collect();
     let tsv = rest.iter().any(|a| a == "--tsv");
+    let short = rest.iter().any(|a| a == "--short");
     // `--side=SIDE`: run one side only (module docs).
     let only = rest
         .iter()
@@ -82,10 +90,9 @@ fn main() {
                 ))
             })
         });
-    if let Some(a) = rest
-        .iter()
-        .find(|a| a.starts_with("--") && *a != "--tsv" && !a.starts_with("--side="))
-    {
+    if let Some(a) = rest.iter().find(|a| {
+        a.starts_with("--") && *a != "--tsv" && *a != "--short" && !a.starts_with("--side=")
+    }) {
         fail(format!("unknown option {a}"));
     }
     let mut sizes: Vec<usize> = rest.iter().filter_map(|s| s.parse().ok()).collect();
@@ -104,20 +111,33 @@ fn main() {
     for n in sizes {
         let strip = crater_strip(&CraterStripOptions::new(n, 1))
             .unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
-        let (a, b) = (strip.start, strip.goal);
-        let mid = Point2::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
-        let (pa, pb) = (to_vec2(a, mid), to_vec2(b, mid));
+        let mid = Point2::new(
+            0.5 * (strip.start.x + strip.goal.x),
+            0.5 * (strip.start.y + strip.goal.y),
+        );
         let runs = |side: usize| only.is_none_or(|o| o == side);
         let mut m: [Measured; 3] = Default::default();
         // Set-up. rappel's BTM is also the input polyanya's meshes are built from (outside
-        // their set-up time: it stands for reading a mesh file).
+        // their set-up time: it stands for reading a mesh file). With `--short` the peak is
+        // reset before each side's set-up and read after its queries (module docs).
+        let mut resident_from = runs(0).then(reset_peak).flatten();
         let t = Instant::now();
         let btm = Btm::from_map(&strip.map).unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
         let planner = runs(0).then(|| SptPlanner::new(&btm));
         m[0].setup = t.elapsed();
+        let (a, b) = if short {
+            short_query(&btm, strip.start, strip.goal)
+                .unwrap_or_else(|| fail(format!("{n} obstacles: no free short query")))
+        } else {
+            (strip.start, strip.goal)
+        };
+        let (pa, pb) = (to_vec2(a, mid), to_vec2(b, mid));
         let mut meshes: [Option<Mesh>; 2] = [None, None];
         for (k, mesh) in meshes.iter_mut().enumerate() {
             if runs(k + 1) {
+                if !runs(0) {
+                    resident_from = reset_peak();
+                }
                 let t = Instant::now();
                 *mesh = Some(if k == 0 {
                     polyanya_mesh(&btm, mid)
@@ -139,7 +159,7 @@ fn main() {
                 if !runs(side) {
                     continue;
                 }
-                let rss = reset_peak();
+                let rss = if short { resident_from } else { reset_peak() };
                 let (t, c) = (Instant::now(), cpu_time());
                 let length = match side {
                     0 => {

@@ -7,7 +7,7 @@ pub mod proc_stats;
 use glam::Vec2;
 use nalgebra::Point2;
 use polyanya::{Mesh, Polygon as PolyPolygon, Vertex as PolyVertex};
-use rappel_geometry::btm::Btm;
+use rappel_geometry::btm::{Btm, Location};
 use rappel_geometry::map::Map;
 use rappel_geometry::polygon::Polygon;
 use spade::Point2 as SpadePoint;
@@ -197,4 +197,44 @@ pub fn median_by<T: Copy>(
 ) -> Option<T> {
     values.sort_unstable_by(cmp);
     values.get(values.len() / 2).copied()
+}
+
+/// `true` when `p` is a point of free space (on a free triangle, edge or map vertex).
+fn free(btm: &Btm, p: &Point2<f64>) -> bool {
+    matches!(
+        btm.locate(p),
+        Location::Triangle(_) | Location::Edge(_) | Location::Vertex(_)
+    )
+}
+
+/// The first free point at or to the right of `p` in steps of 0.25 m (the generated strips leave
+/// at least 0.5 m between obstacles, so a few steps suffice); `None` when none is found within
+/// 100 m.
+pub fn nudge_free(btm: &Btm, p: Point2<f64>) -> Option<Point2<f64>> {
+    (0..400)
+        .map(|i| Point2::new(p.x + 0.25 * f64::from(i), p.y))
+        .find(|q| free(btm, q))
+}
+
+/// The benchmarks' short query on a strip whose start and goal are `start` and `goal`: from 20 m
+/// left and 25 m above the strip's middle to 20 m right and 25 m below it (about 64 m), each end
+/// moved right onto free space ([`nudge_free`]); `None` when either end finds none.
+///
+/// ```
+/// use rappel_geometry::{btm::Btm, generate::{CraterStripOptions, crater_strip}};
+/// let g = crater_strip(&CraterStripOptions::new(100, 1)).unwrap();
+/// let btm = Btm::from_map(&g.map).unwrap();
+/// let (a, b) = rappel_benches::short_query(&btm, g.start, g.goal).unwrap();
+/// assert!((a - b).norm() > 60.0 && (a - b).norm() < 70.0);
+/// ```
+pub fn short_query(
+    btm: &Btm,
+    start: Point2<f64>,
+    goal: Point2<f64>,
+) -> Option<(Point2<f64>, Point2<f64>)> {
+    let mid = Point2::new(0.5 * (start.x + goal.x), 0.5 * (start.y + goal.y));
+    Some((
+        nudge_free(btm, Point2::new(mid.x - 20.0, mid.y + 25.0))?,
+        nudge_free(btm, Point2::new(mid.x + 20.0, mid.y - 25.0))?,
+    ))
 }

@@ -9,6 +9,10 @@
 //!   is not run at 1,000,000 obstacles (its mesh conversion and search are beyond the machine's
 //!   budget there, and the row says so);
 //! - **set-up**: the BTM and planner against polyanya's mesh build, from the same run;
+//! - **short query's resident memory**: each side alone in its own process
+//!   (`first_shp_interleaved --short --side=SIDE`), the growth of the peak resident set over its
+//!   set-up and five ~64 m queries (rappel: BTM, planner, queries; polyanya: its mesh from the
+//!   BTM and the queries), lengths checked against each other;
 //! - **BTM**: rappel's BTM build beside spade's CDT bulk load (`btm_interleaved`), times in one
 //!   process and each side's peak memory in its own;
 //! - **plan K = 1, 10, 100**: the whole `rappel plan --classes K` process (the default text
@@ -65,6 +69,7 @@ pub fn run(full: bool, write: bool) -> Result<ExitCode, String> {
     let mut shp_wall: Vec<Vec<Option<f64>>> = vec![Vec::new(); 3];
     let mut shp_setup: Vec<Vec<Option<f64>>> = vec![Vec::new(); 3];
     let mut shp_peak: Vec<Vec<Option<f64>>> = vec![Vec::new(); 3];
+    let mut short_resident: Vec<Vec<Option<f64>>> = vec![Vec::new(); 3];
     let mut expansions = Vec::new();
     let mut btm = [Vec::new(), Vec::new()];
     let mut btm_peak = [Vec::new(), Vec::new()];
@@ -104,6 +109,32 @@ pub fn run(full: bool, write: bool) -> Result<ExitCode, String> {
             ];
             let rows = tsv(&run_checked(&fsi, &args)?)?;
             shp_peak[k].push(rows.first().and_then(|r| num(r, "peak_mb")));
+        }
+        // A short query's resident memory: each side alone in its own process; the lengths of
+        // the sides must agree.
+        let mut short_lengths = Vec::new();
+        for (k, side) in sides.iter().enumerate() {
+            if k > 0 && !peer {
+                short_resident[k].push(None);
+                continue;
+            }
+            let args = vec![
+                "5".into(),
+                n.to_string(),
+                "--short".into(),
+                "--tsv".into(),
+                format!("--side={side}"),
+            ];
+            let rows = tsv(&run_checked(&fsi, &args)?)?;
+            short_resident[k].push(rows.first().and_then(|r| num(r, "peak_mb")));
+            short_lengths.extend(rows.first().and_then(|r| num(r, "length_m")));
+        }
+        if let Some(&l0) = short_lengths.first()
+            && short_lengths.iter().any(|l| (l - l0).abs() > 1e-4 * l0)
+        {
+            return Err(format!(
+                "{n} obstacles: the short query's lengths disagree: {short_lengths:?}"
+            ));
         }
         let rows = tsv(&run_checked(
             &examples.join("btm_interleaved"),
@@ -164,6 +195,13 @@ pub fn run(full: bool, write: bool) -> Result<ExitCode, String> {
     for (label, values) in labels.iter().zip(&shp_peak) {
         row(
             format!("first SHP query peak memory, {label} (own process)"),
+            "MB",
+            values,
+        );
+    }
+    for (label, values) in labels.iter().zip(&short_resident) {
+        row(
+            format!("short query resident memory (set-up + 5 queries), {label} (own process)"),
             "MB",
             values,
         );
