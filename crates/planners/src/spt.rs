@@ -162,7 +162,7 @@ use rappel_homotopy::crossing::{CrossingSequence, Tracer};
 use rappel_homotopy::funnel::TautPath;
 use rappel_homotopy::funnel_state::{FunnelState, FunnelStateError, FunnelTree, NodeId};
 use rappel_homotopy::h_signature::{CutIndex, HSignature, Poles};
-use rappel_homotopy::kite::KiteTable;
+use rappel_homotopy::kite::{Kite, KiteTable};
 use rappel_homotopy::path::PathError;
 use rappel_homotopy::shp::ShortestHomotopicPath;
 use rappel_homotopy::sleeve::{Sleeve, SleeveError};
@@ -1434,6 +1434,11 @@ impl<'a> SptSearch<'a> {
                     trail,
                     apex,
                 } => {
+                    // The kite is read before the pruning tests, which miss the cache on their
+                    // own slots (the apex's lifts, the mouth's arrival): the loads are
+                    // independent, so the processor overlaps this miss with theirs instead of
+                    // taking it after them (an expanded funnel needs its kite first).
+                    let kite = std::hint::black_box(self.planner.kites.get(funnel.mouth()));
                     if self.dominated(apex) {
                         self.stats.pruned_dominated += 1;
                         continue;
@@ -1447,7 +1452,7 @@ impl<'a> SptSearch<'a> {
                         self.stop_reason = Some(reason);
                         return Ok(None);
                     }
-                    self.expand(key, funnel, apex, trail)?;
+                    self.expand(key, funnel, kite, apex, trail)?;
                 }
             }
         }
@@ -1477,12 +1482,18 @@ impl<'a> SptSearch<'a> {
         &mut self,
         mut key: f64,
         mut f: FunnelState,
+        first_kite: Kite,
         mut apex: Apex,
         mut trail: u32,
     ) -> Result<(), SearchError> {
+        let mut read = Some(first_kite);
         loop {
             self.stats.expansions += 1;
-            let kite = self.planner.kites.get(f.mouth());
+            // `f`'s kite: the one read before the pruning tests, then each straight-through
+            // child's own.
+            let kite = read
+                .take()
+                .unwrap_or_else(|| self.planner.kites.get(f.mouth()));
             let next = kite.beyond().ok_or_else(|| {
                 SearchError::Internal("a queued funnel has a closed mouth".into())
             })?;
