@@ -56,7 +56,10 @@ use crate::feasibility::{
     CLEARANCE_TOLERANCE, FeasibilityContext, FeasibilityReport, RouteCorner, check_feasibility,
     distance_to_segment,
 };
-use crate::spt::{RankedShp, SearchError, SearchOptions, SptPlanner, Termination};
+use crate::spt::{
+    RankedShp, SearchError, SearchOptions, SearchStats, SptPlanner, SptSearch, Termination,
+};
+use crate::stop::{CancelFlag, StopReason};
 use crate::terrain::PlaneSeries;
 use nalgebra::{Point2, Vector2};
 use rappel_geometry::btm::Btm;
@@ -996,6 +999,15 @@ pub fn plan_path_pair(
 /// run, its pair built if it is the first feasible one) instead of keeping it: the returned plan's
 /// `classes` is empty, so a caller streaming a report of K classes holds one class's geometry
 /// (sleeve, reachable sets) at a time.
+///
+/// **Pipelined.** The SPT search runs on a thread of its own, at most [`CLASSES_AHEAD`] classes
+/// ahead of the checks, which run (with `on_class`) on the calling thread in class order: on two
+/// cores the next class is searched while this one's Alg. 5 runs. The answer does not depend on
+/// it: the search never reads what the checks decide, every class is checked and handed over in
+/// the order found, and the termination, stop reason and counters returned are the search's as
+/// they stood when the last class handed over was found (a search that ran ahead is stopped by a
+/// flag of its own and its extra classes dropped). Only a time limit, a wall-clock condition,
+/// sees more classes found in the same time.
 pub fn plan_path_pair_each(
     planner: &SptPlanner<'_>,
     start: Point2<f64>,
@@ -1005,31 +1017,108 @@ pub fn plan_path_pair_each(
     stop_at_first: bool,
     on_class: &mut dyn FnMut(ClassOutcome),
 ) -> Result<PairPlan, SearchError> {
-    let mut search = planner.search(start, goal, options)?;
-    let mut pair = None;
-    while let Some(class) = search.next_best()? {
-        let feasibility = check_feasibility(ctx, &class.shp.taut);
-        let mut pair_failure = None;
-        if pair.is_none() && feasibility.feasible() {
-            match path_pair(ctx, &class, &feasibility) {
-                Ok(p) => pair = Some(p),
-                Err(e) => pair_failure = Some(e),
+    // The search's own stop flag, raised when the checks stop early (`stop_at_first`).
+    let ahead = CancelFlag::new();
+    let search_options = options
+        .clone()
+        .with_stop(options.stop().clone().or_cancel(ahead.clone()))?;
+    std::thread::scope(|scope| {
+        let (found, classes) = std::sync::mpsc::sync_channel::<Found>(CLASSES_AHEAD);
+        scope.spawn(move || {
+            let mut search = match planner.search(start, goal, &search_options) {
+                Ok(search) => search,
+                Err(e) => {
+                    let _ = found.send(Found::Failed(e));
+                    return;
+                }
+            };
+            loop {
+                let next = search.next_best();
+                let state = SearchState::of(&search);
+                let message = match next {
+                    Ok(Some(class)) => Found::Class(Box::new(class), state),
+                    Ok(None) => Found::End(state),
+                    Err(e) => Found::Failed(e),
+                };
+                let last = !matches!(message, Found::Class(..));
+                // A send fails once the checks have stopped listening: stop too.
+                if found.send(message).is_err() || last {
+                    return;
+                }
             }
-        }
-        on_class(ClassOutcome {
-            class,
-            feasibility,
-            pair_failure,
         });
-        if stop_at_first && pair.is_some() {
-            break;
+        let mut pair = None;
+        let outcome = loop {
+            let (class, state) = match classes.recv() {
+                Ok(Found::Class(class, state)) => (*class, state),
+                Ok(Found::End(state)) => break Ok(state),
+                Ok(Found::Failed(e)) => break Err(e),
+                Err(_) => {
+                    break Err(SearchError::Internal(
+                        "the search thread ended without an answer".into(),
+                    ));
+                }
+            };
+            let feasibility = check_feasibility(ctx, &class.shp.taut);
+            let mut pair_failure = None;
+            if pair.is_none() && feasibility.feasible() {
+                match path_pair(ctx, &class, &feasibility) {
+                    Ok(p) => pair = Some(p),
+                    Err(e) => pair_failure = Some(e),
+                }
+            }
+            on_class(ClassOutcome {
+                class,
+                feasibility,
+                pair_failure,
+            });
+            if stop_at_first && pair.is_some() {
+                break Ok(state);
+            }
+        };
+        // Stops a search that ran ahead (the scope then joins its thread).
+        ahead.cancel();
+        drop(classes);
+        let state = outcome?;
+        Ok(PairPlan {
+            classes: Vec::new(),
+            pair,
+            termination: state.termination.unwrap_or(Termination::ClassCount),
+            stop_reason: state.stop_reason,
+            stats: state.stats,
+        })
+    })
+}
+
+/// How many classes the pipelined search ([`plan_path_pair_each`]) may have found and queued
+/// beyond the one being checked: one, so that it stays at most a class or two ahead (a class
+/// holds its SHP and sleeve).
+pub const CLASSES_AHEAD: usize = 1;
+
+/// What the search thread of [`plan_path_pair_each`] hands over.
+enum Found {
+    /// A class, with the search's state right after finding it.
+    Class(Box<RankedShp>, SearchState),
+    /// No more classes: the search's final state.
+    End(SearchState),
+    /// The search failed.
+    Failed(SearchError),
+}
+
+/// The search's termination, stop reason and counters at one moment.
+#[derive(Debug, Clone, Copy)]
+struct SearchState {
+    termination: Option<Termination>,
+    stop_reason: Option<StopReason>,
+    stats: SearchStats,
+}
+
+impl SearchState {
+    fn of(search: &SptSearch<'_>) -> SearchState {
+        SearchState {
+            termination: search.termination(),
+            stop_reason: search.stop_reason(),
+            stats: search.stats(),
         }
     }
-    Ok(PairPlan {
-        classes: Vec::new(),
-        pair,
-        termination: search.termination().unwrap_or(Termination::ClassCount),
-        stop_reason: search.stop_reason(),
-        stats: search.stats(),
-    })
 }

@@ -143,6 +143,89 @@ fn the_goal_must_be_held_by_the_last_anchor() {
     assert!(check_feasibility(&ctx, &best.shp.taut).feasible());
 }
 
+/// The pipelined Alg. 6 (the search on its own thread, ahead of the checks) answers exactly as a
+/// plain loop over the classes does: the same classes with the same feasibility and pair
+/// failures, the same pair, termination, stop reason and counters, when listing every class and
+/// when stopping at the first pair (where the search thread has run ahead and is stopped).
+#[test]
+fn the_pipelined_plan_equals_a_sequential_loop() {
+    use rappel_planners::path_pair::{ClassOutcome, PairPlan};
+    use rappel_planners::spt::Termination;
+    let terrain = PlaneSeries::new(
+        &[TerrainPlane::new(30., -30., 40., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap();
+    let mut compared = 0;
+    let mut stopped_early = 0;
+    for seed in 0..12u64 {
+        let Some(m) = random_map(5_000 + seed, 7) else {
+            continue;
+        };
+        let btm = Btm::from_map(&m.map).unwrap();
+        let ctx = FeasibilityContext {
+            btm: &btm,
+            terrain: &terrain,
+            clearance: 0.3,
+            tether_length: None,
+        };
+        let (top, bottom) = if m.start.y > m.goal.y {
+            (m.start, m.goal)
+        } else {
+            (m.goal, m.start)
+        };
+        let planner = SptPlanner::new(&btm);
+        for (classes, stop_at_first) in [(1, false), (6, false), (6, true)] {
+            let options = SearchOptions::default()
+                .with_max_classes(Some(classes))
+                .unwrap();
+            // The reference: one loop on this thread.
+            let mut search = planner.search(top, bottom, &options).unwrap();
+            let mut reference = PairPlan {
+                classes: Vec::new(),
+                pair: None,
+                termination: Termination::ClassCount,
+                stop_reason: None,
+                stats: Default::default(),
+            };
+            while let Some(class) = search.next_best().unwrap() {
+                let feasibility = check_feasibility(&ctx, &class.shp.taut);
+                let mut pair_failure = None;
+                if reference.pair.is_none() && feasibility.feasible() {
+                    match path_pair(&ctx, &class, &feasibility) {
+                        Ok(p) => reference.pair = Some(p),
+                        Err(e) => pair_failure = Some(e),
+                    }
+                }
+                reference.classes.push(ClassOutcome {
+                    class,
+                    feasibility,
+                    pair_failure,
+                });
+                if stop_at_first && reference.pair.is_some() {
+                    break;
+                }
+            }
+            reference.termination = search.termination().unwrap_or(Termination::ClassCount);
+            reference.stop_reason = search.stop_reason();
+            reference.stats = search.stats();
+            let plan =
+                plan_path_pair(&planner, top, bottom, &options, &ctx, stop_at_first).unwrap();
+            assert_eq!(
+                plan, reference,
+                "seed {seed}, {classes} classes, {stop_at_first}"
+            );
+            compared += 1;
+            stopped_early += usize::from(stop_at_first && plan.classes.len() < classes);
+        }
+    }
+    assert!(compared >= 12, "only {compared} plans compared");
+    assert!(
+        stopped_early >= 1,
+        "no plan stopped at its first pair early"
+    );
+}
+
 #[test]
 fn waypoints_and_pairs_on_random_maps() {
     let terrain = PlaneSeries::new(
