@@ -3,7 +3,9 @@
 //! at least its edge estimate ([`StateSpace::motion_cost_heuristic`]) and that at least the
 //! path estimate ([`StateSpace::cost_heuristic`]), and every stretch of a chain at least the
 //! path estimate between its ends. The chains include motions along the current heading, where
-//! the estimates are nearly exact, so an inflated estimate fails these tests.
+//! the estimates are nearly exact, so an inflated estimate fails these tests. Also: the edge
+//! estimate is at least the path estimate for any pair, and a drive ending at a slope break is
+//! at most [`DRIVE_MARGIN`] shorter than its planar length.
 
 use std::sync::OnceLock;
 
