@@ -10,3 +10,6 @@ pub mod problem;
 pub mod shadow;
 pub mod stability_map;
 pub mod verdict;
+
+#[cfg(test)]
+mod tests_heuristic;

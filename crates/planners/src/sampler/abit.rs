@@ -14,7 +14,9 @@
 //!    The tree persists across searches and batches; a tree edge met in the queue re-expands its
 //!    child if the child's cost fell since its expansion.
 //! 3. **Edge queue.** Edges `(v, x)` are ordered by `g(v) + ĉ(v, x) + ε ĥ(x)` (inflated potential
-//!    solution quality; ties by ids, so the order is deterministic).
+//!    solution quality; ties by ids, so the order is deterministic). `ĉ` is the space's estimate
+//!    of one motion ([`StateSpace::motion_cost_heuristic`]), `ĥ` (and the informed set's
+//!    cost-to-come) its estimate of any path ([`StateSpace::cost_heuristic`]).
 //! 4. **Truncation.** When the best edge's uninflated `f = g(v) + ĉ + ĥ` satisfies
 //!    `(1 + truncation_scaling / n) f >= c_best`, the search is done (the next one starts).
 //! 5. **Lazy evaluation.** Only a popped edge that could still improve its child and the solution
@@ -476,13 +478,28 @@ where
         (k.ceil() as usize).max(1)
     }
 
+    /// The cost-to-go estimate `ĥ(x)`: a lower bound of any *path* from `x` to the goal, so
+    /// the space's path estimate ([`StateSpace::cost_heuristic`]). Used in the edge queue's key
+    /// and `f = g(v) + ĉ + ĥ` (expansion, truncation), and in the check that a checked motion
+    /// can still improve the solution (`g(v) + c + ĥ(x) >= c_best`). The informed set of the
+    /// samplers uses the same path estimate for the cost-to-come from the start.
     fn h(&self, x: u32) -> f64 {
         self.space
             .cost_heuristic(&self.graph.nodes[x as usize].state, &self.goal_state)
     }
 
+    /// The edge-cost estimate `ĉ(v, x)` of the one motion from `v` to `x` that the validator
+    /// would check, so the space's motion estimate ([`StateSpace::motion_cost_heuristic`],
+    /// OMPL's `motionCostHeuristic`). Every use is about that single edge: the queue keys
+    /// `g(v) + ĉ + ε ĥ` (at expansion, for tree edges and new edges, and when the final search
+    /// re-keys the queue), the expansion's prunings `g(v) + ĉ + ĥ >= c_best` (the edge cannot
+    /// improve the solution) and `g(v) + ĉ >= g(x)` (it cannot improve its child: a history
+    /// copy or nothing), the same test against a history copy's cost (`copy_for`), and the
+    /// popped edge's truncation and `covered` tests. Each is a bound on the cost through the
+    /// edge `(v, x)` itself, never on a path of several motions, so the motion estimate, which
+    /// may exceed the path estimate, keeps them admissible.
     fn c_hat(&self, v: u32, x: u32) -> f64 {
-        self.space.cost_heuristic(
+        self.space.motion_cost_heuristic(
             &self.graph.nodes[v as usize].state,
             &self.graph.nodes[x as usize].state,
         )
@@ -817,6 +834,7 @@ where
                     Informed::Sample(s) => s,
                     Informed::Missed | Informed::Unsupported => {
                         let s = self.space.sample_uniform(&mut self.rng);
+                        // The informed set: paths start -> s -> goal, so the path estimate.
                         let f = self.space.cost_heuristic(start, &s)
                             + self.space.cost_heuristic(&s, &self.goal_state);
                         if f >= self.best_cost {
@@ -841,6 +859,7 @@ where
     fn sample_biased(&mut self, start: &S::State) -> Option<S::State> {
         for _ in 0..BIASED_DRAWS {
             let s = self.space.sample_biased(&mut self.rng)?;
+            // The informed set, as in `sample`: the path estimate.
             if self.best_cost.is_finite()
                 && self.space.cost_heuristic(start, &s)
                     + self.space.cost_heuristic(&s, &self.goal_state)

@@ -54,9 +54,32 @@ pub trait StateSpace<const K: usize> {
     /// The metric distance between two states.
     fn distance(&self, a: &Self::State, b: &Self::State) -> f64;
 
-    /// An admissible estimate (a lower bound) of the cost of any path from `a` to `b`; used as
-    /// the cost-to-come heuristic, the cost-to-go heuristic and the edge-cost estimate.
+    /// An admissible estimate (a lower bound) of the cost of *any path* from `a` to `b`, of one
+    /// motion or many: the cost-to-come and cost-to-go heuristics, and the informed set
+    /// `{x : ĥ(start, x) + ĥ(x, goal) < c_best}` (OMPL's `OptimizationObjective::costToGo`).
     fn cost_heuristic(&self, a: &Self::State, b: &Self::State) -> f64;
+
+    /// An admissible estimate of the cost of the *single motion* from `a` to `b` that
+    /// [`MotionValidator::motion`](super::MotionValidator::motion) checks: ABIT*'s edge-cost
+    /// estimate `ĉ` (the edge queue's key and the prunings of edges that cannot improve their
+    /// child or the solution; OMPL's `OptimizationObjective::motionCostHeuristic`). It must not
+    /// exceed the validator's cost of that motion whenever the motion is valid. It may exceed
+    /// [`StateSpace::cost_heuristic`] where one motion is more constrained than a path between
+    /// the same states (a rover's motion turns to the heading of `b - a` before it drives, a
+    /// path of several motions need not), and should not be below it (it would only be a
+    /// weaker bound). The default is [`StateSpace::cost_heuristic`].
+    ///
+    /// ```
+    /// use rappel_planners::sampler::{RealVectorSpace, StateSpace};
+    /// let space = RealVectorSpace::new([0.0, 0.0], [1.0, 1.0]).unwrap();
+    /// let (a, b) = ([0.0, 0.0], [0.3, 0.4]);
+    /// // A straight line is the cheapest path and the motion: the two estimates agree.
+    /// assert_eq!(space.motion_cost_heuristic(&a, &b), space.cost_heuristic(&a, &b));
+    /// assert!((space.cost_heuristic(&a, &b) - 0.5).abs() < 1e-12);
+    /// ```
+    fn motion_cost_heuristic(&self, a: &Self::State, b: &Self::State) -> f64 {
+        self.cost_heuristic(a, b)
+    }
 
     /// The state at fraction `t` in `[0, 1]` of the way from `a` to `b`.
     fn interpolate(&self, a: &Self::State, b: &Self::State, t: f64) -> Self::State;

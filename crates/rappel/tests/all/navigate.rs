@@ -22,6 +22,13 @@
 //! `2546cb3`, one motion check per parent and child location) reaches the same first solution
 //! (the same 12 states, 8 anchors and cost) after 260 iterations and 190 motion checks instead
 //! of 284 and 194.
+//!
+//! Updated a third time, deliberately: the yaw-aware estimates (issue 33, `docs/sampler.md`, "A
+//! yaw-aware heuristic"): ABIT*'s edge estimate counts the motion's commanded turning and the
+//! cost-to-go the net heading change, so edges whose turns cannot pay off are dropped unchecked.
+//! The first solution comes after 173 iterations and 101 motion checks instead of 260 and 190,
+//! with 121 states instead of 128 (fewer history copies), through the same states but the one at
+//! the slope's foot, and costs 32.2407 instead of 32.3723.
 
 use rappel::navigate::{PATON_ITERATIONS, RoverProblem, SHADOW_SAMPLE_FRACTION, navigate};
 use rappel::planners::sampler::Termination;
@@ -37,13 +44,13 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
     let term = Termination::iterations(PATON_ITERATIONS).or_cost_at_most(f64::MAX);
     let r = navigate(&problem, 0, term, &StopCondition::none()).unwrap();
     assert!(r.found, "{:?}", r.unsafe_reason);
-    assert_eq!(r.first_solution_iteration, Some(260));
-    assert_eq!(r.iterations, 260);
-    assert_eq!((r.batches, r.states), (1, 128));
-    assert_eq!(r.motions_checked, 190);
+    assert_eq!(r.first_solution_iteration, Some(173));
+    assert_eq!(r.iterations, 173);
+    assert_eq!((r.batches, r.states), (1, 121));
+    assert_eq!(r.motions_checked, 101);
     assert_eq!(r.shadow_samples, 16);
     let cost = r.cost.unwrap();
-    assert!((cost - 32.3722868241735).abs() < 1e-9, "cost {cost}");
+    assert!((cost - 32.24072680502886).abs() < 1e-9, "cost {cost}");
     // The re-validated path: 12 states around the pole and down the slope, 8 anchors at the
     // goal (the root, the pole's wrap, the lip).
     assert_eq!(r.path.len(), 12);
@@ -58,7 +65,7 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
         [-1.4761517728752178, 2.615279086567819, 4.0],
         [-0.383814337604953, 2.961738662863841, 3.9550999472587476],
         [1.4360753505492747, 1.8428983560124994, 1.94907185058157],
-        [2.9443696540192237, 2.3326376968225615, 0.12303360102576666],
+        [3.0088461592502123, 2.512882911865258, 0.06472420259695505],
         [4.013552567301884, 1.6540790626275879, 0.0],
         [4.80083015283884, 0.0, 0.0],
     ];
