@@ -143,6 +143,24 @@ fn the_goal_must_be_held_by_the_last_anchor() {
     assert!(check_feasibility(&ctx, &best.shp.taut).feasible());
 }
 
+/// The random-map tests' terrain: one 40° plane with friction 0.6 over the maps.
+fn random_map_terrain() -> PlaneSeries {
+    PlaneSeries::new(
+        &[TerrainPlane::new(30., -30., 40., 0.6)],
+        &TetherFrictionCone,
+    )
+    .unwrap()
+}
+
+/// A random map's start and goal, the higher first (the descent starts uphill).
+fn top_and_bottom(start: Point2<f64>, goal: Point2<f64>) -> (Point2<f64>, Point2<f64>) {
+    if start.y > goal.y {
+        (start, goal)
+    } else {
+        (goal, start)
+    }
+}
+
 /// The pipelined Alg. 6 (the search on its own thread, ahead of the checks) answers exactly as a
 /// plain loop over the classes does: the same classes with the same feasibility and pair
 /// failures, the same pair, termination, stop reason and counters, when listing every class and
@@ -151,11 +169,7 @@ fn the_goal_must_be_held_by_the_last_anchor() {
 fn the_pipelined_plan_equals_a_sequential_loop() {
     use rappel_planners::path_pair::{ClassOutcome, PairPlan};
     use rappel_planners::spt::Termination;
-    let terrain = PlaneSeries::new(
-        &[TerrainPlane::new(30., -30., 40., 0.6)],
-        &TetherFrictionCone,
-    )
-    .unwrap();
+    let terrain = random_map_terrain();
     let mut compared = 0;
     let mut stopped_early = 0;
     for seed in 0..12u64 {
@@ -169,11 +183,7 @@ fn the_pipelined_plan_equals_a_sequential_loop() {
             clearance: 0.3,
             tether_length: None,
         };
-        let (top, bottom) = if m.start.y > m.goal.y {
-            (m.start, m.goal)
-        } else {
-            (m.goal, m.start)
-        };
+        let (top, bottom) = top_and_bottom(m.start, m.goal);
         let planner = SptPlanner::new(&btm);
         for (classes, stop_at_first) in [(1, false), (6, false), (6, true)] {
             let options = SearchOptions::default()
@@ -228,11 +238,7 @@ fn the_pipelined_plan_equals_a_sequential_loop() {
 
 #[test]
 fn waypoints_and_pairs_on_random_maps() {
-    let terrain = PlaneSeries::new(
-        &[TerrainPlane::new(30., -30., 40., 0.6)],
-        &TetherFrictionCone,
-    )
-    .unwrap();
+    let terrain = random_map_terrain();
     let clearance = 0.3;
     let mut pairs = 0;
     let mut no_pair = Vec::new();
@@ -248,11 +254,7 @@ fn waypoints_and_pairs_on_random_maps() {
             tether_length: None,
         };
         let options = SearchOptions::default().with_max_classes(Some(4)).unwrap();
-        let (top, bottom) = if m.start.y > m.goal.y {
-            (m.start, m.goal)
-        } else {
-            (m.goal, m.start)
-        };
+        let (top, bottom) = top_and_bottom(m.start, m.goal);
         let plan =
             plan_path_pair(&SptPlanner::new(&btm), top, bottom, &options, &ctx, false).unwrap();
         for c in &plan.classes {
@@ -417,11 +419,7 @@ fn one_ulp_in_the_map_does_not_flip_a_verdict() {
         let Some(m) = random_map(9_000 + seed, 6) else {
             continue;
         };
-        let (top, bottom) = if m.start.y > m.goal.y {
-            (m.start, m.goal)
-        } else {
-            (m.goal, m.start)
-        };
+        let (top, bottom) = top_and_bottom(m.start, m.goal);
         // Per class: the anchor count, the verdict, and per anchor examined whether it was
         // passed and the length of its reachable part (computed exactly: it may move by
         // rounding, never jump).
@@ -882,11 +880,7 @@ fn reachable_parts_agree_with_brute_force_sampling() {
             clearance: c,
             tether_length: None,
         };
-        let (top, bottom) = if m.start.y > m.goal.y {
-            (m.start, m.goal)
-        } else {
-            (m.goal, m.start)
-        };
+        let (top, bottom) = top_and_bottom(m.start, m.goal);
         let classes = SptPlanner::new(&btm)
             .search(top, bottom, &options)
             .unwrap()
