@@ -165,7 +165,7 @@ impl CrossingSequence {
         let d = btm.dcel();
         let mut stack: Vec<HalfEdgeId> = Vec::with_capacity(self.crossings.len());
         for &h in &self.crossings {
-            if stack.last().is_some_and(|&top| d.twin(top) == Some(h)) {
+            if stack.last().is_some_and(|&top| cancels(d, top, h)) {
                 stack.pop();
             } else {
                 stack.push(h);
@@ -181,9 +181,12 @@ impl CrossingSequence {
     /// `true` when no crossing is immediately followed by its reverse.
     pub fn is_reduced(&self, btm: &Btm) -> bool {
         let d = btm.dcel();
+        self.crossings.windows(2).all(|w| !cancels(d, w[0], w[1]))
+    }
+
+    /// The crossings, handed over (for the reductions built on this one).
+    pub(crate) fn into_crossings(self) -> Vec<HalfEdgeId> {
         self.crossings
-            .windows(2)
-            .all(|w| d.twin(w[0]) != Some(w[1]))
     }
 
     /// The sequence of the reversed path: crossings reversed and each replaced by its twin.
@@ -212,6 +215,12 @@ impl CrossingSequence {
                 .map(move |&h| d.twin(h).map_or(h.triangle(), |g| g.triangle())),
         )
     }
+}
+
+/// `true` when crossing `then` right after `first` cancels it: `then` crosses the same diagonal
+/// back (the reduction's rule).
+pub(crate) fn cancels(d: &Dcel, first: HalfEdgeId, then: HalfEdgeId) -> bool {
+    d.twin(first) == Some(then)
 }
 
 /// Where the tracer's current point sits in its current triangle.

@@ -6,7 +6,7 @@
 //!
 //! Endpoints are compared exactly: homotopy is only defined for paths with the same endpoints.
 
-use crate::crossing::{CrossingSequence, Tracer};
+use crate::crossing::{CrossingSequence, Tracer, cancels};
 use crate::path::{Path, PathError};
 use crate::sleeve::SleeveError;
 use nalgebra::Point2;
@@ -167,8 +167,7 @@ impl<'a> LoopPrefix<'a> {
         let raw = tracer.take_crossings();
         let reduced = CrossingSequence::from_parts(tracer.triangle(), tracer.triangle(), raw)
             .reduced(btm)
-            .crossings()
-            .to_vec();
+            .into_crossings();
         Ok(LoopPrefix {
             btm,
             tracer,
@@ -195,7 +194,7 @@ impl<'a> LoopPrefix<'a> {
                 Some(&top) => Some(top),
                 None => k.checked_sub(1).map(|i| self.reduced[i]),
             };
-            if top.is_some_and(|top| d.twin(top) == Some(h)) {
+            if top.is_some_and(|top| cancels(d, top, h)) {
                 if self.scratch.pop().is_none() {
                     k -= 1;
                 }
