@@ -4,6 +4,12 @@
 
 pub mod proc_stats;
 
+/// The benchmarks and examples that use this crate (every comparison with polyanya or spade) run
+/// on the allocator the `rappel` command line installs (`rappel::huge_pages`: large arrays on
+/// 2 MiB pages), both sides of a comparison alike, as they share the process.
+#[global_allocator]
+static ALLOC: rappel::huge_pages::HugePageAlloc = rappel::huge_pages::HugePageAlloc;
+
 use glam::Vec2;
 use nalgebra::Point2;
 use polyanya::{Mesh, Polygon as PolyPolygon, Vertex as PolyVertex};

@@ -5,8 +5,9 @@
 //! Neither the descriptor's target nor its flags tell that apart afterwards from a deliberate
 //! `>/dev/null` or Python's `subprocess.DEVNULL`, so this module looks before the runtime does:
 //! a constructor in `.init_array` (run by the C runtime before `main`) asks `fcntl(1, F_GETFD)`
-//! and records a failure. This is the workspace's one `unsafe` block: a foreign call with integer
-//! arguments and no pointers. On other platforms the check reports "open".
+//! and records a failure. With `rappel::huge_pages` this is the workspace's audited `unsafe`
+//! code: a foreign call with integer arguments and no pointers. On other platforms the check
+//! reports "open".
 
 #![allow(unsafe_code)]
 

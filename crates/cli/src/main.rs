@@ -31,6 +31,10 @@ use clap::{Parser, Subcommand};
 use output::{Answer, CliError};
 use std::process::ExitCode;
 
+/// Every large array on 2 MiB pages (`rappel::huge_pages`): a long search is bound by TLB misses.
+#[global_allocator]
+static ALLOC: rappel::huge_pages::HugePageAlloc = rappel::huge_pages::HugePageAlloc;
+
 /// Motion planning for tethered robots on extreme terrain.
 #[derive(Parser)]
 #[command(name = "rappel", version, about, long_about = None)]

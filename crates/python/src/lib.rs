@@ -13,6 +13,11 @@
 
 use pyo3::prelude::*;
 
+/// The Rust side's large arrays on 2 MiB pages, as in the `rappel` command line
+/// (`rappel::huge_pages`; Python's own allocations are not affected).
+#[global_allocator]
+static ALLOC: rappel::huge_pages::HugePageAlloc = rappel::huge_pages::HugePageAlloc;
+
 pub mod commands;
 pub mod errors;
 pub mod rover;

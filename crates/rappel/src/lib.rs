@@ -40,6 +40,7 @@ pub mod dem_ptfo;
 pub mod friction_plan;
 pub mod generated;
 pub mod georeference;
+pub mod huge_pages;
 pub mod input_kind;
 pub mod io;
 #[cfg(feature = "mesh")]
