@@ -193,7 +193,7 @@ fn header(budget_s: f64) -> String {
 /// scaling 5); `bit` is the same planner with OMPL's BIT* parameters (initial inflation 1,
 /// inflation and truncation scaling 0, no cascading rewirings), which is how OMPL derives its
 /// ABIT* from its BIT*.
-/// A suffix `:k=F` sets `rgg_k_factor` (a sensitivity run; OMPL's rewire factor is 1.1).
+/// A suffix `:k=F` sets `rgg_k_factor` (OMPL's rewire factor; the default is OMPL's 1.1).
 fn planner_settings(planner: &str) -> Result<AbitSettings, String> {
     let (name, k) = match planner.split_once(":k=") {
         Some((name, k)) => (

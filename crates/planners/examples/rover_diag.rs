@@ -86,7 +86,7 @@ fn main() {
             .unwrap()
             .with_batch_size(env("BATCH", 100.0) as usize)
             .unwrap()
-            .with_rgg_k_factor(env("KF", 1.0))
+            .with_rgg_k_factor(env("KF", 1.1))
             .unwrap()
             .with_biased_sample_fraction(env("BIAS", 0.0))
             .unwrap()

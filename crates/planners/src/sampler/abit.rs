@@ -4,6 +4,11 @@
 //!
 //! 1. **Batches.** Each batch adds `batch_size` valid samples to the edge-implicit RGG; once a
 //!    solution of cost `c_best` exists they are drawn from the informed set (Gammell et al. 2018).
+//!    The RGG's `k` is fixed when a batch is added, as OMPL 1.5.2's BIT* and ABIT* fix it
+//!    (`ImplicitGraph::updateNearestTerms`, `calculateK`): `k = ceil(f (e + e/d) ln n)` with
+//!    `f = rgg_k_factor` (OMPL's rewire factor, default 1.1), `n` the locations held before the
+//!    batch (those that could improve the solution, once one exists; plus the batch's size for
+//!    the first batch), and a state's own location among its `k` nearest.
 //! 2. **Searches** (OMPL's `BITstar::iterate`). A batch is first searched forward from the start
 //!    with the cost-to-go inflated by `initial_inflation` (a greedy search that finds a first
 //!    solution quickly). When that search ends without a solution, a new batch is added; with
@@ -218,6 +223,20 @@ pub const MAX_STATES_PER_LOCATION: usize = 8;
 /// the result of the space's own bounded search, so a few suffice.
 pub const BIASED_DRAWS: usize = 16;
 
+/// The `k` of the k-nearest RGG for `n` locations in a `dimension`-dimensional space, as OMPL
+/// 1.5.2's BIT* and ABIT* compute it (`BITstar::ImplicitGraph::calculateK` with
+/// `calculateMinimumRggK`): `ceil(rewire_factor · (e + e/d) · ln n)`, in that order of
+/// operations. The `k` nearest include the querying state itself (OMPL's `nearestK` over its
+/// samples, which hold the vertex), so a state has `k - 1` neighbours. At least 1 (OMPL's
+/// `unsigned int` of a non-positive `ceil` is undefined; `n <= 1` never happens before a
+/// solution, and after one only when nothing can improve it).
+pub(crate) fn rgg_k(rewire_factor: f64, dimension: usize, n: usize) -> usize {
+    let d = dimension.max(1) as f64;
+    let k_rgg = std::f64::consts::E + std::f64::consts::E / d;
+    let k = (rewire_factor * k_rgg * (n as f64).ln()).ceil();
+    if k >= 1.0 { k as usize } else { 1 }
+}
+
 /// The ABIT* planner over space `S` and validator `V` (k-d embedding dimension `K`).
 pub struct Abit<'a, S, V, const K: usize>
 where
@@ -241,6 +260,11 @@ where
     /// States expanded at least once in any search (OMPL's `hasEverBeenExpandedAsRewiring`):
     /// without cascading rewirings, their later expansions queue no edges to tree states.
     expanded_ever: Vec<bool>,
+    /// The `k` of the k-nearest RGG, fixed per batch ([`rgg_k`] of [`Abit::rgg_n`]).
+    k: usize,
+    /// The lower bound `ĥ(start, x) + ĥ(x, goal)` of every location counted so far (for
+    /// `rgg_n` once a solution exists; a location's state never changes).
+    location_bounds: Vec<f64>,
     best_cost: f64,
     best_goal: Option<u32>,
     inflation: f64,
@@ -302,6 +326,8 @@ where
             motions: HashMap::new(),
             expanded_at: Vec::new(),
             expanded_ever: Vec::new(),
+            k: 1,
+            location_bounds: Vec::new(),
             best_cost: f64::INFINITY,
             best_goal: None,
             inflation: 1.0,
@@ -472,10 +498,61 @@ where
         self.graph.location_count().max(2) as f64
     }
 
-    fn k(&self) -> usize {
-        let d = self.space.dimension().max(1) as f64;
-        let k = self.settings.rgg_k_factor * std::f64::consts::E * (1.0 + 1.0 / d) * self.n().ln();
-        (k.ceil() as usize).max(1)
+    /// The `k` of the running batch's k-nearest RGG (fixed when the batch is added).
+    #[cfg(test)]
+    pub(crate) fn rgg_k(&self) -> usize {
+        self.k
+    }
+
+    /// The batches so far, the best cost and the number of locations (for the tests of `k`).
+    #[cfg(test)]
+    pub(crate) fn batches_cost_locations(&self) -> (u64, f64, usize) {
+        (self.batches, self.best_cost, self.graph.location_count())
+    }
+
+    /// One state per location, the first `n` locations (for the tests of `k`).
+    #[cfg(test)]
+    pub(crate) fn location_states(&self, n: usize) -> Vec<S::State> {
+        (0..n)
+            .map(|l| {
+                self.graph.nodes[self.graph.at_location(l as u32)[0] as usize]
+                    .state
+                    .clone()
+            })
+            .collect()
+    }
+
+    /// The `n` of the RGG's `k` for the batch about to be sampled, counted as OMPL 1.5.2's
+    /// `BITstar::ImplicitGraph::updateNearestTerms` counts it when `addNewSamples` starts a
+    /// batch: the locations held *before* the batch's samples (the start and the goal
+    /// included), only those that could still improve the solution once one exists (the
+    /// lower bound `ĥ(start, x) + ĥ(x, goal) < c_best`: OMPL's count without pruning,
+    /// `computeNumberOfSamplesInInformedSet`, which is what its pruning keeps), and, for the
+    /// first batch, when only the start and the goal are held, plus the batch's size.
+    fn rgg_n(&mut self) -> usize {
+        let locations = self.graph.location_count();
+        let n = if self.best_cost.is_finite() {
+            let start = &self.graph.nodes[self.start as usize].state;
+            for loc in self.location_bounds.len()..locations {
+                let id = self.graph.at_location(loc as u32)[0];
+                let s = &self.graph.nodes[id as usize].state;
+                self.location_bounds.push(
+                    self.space.cost_heuristic(start, s)
+                        + self.space.cost_heuristic(s, &self.goal_state),
+                );
+            }
+            self.location_bounds
+                .iter()
+                .filter(|&&b| b < self.best_cost)
+                .count()
+        } else {
+            locations
+        };
+        if n == 2 {
+            n + self.settings.batch_size
+        } else {
+            n
+        }
     }
 
     /// The cost-to-go estimate `ĥ(x)`: a lower bound of any *path* from `x` to the goal, so
@@ -575,7 +652,9 @@ where
             self.queue.push(Reverse((Key(key), v, x)));
         }
         let key = self.space.key(&self.graph.nodes[v as usize].state);
-        let mut near = self.graph.near(&key, self.k() + 1);
+        // The k nearest locations with `v`'s own among them (OMPL queries its samples, which
+        // hold the vertex itself, and skips it below): k - 1 neighbours.
+        let mut near = self.graph.near(&key, self.k);
         if v == self.start {
             // The start-goal edge is always a candidate (the straight-line attempt): BIT*'s
             // r-disc graph includes it in the first batches, whose radius spans the space,
@@ -787,6 +866,12 @@ where
     /// Adds one batch of valid samples (informed once a solution exists).
     fn new_batch(&mut self) -> Result<(), AbitError> {
         self.batches += 1;
+        // OMPL fixes k for the batch before sampling it (`ImplicitGraph::addNewSamples`).
+        self.k = rgg_k(
+            self.settings.rgg_k_factor,
+            self.space.dimension(),
+            self.rgg_n(),
+        );
         self.inflation = self.settings.initial_inflation;
         let start_state = self.graph.nodes[self.start as usize].state.clone();
         for _ in 0..self.settings.batch_size {
@@ -879,7 +964,7 @@ where
     /// minority history in a region is copied as often as the majority.
     fn neighbour_history(&mut self, state: &S::State, key: &[f64; K]) -> Option<V::History> {
         let mut distinct: Vec<V::History> = Vec::new();
-        for i in self.graph.near(key, self.k()) {
+        for i in self.graph.near(key, self.k) {
             if let Some(h) = &self.graph.nodes[i as usize].history
                 && self.graph.nodes[i as usize].in_tree()
                 && !distinct.iter().any(|d| self.validator.compatible(d, h))

@@ -2,8 +2,10 @@
 //! laid over them (parent, children, cost-to-come, history), and k-nearest-neighbour queries
 //! through a kd-tree (`kiddo`).
 //!
-//! Edges are never stored: the neighbours of a state are its `k` nearest states, with
-//! `k = factor * e (1 + 1/d) ln n` (Karaman & Frazzoli's k-nearest RGG, as in BIT*).
+//! Edges are never stored: the neighbours of a state are the states at its `k` nearest
+//! locations, its own location among them, with `k = ceil(f (e + e/d) ln n)` fixed per batch
+//! (Karaman & Frazzoli's k-nearest RGG as OMPL's BIT* and ABIT* compute it; `f` is OMPL's rewire
+//! factor, `n` counted before the batch: `abit::rgg_k`).
 //! Several graph states may share one location (the fresh goal copies of Paton §V-A), so the
 //! kd-tree indexes locations and each location lists its states.
 //!

@@ -23,7 +23,7 @@ pub enum SettingsError {
 /// | option | default | meaning |
 /// |---|---|---|
 /// | `batch_size` | 100 | samples added per batch (OMPL's `samples_per_batch`) |
-/// | `rgg_k_factor` | 1.0 | multiplier of the RGG's `k = e (1 + 1/d) ln n` (1 = BIT*'s asymptotically optimal value) |
+/// | `rgg_k_factor` | 1.1 | OMPL's rewire factor: the RGG's `k = ceil(rgg_k_factor (e + e/d) ln n)`, the state itself among its k nearest, `n` counted before each batch (OMPL 1.5.2's `ImplicitGraph::calculateK`; 1.0 = Karaman & Frazzoli's minimum `k_RGG = e (1 + 1/d)`, 1.1 = OMPL's default) |
 /// | `initial_inflation` | 1e6 | inflation of the cost-to-go in the first search of a batch (a greedy search) |
 /// | `inflation_scaling` | 10.0 | the final search of a batch (once a solution exists) uses `1 + inflation_scaling / n` (n = graph states) |
 /// | `truncation_scaling` | 5.0 | a search stops once `(1 + truncation_scaling / n) f_min >= c_best` |
@@ -52,7 +52,7 @@ impl Default for AbitSettings {
     fn default() -> Self {
         Self {
             batch_size: 100,
-            rgg_k_factor: 1.0,
+            rgg_k_factor: 1.1,
             initial_inflation: 1e6,
             inflation_scaling: 10.0,
             truncation_scaling: 5.0,
@@ -97,7 +97,9 @@ impl AbitSettings {
         Ok(self)
     }
 
-    /// Multiplier of the RGG's k, finite and `>= 0.1`.
+    /// OMPL's rewire factor, the multiplier of the RGG's minimum `k_RGG = e (1 + 1/d)`:
+    /// `k = ceil(f (e + e/d) ln n)` nearest locations, the state's own included (default 1.1,
+    /// OMPL's; `docs/sampler.md`, "OMPL's neighbour count"). Finite and `>= 0.1`.
     pub fn with_rgg_k_factor(mut self, f: f64) -> Result<Self, SettingsError> {
         self.rgg_k_factor = finite_at_least("rgg_k_factor", f, 0.1, "must be finite and >= 0.1")?;
         Ok(self)

@@ -460,3 +460,128 @@ fn without_cascading_rewirings_only_a_first_expansion_queues_rewirings() {
     );
     assert!(AbitSettings::default().cascading_rewirings);
 }
+
+/// OMPL 1.5.2's `k` for `n` states in dimension `d` with rewire factor `f`, written out from
+/// its source (`src/ompl/geometric/planners/informedtrees/bitstar/src/ImplicitGraph.cpp`):
+/// `calculateMinimumRggK` returns `e + e / d` (`boost::math::constants::e<double>()`) and
+/// `calculateK(n)` returns `std::ceil(rewireFactor_ * k_rgg_ * std::log(n))`.
+fn ompl_calculate_k(f: f64, d: f64, n: f64) -> usize {
+    let e = std::f64::consts::E;
+    let k_rgg = e + e / d;
+    (f * k_rgg * n.ln()).ceil() as usize
+}
+
+/// The `k` per batch, for up to `batches` batches or `iterations` iterations: the `k` of each
+/// new batch with the batch's number, the best cost and one state per location just before it
+/// was added.
+fn k_per_batch<const D: usize>(
+    w: &ObstacleWorld<D>,
+    settings: AbitSettings,
+    batches: usize,
+    iterations: u64,
+) -> Vec<(usize, u64, f64, Vec<[f64; D]>)> {
+    let mut p = Abit::new(&w.space, w, w.start, w.goal, settings).unwrap();
+    // Batch 1 is added by `Abit::new`, before which only start and goal are held.
+    let mut out = vec![(p.rgg_k(), 1, f64::INFINITY, vec![w.start, w.goal])];
+    for _ in 0..iterations {
+        if out.len() >= batches {
+            break;
+        }
+        let (batches, cost, n) = p.batches_cost_locations();
+        p.iterate().unwrap();
+        if p.batches_cost_locations().0 > batches {
+            out.push((p.rgg_k(), batches + 1, cost, p.location_states(n)));
+        }
+    }
+    out
+}
+
+#[test]
+fn k_per_batch_is_ompls() {
+    // `updateNearestTerms` (called by `addNewSamples` before a batch is sampled) counts N over
+    // the samples held (the vertices, start and goal included); with pruning on (its default)
+    // that is what pruning keeps, without it the samples that `canSampleBePruned` would not
+    // prune (lower bound `ĥ(start, x) + ĥ(x, goal) < c_best`); when only the starts and goals
+    // are held (the first batch) it adds the batch's size.
+    let wall_2d = ObstacleWorld {
+        space: RealVectorSpace::new([0.0, 0.0], [10.0, 10.0]).unwrap(),
+        obstacles: vec![Obstacle::Box {
+            min: [4.9, 0.0],
+            max: [5.1, 10.0],
+        }],
+        start: [1.0, 5.0],
+        goal: [9.0, 5.0],
+        resolution: 0.01,
+    };
+    let wall_3d = ObstacleWorld {
+        space: RealVectorSpace::new([0.0; 3], [10.0; 3]).unwrap(),
+        obstacles: vec![Obstacle::Box {
+            min: [4.9, 0.0, 0.0],
+            max: [5.1, 10.0, 10.0],
+        }],
+        start: [1.0, 5.0, 5.0],
+        goal: [9.0, 5.0, 5.0],
+        resolution: 0.01,
+    };
+    // No solution (a closed wall): N = 2 + 100 for batch 1 and 2 + 100 (b - 1) for batch b.
+    let mut ks_2d = Vec::new();
+    for f in [1.1, 1.0, 0.6, 2.5] {
+        let settings = AbitSettings::default().with_rgg_k_factor(f).unwrap();
+        let runs_2d = k_per_batch(&wall_2d, settings.clone(), 8, 200_000);
+        let runs_3d = k_per_batch(&wall_3d, settings, 8, 200_000);
+        assert!(runs_2d.len() >= 6 && runs_3d.len() >= 6, "too few batches");
+        let strip = |runs: &[(usize, u64, f64, Vec<[f64; 2]>)]| -> Vec<(usize, u64, f64)> {
+            runs.iter().map(|r| (r.0, r.1, r.2)).collect()
+        };
+        let strip_3d = |runs: &[(usize, u64, f64, Vec<[f64; 3]>)]| -> Vec<(usize, u64, f64)> {
+            runs.iter().map(|r| (r.0, r.1, r.2)).collect()
+        };
+        for (d, runs) in [(2.0, strip(&runs_2d)), (3.0, strip_3d(&runs_3d))] {
+            for (k, batch, cost) in &runs {
+                assert!(cost.is_infinite());
+                let n = if *batch == 1 {
+                    102
+                } else {
+                    2 + 100 * (batch - 1)
+                };
+                assert_eq!(
+                    *k,
+                    ompl_calculate_k(f, d, n as f64),
+                    "f {f}, d {d}, batch {batch}"
+                );
+            }
+        }
+        if f == 1.1 {
+            ks_2d = runs_2d.iter().take(6).map(|r| r.0).collect();
+        }
+    }
+    // OMPL's own ABIT* on `narrow_2d` (rewire factor 1.1, d = 2) had 20, 20, 23, 25, 26, 27
+    // neighbours besides the vertex itself in batches 1-6 (`docs/sampler.md`, "Native peer").
+    assert_eq!(ks_2d, vec![21, 21, 24, 26, 27, 28]);
+
+    // With solutions: only the locations whose lower bound is below the best cost count.
+    let w = circle_2d();
+    let runs = k_per_batch(&w, AbitSettings::default().with_seed(3), 12, 200_000);
+    let mut after_solution = 0;
+    for (k, batch, cost, locations) in &runs {
+        let dist =
+            |a: &[f64; 2], b: &[f64; 2]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+        let mut n = if cost.is_finite() {
+            after_solution += 1;
+            locations
+                .iter()
+                .filter(|x| dist(&w.start, x) + dist(x, &w.goal) < *cost)
+                .count()
+        } else {
+            locations.len()
+        };
+        if n == 2 {
+            n += 100;
+        }
+        assert_eq!(*k, ompl_calculate_k(1.1, 2.0, n as f64), "batch {batch}");
+    }
+    assert!(
+        after_solution >= 3,
+        "only {after_solution} batches after a solution"
+    );
+}
