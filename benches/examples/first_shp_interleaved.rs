@@ -10,6 +10,9 @@
 //! The sides:
 //! - `rappel`: [`SptPlanner::shortest_path`] (the class answer: SHP, sleeve, crossings,
 //!   H-signature); its set-up is the BTM and the planner (kite table);
+//! - `rappel-astar`: the same search in the A* order ([`QueueOrder::AStar`]) instead of the
+//!   one-class search's wave order (`rappel_planners::spt` module docs, "The wave order"), on the
+//!   same planner: what the order gains, in the same run;
 //! - `polyanya`: polyanya's `Mesh::path` on the BTM's free triangles (the raw CDT), set-up the
 //!   mesh built from the BTM and baked;
 //! - `polyanya-merged`: the same on polyanya's own merged convex polygons (`merge_polygons`, then
@@ -32,6 +35,10 @@
 //! its mesh and the queries, its input BTM standing for a mesh file read beforehand), for a
 //! process that answers short queries. Measure it with `--side`, one side per process.
 //!
+//! `--band-bits=B` runs the `rappel` side in the wave order with bands of `B` bits of mantissa
+//! ([`QueueOrder::Wave`]) instead of the default's
+//! [`WAVE_BAND_BITS`](rappel_planners::spt::WAVE_BAND_BITS), for tuning.
+//!
 //! `--tsv` prints the rows tab-separated with plain numbers (seconds, MB), for `cargo xtask
 //! growth`. The 100,000-obstacle strip takes seconds per query and side: give it explicitly
 //! (`first_shp_interleaved 1 100000`).
@@ -42,7 +49,7 @@ use rappel_benches::proc_stats::{cpu_time, peak_growth_mb, reset_peak};
 use rappel_benches::{median_by, polyanya_mesh, polyanya_mesh_merged, short_query, to_vec2};
 use rappel_geometry::btm::Btm;
 use rappel_geometry::generate::{CraterStripOptions, crater_strip};
-use rappel_planners::spt::{SearchOptions, SearchStats, SptPlanner};
+use rappel_planners::spt::{QueueOrder, SearchOptions, SearchStats, SptPlanner};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -57,7 +64,7 @@ fn fail(message: String) -> ! {
 }
 
 /// The sides, in the order of the rows.
-const SIDES: [&str; 3] = ["rappel", "polyanya", "polyanya-merged"];
+const SIDES: [&str; 4] = ["rappel", "polyanya", "polyanya-merged", "rappel-astar"];
 
 /// What one side measured on one strip.
 #[derive(Default)]
@@ -79,6 +86,16 @@ fn main() {
     let rest: Vec<String> = args.collect();
     let tsv = rest.iter().any(|a| a == "--tsv");
     let short = rest.iter().any(|a| a == "--short");
+    // `--band-bits=B`: the `rappel` side's wave order with bands of B bits (module docs).
+    let band_bits = rest
+        .iter()
+        .find_map(|a| a.strip_prefix("--band-bits="))
+        .map(|b| {
+            b.parse::<u32>()
+                .ok()
+                .filter(|&b| b <= 52)
+                .unwrap_or_else(|| fail(format!("--band-bits={b}: expected 0 to 52")))
+        });
     // `--side=SIDE`: run one side only (module docs).
     let only = rest
         .iter()
@@ -86,12 +103,16 @@ fn main() {
         .map(|side| {
             SIDES.iter().position(|s| *s == side).unwrap_or_else(|| {
                 fail(format!(
-                    "--side={side}: expected rappel, polyanya or polyanya-merged"
+                    "--side={side}: expected rappel, polyanya, polyanya-merged or rappel-astar"
                 ))
             })
         });
     if let Some(a) = rest.iter().find(|a| {
-        a.starts_with("--") && *a != "--tsv" && *a != "--short" && !a.starts_with("--side=")
+        a.starts_with("--")
+            && *a != "--tsv"
+            && *a != "--short"
+            && !a.starts_with("--side=")
+            && !a.starts_with("--band-bits=")
     }) {
         fail(format!("unknown option {a}"));
     }
@@ -116,15 +137,17 @@ fn main() {
             0.5 * (strip.start.y + strip.goal.y),
         );
         let runs = |side: usize| only.is_none_or(|o| o == side);
-        let mut m: [Measured; 3] = Default::default();
+        let mut m: [Measured; 4] = Default::default();
         // Set-up. rappel's BTM is also the input polyanya's meshes are built from (outside
         // their set-up time: it stands for reading a mesh file). With `--short` the peak is
         // reset before each side's set-up and read after its queries (module docs).
-        let mut resident_from = runs(0).then(reset_peak).flatten();
+        let ours = runs(0) || runs(3);
+        let mut resident_from = ours.then(reset_peak).flatten();
         let t = Instant::now();
         let btm = Btm::from_map(&strip.map).unwrap_or_else(|e| fail(format!("{n} obstacles: {e}")));
-        let planner = runs(0).then(|| SptPlanner::new(&btm));
+        let planner = ours.then(|| SptPlanner::new(&btm));
         m[0].setup = t.elapsed();
+        m[3].setup = m[0].setup;
         let (a, b) = if short {
             short_query(&btm, strip.start, strip.goal)
                 .unwrap_or_else(|| fail(format!("{n} obstacles: no free short query")))
@@ -135,7 +158,7 @@ fn main() {
         let mut meshes: [Option<Mesh>; 2] = [None, None];
         for (k, mesh) in meshes.iter_mut().enumerate() {
             if runs(k + 1) {
-                if !runs(0) {
+                if !ours {
                     resident_from = reset_peak();
                 }
                 let t = Instant::now();
@@ -152,9 +175,16 @@ fn main() {
             .with_max_classes(Some(1))
             .and_then(|o| o.with_max_expansions(1_000_000_000))
             .unwrap_or_else(|e| fail(e.to_string()));
-        let mut stats = SearchStats::default();
+        let astar = options.clone().with_queue_order(QueueOrder::AStar);
+        let options = match band_bits {
+            Some(band_bits) => options.with_queue_order(QueueOrder::Wave { band_bits }),
+            None => options,
+        };
+        let mut stats = [SearchStats::default(), SearchStats::default()];
         for round in 0..rounds {
-            let order: Vec<usize> = (0..3).map(|i| (i + round) % 3).collect();
+            let order: Vec<usize> = (0..SIDES.len())
+                .map(|i| (i + round) % SIDES.len())
+                .collect();
             for side in order {
                 if !runs(side) {
                     continue;
@@ -162,15 +192,16 @@ fn main() {
                 let rss = if short { resident_from } else { reset_peak() };
                 let (t, c) = (Instant::now(), cpu_time());
                 let length = match side {
-                    0 => {
+                    0 | 3 => {
                         let Some(planner) = planner.as_ref() else {
                             continue;
                         };
+                        let options = if side == 0 { &options } else { &astar };
                         let outcome = planner
-                            .search(black_box(a), black_box(b), &options)
+                            .search(black_box(a), black_box(b), options)
                             .and_then(|s| s.run())
-                            .unwrap_or_else(|e| fail(format!("rappel: {e}")));
-                        stats = outcome.stats;
+                            .unwrap_or_else(|e| fail(format!("{}: {e}", SIDES[side])));
+                        stats[side / 3] = outcome.stats;
                         outcome.classes.first().map(|c| c.length())
                     }
                     k => meshes[k - 1]
@@ -193,8 +224,9 @@ fn main() {
             }
         }
         // A timing is a figure only when every side answered the same (module docs).
-        let lengths: Vec<(usize, f64)> =
-            (0..3).filter_map(|k| m[k].length.map(|l| (k, l))).collect();
+        let lengths: Vec<(usize, f64)> = (0..SIDES.len())
+            .filter_map(|k| m[k].length.map(|l| (k, l)))
+            .collect();
         for &(k, l) in &lengths {
             let (k0, l0) = lengths[0];
             if (l - l0).abs() > 1e-4 * l0 {
@@ -216,10 +248,10 @@ fn main() {
             } else {
                 ours.as_secs_f64() / wall.as_secs_f64()
             };
-            let expansions = if k == 0 {
-                stats.expansions.to_string()
-            } else {
-                "-".into()
+            let expansions = match k {
+                0 => stats[0].expansions.to_string(),
+                3 => stats[1].expansions.to_string(),
+                _ => "-".into(),
             };
             let peak = s.peak_mb.map_or(f64::NAN, |p| p);
             let length = s.length.unwrap_or(f64::NAN);

@@ -56,24 +56,38 @@ impl<T: Rank> Ord for MinEntry<T> {
 /// The order word of a queued entry: the key's bits made order-preserving (the order of
 /// [`f64::total_cmp`]) in the high 64 bits, the rank in the next 32 and the arena index in the low
 /// 32, so that one unsigned comparison decides `(key, rank, index)`.
+#[cfg(test)]
 fn order_word(key: f64, rank: u32, item: u32) -> u128 {
-    let bits = key.to_bits();
-    // Negative values (sign set) reverse their order; positive ones go above them.
-    let ordered = if bits >> 63 == 1 {
-        !bits
-    } else {
-        bits | 1 << 63
-    };
+    order_word_of(ordered_bits(key), rank, item)
+}
+
+/// [`order_word`] from a key's order-preserving bits.
+fn order_word_of(ordered: u64, rank: u32, item: u32) -> u128 {
     (u128::from(ordered) << 64) | (u128::from(rank) << 32) | u128::from(item)
 }
 
+/// A key's bits made order-preserving: for any `a`, `b`,
+/// `ordered_bits(a).cmp(&ordered_bits(b)) == a.total_cmp(&b)` (the high half of an
+/// [`order_word`]).
+pub(crate) fn ordered_bits(key: f64) -> u64 {
+    let bits = key.to_bits();
+    // Negative values (sign set) reverse their order; positive ones go above them.
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | 1 << 63
+    }
+}
+
 /// The key of an order word ([`order_word`] inverted).
+#[cfg(test)]
 fn key_of(word: u128) -> f64 {
     key_of_ordered((word >> 64) as u64)
 }
 
-/// The key of its order-preserving bits (the high half of an [`order_word`]).
-fn key_of_ordered(ordered: u64) -> f64 {
+/// The key of its order-preserving bits (the high half of an [`order_word`]; [`ordered_bits`]
+/// inverted).
+pub(crate) fn key_of_ordered(ordered: u64) -> f64 {
     f64::from_bits(if ordered >> 63 == 1 {
         ordered & !(1 << 63)
     } else {
@@ -187,11 +201,25 @@ impl<T: Rank + Copy> ArenaHeap<T> {
         }
     }
 
-    /// Queues `item` with priority `key`.
+    /// Queues `item` with priority `key` and its own [`Rank::rank`] (the tests' form, checked
+    /// against `std`'s heap of [`MinEntry`]; the search pushes order words).
     ///
     /// # Panics
     /// Beyond `u32::MAX - 1` items queued at once (the arena's index).
+    #[cfg(test)]
     pub fn push(&mut self, key: f64, item: T) {
+        let rank = item.rank() as u32;
+        self.push_ordered(ordered_bits(key), rank, item);
+    }
+
+    /// Queues `item` under an order-preserving key word (any `u64`: smaller pops first) and a
+    /// tie-break `rank` of its own choosing in place of [`Rank::rank`]: the queue of a caller whose
+    /// priority is not one `f64` (the one-class search's wave order, [`crate::spt`]). Keys pushed
+    /// with [`ArenaHeap::push`] are the words [`ordered_bits`] gives; the two may be mixed.
+    ///
+    /// # Panics
+    /// Beyond `u32::MAX - 1` items queued at once (the arena's index).
+    pub fn push_ordered(&mut self, ordered: u64, rank: u32, item: T) {
         let index = match self.free.pop() {
             Some(i) => {
                 self.items[i as usize] = item;
@@ -209,8 +237,7 @@ impl<T: Rank + Copy> ArenaHeap<T> {
         if self.buckets.is_empty() {
             self.buckets = vec![Vec::new(); BUCKETS];
         }
-        let word = order_word(key, item.rank() as u32, index);
-        let ordered = (word >> 64) as u64;
+        let word = order_word_of(ordered, rank, index);
         self.len += 1;
         if ordered < self.last {
             self.below.push(Reverse(word));
@@ -219,14 +246,22 @@ impl<T: Rank + Copy> ArenaHeap<T> {
         }
     }
 
-    /// Removes and returns the first `(key, item)`.
+    /// Removes and returns the first `(key, item)` (the tests' form of
+    /// [`ArenaHeap::pop_ordered`]).
+    #[cfg(test)]
     pub fn pop(&mut self) -> Option<(f64, T)> {
+        self.pop_ordered()
+            .map(|(ordered, item)| (key_of_ordered(ordered), item))
+    }
+
+    /// Removes and returns the first item with its key word ([`ArenaHeap::push_ordered`]).
+    pub fn pop_ordered(&mut self) -> Option<(u64, T)> {
         if self.len == 0 {
             return None;
         }
         self.len -= 1;
         let (key, index) = if let Some(Reverse(word)) = self.below.pop() {
-            (key_of(word), word as u32)
+            ((word >> 64) as u64, word as u32)
         } else {
             if self.equal.is_empty() {
                 // The lowest non-empty bucket holds the next key: it becomes `last`, and the
@@ -247,7 +282,7 @@ impl<T: Rank + Copy> ArenaHeap<T> {
                 self.buckets[b] = bucket;
             }
             let Reverse(tie) = self.equal.pop()?;
-            (key_of_ordered(self.last), tie as u32)
+            (self.last, tie as u32)
         };
         self.free.push(index);
         Some((key, self.items[index as usize]))

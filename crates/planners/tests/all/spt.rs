@@ -8,11 +8,12 @@ use crate::common;
 use common::{one_box, random_map};
 use nalgebra::Point2;
 use rappel_geometry::btm::Btm;
+use rappel_geometry::generate::{CraterStripOptions, crater_strip};
 use rappel_homotopy::crossing::CrossingSequence;
 use rappel_homotopy::funnel::Side;
 use rappel_homotopy::h_signature::HSignature;
 use rappel_homotopy::shp::shortest_homotopic_path;
-use rappel_planners::spt::{RankedShp, SearchOptions, SptPlanner, Termination};
+use rappel_planners::spt::{QueueOrder, RankedShp, SearchOptions, SptPlanner, Termination};
 use rappel_planners::visibility_graph;
 
 /// Relative tolerance of the comparison with the oracle (the 1e-9).
@@ -84,6 +85,97 @@ fn the_first_class_is_the_visibility_graph_shortest_path_on_random_maps() {
         with_anchors >= 100,
         "only {with_anchors} maps with a bent shortest path"
     );
+}
+
+/// The first class in every queue order: the A* order, the default wave order and wave orders
+/// with coarse bands (down to one band per binade, close to Dijkstra's order by the reach bound,
+/// where the goal must wait behind every funnel that could still beat it) all give the length of
+/// the independent visibility-graph oracle, and the same length bit for bit (the same path).
+#[test]
+fn every_queue_order_finds_the_visibility_graph_shortest_path() {
+    let orders = [
+        QueueOrder::AStar,
+        QueueOrder::Auto,
+        QueueOrder::Wave { band_bits: 0 },
+        QueueOrder::Wave { band_bits: 3 },
+        QueueOrder::Wave { band_bits: 52 },
+    ];
+    let mut checked = 0;
+    for seed in 0..200u64 {
+        let Some(m) = random_map(7_000 + seed, 4 + (seed % 12) as usize) else {
+            continue;
+        };
+        let btm = Btm::from_map(&m.map).unwrap();
+        let planner = SptPlanner::new(&btm);
+        let oracle = visibility_graph::shortest_path(&m.map, m.start, m.goal).expect("reachable");
+        let lengths: Vec<f64> = orders
+            .iter()
+            .map(|&order| {
+                let options = options(Some(1)).with_queue_order(order);
+                let c = planner
+                    .search(m.start, m.goal, &options)
+                    .unwrap()
+                    .next()
+                    .expect("a class")
+                    .unwrap();
+                check_class(&btm, &planner, &c);
+                c.length()
+            })
+            .collect();
+        for (order, l) in orders.iter().zip(&lengths) {
+            let rel = (l - oracle.length).abs() / oracle.length.max(1e-12);
+            assert!(
+                rel <= ORACLE_TOLERANCE,
+                "seed {seed}, {order:?}: {l} vs visibility graph {}",
+                oracle.length
+            );
+            assert_eq!(*l, lengths[0], "seed {seed}, {order:?}");
+        }
+        checked += 1;
+    }
+    assert!(checked >= 150, "only {checked} valid random maps");
+}
+
+/// On a crater strip, where the default bands are narrow beside the spread of the keys, every
+/// order finds the same shortest path; the wave orders also refuse what they cannot do.
+#[test]
+fn every_queue_order_agrees_on_a_crater_strip() {
+    let g = crater_strip(&CraterStripOptions::new(1_500, 3)).unwrap();
+    let btm = Btm::from_map(&g.map).unwrap();
+    let planner = SptPlanner::new(&btm);
+    let length = |order| {
+        let options = options(Some(1)).with_queue_order(order);
+        let mut search = planner.search(g.start, g.goal, &options).unwrap();
+        search.next_best().unwrap().expect("a class").length()
+    };
+    let astar = length(QueueOrder::AStar);
+    for order in [
+        QueueOrder::Auto,
+        QueueOrder::Wave { band_bits: 0 },
+        QueueOrder::Wave { band_bits: 10 },
+    ] {
+        assert_eq!(length(order), astar, "{order:?}");
+    }
+    for bad in [
+        options(Some(2)).with_queue_order(QueueOrder::Wave { band_bits: 8 }),
+        options(Some(1)).with_queue_order(QueueOrder::Wave { band_bits: 53 }),
+        options(Some(1))
+            .with_simple_only(true)
+            .with_queue_order(QueueOrder::Wave { band_bits: 8 }),
+    ] {
+        assert!(planner.search(g.start, g.goal, &bad).is_err());
+    }
+    // Several classes in the automatic order are the A* order's.
+    let classes = |order| {
+        let options = options(Some(3)).with_queue_order(order);
+        let run = planner
+            .search(g.start, g.goal, &options)
+            .unwrap()
+            .run()
+            .unwrap();
+        run.classes.iter().map(|c| c.length()).collect::<Vec<_>>()
+    };
+    assert_eq!(classes(QueueOrder::Auto), classes(QueueOrder::AStar));
 }
 
 #[test]
