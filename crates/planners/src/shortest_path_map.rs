@@ -62,6 +62,7 @@
 //! the chain length, funnel module docs).
 
 use crate::budget::ExpansionBudget;
+use crate::feasibility::distance_to_segment;
 use crate::min_heap::{MinEntry, Rank};
 use crate::mouth_cover::{self, ArrivalStore, MouthEnd};
 use crate::spt::{SearchError, canonical_triangle};
@@ -393,7 +394,7 @@ fn lower_bound(btm: &Btm, tree: &FunnelTree, f: &FunnelState) -> f64 {
     let m = f.mouth();
     let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
     let apex = tree.node(f.apex());
-    apex.length + segment_distance(&apex.point, &a, &b)
+    apex.length + distance_to_segment(&apex.point, &a, &b)
 }
 
 /// `true` when the funnel's mouth is covered from its endpoints' best known lengths or its edge's
@@ -437,21 +438,9 @@ fn triangle_bound(btm: &Btm, tree: &FunnelTree, t: TriangleId, f: &FunnelState) 
     let distance = if inside {
         0.0
     } else {
-        segment_distance(q, &a, &b)
-            .min(segment_distance(q, &b, &c))
-            .min(segment_distance(q, &c, &a))
+        distance_to_segment(q, &a, &b)
+            .min(distance_to_segment(q, &b, &c))
+            .min(distance_to_segment(q, &c, &a))
     };
     apex.length + distance
-}
-
-/// Euclidean distance from `p` to the segment `ab`.
-fn segment_distance(p: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + ab * t)).norm()
 }

@@ -113,7 +113,7 @@
 //! 10,000 obstacles 169,062 expansions against 167,499, at 100,000 6,834,277 against 6,793,154,
 //! at 1,000,000 80.6 against 67.1 million. In exchange the search walks its memory in order:
 //! the 100,000-obstacle query takes about 0.7 of the A* order's time, the 1,000,000-obstacle one
-//! about 0.65; the 10,000-obstacle one, whose state fits in the cache, about 1.05 (measurements
+//! about 0.45; the 10,000-obstacle one, whose state fits in the cache, about 1.1 (measurements
 //! in `docs/planner.md`, "The wave order"). [`QueueOrder::AStar`] keeps the A* order, and
 //! [`QueueOrder::Wave`] takes another band width (fewer bits: wider bands, closer to Dijkstra's
 //! order by the reach bound). With several classes the A* order is kept: goal entries of two
@@ -1831,7 +1831,7 @@ impl<'a> SptSearch<'a> {
             tree.point(f.left()),
             tree.point(f.apex()),
         );
-        apex.length + distance_to_segment(&p, &a, &b)
+        apex.length + crate::feasibility::distance_to_segment(&p, &a, &b)
     }
 
     /// `f * L_1` once the first class is known.
@@ -2005,18 +2005,6 @@ impl Iterator for SptSearch<'_> {
     fn next(&mut self) -> Option<Self::Item> {
         self.next_best().transpose()
     }
-}
-
-/// The distance from `p` to the segment `ab` (`a == b` allowed).
-fn distance_to_segment(p: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>) -> f64 {
-    let d = b - a;
-    let len2 = d.norm_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(&d) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + d * t - p).norm()
 }
 
 /// Mantissa bits of an A* key that make its band in the default wave order ([`QueueOrder::Auto`],

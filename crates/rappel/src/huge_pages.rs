@@ -1,14 +1,17 @@
 //! Transparent huge pages for the large arrays of a long search: a global allocator that asks
 //! Linux to back every allocation of at least [`HUGE_PAGE_THRESHOLD`] bytes with 2 MiB pages.
 //!
-//! **Why.** The first SHP of a long map pops funnels in key order, and on a crater strip whose
-//! shortest path is a few metres longer than the straight line the queue holds funnels all along
-//! the strip at once: nearly every read of the funnel tree, the queue and the per-vertex and
-//! per-triangle arrays misses the cache *and* the TLB (4 KiB pages: a few thousand TLB entries
-//! cover a few MiB, against 3 GB of search state on the 1,000,000-obstacle strip). With 2 MiB
-//! pages the same entries cover gigabytes and a miss costs one memory access instead of a page
-//! walk and the access. Measured on the generated strips (`docs/planner.md`, "Huge pages"), the
-//! same search, expansion for expansion.
+//! **Why.** A long search reads gigabytes of state. In the A* order the first SHP of a crater
+//! strip pops funnels from all along the strip at once (their keys differ by less than the few
+//! metres by which the shortest path beats the straight line), so nearly every read of the funnel
+//! tree, the queue and the per-vertex and per-triangle arrays misses the cache *and* the TLB
+//! (4 KiB pages: a few thousand TLB entries cover a few MiB, against 3 GB of search state on the
+//! 1,000,000-obstacle strip). The one-class search now sweeps the map band by band instead
+//! (`rappel_planners::spt`, "The wave order"), which makes most reads local, but the bands still
+//! revisit the whole map and other searches (several classes, the shortest path map) keep the A*
+//! order. With 2 MiB pages the same TLB entries cover gigabytes and a miss costs one memory
+//! access instead of a page walk and the access. Measured on the generated strips
+//! (`docs/planner.md`, "Huge pages"), the same search, expansion for expansion.
 //!
 //! **How.** Most Linux systems ship transparent huge pages in `madvise` mode
 //! (`/sys/kernel/mm/transparent_hugepage/enabled` reads `always [madvise] never`): only memory
