@@ -1383,6 +1383,24 @@ impl<'a> SptSearch<'a> {
         };
         let start_triangle = endpoint("start", start)?;
         let goal_triangle = endpoint("goal", goal)?;
+        // Dominance pruning, hence the one-class rules, needs a class count outside the
+        // simple-classes mode (`pruning` below).
+        let one_class = options.max_classes == Some(1) && !options.simple_only;
+        let band_bits = match options.queue_order {
+            QueueOrder::Auto => one_class.then_some(WAVE_BAND_BITS),
+            QueueOrder::AStar => None,
+            QueueOrder::Wave { .. } if !one_class => {
+                return Err(SearchError::Option(
+                    "the wave order is for one class: max_classes 1, not the simple-classes mode",
+                ));
+            }
+            QueueOrder::Wave { band_bits } if band_bits > 52 => {
+                return Err(SearchError::Option(
+                    "the wave order keeps at most 52 bits of mantissa (band_bits <= 52)",
+                ));
+            }
+            QueueOrder::Wave { band_bits } => Some(band_bits),
+        };
         let mut scratch = planner.take_scratch();
         scratch.reset(start);
         let pruning = match options.max_classes {
@@ -1397,24 +1415,6 @@ impl<'a> SptSearch<'a> {
         };
         let expansion_limit = options.expansion_limit(btm);
         let watch = options.stop.watch(expansion_limit);
-        let one_class = pruning && scratch.lifts.k == 1;
-        let band_bits = match options.queue_order {
-            QueueOrder::Auto => one_class.then_some(WAVE_BAND_BITS),
-            QueueOrder::AStar => None,
-            QueueOrder::Wave { .. } if !one_class => {
-                planner.return_scratch(scratch);
-                return Err(SearchError::Option(
-                    "the wave order is for one class: max_classes 1, not the simple-classes mode",
-                ));
-            }
-            QueueOrder::Wave { band_bits } if band_bits > 52 => {
-                planner.return_scratch(scratch);
-                return Err(SearchError::Option(
-                    "the wave order keeps at most 52 bits of mantissa (band_bits <= 52)",
-                ));
-            }
-            QueueOrder::Wave { band_bits } => Some(band_bits),
-        };
         let wave = band_bits.map(Wave::new);
         let mut search = SptSearch {
             planner,

@@ -37,16 +37,13 @@ fn test_1_finds_a_lip_anchored_path_and_test_2_runs_out_of_budget() {
     assert!((end[0].as_f64().unwrap_or(0.0) - (4.0 / 55f64.to_radians().tan() + 2.0)).abs() < 1e-6);
     assert!(v["min_margin_n"].as_f64().unwrap_or(-1.0) >= 0.0);
     assert!(std::fs::read_to_string(&svg).expect("svg").contains("<svg"));
-    let o = rappel(&[
-        "navigate",
-        &ledge,
-        "--seed",
-        "0",
-        "--test",
-        "2",
-        "--iterations",
-        "20",
-    ]);
+    // Table I test 2 on the ledge, seed 0, with a budget (it has no path: a budget ends it).
+    let test_2 = |budget: &[&str]| {
+        let mut args = vec!["navigate", ledge.as_str(), "--seed", "0", "--test", "2"];
+        args.extend_from_slice(budget);
+        rappel(&args)
+    };
+    let o = test_2(&["--iterations", "20"]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("the iterations budget ran out"));
     // A time budget interrupts the search and says so. The iteration budget is far beyond what
@@ -54,19 +51,7 @@ fn test_1_finds_a_lip_anchored_path_and_test_2_runs_out_of_budget() {
     // default 750 the outcome depended on the machine's speed (a fast run spent its 750
     // iterations first and stopped by "iterations").
     let began = std::time::Instant::now();
-    let o = rappel(&[
-        "navigate",
-        &ledge,
-        "--seed",
-        "0",
-        "--test",
-        "2",
-        "--iterations",
-        "1000000",
-        "--time",
-        "0.3",
-        "--json",
-    ]);
+    let o = test_2(&["--iterations", "1000000", "--time", "0.3", "--json"]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
     assert_eq!(v["stopped_by"], "time");
