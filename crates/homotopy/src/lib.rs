@@ -46,7 +46,7 @@ pub mod sleeve;
 
 pub use crossing::{CrossingSequence, Tracer};
 pub use funnel::{Anchor, Side, TautPath, shortest_path_in_sleeve};
-pub use funnel_state::{FunnelState, FunnelTree, NodeId, Split};
+pub use funnel_state::{FunnelState, FunnelTree, NodeId, Split, TreeMarks};
 pub use h_signature::{HSignature, Poles};
 pub use homotopy::{HomotopyError, are_homotopic, is_contractible};
 pub use path::{Blocker, Path, PathError};

@@ -254,6 +254,27 @@ impl<T: Rank + Copy> ArenaHeap<T> {
             .map(|(ordered, item)| (key_of_ordered(ordered), item))
     }
 
+    /// Calls `f` on every queued item, in no particular order, letting it rewrite the item in
+    /// place (its key and place in the queue are unchanged): the SPT search renumbers the tree
+    /// nodes its funnels hold after collecting the tree ([`crate::spt`], "Collecting the tree").
+    pub fn for_each_queued_mut(&mut self, mut f: impl FnMut(&mut T)) {
+        let ArenaHeap {
+            equal,
+            buckets,
+            below,
+            items,
+            ..
+        } = self;
+        let indices = equal
+            .iter()
+            .map(|Reverse(tie)| *tie as u32)
+            .chain(buckets.iter().flatten().map(|&(_, tie)| tie as u32))
+            .chain(below.iter().map(|Reverse(word)| *word as u32));
+        for i in indices {
+            f(&mut items[i as usize]);
+        }
+    }
+
     /// Removes and returns the first item with its key word ([`ArenaHeap::push_ordered`]).
     pub fn pop_ordered(&mut self) -> Option<(u64, T)> {
         if self.len == 0 {
@@ -392,6 +413,28 @@ mod tests {
             popped.map(|(k, item)| (k, item.1))
         }
 
+        /// Checks that [`ArenaHeap::for_each_queued_mut`] visits exactly the items not yet
+        /// popped (`popped` holds their numbers), each once, and that what it writes is what
+        /// pops: every item is rewritten to its number plus `2^40`, and rewritten back.
+        fn check_queued(&mut self, popped: &[u64]) {
+            let mut seen = Vec::new();
+            self.ours.for_each_queued_mut(|item| {
+                seen.push(item.1);
+                item.1 += 1 << 40;
+            });
+            seen.sort_unstable();
+            let mut gone = popped.to_vec();
+            gone.sort_unstable();
+            let waiting: Vec<u64> = (0..self.pushed)
+                .filter(|n| gone.binary_search(n).is_err())
+                .collect();
+            assert_eq!(seen, waiting, "every queued item once, no popped one");
+            self.ours.for_each_queued_mut(|item| {
+                assert!(item.1 >= 1 << 40, "the rewrite was kept");
+                item.1 -= 1 << 40;
+            });
+        }
+
         /// Pops the rest, checking that every item pushed came out exactly once (`popped`
         /// holds the numbers popped before).
         fn drain(&mut self, mut popped: Vec<u64>) {
@@ -431,6 +474,7 @@ mod tests {
             }
             assert!(heap.ours.below.is_empty());
         }
+        heap.check_queued(&popped);
         heap.drain(popped);
     }
 
@@ -451,6 +495,7 @@ mod tests {
                     popped.push(n);
                 }
             }
+            heap.check_queued(&popped);
             heap.drain(popped);
             // Cleared, it starts over empty.
             heap.ours.clear();

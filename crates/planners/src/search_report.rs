@@ -117,6 +117,9 @@ pub struct SearchStatsReport {
     /// Split nodes removed because both children were dropped.
     #[serde(default)]
     pub nodes_discarded: usize,
+    /// Nodes dropped by collections of the tree (no queued funnel held them).
+    #[serde(default)]
+    pub nodes_collected: usize,
     /// Largest number of queued entries.
     pub queue_peak: usize,
     /// The expansions the search was allowed (the automatic budget of the map, or the given one;
@@ -143,6 +146,7 @@ impl From<SearchStats> for SearchStatsReport {
             skipped_not_simple: s.skipped_not_simple,
             tree_nodes: s.tree_nodes,
             nodes_discarded: s.nodes_discarded,
+            nodes_collected: s.nodes_collected,
             queue_peak: s.queue_peak,
             expansion_limit: s.expansion_limit,
             bound_expansions: s.bound_expansions,

@@ -119,6 +119,26 @@
 //! order by the reach bound). With several classes the A* order is kept: goal entries of two
 //! classes within a reach unit of each other could otherwise come out of order.
 //!
+//! # Collecting the tree
+//! Root pruning, the mouth cover and the incumbent drop most funnels, and with them the only
+//! references to most tree nodes: a node is needed while a queued funnel or goal entry holds it
+//! (as a tip, or as an ancestor of one). The search therefore collects its tree
+//! ([`FunnelTree::collect`], module [`rappel_homotopy::funnel_state`], "Collection") when the
+//! tree has grown to twice the nodes the last collection kept (and at least
+//! [`COLLECT_MIN_NODES`]), between two pops, where the queue is the only holder of node ids:
+//! it marks the ancestors of every queued entry's nodes, keeps those nodes in their order and
+//! renumbers the ids in the queue. Lengths, points and the order of ids are unchanged, and no
+//! decision reads a node id's value, so the search makes the same decisions and returns the same
+//! answers (a unit test checks this bit for bit with collections every few nodes). Each
+//! collection costs a pass over the tree and the queue, once per doubling, so the cost per node
+//! added stays constant. Not in the simple-classes mode, whose verdicts are kept per node.
+//!
+//! The first SHP on the 1,000,000-obstacle strip keeps at most 4-5 million of its nodes at a
+//! collection, where it made over 100 million: its search's peak memory falls from 3.3 GB to
+//! about 1 GB, and the tree's pages are reused instead of being faulted in and zeroed by the
+//! kernel (measurements in `docs/planner.md`, "Collecting the tree"). Below about 10,000
+//! obstacles the tree never reaches [`COLLECT_MIN_NODES`].
+//!
 //! # Pruning and straight-through expansion (Polyanya's rules, on funnels)
 //! - **The incumbent.** When `r` classes are still wanted (a class count is set, and every goal
 //!   reached is returned: not in the simple-classes mode) and `r` goal entries are queued with keys
@@ -198,7 +218,7 @@ use rappel_geometry::dcel::{HalfEdgeId, ObstacleId, TriangleId, VertexId};
 use rappel_geometry::predicates::orient2d;
 use rappel_homotopy::crossing::{CrossingSequence, Tracer};
 use rappel_homotopy::funnel::TautPath;
-use rappel_homotopy::funnel_state::{FunnelState, FunnelStateError, FunnelTree, NodeId};
+use rappel_homotopy::funnel_state::{FunnelState, FunnelStateError, FunnelTree, NodeId, TreeMarks};
 use rappel_homotopy::h_signature::{CutIndex, HSignature, Poles};
 use rappel_homotopy::kite::{Kite, KiteTable};
 use rappel_homotopy::path::PathError;
@@ -577,6 +597,10 @@ pub struct SearchStats {
     /// children: nothing refers to them).
     #[serde(default)]
     pub nodes_discarded: usize,
+    /// Nodes no queued entry held any more, dropped by collections of the tree (module docs,
+    /// "Collecting the tree"); `tree_nodes` counts the nodes kept.
+    #[serde(default)]
+    pub nodes_collected: usize,
     /// Largest number of queued entries.
     pub queue_peak: usize,
     /// The expansions the search was allowed ([`SearchOptions::expansion_limit`]).
@@ -1271,6 +1295,8 @@ struct Scratch {
     pending_goals: Vec<f64>,
     /// One arrival per edge for the mouth-cover test (one class wanted).
     arrivals: ArrivalStore,
+    /// The live nodes of a collection of the tree (module docs, "Collecting the tree").
+    marks: TreeMarks,
 }
 
 impl Scratch {
@@ -1296,6 +1322,7 @@ impl Scratch {
             + self.simple_buffers.runs.capacity() * std::mem::size_of::<ObstacleId>()
             + self.crossings.capacity() * std::mem::size_of::<u64>()
             + self.pending_goals.capacity() * std::mem::size_of::<f64>()
+            + self.marks.held_bytes()
     }
 
     /// Bytes the current query uses (lengths, not capacities: the same for the same query
@@ -1312,6 +1339,7 @@ impl Scratch {
                 0
             }
             + self.simple_prefix.len()
+            + self.marks.held_bytes()
     }
 }
 
@@ -1329,6 +1357,10 @@ pub const INDEX_BUILD_TESTS_PER_TRIANGLE: usize = 40;
 /// millions) drops the trail and traces each class's sleeve from its SHP instead, in time
 /// proportional to the SHP's triangles.
 pub const TRAIL_MAX_ENTRIES: usize = 1 << 20;
+
+/// Fewest tree nodes at which a search collects its tree (module docs, "Collecting the tree"):
+/// about 36 MB of nodes, so a query on a map of up to some 10,000 obstacles never collects.
+const COLLECT_MIN_NODES: usize = 1 << 20;
 
 /// Most scratch spaces an [`SptPlanner`] keeps for reuse (one per thread searching at once is
 /// enough; more are dropped).
@@ -1355,6 +1387,12 @@ pub struct SptSearch<'a> {
     pruning: bool,
     /// The wave order's bands, when the queue pops in it (module docs, "The wave order").
     wave: Option<Wave>,
+    /// The tree's length at which it is collected next (module docs, "Collecting the tree");
+    /// `usize::MAX` in the simple-classes mode, whose verdicts are kept per node.
+    collect_at: usize,
+    /// The fewest nodes at which the tree is collected: [`COLLECT_MIN_NODES`] (the unit tests
+    /// lower it to collect small trees often).
+    collect_min: usize,
     emitted: usize,
     shortest: Option<f64>,
     termination: Option<Termination>,
@@ -1416,6 +1454,7 @@ impl<'a> SptSearch<'a> {
         let expansion_limit = options.expansion_limit(btm);
         let watch = options.stop.watch(expansion_limit);
         let wave = band_bits.map(Wave::new);
+        let options_simple_only = options.simple_only;
         let mut search = SptSearch {
             planner,
             goal,
@@ -1426,6 +1465,12 @@ impl<'a> SptSearch<'a> {
             scratch,
             pruning,
             wave,
+            collect_at: if options_simple_only {
+                usize::MAX
+            } else {
+                COLLECT_MIN_NODES
+            },
+            collect_min: COLLECT_MIN_NODES,
             emitted: 0,
             shortest: None,
             termination: None,
@@ -1538,6 +1583,9 @@ impl<'a> SptSearch<'a> {
             return Ok(None);
         }
         loop {
+            if self.scratch.tree.len() >= self.collect_at {
+                self.collect_tree();
+            }
             let Some((word, item)) = self.scratch.queue.pop_ordered() else {
                 self.termination = Some(Termination::Exhausted);
                 return Ok(None);
@@ -1988,6 +2036,35 @@ impl<'a> SptSearch<'a> {
     fn bytes(&self) -> usize {
         self.scratch.live_bytes(self.pruning)
     }
+
+    /// Drops the tree nodes no queued entry holds (module docs, "Collecting the tree"), renumbers
+    /// the nodes the queue holds, and sets the next collection at twice the nodes kept (at least
+    /// `collect_min`), so a collection's cost, linear in the tree and the queue, is paid
+    /// once per doubling.
+    fn collect_tree(&mut self) {
+        let Scratch {
+            tree, queue, marks, ..
+        } = &mut self.scratch;
+        tree.begin_marking(marks);
+        queue.for_each_queued_mut(|item| match item {
+            Kind::Goal { node, .. } => tree.mark(marks, *node),
+            Kind::Funnel { funnel, .. } => funnel.mark(tree, marks),
+        });
+        // The peak is just before the nodes go: the marks are held with the whole tree.
+        self.stats.peak_bytes = self
+            .stats
+            .peak_bytes
+            .max(self.scratch.live_bytes(self.pruning));
+        let Scratch {
+            tree, queue, marks, ..
+        } = &mut self.scratch;
+        self.stats.nodes_collected += tree.collect(marks);
+        queue.for_each_queued_mut(|item| match item {
+            Kind::Goal { node, .. } => *node = marks.renumbered(*node),
+            Kind::Funnel { funnel, .. } => *funnel = funnel.renumbered(marks),
+        });
+        self.collect_at = (2 * tree.len()).max(self.collect_min);
+    }
 }
 
 impl Drop for SptSearch<'_> {
@@ -2133,5 +2210,53 @@ mod tests {
             wave.word(key, 400_000.0, WaveEntry::Funnel)
                 < wave.word(key, 400_000.001, WaveEntry::Funnel)
         );
+    }
+
+    /// Collecting the tree leaves every answer unchanged (module docs, "Collecting the
+    /// tree"): on a crater strip, searches that collect whenever their tree reaches 64 nodes
+    /// (and at twice what was kept) return the same classes, bit for bit (polylines, anchors,
+    /// sleeves, H-signatures), after the same expansions and prunings as searches that never
+    /// collect, in the wave order, in the A* order and for several classes; and they did
+    /// collect.
+    #[test]
+    fn collecting_the_tree_changes_no_answer() {
+        use rappel_geometry::generate::{CraterStripOptions, crater_strip};
+        let g = crater_strip(&CraterStripOptions::new(600, 5)).unwrap();
+        let btm = Btm::from_map(&g.map).unwrap();
+        let planner = SptPlanner::new(&btm);
+        let run = |options: &SearchOptions, collect: bool| {
+            let mut search = planner.search(g.start, g.goal, options).unwrap();
+            if collect {
+                (search.collect_at, search.collect_min) = (64, 64);
+            }
+            let out = search.run().unwrap();
+            let classes = format!("{:?}", out.classes);
+            let s = out.stats;
+            let counts = [
+                s.expansions,
+                s.pruned_dominated,
+                s.pruned_covered,
+                s.pruned_incumbent,
+                s.pruned_length,
+                s.nodes_discarded,
+                s.queue_peak,
+            ];
+            (classes, counts, s.nodes_collected, s.tree_nodes)
+        };
+        let one = SearchOptions::default().with_max_classes(Some(1)).unwrap();
+        for options in [
+            one.clone(),
+            one.with_queue_order(QueueOrder::AStar),
+            SearchOptions::default().with_max_classes(Some(4)).unwrap(),
+        ] {
+            let (classes, counts, none_collected, all) = run(&options, false);
+            let (classes_c, counts_c, collected, kept) = run(&options, true);
+            assert!(!classes.is_empty() && classes.contains("rank: 1"));
+            assert_eq!(classes_c, classes, "{options:?}");
+            assert_eq!(counts_c, counts, "{options:?}");
+            assert_eq!(none_collected, 0);
+            assert!(collected > 0, "{options:?}: the small trees were collected");
+            assert_eq!(kept + collected, all, "every node kept or collected");
+        }
     }
 }
