@@ -914,20 +914,30 @@ mod tests {
         f.apex
     }
 
+    /// A generated crater strip of `obstacles` obstacles (seed `seed`), its BTM and the free
+    /// triangle holding its start, where the explorations of its universal cover begin.
+    fn strip_cover(
+        obstacles: usize,
+        seed: u64,
+    ) -> (rappel_geometry::generate::GeneratedMap, Btm, TriangleId) {
+        use rappel_geometry::btm::Location;
+        use rappel_geometry::generate::{CraterStripOptions, crater_strip};
+        let strip = crater_strip(&CraterStripOptions::new(obstacles, seed)).unwrap();
+        let btm = Btm::from_map(&strip.map).unwrap();
+        let Location::Triangle(t) = btm.locate(&strip.start) else {
+            panic!("the start lies inside a free triangle");
+        };
+        (strip, btm, t)
+    }
+
     /// Every funnel of a breadth-first exploration of a generated crater strip's universal cover
     /// (20,000 splits) records its chains' nodes next to the apex as walking the tree finds them,
     /// and locates the vertex beyond its mouth and far points beyond the mouth (the kind of
     /// target the A* bound uses) where the linear scan does.
     #[test]
     fn recorded_chain_ends_and_located_sectors_match_linear_scans() {
-        use rappel_geometry::btm::Location;
-        use rappel_geometry::generate::{CraterStripOptions, crater_strip};
         use rappel_geometry::predicates::orient2d;
-        let strip = crater_strip(&CraterStripOptions::new(60, 3)).unwrap();
-        let btm = Btm::from_map(&strip.map).unwrap();
-        let Location::Triangle(t) = btm.locate(&strip.start) else {
-            panic!("the start lies inside a free triangle");
-        };
+        let (strip, btm, t) = strip_cover(60, 3);
         let mut tree = FunnelTree::new(strip.start);
         let mut queue: std::collections::VecDeque<FunnelState> =
             FunnelState::initial(&mut tree, &btm, t).unwrap().into();
@@ -979,13 +989,7 @@ mod tests {
     /// ancestor with the span its level says.
     #[test]
     fn collecting_mid_exploration_changes_no_split() {
-        use rappel_geometry::btm::Location;
-        use rappel_geometry::generate::{CraterStripOptions, crater_strip};
-        let strip = crater_strip(&CraterStripOptions::new(40, 9)).unwrap();
-        let btm = Btm::from_map(&strip.map).unwrap();
-        let Location::Triangle(t) = btm.locate(&strip.start) else {
-            panic!("the start lies inside a free triangle");
-        };
+        let (strip, btm, t) = strip_cover(40, 9);
         let explore = |collect: bool| {
             let mut tree = FunnelTree::new(strip.start);
             let mut marks = TreeMarks::default();

@@ -254,24 +254,20 @@ impl<T: Rank + Copy> ArenaHeap<T> {
             .map(|(ordered, item)| (key_of_ordered(ordered), item))
     }
 
-    /// Calls `f` on every queued item, in no particular order, letting it rewrite the item in
-    /// place (its key and place in the queue are unchanged): the SPT search renumbers the tree
-    /// nodes its funnels hold after collecting the tree ([`crate::spt`], "Collecting the tree").
+    /// Calls `f` on every queued item, in the order of their arena slots (not the queue's),
+    /// letting it rewrite the item in place (its key and place in the queue are unchanged): the
+    /// SPT search renumbers the tree nodes its funnels hold after collecting the tree
+    /// ([`crate::spt`], "Collecting the tree"). The arena is read front to back, skipping the
+    /// slots on the free list, so a pass over a queue far beyond the cache streams.
     pub fn for_each_queued_mut(&mut self, mut f: impl FnMut(&mut T)) {
-        let ArenaHeap {
-            equal,
-            buckets,
-            below,
-            items,
-            ..
-        } = self;
-        let indices = equal
-            .iter()
-            .map(|Reverse(tie)| *tie as u32)
-            .chain(buckets.iter().flatten().map(|&(_, tie)| tie as u32))
-            .chain(below.iter().map(|Reverse(word)| *word as u32));
-        for i in indices {
-            f(&mut items[i as usize]);
+        let mut free = vec![0u64; self.items.len().div_ceil(64)];
+        for &i in &self.free {
+            free[i as usize / 64] |= 1 << (i % 64);
+        }
+        for (i, item) in self.items.iter_mut().enumerate() {
+            if free[i / 64] >> (i % 64) & 1 == 0 {
+                f(item);
+            }
         }
     }
 

@@ -59,6 +59,21 @@ pub struct MouthEnd {
     pub best: f64,
 }
 
+/// The smallest left side of the test: `g(apex) + dist(apex, mouth)`, a lower bound of every
+/// path through the funnel `f` to its mouth, with `apex_length` the apex's `g` (the tips lie on
+/// the mouth's endpoints, so the mouth is read from the tree). The shortest path map keys its
+/// funnels by it; the single-class search's wave order sorts within a band by it
+/// ([`crate::spt`], "The wave order").
+#[inline]
+pub(crate) fn reach_bound(tree: &FunnelTree, f: &FunnelState, apex_length: f64) -> f64 {
+    let (a, b, p) = (
+        tree.point(f.right()),
+        tree.point(f.left()),
+        tree.point(f.apex()),
+    );
+    apex_length + crate::feasibility::distance_to_segment(&p, &a, &b)
+}
+
 /// `true` when every point of the mouth `a`-`b` is reached more cheaply along the mouth from an
 /// endpoint than any path through the funnel with apex `apex` (reached with `apex_length`) can
 /// reach it, by more than [`COVER_MARGIN`] (module docs). `false` when either end has no known

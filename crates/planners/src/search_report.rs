@@ -112,7 +112,7 @@ pub struct SearchStatsReport {
     pub pruned_simple: usize,
     /// Goal lifts reached whose class was not simple (simple-classes mode).
     pub skipped_not_simple: usize,
-    /// Nodes in the shortest path tree.
+    /// Nodes held in the shortest path tree at the end (after any collection of it).
     pub tree_nodes: usize,
     /// Split nodes removed because both children were dropped.
     #[serde(default)]

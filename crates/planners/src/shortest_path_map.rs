@@ -230,7 +230,7 @@ impl<'b> ShortestPathMap<'b> {
             }
         }
         for f in initial {
-            let key = lower_bound(btm, &tree, &f);
+            let key = lower_bound(&tree, &f);
             queue.push(MinEntry { key, item: f });
         }
         // One arrival per edge for the mouth-cover test ([`crate::mouth_cover`]).
@@ -277,7 +277,7 @@ impl<'b> ShortestPathMap<'b> {
                     stats.pruned_dominated += 1;
                     continue;
                 }
-                let child_key = lower_bound(btm, &tree, &child).max(key);
+                let child_key = lower_bound(&tree, &child).max(key);
                 queue.push(MinEntry {
                     key: child_key,
                     item: child,
@@ -388,13 +388,9 @@ impl<'b> ShortestPathMap<'b> {
 }
 
 /// A lower bound of the length of every path through the funnel's mouth: `g(apex)` plus the
-/// distance from the apex to the mouth segment.
-fn lower_bound(btm: &Btm, tree: &FunnelTree, f: &FunnelState) -> f64 {
-    let d = btm.dcel();
-    let m = f.mouth();
-    let (a, b) = (d.point(d.origin(m)), d.point(d.destination(m)));
-    let apex = tree.node(f.apex());
-    apex.length + distance_to_segment(&apex.point, &a, &b)
+/// distance from the apex to the mouth segment ([`mouth_cover::reach_bound`]).
+fn lower_bound(tree: &FunnelTree, f: &FunnelState) -> f64 {
+    mouth_cover::reach_bound(tree, f, tree.length(f.apex()))
 }
 
 /// `true` when the funnel's mouth is covered from its endpoints' best known lengths or its edge's

@@ -591,7 +591,8 @@ pub struct SearchStats {
     pub pruned_simple: usize,
     /// Goal lifts reached whose class was not simple (simple-classes mode).
     pub skipped_not_simple: usize,
-    /// Nodes in the shortest path tree.
+    /// Nodes held in the shortest path tree at the end (those kept by any collection, module
+    /// docs "Collecting the tree", and made since).
     pub tree_nodes: usize,
     /// Split nodes removed at once because both children were dropped (dead ends and pruned
     /// children: nothing refers to them).
@@ -1873,13 +1874,7 @@ impl<'a> SptSearch<'a> {
     /// A lower bound of the length of every path through the funnel to its mouth: `g(apex)`
     /// plus the distance from the apex to the mouth's segment.
     fn reach_bound(&self, f: &FunnelState, apex: Apex) -> f64 {
-        let tree = &self.scratch.tree;
-        let (a, b, p) = (
-            tree.point(f.right()),
-            tree.point(f.left()),
-            tree.point(f.apex()),
-        );
-        apex.length + crate::feasibility::distance_to_segment(&p, &a, &b)
+        mouth_cover::reach_bound(&self.scratch.tree, f, apex.length)
     }
 
     /// `f * L_1` once the first class is known.
