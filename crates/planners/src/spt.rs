@@ -1394,7 +1394,7 @@ pub const TRAIL_MAX_ENTRIES: usize = 1 << 20;
 
 /// Fewest tree nodes at which a search collects its tree (module docs, "Collecting the tree"):
 /// about 36 MB of nodes, so a query on a map of up to some 10,000 obstacles never collects.
-const COLLECT_MIN_NODES: usize = 1 << 20;
+pub const COLLECT_MIN_NODES: usize = 1 << 20;
 
 /// Most scratch spaces an [`SptPlanner`] keeps for reuse (one per thread searching at once is
 /// enough; more are dropped).
@@ -2184,9 +2184,9 @@ fn sweep_key(start: Point2<f64>, goal: Point2<f64>, boundary: &[Point2<f64>]) ->
 
 /// How far behind the start (along the line from the goal), as a fraction of the start-goal
 /// distance, the free space may reach for the automatic wave order to sweep in one band
-/// ([`sweep_key`]): one band sweeps every funnel that reaches less than the answer, behind the
+/// (module docs, "The wave order"): one band sweeps every funnel that reaches less than the answer, behind the
 /// start as well, so at most an eighth more ground than the strip between start and goal.
-const SWEEP_BEHIND_FRACTION: f64 = 0.125;
+pub const SWEEP_BEHIND_FRACTION: f64 = 0.125;
 
 /// The wave order's word layout for one band width (module docs, "The wave order").
 #[derive(Debug, Clone, Copy)]
