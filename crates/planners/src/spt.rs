@@ -1495,7 +1495,12 @@ impl<'a> SptSearch<'a> {
             QueueOrder::Auto if one_class => sweep_key(start, goal, &planner.boundary),
             _ => None,
         };
-        let options_simple_only = options.simple_only;
+        // The simple-classes mode keeps its verdicts per node: its tree is never collected.
+        let collect_at = if options.simple_only {
+            usize::MAX
+        } else {
+            COLLECT_MIN_NODES
+        };
         let mut search = SptSearch {
             planner,
             goal,
@@ -1507,11 +1512,7 @@ impl<'a> SptSearch<'a> {
             pruning,
             wave,
             sweep_from,
-            collect_at: if options_simple_only {
-                usize::MAX
-            } else {
-                COLLECT_MIN_NODES
-            },
+            collect_at,
             collect_min: COLLECT_MIN_NODES,
             emitted: 0,
             shortest: None,
