@@ -122,6 +122,10 @@ pub struct SearchStatsReport {
     pub nodes_collected: usize,
     /// Largest number of queued entries.
     pub queue_peak: usize,
+    /// The expansions made when the one-class search's automatic order switched to one band
+    /// (a single sweep by the reach bound); absent when it did not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub swept_at: Option<usize>,
     /// The expansions the search was allowed (the automatic budget of the map, or the given one;
     /// `rappel_planners::budget`).
     #[serde(default)]
@@ -148,6 +152,7 @@ impl From<SearchStats> for SearchStatsReport {
             nodes_discarded: s.nodes_discarded,
             nodes_collected: s.nodes_collected,
             queue_peak: s.queue_peak,
+            swept_at: s.swept_at,
             expansion_limit: s.expansion_limit,
             bound_expansions: s.bound_expansions,
             peak_bytes: s.peak_bytes,

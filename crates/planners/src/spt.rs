@@ -128,9 +128,14 @@
 //! too). At the switch every queued entry is queued again, in the emptied queue, under its word
 //! in the new layout from its own key and reach bound (a goal's from its length): valid words,
 //! as above, and words never decrease from there on, so the proof holds after the switch as
-//! before it. On the 1,000,000-obstacle strip the first SHP takes about 28 s instead of 34 s
-//! with a third less memory; at 100,000 about 2.8 s instead of 3.7 s; the 10,000- and
+//! before it. In one band a funnel's word is its reach's (the band is the reach's binade), so
+//! its A* key orders nothing: a child is then keyed by its reach bound (also a lower bound of
+//! its paths) and the A* key, a sector scan of the funnel's chains for the goal, is computed
+//! only while an incumbent or a length limit prunes by it (their prunings stay exactly as in
+//! the other orders). On the 1,000,000-obstacle strip the first SHP takes about 22 s instead of
+//! 34 s with a third less memory; at 100,000 about 2.3 s instead of 3.7 s; the 10,000- and
 //! 20,000-obstacle strips never switch (`docs/planner.md`, "One band").
+//! [`SearchStats::swept_at`] tells whether, and after how many expansions, a search switched.
 //!
 //! [`QueueOrder::Wave`] takes another band width (fewer bits: wider bands, closer to Dijkstra's
 //! order by the reach bound). With several classes the A* order is kept: goal entries of two
@@ -628,6 +633,9 @@ pub struct SearchStats {
     pub nodes_collected: usize,
     /// Largest number of queued entries.
     pub queue_peak: usize,
+    /// The expansions made when the automatic wave order switched to one band (module docs,
+    /// "The wave order"); `None` when it did not.
+    pub swept_at: Option<usize>,
     /// The expansions the search was allowed ([`SearchOptions::expansion_limit`]).
     #[serde(default)]
     pub expansion_limit: usize,
@@ -1742,7 +1750,7 @@ impl<'a> SptSearch<'a> {
                     } else {
                         Apex::of(&self.scratch.tree, child.apex())
                     };
-                    let child_key = self.lower_bound(&child, child_apex).max(key);
+                    let child_key = self.child_key(&child, child_apex, key);
                     if self.admit(child_key, &child, child_apex) {
                         let child_word = self.funnel_word(child_key, &child, child_apex, word);
                         *slot = Some((child_key, child_word, child, child_apex));
@@ -1905,10 +1913,31 @@ impl<'a> SptSearch<'a> {
     /// wave order its band, then its reach bound (module docs, "The wave order").
     fn funnel_word(&self, key: f64, f: &FunnelState, apex: Apex, after: u64) -> u64 {
         let word = match self.wave {
-            Some(wave) => wave.word(key, self.reach_bound(f, apex), WaveEntry::Funnel),
+            Some(wave) => {
+                let reach = self.reach_bound(f, apex);
+                // One band orders by the reach alone: its band is the reach's binade.
+                let band_key = if wave.is_one_band() { reach } else { key };
+                wave.word(band_key, reach, WaveEntry::Funnel)
+            }
             None => ordered_bits(key),
         };
         word.max(after)
+    }
+
+    /// The key of a child funnel split from a funnel popped under key `parent_key`: its A* key
+    /// ([`SptSearch::lower_bound`]), or, in one band while no incumbent or length limit prunes
+    /// by key, its reach bound (module docs, "The wave order": there the key orders nothing, and
+    /// the reach is a lower bound as well); never below `parent_key`.
+    fn child_key(&self, f: &FunnelState, apex: Apex, parent_key: f64) -> f64 {
+        let by_reach = self.wave.is_some_and(Wave::is_one_band)
+            && self.incumbent().is_none()
+            && self.length_limit().is_none();
+        let key = if by_reach {
+            self.reach_bound(f, apex)
+        } else {
+            self.lower_bound(f, apex)
+        };
+        key.max(parent_key)
     }
 
     /// The key a popped word stands for: the key itself in the A* order; in the wave order the
@@ -2112,6 +2141,7 @@ impl<'a> SptSearch<'a> {
     /// from its own key and reach bound (a goal's from its length), into the emptied queue.
     fn sweep(&mut self, popped: Kind) {
         self.sweep_from = None;
+        self.stats.swept_at = Some(self.stats.expansions);
         let wave = Wave::new(0);
         self.wave = Some(wave);
         let mut entries = Vec::with_capacity(self.scratch.queue.len() + 1);
@@ -2127,8 +2157,9 @@ impl<'a> SptSearch<'a> {
                     wave.word(length, length, WaveEntry::Goal)
                 }
                 Kind::Funnel { funnel, apex, .. } => {
-                    let key = self.lower_bound(&funnel, apex);
-                    self.funnel_word(key, &funnel, apex, 0)
+                    // One band orders by the reach alone (`funnel_word`): no A* key is needed.
+                    let reach = self.reach_bound(&funnel, apex);
+                    self.funnel_word(reach, &funnel, apex, 0)
                 }
             };
             self.push(word, item);
@@ -2214,6 +2245,11 @@ impl Wave {
             band: !0 << (52 - band_bits),
             scale: (2.0f64).powi(51 - band_bits as i32),
         }
+    }
+
+    /// `true` for one band per binade (`band_bits` 0): Dijkstra's order by the reach bound.
+    fn is_one_band(self) -> bool {
+        self.band == !0 << 52
     }
 
     /// The word of an entry with A* key `key` (non-negative) and reach bound `reach` (at most
@@ -2404,11 +2440,14 @@ mod tests {
                 search.sweep_from = from;
             }
             let c = search.next_best().unwrap().expect("a class");
-            (
-                c.length(),
-                format!("{:?}", c.shp.taut.points),
-                search.sweep_from,
-            )
+            let swept_at = search.stats().swept_at;
+            // The statistic says whether, and after how many expansions, the order switched.
+            assert_eq!(
+                search.sweep_from.is_none() && from.is_some(),
+                swept_at.is_some()
+            );
+            assert!(swept_at.is_none_or(|at| at <= c.expansions));
+            (c.length(), format!("{:?}", c.shp.taut.points), swept_at)
         };
         let (length, points, _) = first(QueueOrder::AStar, None);
         let line = (g.goal - g.start).norm();
@@ -2419,12 +2458,12 @@ mod tests {
             ((line + length) / 2.0, true),
             (length, false),
         ] {
-            let (l, pts, left) = first(QueueOrder::Auto, Some(from));
+            let (l, pts, swept_at) = first(QueueOrder::Auto, Some(from));
             assert_eq!((l, &pts), (length, &points), "switching at {from}");
             if must_switch {
                 // Popped keys are band floors, within a band of the key: the first and the
                 // middle switch points are passed; the line and the answer may not be.
-                assert_eq!(left, None, "the search switched at {from}");
+                assert!(swept_at.is_some(), "the search switched at {from}");
             }
         }
     }
