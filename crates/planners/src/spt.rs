@@ -1342,6 +1342,26 @@ struct Scratch {
 }
 
 impl Scratch {
+    /// Drops the tree nodes no queued entry holds and renumbers the nodes the queue holds
+    /// (module docs, "Collecting the tree"); returns the number dropped. `peak` (bytes) is raised
+    /// to what is held just before the nodes go, when the marks are held with the whole tree.
+    fn collect(&mut self, pruning: bool, peak: &mut usize) -> usize {
+        let (tree, marks) = (&self.tree, &mut self.marks);
+        tree.begin_marking(marks);
+        self.queue.for_each_queued_mut(|item| match item {
+            Kind::Goal { node, .. } => tree.mark(marks, *node),
+            Kind::Funnel { funnel, .. } => funnel.mark(tree, marks),
+        });
+        *peak = (*peak).max(self.live_bytes(pruning));
+        let dropped = self.tree.collect(&mut self.marks);
+        let marks = &self.marks;
+        self.queue.for_each_queued_mut(|item| match item {
+            Kind::Goal { node, .. } => *node = marks.renumbered(*node),
+            Kind::Funnel { funnel, .. } => *funnel = funnel.renumbered(marks),
+        });
+        dropped
+    }
+
     /// Clears everything for a query from `start`.
     fn reset(&mut self, start: Point2<f64>) {
         self.tree.reset(start);
@@ -2107,33 +2127,15 @@ impl<'a> SptSearch<'a> {
         self.scratch.live_bytes(self.pruning)
     }
 
-    /// Drops the tree nodes no queued entry holds (module docs, "Collecting the tree"), renumbers
-    /// the nodes the queue holds, and sets the next collection at twice the nodes kept (at least
-    /// `collect_min`), so a collection's cost, linear in the tree and the queue, is paid
-    /// once per doubling.
+    /// Collects the tree (module docs, "Collecting the tree": [`Scratch::collect`]) and sets the
+    /// next collection at twice the nodes kept (at least `collect_min`), so a collection's cost,
+    /// linear in the tree and the queue, is paid once per doubling.
     fn collect_tree(&mut self) {
-        let Scratch {
-            tree, queue, marks, ..
-        } = &mut self.scratch;
-        tree.begin_marking(marks);
-        queue.for_each_queued_mut(|item| match item {
-            Kind::Goal { node, .. } => tree.mark(marks, *node),
-            Kind::Funnel { funnel, .. } => funnel.mark(tree, marks),
-        });
-        // The peak is just before the nodes go: the marks are held with the whole tree.
-        self.stats.peak_bytes = self
-            .stats
-            .peak_bytes
-            .max(self.scratch.live_bytes(self.pruning));
-        let Scratch {
-            tree, queue, marks, ..
-        } = &mut self.scratch;
-        self.stats.nodes_collected += tree.collect(marks);
-        queue.for_each_queued_mut(|item| match item {
-            Kind::Goal { node, .. } => *node = marks.renumbered(*node),
-            Kind::Funnel { funnel, .. } => *funnel = funnel.renumbered(marks),
-        });
-        self.collect_at = (2 * tree.len()).max(self.collect_min);
+        let dropped = self
+            .scratch
+            .collect(self.pruning, &mut self.stats.peak_bytes);
+        self.stats.nodes_collected += dropped;
+        self.collect_at = (2 * self.scratch.tree.len()).max(self.collect_min);
     }
 
     /// Switches the wave order to one band (module docs, "The wave order"): every queued entry,
