@@ -18,8 +18,12 @@
 //!    queue and expands just those states (ABIT*'s repairing search) rather than restarting.
 //!    The tree persists across searches and batches; a tree edge met in the queue re-expands its
 //!    child if the child's cost fell since its expansion.
-//! 3. **Edge queue.** Edges `(v, x)` are ordered by `g(v) + ĉ(v, x) + ε ĥ(x)` (inflated potential
-//!    solution quality; ties by ids, so the order is deterministic). `ĉ` is the space's estimate
+//! 3. **Edge queue.** Edges `(v, x)` are ordered by OMPL 1.5.2's key `[g(v) + ĉ(v, x) + ε ĥ(x),
+//!    g(v) + ĉ(v, x), g(v)]`, lexicographically (inflated potential solution quality first;
+//!    exact ties then by ids, so the order is deterministic). An edge is queued at most once:
+//!    queuing it again updates its key, and when a state's cost falls the queued outgoing edges
+//!    of the state and of its descendants are re-keyed (OMPL's `SearchQueue::enqueueEdge` and
+//!    `Vertex::updateCostAndDepth`). `ĉ` is the space's estimate
 //!    of one motion ([`StateSpace::motion_cost_heuristic`]), `ĥ` (and the informed set's
 //!    cost-to-come) its estimate of any path ([`StateSpace::cost_heuristic`]).
 //! 4. **Truncation.** When the best edge's uninflated `f = g(v) + ĉ + ĥ` satisfies
@@ -198,8 +202,12 @@ impl std::ops::AddAssign for AbitCounters {
     }
 }
 
+/// An edge's sort key, OMPL 1.5.2's (`BITstar::SearchQueue::createSortKey`, compared by
+/// `lexicographicalBetterThan`): `[g(v) + ĉ(v, x) + ε ĥ(x), g(v) + ĉ(v, x), g(v)]`, compared
+/// lexicographically (the queue then breaks exact ties by the ids, so the order is
+/// deterministic).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Key(f64);
+struct Key([f64; 3]);
 impl Eq for Key {}
 impl PartialOrd for Key {
     fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
@@ -208,7 +216,19 @@ impl PartialOrd for Key {
 }
 impl Ord for Key {
     fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&o.0)
+        self.0[0]
+            .total_cmp(&o.0[0])
+            .then(self.0[1].total_cmp(&o.0[1]))
+            .then(self.0[2].total_cmp(&o.0[2]))
+    }
+}
+impl Key {
+    /// Bit-for-bit equality (the live entry of an edge is the one whose key equals the recorded).
+    fn same(&self, o: &Key) -> bool {
+        self.0
+            .iter()
+            .zip(o.0.iter())
+            .all(|(a, b)| a.to_bits() == b.to_bits())
     }
 }
 
@@ -251,7 +271,16 @@ where
     start: u32,
     goal_state: S::State,
     goals: Vec<u32>,
+    /// The edge queue. An edge is queued at most once, as in OMPL's `SearchQueue`: queuing it
+    /// again, or a fall of its parent's cost, updates its key (`enqueueEdge`,
+    /// `Vertex::updateCostAndDepth`), done here by pushing the new key and leaving the old entry
+    /// in the heap, where it is skipped when popped (its key is no longer `queued`'s).
     queue: BinaryHeap<Reverse<(Key, u32, u32)>>,
+    /// The live key of every queued edge.
+    queued: HashMap<(u32, u32), Key>,
+    /// The queued outgoing edges' children, by parent (OMPL's `edgeQueueOutLookup`), to re-key
+    /// them when the parent's cost falls.
+    queued_out: Vec<Vec<u32>>,
     /// Checked motions by parent state and the child's location: the states at one location
     /// (goal copies, history copies) share the geometric motion, which the parent's history
     /// decides, so it is checked once (OMPL's edge white- and blacklists).
@@ -323,6 +352,8 @@ where
             goal_state: goal,
             goals: vec![gid],
             queue: BinaryHeap::new(),
+            queued: HashMap::new(),
+            queued_out: Vec::new(),
             motions: HashMap::new(),
             expanded_at: Vec::new(),
             expanded_ever: Vec::new(),
@@ -486,7 +517,7 @@ where
     pub fn iterate(&mut self) -> Result<(), AbitError> {
         self.iterations += 1;
         if !self.search_done
-            && let Some(Reverse((_, v, x))) = self.queue.pop()
+            && let Some((v, x)) = self.pop_edge()
         {
             self.process(v, x);
             return Ok(());
@@ -502,6 +533,19 @@ where
     #[cfg(test)]
     pub(crate) fn rgg_k(&self) -> usize {
         self.k
+    }
+
+    /// Every queued edge with its recorded key and its key recomputed now (for the tests of
+    /// the queue's updates).
+    #[cfg(test)]
+    pub(crate) fn queued_keys(&self) -> Vec<((u32, u32), [f64; 3], [f64; 3])> {
+        let mut v: Vec<_> = self
+            .queued
+            .iter()
+            .map(|(&(a, b), k)| ((a, b), k.0, self.edge_key(a, b).0))
+            .collect();
+        v.sort_by_key(|e| e.0);
+        v
     }
 
     /// The batches so far, the best cost and the number of locations (for the tests of `k`).
@@ -606,11 +650,14 @@ where
     /// expansions of the batch's greedy search stand.
     fn repair_search(&mut self) {
         self.counters.searches += 1;
-        let queued = std::mem::take(&mut self.queue).into_vec();
-        for Reverse((_, v, x)) in queued {
-            let key =
-                self.graph.nodes[v as usize].g + self.c_hat(v, x) + self.inflation * self.h(x);
-            self.queue.push(Reverse((Key(key), v, x)));
+        let entries = std::mem::take(&mut self.queue).into_vec();
+        for Reverse((key, v, x)) in entries {
+            // Only the live entries (a stale one's edge has a newer key).
+            if self.queued.get(&(v, x)).is_some_and(|k| k.same(&key)) {
+                let key = self.edge_key(v, x);
+                self.queued.insert((v, x), key);
+                self.queue.push(Reverse((key, v, x)));
+            }
         }
         for v in std::mem::take(&mut self.inconsistent) {
             let g = self.graph.nodes[v as usize].g;
@@ -622,6 +669,8 @@ where
 
     fn restart_search(&mut self) {
         self.queue.clear();
+        self.queued.clear();
+        self.queued_out.iter_mut().for_each(Vec::clear);
         self.inconsistent.clear();
         self.expanded_at.clear();
         self.expanded_at
@@ -648,8 +697,7 @@ where
         self.expanded_ever[v as usize] = true;
         for i in 0..self.graph.nodes[v as usize].children.len() {
             let x = self.graph.nodes[v as usize].children[i];
-            let key = gv + self.c_hat(v, x) + self.inflation * self.h(x);
-            self.queue.push(Reverse((Key(key), v, x)));
+            self.enqueue(v, x);
         }
         let key = self.space.key(&self.graph.nodes[v as usize].state);
         // The k nearest locations with `v`'s own among them (OMPL queries its samples, which
@@ -696,8 +744,62 @@ where
             if self.graph.nodes[x as usize].in_tree() {
                 self.counters.rewiring_edges_queued += 1;
             }
-            self.queue
-                .push(Reverse((Key(gv + c + self.inflation * h), v, x)));
+            self.enqueue(v, x);
+        }
+    }
+
+    /// The sort key of edge `(v, x)` now ([`Key`], OMPL's `createSortKey`).
+    fn edge_key(&self, v: u32, x: u32) -> Key {
+        let g = self.graph.nodes[v as usize].g;
+        let to_target = g + self.c_hat(v, x);
+        Key([to_target + self.inflation * self.h(x), to_target, g])
+    }
+
+    /// Queues edge `(v, x)`, or updates its key if it is queued already (OMPL's
+    /// `SearchQueue::enqueueEdge`): an edge is never queued twice.
+    fn enqueue(&mut self, v: u32, x: u32) {
+        let key = self.edge_key(v, x);
+        match self.queued.insert((v, x), key) {
+            Some(old) if old.same(&key) => return,
+            Some(_) => {}
+            None => {
+                if self.queued_out.len() <= v as usize {
+                    self.queued_out.resize(v as usize + 1, Vec::new());
+                }
+                self.queued_out[v as usize].push(x);
+            }
+        }
+        self.queue.push(Reverse((key, v, x)));
+    }
+
+    /// The best live edge, removed from the queue (OMPL's `popFrontEdge`); stale entries (keys
+    /// since updated) are dropped on the way and are not iterations.
+    fn pop_edge(&mut self) -> Option<(u32, u32)> {
+        while let Some(Reverse((key, v, x))) = self.queue.pop() {
+            if self.queued.get(&(v, x)).is_some_and(|k| k.same(&key)) {
+                self.queued.remove(&(v, x));
+                let out = &mut self.queued_out[v as usize];
+                if let Some(i) = out.iter().position(|&c| c == x) {
+                    out.swap_remove(i);
+                }
+                return Some((v, x));
+            }
+        }
+        None
+    }
+
+    /// After `x`'s cost fell: the queued outgoing edges of `x` and of every descendant (whose
+    /// costs fell with it) take their new keys (OMPL's `Vertex::updateCostAndDepth`, which
+    /// updates the edges in a vertex's `edgeQueueOutLookup` and cascades to its children).
+    fn rekey_subtree(&mut self, x: u32) {
+        let mut stack = vec![x];
+        while let Some(u) = stack.pop() {
+            if let Some(out) = self.queued_out.get(u as usize) {
+                for c in out.clone() {
+                    self.enqueue(u, c);
+                }
+            }
+            stack.extend(self.graph.nodes[u as usize].children.iter().copied());
         }
     }
 
@@ -798,10 +900,14 @@ where
             return;
         }
         self.counters.edges_added += 1;
-        if !node.in_tree() {
+        let rewired = node.in_tree();
+        if !rewired {
             self.graph.nodes[x as usize].history = Some(hist);
         }
         self.graph.attach(x, v, g_new);
+        if rewired {
+            self.rekey_subtree(x);
+        }
         self.update_solution();
         if self.expanded_at[x as usize].is_finite() {
             // Expanded before in this batch: repaired by the final search (OMPL).
@@ -978,5 +1084,21 @@ where
         }
         let pick = self.rng.random_range(0..distinct.len());
         Some(distinct.swap_remove(pick))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Key;
+
+    #[test]
+    fn keys_compare_as_ompls_three_part_lexicographic_key() {
+        // OMPL's `[g + ĉ + ε ĥ, g + ĉ, g]`: ties of the first part go to the smaller `g + ĉ`,
+        // then to the smaller `g`.
+        assert!(Key([1.0, 0.5, 0.2]) < Key([1.0, 0.6, 0.1]));
+        assert!(Key([1.0, 0.5, 0.1]) < Key([1.0, 0.5, 0.2]));
+        assert!(Key([0.9, 0.9, 0.9]) < Key([1.0, 0.0, 0.0]));
+        assert!(Key([1.0, 0.5, 0.1]).same(&Key([1.0, 0.5, 0.1])));
+        assert!(!Key([1.0, 0.5, 0.1]).same(&Key([1.0, 0.5, 0.1 + 1e-17 + f64::EPSILON])));
     }
 }

@@ -461,6 +461,43 @@ fn without_cascading_rewirings_only_a_first_expansion_queues_rewirings() {
     assert!(AbitSettings::default().cascading_rewirings);
 }
 
+#[test]
+fn queued_edges_are_unique_and_rekeyed_when_their_parent_improves() {
+    // OMPL's `SearchQueue::enqueueEdge` updates a queued edge instead of queuing it twice, and
+    // `Vertex::updateCostAndDepth` re-keys a vertex's queued outgoing edges (and its
+    // descendants') when its cost falls. After every iteration each queued edge's key must be
+    // the one computed now; rewirings happen in the final searches of `narrow_2d`.
+    let (w, _) = super::peer_worlds::narrow_2d(super::peer_worlds::GENERATED_SEED);
+    let mut p = Abit::new(
+        &w.space,
+        &w,
+        w.start,
+        w.goal,
+        AbitSettings::default().with_seed(1),
+    )
+    .unwrap();
+    let mut rekeyed = 0;
+    let mut before: std::collections::HashMap<(u32, u32), [f64; 3]> = Default::default();
+    for _ in 0..4000 {
+        p.iterate().unwrap();
+        let now = p.queued_keys();
+        for (edge, recorded, current) in &now {
+            assert_eq!(recorded, current, "edge {edge:?}: a stale key");
+            if let Some(old) = before.get(edge)
+                && old[2] > current[2]
+            {
+                // The parent's cost fell while the edge stayed queued: re-keyed.
+                rekeyed += 1;
+            }
+        }
+        before = now.into_iter().map(|(e, k, _)| (e, k)).collect();
+    }
+    assert!(
+        rekeyed > 0,
+        "no queued edge's parent improved: the test saw nothing"
+    );
+}
+
 /// OMPL 1.5.2's `k` for `n` states in dimension `d` with rewire factor `f`, written out from
 /// its source (`src/ompl/geometric/planners/informedtrees/bitstar/src/ImplicitGraph.cpp`):
 /// `calculateMinimumRggK` returns `e + e / d` (`boost::math::constants::e<double>()`) and
