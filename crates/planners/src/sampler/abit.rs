@@ -13,11 +13,13 @@
 //!    with the cost-to-go inflated by `initial_inflation` (a greedy search that finds a first
 //!    solution quickly). When that search ends without a solution, a new batch is added; with
 //!    one, the batch's final search follows with the inflation `1 + inflation_scaling / n`, and
-//!    after it a new batch. A state expanded in a batch is not expanded again in its searches
-//!    when its cost falls: it joins the *inconsistent* set, and the final search re-keys the
-//!    queue and expands just those states (ABIT*'s repairing search) rather than restarting.
-//!    The tree persists across searches and batches; a tree edge met in the queue re-expands its
-//!    child if the child's cost fell since its expansion.
+//!    after it a new batch. Expanding a state queues its edges (OMPL's `insertOutgoingEdges`);
+//!    its expansion is *registered* for the batch when one of its edges enters the tree or one
+//!    of its tree edges is popped (OMPL's `registerExpansion`). A state whose cost falls is
+//!    expanded again at once if its expansion is not registered, else it joins the
+//!    *inconsistent* set, and the final search re-keys the queue and expands just those states
+//!    (ABIT*'s repairing search) rather than restarting. The tree persists across searches and
+//!    batches; a tree edge met in the queue expands its child again (OMPL).
 //! 3. **Edge queue.** Edges `(v, x)` are ordered by OMPL 1.5.2's key `[g(v) + ĉ(v, x) + ε ĥ(x),
 //!    g(v) + ĉ(v, x), g(v)]`, lexicographically (inflated potential solution quality first;
 //!    exact ties then by ids, so the order is deterministic). An edge is queued at most once:
@@ -28,8 +30,11 @@
 //!    cost-to-come) its estimate of any path ([`StateSpace::cost_heuristic`]).
 //! 4. **Truncation.** When the best edge's uninflated `f = g(v) + ĉ + ĥ` satisfies
 //!    `(1 + truncation_scaling / n) f >= c_best`, the search is done (the next one starts).
-//! 5. **Lazy evaluation.** Only a popped edge that could still improve its child and the solution
-//!    is checked by [`MotionValidator::motion`], at most once per parent and child location (the
+//! 5. **Lazy evaluation.** An edge is queued when it could improve its child and the solution
+//!    by the *lower bound* `ĝ(v)` of its parent's cost-to-come (`ĝ(v) + ĉ <= g(x)`, `ĝ(v) + ĉ +
+//!    ĥ(x) <= c_best`, OMPL's `canPossiblyImproveCurrentSolution`); only a popped edge that could
+//!    still improve its child and the solution by its parent's cost `g(v)` is checked by
+//!    [`MotionValidator::motion`], at most once per parent and child location (the
 //!    states at a location share the geometric motion).
 //! 6. **Histories.** The motion extends the parent's history; a child whose history is already
 //!    set (in the tree, or copied at sampling) accepts only a parent whose extension equals it:
@@ -41,8 +46,9 @@
 //! 7. **Biased samples.** A fraction `biased_sample_fraction` of new samples comes from the
 //!    space's bias distribution ([`StateSpace::sample_biased`]), e.g. where a tether can wrap.
 //!
-//! Vertices are never pruned (ids stay stable); informed sampling keeps new density where it
-//! can improve the solution, and edges that cannot are never queued.
+//! Vertices are never pruned (ids stay stable; OMPL's pruning only acts once a solution
+//! exists); informed sampling keeps new density where it can improve the solution, and edges
+//! that cannot are never queued.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
@@ -660,10 +666,7 @@ where
             }
         }
         for v in std::mem::take(&mut self.inconsistent) {
-            let g = self.graph.nodes[v as usize].g;
-            if self.graph.nodes[v as usize].in_tree() && g < self.expanded_at[v as usize] {
-                self.expand(v);
-            }
+            self.expand(v);
         }
     }
 
@@ -680,12 +683,21 @@ where
         self.expand(self.start);
     }
 
-    /// Queues the outgoing edges of tree state `v` that could improve their child and the
-    /// solution, and all of `v`'s tree edges (its children may have left its k nearest as the
-    /// graph grew, yet the search must reach them to repair their subtrees).
+    /// Queues the outgoing edges of tree state `v` (OMPL's `SearchQueue::insertOutgoingEdges`
+    /// and `enqueueEdges`): nothing if `v` cannot improve the solution (`ĝ(v) + ĥ(v) <=
+    /// c_best` fails); else the edges to its children (they may have left its k nearest as the
+    /// graph grew, yet the search must reach them to repair their subtrees) and to its k nearest
+    /// that pass [`Abit::enqueue_conditionally`] (OMPL's filter, on the lower bound `ĝ(v)` of
+    /// `v`'s cost-to-come, not on `g(v)`: an edge that cannot improve its child now is still
+    /// queued, and dropped when popped unless `v`'s cost has fallen since). A state's expansion
+    /// is *registered* (OMPL's `registerExpansion`) only when one of its edges enters the tree,
+    /// in [`Abit::process`].
     fn expand(&mut self, v: u32) {
         let gv = self.graph.nodes[v as usize].g;
-        self.expanded_at[v as usize] = gv;
+        let g_lower = self.g_hat(v);
+        if g_lower + self.h(v) > self.best_cost {
+            return;
+        }
         self.counters.expansions += 1;
         if self.expanded_ever.len() < self.graph.nodes.len() {
             self.expanded_ever.resize(self.graph.nodes.len(), false);
@@ -697,7 +709,7 @@ where
         self.expanded_ever[v as usize] = true;
         for i in 0..self.graph.nodes[v as usize].children.len() {
             let x = self.graph.nodes[v as usize].children[i];
-            self.enqueue(v, x);
+            self.enqueue_conditionally(v, x);
         }
         let key = self.space.key(&self.graph.nodes[v as usize].state);
         // The k nearest locations with `v`'s own among them (OMPL queries its samples, which
@@ -713,39 +725,63 @@ where
                 }
             }
         }
+        let parent = self.graph.nodes[v as usize].parent;
         for x in near {
-            if x == v || x == self.start {
-                continue;
-            }
             let node = &self.graph.nodes[x as usize];
-            if node.parent == Some(v) || (!rewirings && node.in_tree()) {
+            if !node.in_tree() {
+                self.enqueue_conditionally(v, x);
                 continue;
             }
-            let c = self.c_hat(v, x);
-            let h = self.h(x);
-            if gv + c + h >= self.best_cost {
+            // A tree state (OMPL: not the root, not `v`, not already `v`'s child, not `v`'s
+            // parent).
+            if !rewirings
+                || x == v
+                || x == self.start
+                || node.parent == Some(v)
+                || parent == Some(x)
+            {
                 continue;
             }
-            let x = if gv + c >= node.g {
-                match self.copy_for(v, x) {
-                    Some(copy) => copy,
-                    None => continue,
-                }
+            // History copies on expansion (ours, `copy_for`): a tree state that `v` cannot
+            // reach more cheaply, claimed by an incompatible history class, gets a copy of its
+            // location for `v`'s class instead of the edge.
+            let x = if gv + self.c_hat(v, x) >= node.g
+                && let Some(copy) = self.copy_for(v, x)
+            {
+                copy
             } else {
                 x
             };
-            if matches!(
-                self.motions
-                    .get(&(v, self.graph.nodes[x as usize].location)),
-                Some(None)
-            ) {
-                continue;
-            }
-            if self.graph.nodes[x as usize].in_tree() {
-                self.counters.rewiring_edges_queued += 1;
-            }
-            self.enqueue(v, x);
+            self.enqueue_conditionally(v, x);
         }
+    }
+
+    /// The lower bound `ĝ(v)` of `v`'s cost-to-come: the space's path estimate from the start
+    /// (OMPL's `costToComeHeuristic`).
+    fn g_hat(&self, v: u32) -> f64 {
+        self.space.cost_heuristic(
+            &self.graph.nodes[self.start as usize].state,
+            &self.graph.nodes[v as usize].state,
+        )
+    }
+
+    /// Queues edge `(v, x)` unless its motion is known to be invalid or it cannot possibly
+    /// improve the solution or its child (OMPL's `enqueueEdgeConditionally` and
+    /// `canPossiblyImproveCurrentSolution`): `ĝ(v) + ĉ + ĥ(x) <= c_best` and, when `x` is in the
+    /// tree, `ĝ(v) + ĉ <= g(x)`, with the lower bound `ĝ(v)`, not `g(v)`.
+    fn enqueue_conditionally(&mut self, v: u32, x: u32) {
+        let node = &self.graph.nodes[x as usize];
+        if matches!(self.motions.get(&(v, node.location)), Some(None)) {
+            return;
+        }
+        let to_target = self.g_hat(v) + self.c_hat(v, x);
+        if to_target + self.h(x) > self.best_cost || (node.in_tree() && to_target > node.g) {
+            return;
+        }
+        if node.in_tree() && node.parent != Some(v) {
+            self.counters.rewiring_edges_queued += 1;
+        }
+        self.enqueue(v, x);
     }
 
     /// The sort key of edge `(v, x)` now ([`Key`], OMPL's `createSortKey`).
@@ -848,10 +884,10 @@ where
     fn process(&mut self, v: u32, x: u32) {
         let gv = self.graph.nodes[v as usize].g;
         if self.graph.nodes[x as usize].parent == Some(v) {
+            // A tree edge (OMPL's "freebie"): `v` counts as expanded, `x` is expanded again.
             self.counters.tree_edges += 1;
-            if self.expanded_at[x as usize] > self.graph.nodes[x as usize].g {
-                self.expand(x);
-            }
+            self.register_expansion(v);
+            self.expand(x);
             return;
         }
         let gx = self.graph.nodes[x as usize].g;
@@ -871,7 +907,9 @@ where
             return;
         };
         let g_new = gv + c;
-        if g_new + h >= self.best_cost || g_new >= gx {
+        // OMPL: the edge can improve the solution with the lower bound of `v`'s cost-to-come
+        // (`ĝ(v) + c + ĥ(x) < c_best`) and improves its child (`g(v) + c < g(x)`).
+        if self.g_hat(v) + c + h >= self.best_cost || g_new >= gx {
             self.counters.no_improvement += 1;
             return;
         }
@@ -914,6 +952,16 @@ where
             self.inconsistent.push(x);
         } else {
             self.expand(x);
+        }
+        self.register_expansion(v);
+    }
+
+    /// OMPL's `Vertex::registerExpansion`, called when an edge of `v` enters the tree or a tree
+    /// edge of `v` is popped: from now on in this batch, a fall of `v`'s cost makes it
+    /// inconsistent (repaired by the final search) instead of expanding it again at once.
+    fn register_expansion(&mut self, v: u32) {
+        if !self.expanded_at[v as usize].is_finite() {
+            self.expanded_at[v as usize] = self.graph.nodes[v as usize].g;
         }
     }
 

@@ -498,6 +498,55 @@ fn queued_edges_are_unique_and_rekeyed_when_their_parent_improves() {
     );
 }
 
+#[test]
+fn edges_are_queued_by_ompls_lower_bound_filter() {
+    // OMPL's `SearchQueue::canPossiblyImproveCurrentSolution` queues an edge `(v, x)` into a
+    // tree state when `ĝ(v) + ĉ <= g(x)`, with the lower bound `ĝ(v)` of `v`'s cost-to-come,
+    // not its cost `g(v)`: edges that cannot improve their child now are queued too (and
+    // dropped when popped unless `v` improves first). Every newly queued edge must pass the
+    // lower-bound filter, and some must fail the cost filter `g(v) + ĉ < g(x)`.
+    use super::space::StateSpace;
+    let (w, _) = super::peer_worlds::narrow_2d(super::peer_worlds::GENERATED_SEED);
+    let mut p = Abit::new(
+        &w.space,
+        &w,
+        w.start,
+        w.goal,
+        AbitSettings::default().with_seed(1),
+    )
+    .unwrap();
+    let mut queued_before: std::collections::HashSet<(u32, u32)> = Default::default();
+    let (mut into_tree, mut not_improving_now) = (0, 0);
+    for _ in 0..3000 {
+        p.iterate().unwrap();
+        let now = p.queued_keys();
+        let g = p.graph();
+        for ((v, x), key, _) in &now {
+            if queued_before.contains(&(*v, *x)) {
+                continue;
+            }
+            let (nv, nx) = (&g.nodes[*v as usize], &g.nodes[*x as usize]);
+            if !nx.in_tree() || nx.parent == Some(*v) {
+                continue;
+            }
+            into_tree += 1;
+            let c = w.space.motion_cost_heuristic(&nv.state, &nx.state);
+            let g_hat = w.space.cost_heuristic(&w.start, &nv.state);
+            assert!(g_hat + c <= nx.g, "edge {v}->{x} cannot improve its child");
+            assert_eq!(key[2], nv.g);
+            if nv.g + c >= nx.g {
+                not_improving_now += 1;
+            }
+        }
+        queued_before = now.into_iter().map(|(e, _, _)| e).collect();
+    }
+    assert!(into_tree > 0);
+    assert!(
+        not_improving_now > 0,
+        "{into_tree} edges into tree states, none queued on the lower bound alone"
+    );
+}
+
 /// OMPL 1.5.2's `k` for `n` states in dimension `d` with rewire factor `f`, written out from
 /// its source (`src/ompl/geometric/planners/informedtrees/bitstar/src/ImplicitGraph.cpp`):
 /// `calculateMinimumRggK` returns `e + e / d` (`boost::math::constants::e<double>()`) and
