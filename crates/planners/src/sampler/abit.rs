@@ -12,7 +12,7 @@
 //! 2. **Searches** (OMPL's `BITstar::iterate`). A batch is first searched forward from the start
 //!    with the cost-to-go inflated by `initial_inflation` (a greedy search that finds a first
 //!    solution quickly). When that search ends without a solution, a new batch is added; with
-//!    one, the batch's final search follows with the inflation `1 + inflation_scaling / n`, and
+//!    one, the batch's final search follows with the inflation `1 + inflation_scaling / q`, and
 //!    after it a new batch. Expanding a state queues its edges (OMPL's `insertOutgoingEdges`);
 //!    its expansion is *registered* for the batch when one of its edges enters the tree or one
 //!    of its tree edges is popped (OMPL's `registerExpansion`). A state whose cost falls is
@@ -29,7 +29,8 @@
 //!    of one motion ([`StateSpace::motion_cost_heuristic`]), `ĥ` (and the informed set's
 //!    cost-to-come) its estimate of any path ([`StateSpace::cost_heuristic`]).
 //! 4. **Truncation.** When the best edge's uninflated `f = g(v) + ĉ + ĥ` satisfies
-//!    `(1 + truncation_scaling / n) f >= c_best`, the search is done (the next one starts).
+//!    `(1 + truncation_scaling / q) f >= c_best`, the search is done (the next one starts);
+//!    `q` is OMPL's `numVertices() + numSamples()`: the states in the tree plus the locations.
 //! 5. **Lazy evaluation.** An edge is queued when it could improve its child and the solution
 //!    by the *lower bound* `ĝ(v)` of its parent's cost-to-come (`ĝ(v) + ĉ <= g(x)`, `ĝ(v) + ĉ +
 //!    ĥ(x) <= c_best`, OMPL's `canPossiblyImproveCurrentSolution`); only a popped edge that could
@@ -531,8 +532,14 @@ where
         self.next_search()
     }
 
+    /// The `q` of ABIT*'s inflation `1 + inflation_scaling / q` and truncation `1 +
+    /// truncation_scaling / q`, as OMPL 1.5.2's `BITstar::iterate` counts it:
+    /// `numVertices() + numSamples()`, the states in the tree plus all samples (which hold the
+    /// vertices too, so a vertex counts twice). Ours: the states in the tree plus the locations
+    /// (OMPL has one sample per location). It acts only once a solution exists.
     fn n(&self) -> f64 {
-        self.graph.location_count().max(2) as f64
+        let vertices = self.graph.nodes.iter().filter(|n| n.in_tree()).count();
+        (self.graph.location_count() + vertices).max(2) as f64
     }
 
     /// The `k` of the running batch's k-nearest RGG (fixed when the batch is added).
@@ -552,6 +559,13 @@ where
             .collect();
         v.sort_by_key(|e| e.0);
         v
+    }
+
+    /// The running search's inflation and truncation factors and whether it is the batch's
+    /// final search (for the tests of OMPL's `q`).
+    #[cfg(test)]
+    pub(crate) fn inflation_truncation_final(&self) -> (f64, f64, bool) {
+        (self.inflation, self.truncation, self.final_search)
     }
 
     /// The batches so far, the best cost and the number of locations (for the tests of `k`).
@@ -634,7 +648,7 @@ where
 
     /// The search is over (OMPL's `BITstar::iterate`): after the batch's final search, or when
     /// no solution exists yet, a new batch searched greedily from the start; otherwise the
-    /// batch's final search with the inflation `1 + inflation_scaling / n`.
+    /// batch's final search with the inflation `1 + inflation_scaling / q` (`Abit::n`).
     fn next_search(&mut self) -> Result<(), AbitError> {
         if self.final_search || !self.best_cost.is_finite() {
             self.new_batch()?;

@@ -547,6 +547,47 @@ fn edges_are_queued_by_ompls_lower_bound_filter() {
     );
 }
 
+#[test]
+fn inflation_and_truncation_count_ompls_vertices_plus_samples() {
+    // OMPL 1.5.2's `BITstar::iterate`: a new batch's truncation factor is `1 + 5 / q` and a
+    // final search's inflation `1 + 10 / q` with `q = numVertices() + numSamples()`, the
+    // vertices counted twice (they are samples too). Ours: states in the tree plus locations.
+    let w = circle_2d();
+    let mut p = Abit::new(
+        &w.space,
+        &w,
+        w.start,
+        w.goal,
+        AbitSettings::default().with_seed(3),
+    )
+    .unwrap();
+    let q = |p: &Abit<'_, RealVectorSpace<2>, ObstacleWorld<2>, 2>| {
+        let g = p.graph();
+        let vertices = g.nodes.iter().filter(|n| n.in_tree()).count();
+        (g.location_count() + vertices) as f64
+    };
+    let (mut truncations, mut inflations) = (0, 0);
+    let mut before = (p.batches_cost_locations().0, false);
+    for _ in 0..6000 {
+        p.iterate().unwrap();
+        let (batches, ..) = p.batches_cost_locations();
+        let (inflation, truncation, final_search) = p.inflation_truncation_final();
+        if batches > before.0 {
+            assert_eq!(truncation, 1.0 + 5.0 / q(&p), "batch {batches}");
+            truncations += 1;
+        }
+        if final_search && !before.1 {
+            assert_eq!(inflation, 1.0 + 10.0 / q(&p), "batch {batches}");
+            inflations += 1;
+        }
+        before = (batches, final_search);
+    }
+    assert!(
+        truncations >= 3 && inflations >= 3,
+        "{truncations} batches, {inflations} final searches"
+    );
+}
+
 /// OMPL 1.5.2's `k` for `n` states in dimension `d` with rewire factor `f`, written out from
 /// its source (`src/ompl/geometric/planners/informedtrees/bitstar/src/ImplicitGraph.cpp`):
 /// `calculateMinimumRggK` returns `e + e / d` (`boost::math::constants::e<double>()`) and
