@@ -241,6 +241,10 @@ impl Key {
 
 type Motion<H> = Option<(f64, H)>;
 
+/// A queued edge `(v, x)`, its recorded key and its key computed now (for the tests).
+#[cfg(test)]
+pub(crate) type QueuedKey = ((u32, u32), [f64; 3], [f64; 3]);
+
 /// Most states at one location (a sample and its copies for other history classes, made by
 /// `history_copies_on_expansion`): the bound on copies per location.
 pub const MAX_STATES_PER_LOCATION: usize = 8;
@@ -551,7 +555,7 @@ where
     /// Every queued edge with its recorded key and its key recomputed now (for the tests of
     /// the queue's updates).
     #[cfg(test)]
-    pub(crate) fn queued_keys(&self) -> Vec<((u32, u32), [f64; 3], [f64; 3])> {
+    pub(crate) fn queued_keys(&self) -> Vec<QueuedKey> {
         let mut v: Vec<_> = self
             .queued
             .iter()
