@@ -12,20 +12,30 @@
 //! 2. **Searches** (OMPL's `BITstar::iterate`). A batch is first searched forward from the start
 //!    with the cost-to-go inflated by `initial_inflation` (a greedy search that finds a first
 //!    solution quickly). When that search ends without a solution, a new batch is added; with
-//!    one, the batch's final search follows with the inflation `1 + inflation_scaling / n`, and
-//!    after it a new batch. A state expanded in a batch is not expanded again in its searches
-//!    when its cost falls: it joins the *inconsistent* set, and the final search re-keys the
-//!    queue and expands just those states (ABIT*'s repairing search) rather than restarting.
-//!    The tree persists across searches and batches; a tree edge met in the queue re-expands its
-//!    child if the child's cost fell since its expansion.
-//! 3. **Edge queue.** Edges `(v, x)` are ordered by `g(v) + ĉ(v, x) + ε ĥ(x)` (inflated potential
-//!    solution quality; ties by ids, so the order is deterministic). `ĉ` is the space's estimate
+//!    one, the batch's final search follows with the inflation `1 + inflation_scaling / q`, and
+//!    after it a new batch. Expanding a state queues its edges (OMPL's `insertOutgoingEdges`);
+//!    its expansion is *registered* for the batch when one of its edges enters the tree or one
+//!    of its tree edges is popped (OMPL's `registerExpansion`). A state whose cost falls is
+//!    expanded again at once if its expansion is not registered, else it joins the
+//!    *inconsistent* set, and the final search re-keys the queue and expands just those states
+//!    (ABIT*'s repairing search) rather than restarting. The tree persists across searches and
+//!    batches; a tree edge met in the queue expands its child again (OMPL).
+//! 3. **Edge queue.** Edges `(v, x)` are ordered by OMPL 1.5.2's key `[g(v) + ĉ(v, x) + ε ĥ(x),
+//!    g(v) + ĉ(v, x), g(v)]`, lexicographically (inflated potential solution quality first;
+//!    exact ties then by ids, so the order is deterministic). An edge is queued at most once:
+//!    queuing it again updates its key, and when a state's cost falls the queued outgoing edges
+//!    of the state and of its descendants are re-keyed (OMPL's `SearchQueue::enqueueEdge` and
+//!    `Vertex::updateCostAndDepth`). `ĉ` is the space's estimate
 //!    of one motion ([`StateSpace::motion_cost_heuristic`]), `ĥ` (and the informed set's
 //!    cost-to-come) its estimate of any path ([`StateSpace::cost_heuristic`]).
 //! 4. **Truncation.** When the best edge's uninflated `f = g(v) + ĉ + ĥ` satisfies
-//!    `(1 + truncation_scaling / n) f >= c_best`, the search is done (the next one starts).
-//! 5. **Lazy evaluation.** Only a popped edge that could still improve its child and the solution
-//!    is checked by [`MotionValidator::motion`], at most once per parent and child location (the
+//!    `(1 + truncation_scaling / q) f >= c_best`, the search is done (the next one starts);
+//!    `q` is OMPL's `numVertices() + numSamples()`: the states in the tree plus the locations.
+//! 5. **Lazy evaluation.** An edge is queued when it could improve its child and the solution
+//!    by the *lower bound* `ĝ(v)` of its parent's cost-to-come (`ĝ(v) + ĉ <= g(x)`, `ĝ(v) + ĉ +
+//!    ĥ(x) <= c_best`, OMPL's `canPossiblyImproveCurrentSolution`); only a popped edge that could
+//!    still improve its child and the solution by its parent's cost `g(v)` is checked by
+//!    [`MotionValidator::motion`], at most once per parent and child location (the
 //!    states at a location share the geometric motion).
 //! 6. **Histories.** The motion extends the parent's history; a child whose history is already
 //!    set (in the tree, or copied at sampling) accepts only a parent whose extension equals it:
@@ -37,8 +47,9 @@
 //! 7. **Biased samples.** A fraction `biased_sample_fraction` of new samples comes from the
 //!    space's bias distribution ([`StateSpace::sample_biased`]), e.g. where a tether can wrap.
 //!
-//! Vertices are never pruned (ids stay stable); informed sampling keeps new density where it
-//! can improve the solution, and edges that cannot are never queued.
+//! Vertices are never pruned (ids stay stable; OMPL's pruning only acts once a solution
+//! exists); informed sampling keeps new density where it can improve the solution, and edges
+//! that cannot are never queued.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
@@ -198,8 +209,12 @@ impl std::ops::AddAssign for AbitCounters {
     }
 }
 
+/// An edge's sort key, OMPL 1.5.2's (`BITstar::SearchQueue::createSortKey`, compared by
+/// `lexicographicalBetterThan`): `[g(v) + ĉ(v, x) + ε ĥ(x), g(v) + ĉ(v, x), g(v)]`, compared
+/// lexicographically (the queue then breaks exact ties by the ids, so the order is
+/// deterministic).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Key(f64);
+struct Key([f64; 3]);
 impl Eq for Key {}
 impl PartialOrd for Key {
     fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
@@ -208,11 +223,27 @@ impl PartialOrd for Key {
 }
 impl Ord for Key {
     fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&o.0)
+        self.0[0]
+            .total_cmp(&o.0[0])
+            .then(self.0[1].total_cmp(&o.0[1]))
+            .then(self.0[2].total_cmp(&o.0[2]))
+    }
+}
+impl Key {
+    /// Bit-for-bit equality (the live entry of an edge is the one whose key equals the recorded).
+    fn same(&self, o: &Key) -> bool {
+        self.0
+            .iter()
+            .zip(o.0.iter())
+            .all(|(a, b)| a.to_bits() == b.to_bits())
     }
 }
 
 type Motion<H> = Option<(f64, H)>;
+
+/// A queued edge `(v, x)`, its recorded key and its key computed now (for the tests).
+#[cfg(test)]
+pub(crate) type QueuedKey = ((u32, u32), [f64; 3], [f64; 3]);
 
 /// Most states at one location (a sample and its copies for other history classes, made by
 /// `history_copies_on_expansion`): the bound on copies per location.
@@ -251,7 +282,16 @@ where
     start: u32,
     goal_state: S::State,
     goals: Vec<u32>,
+    /// The edge queue. An edge is queued at most once, as in OMPL's `SearchQueue`: queuing it
+    /// again, or a fall of its parent's cost, updates its key (`enqueueEdge`,
+    /// `Vertex::updateCostAndDepth`), done here by pushing the new key and leaving the old entry
+    /// in the heap, where it is skipped when popped (its key is no longer `queued`'s).
     queue: BinaryHeap<Reverse<(Key, u32, u32)>>,
+    /// The live key of every queued edge.
+    queued: HashMap<(u32, u32), Key>,
+    /// The queued outgoing edges' children, by parent (OMPL's `edgeQueueOutLookup`), to re-key
+    /// them when the parent's cost falls.
+    queued_out: Vec<Vec<u32>>,
     /// Checked motions by parent state and the child's location: the states at one location
     /// (goal copies, history copies) share the geometric motion, which the parent's history
     /// decides, so it is checked once (OMPL's edge white- and blacklists).
@@ -323,6 +363,8 @@ where
             goal_state: goal,
             goals: vec![gid],
             queue: BinaryHeap::new(),
+            queued: HashMap::new(),
+            queued_out: Vec::new(),
             motions: HashMap::new(),
             expanded_at: Vec::new(),
             expanded_ever: Vec::new(),
@@ -486,7 +528,7 @@ where
     pub fn iterate(&mut self) -> Result<(), AbitError> {
         self.iterations += 1;
         if !self.search_done
-            && let Some(Reverse((_, v, x))) = self.queue.pop()
+            && let Some((v, x)) = self.pop_edge()
         {
             self.process(v, x);
             return Ok(());
@@ -494,14 +536,40 @@ where
         self.next_search()
     }
 
+    /// The `q` of ABIT*'s inflation `1 + inflation_scaling / q` and truncation `1 +
+    /// truncation_scaling / q`, as OMPL 1.5.2's `BITstar::iterate` counts it:
+    /// `numVertices() + numSamples()`, the states in the tree plus all samples (which hold the
+    /// vertices too, so a vertex counts twice). Ours: the states in the tree plus the locations
+    /// (OMPL has one sample per location). It acts only once a solution exists.
     fn n(&self) -> f64 {
-        self.graph.location_count().max(2) as f64
+        let vertices = self.graph.nodes.iter().filter(|n| n.in_tree()).count();
+        (self.graph.location_count() + vertices).max(2) as f64
     }
 
     /// The `k` of the running batch's k-nearest RGG (fixed when the batch is added).
     #[cfg(test)]
     pub(crate) fn rgg_k(&self) -> usize {
         self.k
+    }
+
+    /// Every queued edge with its recorded key and its key recomputed now (for the tests of
+    /// the queue's updates).
+    #[cfg(test)]
+    pub(crate) fn queued_keys(&self) -> Vec<QueuedKey> {
+        let mut v: Vec<_> = self
+            .queued
+            .iter()
+            .map(|(&(a, b), k)| ((a, b), k.0, self.edge_key(a, b).0))
+            .collect();
+        v.sort_by_key(|e| e.0);
+        v
+    }
+
+    /// The running search's inflation and truncation factors and whether it is the batch's
+    /// final search (for the tests of OMPL's `q`).
+    #[cfg(test)]
+    pub(crate) fn inflation_truncation_final(&self) -> (f64, f64, bool) {
+        (self.inflation, self.truncation, self.final_search)
     }
 
     /// The batches so far, the best cost and the number of locations (for the tests of `k`).
@@ -584,7 +652,7 @@ where
 
     /// The search is over (OMPL's `BITstar::iterate`): after the batch's final search, or when
     /// no solution exists yet, a new batch searched greedily from the start; otherwise the
-    /// batch's final search with the inflation `1 + inflation_scaling / n`.
+    /// batch's final search with the inflation `1 + inflation_scaling / q` (`Abit::n`).
     fn next_search(&mut self) -> Result<(), AbitError> {
         if self.final_search || !self.best_cost.is_finite() {
             self.new_batch()?;
@@ -606,22 +674,24 @@ where
     /// expansions of the batch's greedy search stand.
     fn repair_search(&mut self) {
         self.counters.searches += 1;
-        let queued = std::mem::take(&mut self.queue).into_vec();
-        for Reverse((_, v, x)) in queued {
-            let key =
-                self.graph.nodes[v as usize].g + self.c_hat(v, x) + self.inflation * self.h(x);
-            self.queue.push(Reverse((Key(key), v, x)));
+        let entries = std::mem::take(&mut self.queue).into_vec();
+        for Reverse((key, v, x)) in entries {
+            // Only the live entries (a stale one's edge has a newer key).
+            if self.queued.get(&(v, x)).is_some_and(|k| k.same(&key)) {
+                let key = self.edge_key(v, x);
+                self.queued.insert((v, x), key);
+                self.queue.push(Reverse((key, v, x)));
+            }
         }
         for v in std::mem::take(&mut self.inconsistent) {
-            let g = self.graph.nodes[v as usize].g;
-            if self.graph.nodes[v as usize].in_tree() && g < self.expanded_at[v as usize] {
-                self.expand(v);
-            }
+            self.expand(v);
         }
     }
 
     fn restart_search(&mut self) {
         self.queue.clear();
+        self.queued.clear();
+        self.queued_out.iter_mut().for_each(Vec::clear);
         self.inconsistent.clear();
         self.expanded_at.clear();
         self.expanded_at
@@ -631,12 +701,21 @@ where
         self.expand(self.start);
     }
 
-    /// Queues the outgoing edges of tree state `v` that could improve their child and the
-    /// solution, and all of `v`'s tree edges (its children may have left its k nearest as the
-    /// graph grew, yet the search must reach them to repair their subtrees).
+    /// Queues the outgoing edges of tree state `v` (OMPL's `SearchQueue::insertOutgoingEdges`
+    /// and `enqueueEdges`): nothing if `v` cannot improve the solution (`ĝ(v) + ĥ(v) <=
+    /// c_best` fails); else the edges to its children (they may have left its k nearest as the
+    /// graph grew, yet the search must reach them to repair their subtrees) and to its k nearest
+    /// that pass [`Abit::enqueue_conditionally`] (OMPL's filter, on the lower bound `ĝ(v)` of
+    /// `v`'s cost-to-come, not on `g(v)`: an edge that cannot improve its child now is still
+    /// queued, and dropped when popped unless `v`'s cost has fallen since). A state's expansion
+    /// is *registered* (OMPL's `registerExpansion`) only when one of its edges enters the tree,
+    /// in [`Abit::process`].
     fn expand(&mut self, v: u32) {
         let gv = self.graph.nodes[v as usize].g;
-        self.expanded_at[v as usize] = gv;
+        let g_lower = self.g_hat(v);
+        if g_lower + self.h(v) > self.best_cost {
+            return;
+        }
         self.counters.expansions += 1;
         if self.expanded_ever.len() < self.graph.nodes.len() {
             self.expanded_ever.resize(self.graph.nodes.len(), false);
@@ -648,8 +727,7 @@ where
         self.expanded_ever[v as usize] = true;
         for i in 0..self.graph.nodes[v as usize].children.len() {
             let x = self.graph.nodes[v as usize].children[i];
-            let key = gv + self.c_hat(v, x) + self.inflation * self.h(x);
-            self.queue.push(Reverse((Key(key), v, x)));
+            self.enqueue_conditionally(v, x);
         }
         let key = self.space.key(&self.graph.nodes[v as usize].state);
         // The k nearest locations with `v`'s own among them (OMPL queries its samples, which
@@ -665,39 +743,117 @@ where
                 }
             }
         }
+        let parent = self.graph.nodes[v as usize].parent;
         for x in near {
-            if x == v || x == self.start {
-                continue;
-            }
             let node = &self.graph.nodes[x as usize];
-            if node.parent == Some(v) || (!rewirings && node.in_tree()) {
+            if !node.in_tree() {
+                self.enqueue_conditionally(v, x);
                 continue;
             }
-            let c = self.c_hat(v, x);
-            let h = self.h(x);
-            if gv + c + h >= self.best_cost {
+            // A tree state (OMPL: not the root, not `v`, not already `v`'s child, not `v`'s
+            // parent).
+            if !rewirings
+                || x == v
+                || x == self.start
+                || node.parent == Some(v)
+                || parent == Some(x)
+            {
                 continue;
             }
-            let x = if gv + c >= node.g {
-                match self.copy_for(v, x) {
-                    Some(copy) => copy,
-                    None => continue,
-                }
+            // History copies on expansion (ours, `copy_for`): a tree state that `v` cannot
+            // reach more cheaply, claimed by an incompatible history class, gets a copy of its
+            // location for `v`'s class instead of the edge.
+            let x = if gv + self.c_hat(v, x) >= node.g
+                && let Some(copy) = self.copy_for(v, x)
+            {
+                copy
             } else {
                 x
             };
-            if matches!(
-                self.motions
-                    .get(&(v, self.graph.nodes[x as usize].location)),
-                Some(None)
-            ) {
-                continue;
+            self.enqueue_conditionally(v, x);
+        }
+    }
+
+    /// The lower bound `ĝ(v)` of `v`'s cost-to-come: the space's path estimate from the start
+    /// (OMPL's `costToComeHeuristic`).
+    fn g_hat(&self, v: u32) -> f64 {
+        self.space.cost_heuristic(
+            &self.graph.nodes[self.start as usize].state,
+            &self.graph.nodes[v as usize].state,
+        )
+    }
+
+    /// Queues edge `(v, x)` unless its motion is known to be invalid or it cannot possibly
+    /// improve the solution or its child (OMPL's `enqueueEdgeConditionally` and
+    /// `canPossiblyImproveCurrentSolution`): `ĝ(v) + ĉ + ĥ(x) <= c_best` and, when `x` is in the
+    /// tree, `ĝ(v) + ĉ <= g(x)`, with the lower bound `ĝ(v)`, not `g(v)`.
+    fn enqueue_conditionally(&mut self, v: u32, x: u32) {
+        let node = &self.graph.nodes[x as usize];
+        if matches!(self.motions.get(&(v, node.location)), Some(None)) {
+            return;
+        }
+        let to_target = self.g_hat(v) + self.c_hat(v, x);
+        if to_target + self.h(x) > self.best_cost || (node.in_tree() && to_target > node.g) {
+            return;
+        }
+        if node.in_tree() && node.parent != Some(v) {
+            self.counters.rewiring_edges_queued += 1;
+        }
+        self.enqueue(v, x);
+    }
+
+    /// The sort key of edge `(v, x)` now ([`Key`], OMPL's `createSortKey`).
+    fn edge_key(&self, v: u32, x: u32) -> Key {
+        let g = self.graph.nodes[v as usize].g;
+        let to_target = g + self.c_hat(v, x);
+        Key([to_target + self.inflation * self.h(x), to_target, g])
+    }
+
+    /// Queues edge `(v, x)`, or updates its key if it is queued already (OMPL's
+    /// `SearchQueue::enqueueEdge`): an edge is never queued twice.
+    fn enqueue(&mut self, v: u32, x: u32) {
+        let key = self.edge_key(v, x);
+        match self.queued.insert((v, x), key) {
+            Some(old) if old.same(&key) => return,
+            Some(_) => {}
+            None => {
+                if self.queued_out.len() <= v as usize {
+                    self.queued_out.resize(v as usize + 1, Vec::new());
+                }
+                self.queued_out[v as usize].push(x);
             }
-            if self.graph.nodes[x as usize].in_tree() {
-                self.counters.rewiring_edges_queued += 1;
+        }
+        self.queue.push(Reverse((key, v, x)));
+    }
+
+    /// The best live edge, removed from the queue (OMPL's `popFrontEdge`); stale entries (keys
+    /// since updated) are dropped on the way and are not iterations.
+    fn pop_edge(&mut self) -> Option<(u32, u32)> {
+        while let Some(Reverse((key, v, x))) = self.queue.pop() {
+            if self.queued.get(&(v, x)).is_some_and(|k| k.same(&key)) {
+                self.queued.remove(&(v, x));
+                let out = &mut self.queued_out[v as usize];
+                if let Some(i) = out.iter().position(|&c| c == x) {
+                    out.swap_remove(i);
+                }
+                return Some((v, x));
             }
-            self.queue
-                .push(Reverse((Key(gv + c + self.inflation * h), v, x)));
+        }
+        None
+    }
+
+    /// After `x`'s cost fell: the queued outgoing edges of `x` and of every descendant (whose
+    /// costs fell with it) take their new keys (OMPL's `Vertex::updateCostAndDepth`, which
+    /// updates the edges in a vertex's `edgeQueueOutLookup` and cascades to its children).
+    fn rekey_subtree(&mut self, x: u32) {
+        let mut stack = vec![x];
+        while let Some(u) = stack.pop() {
+            if let Some(out) = self.queued_out.get(u as usize) {
+                for c in out.clone() {
+                    self.enqueue(u, c);
+                }
+            }
+            stack.extend(self.graph.nodes[u as usize].children.iter().copied());
         }
     }
 
@@ -746,10 +902,10 @@ where
     fn process(&mut self, v: u32, x: u32) {
         let gv = self.graph.nodes[v as usize].g;
         if self.graph.nodes[x as usize].parent == Some(v) {
+            // A tree edge (OMPL's "freebie"): `v` counts as expanded, `x` is expanded again.
             self.counters.tree_edges += 1;
-            if self.expanded_at[x as usize] > self.graph.nodes[x as usize].g {
-                self.expand(x);
-            }
+            self.register_expansion(v);
+            self.expand(x);
             return;
         }
         let gx = self.graph.nodes[x as usize].g;
@@ -769,7 +925,9 @@ where
             return;
         };
         let g_new = gv + c;
-        if g_new + h >= self.best_cost || g_new >= gx {
+        // OMPL: the edge can improve the solution with the lower bound of `v`'s cost-to-come
+        // (`ĝ(v) + c + ĥ(x) < c_best`) and improves its child (`g(v) + c < g(x)`).
+        if self.g_hat(v) + c + h >= self.best_cost || g_new >= gx {
             self.counters.no_improvement += 1;
             return;
         }
@@ -798,16 +956,30 @@ where
             return;
         }
         self.counters.edges_added += 1;
-        if !node.in_tree() {
+        let rewired = node.in_tree();
+        if !rewired {
             self.graph.nodes[x as usize].history = Some(hist);
         }
         self.graph.attach(x, v, g_new);
+        if rewired {
+            self.rekey_subtree(x);
+        }
         self.update_solution();
         if self.expanded_at[x as usize].is_finite() {
             // Expanded before in this batch: repaired by the final search (OMPL).
             self.inconsistent.push(x);
         } else {
             self.expand(x);
+        }
+        self.register_expansion(v);
+    }
+
+    /// OMPL's `Vertex::registerExpansion`, called when an edge of `v` enters the tree or a tree
+    /// edge of `v` is popped: from now on in this batch, a fall of `v`'s cost makes it
+    /// inconsistent (repaired by the final search) instead of expanding it again at once.
+    fn register_expansion(&mut self, v: u32) {
+        if !self.expanded_at[v as usize].is_finite() {
+            self.expanded_at[v as usize] = self.graph.nodes[v as usize].g;
         }
     }
 
@@ -978,5 +1150,21 @@ where
         }
         let pick = self.rng.random_range(0..distinct.len());
         Some(distinct.swap_remove(pick))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Key;
+
+    #[test]
+    fn keys_compare_as_ompls_three_part_lexicographic_key() {
+        // OMPL's `[g + ĉ + ε ĥ, g + ĉ, g]`: ties of the first part go to the smaller `g + ĉ`,
+        // then to the smaller `g`.
+        assert!(Key([1.0, 0.5, 0.2]) < Key([1.0, 0.6, 0.1]));
+        assert!(Key([1.0, 0.5, 0.1]) < Key([1.0, 0.5, 0.2]));
+        assert!(Key([0.9, 0.9, 0.9]) < Key([1.0, 0.0, 0.0]));
+        assert!(Key([1.0, 0.5, 0.1]).same(&Key([1.0, 0.5, 0.1])));
+        assert!(!Key([1.0, 0.5, 0.1]).same(&Key([1.0, 0.5, 0.1 + 1e-17 + f64::EPSILON])));
     }
 }

@@ -25,8 +25,8 @@ pub enum SettingsError {
 /// | `batch_size` | 100 | samples added per batch (OMPL's `samples_per_batch`) |
 /// | `rgg_k_factor` | 1.1 | OMPL's rewire factor: the RGG's `k = ceil(rgg_k_factor (e + e/d) ln n)`, the state itself among its k nearest, `n` counted before each batch (OMPL 1.5.2's `ImplicitGraph::calculateK`; 1.0 = Karaman & Frazzoli's minimum `k_RGG = e (1 + 1/d)`, 1.1 = OMPL's default) |
 /// | `initial_inflation` | 1e6 | inflation of the cost-to-go in the first search of a batch (a greedy search) |
-/// | `inflation_scaling` | 10.0 | the final search of a batch (once a solution exists) uses `1 + inflation_scaling / n` (n = graph states) |
-/// | `truncation_scaling` | 5.0 | a search stops once `(1 + truncation_scaling / n) f_min >= c_best` |
+/// | `inflation_scaling` | 10.0 | the final search of a batch (once a solution exists) uses `1 + inflation_scaling / q` (q = OMPL's `numVertices + numSamples`: states in the tree plus locations) |
+/// | `truncation_scaling` | 5.0 | a search stops once `(1 + truncation_scaling / q) f_min >= c_best` (q as above) |
 /// | `history_copy_fraction` | 0.0 | fraction of new samples that copy a neighbour's history (Paton §V-A) |
 /// | `biased_sample_fraction` | 0.0 | fraction of new samples drawn from the space's bias distribution ([`super::StateSpace::sample_biased`]); 0 = uniform (and informed) sampling only |
 /// | `max_sample_attempts` | 10000 | rejection-sampling attempts per batch per requested sample, the bound of the sampling loop |

@@ -461,6 +461,133 @@ fn without_cascading_rewirings_only_a_first_expansion_queues_rewirings() {
     assert!(AbitSettings::default().cascading_rewirings);
 }
 
+#[test]
+fn queued_edges_are_unique_and_rekeyed_when_their_parent_improves() {
+    // OMPL's `SearchQueue::enqueueEdge` updates a queued edge instead of queuing it twice, and
+    // `Vertex::updateCostAndDepth` re-keys a vertex's queued outgoing edges (and its
+    // descendants') when its cost falls. After every iteration each queued edge's key must be
+    // the one computed now; rewirings happen in the final searches of `narrow_2d`.
+    let (w, _) = super::peer_worlds::narrow_2d(super::peer_worlds::GENERATED_SEED);
+    let mut p = Abit::new(
+        &w.space,
+        &w,
+        w.start,
+        w.goal,
+        AbitSettings::default().with_seed(1),
+    )
+    .unwrap();
+    let mut rekeyed = 0;
+    let mut before: std::collections::HashMap<(u32, u32), [f64; 3]> = Default::default();
+    for _ in 0..4000 {
+        p.iterate().unwrap();
+        let now = p.queued_keys();
+        for (edge, recorded, current) in &now {
+            assert_eq!(recorded, current, "edge {edge:?}: a stale key");
+            if let Some(old) = before.get(edge)
+                && old[2] > current[2]
+            {
+                // The parent's cost fell while the edge stayed queued: re-keyed.
+                rekeyed += 1;
+            }
+        }
+        before = now.into_iter().map(|(e, k, _)| (e, k)).collect();
+    }
+    assert!(
+        rekeyed > 0,
+        "no queued edge's parent improved: the test saw nothing"
+    );
+}
+
+#[test]
+fn edges_are_queued_by_ompls_lower_bound_filter() {
+    // OMPL's `SearchQueue::canPossiblyImproveCurrentSolution` queues an edge `(v, x)` into a
+    // tree state when `ĝ(v) + ĉ <= g(x)`, with the lower bound `ĝ(v)` of `v`'s cost-to-come,
+    // not its cost `g(v)`: edges that cannot improve their child now are queued too (and
+    // dropped when popped unless `v` improves first). Every newly queued edge must pass the
+    // lower-bound filter, and some must fail the cost filter `g(v) + ĉ < g(x)`.
+    use super::space::StateSpace;
+    let (w, _) = super::peer_worlds::narrow_2d(super::peer_worlds::GENERATED_SEED);
+    let mut p = Abit::new(
+        &w.space,
+        &w,
+        w.start,
+        w.goal,
+        AbitSettings::default().with_seed(1),
+    )
+    .unwrap();
+    let mut queued_before: std::collections::HashSet<(u32, u32)> = Default::default();
+    let (mut into_tree, mut not_improving_now) = (0, 0);
+    for _ in 0..3000 {
+        p.iterate().unwrap();
+        let now = p.queued_keys();
+        let g = p.graph();
+        for ((v, x), key, _) in &now {
+            if queued_before.contains(&(*v, *x)) {
+                continue;
+            }
+            let (nv, nx) = (&g.nodes[*v as usize], &g.nodes[*x as usize]);
+            if !nx.in_tree() || nx.parent == Some(*v) {
+                continue;
+            }
+            into_tree += 1;
+            let c = w.space.motion_cost_heuristic(&nv.state, &nx.state);
+            let g_hat = w.space.cost_heuristic(&w.start, &nv.state);
+            assert!(g_hat + c <= nx.g, "edge {v}->{x} cannot improve its child");
+            assert_eq!(key[2], nv.g);
+            if nv.g + c >= nx.g {
+                not_improving_now += 1;
+            }
+        }
+        queued_before = now.into_iter().map(|(e, _, _)| e).collect();
+    }
+    assert!(into_tree > 0);
+    assert!(
+        not_improving_now > 0,
+        "{into_tree} edges into tree states, none queued on the lower bound alone"
+    );
+}
+
+#[test]
+fn inflation_and_truncation_count_ompls_vertices_plus_samples() {
+    // OMPL 1.5.2's `BITstar::iterate`: a new batch's truncation factor is `1 + 5 / q` and a
+    // final search's inflation `1 + 10 / q` with `q = numVertices() + numSamples()`, the
+    // vertices counted twice (they are samples too). Ours: states in the tree plus locations.
+    let w = circle_2d();
+    let mut p = Abit::new(
+        &w.space,
+        &w,
+        w.start,
+        w.goal,
+        AbitSettings::default().with_seed(3),
+    )
+    .unwrap();
+    let q = |p: &Abit<'_, RealVectorSpace<2>, ObstacleWorld<2>, 2>| {
+        let g = p.graph();
+        let vertices = g.nodes.iter().filter(|n| n.in_tree()).count();
+        (g.location_count() + vertices) as f64
+    };
+    let (mut truncations, mut inflations) = (0, 0);
+    let mut before = (p.batches_cost_locations().0, false);
+    for _ in 0..6000 {
+        p.iterate().unwrap();
+        let (batches, ..) = p.batches_cost_locations();
+        let (inflation, truncation, final_search) = p.inflation_truncation_final();
+        if batches > before.0 {
+            assert_eq!(truncation, 1.0 + 5.0 / q(&p), "batch {batches}");
+            truncations += 1;
+        }
+        if final_search && !before.1 {
+            assert_eq!(inflation, 1.0 + 10.0 / q(&p), "batch {batches}");
+            inflations += 1;
+        }
+        before = (batches, final_search);
+    }
+    assert!(
+        truncations >= 3 && inflations >= 3,
+        "{truncations} batches, {inflations} final searches"
+    );
+}
+
 /// OMPL 1.5.2's `k` for `n` states in dimension `d` with rewire factor `f`, written out from
 /// its source (`src/ompl/geometric/planners/informedtrees/bitstar/src/ImplicitGraph.cpp`):
 /// `calculateMinimumRggK` returns `e + e / d` (`boost::math::constants::e<double>()`) and

@@ -36,6 +36,13 @@
 //! different graph, so a different run: the first solution comes after 316 iterations and 182
 //! motion checks instead of 173 and 101 (134 states, 19 shadow samples), around the pole the
 //! other way, 11 states and 8 anchors, cost 30.1184 instead of 32.2407.
+//!
+//! Updated a fifth time, deliberately: OMPL 1.5.2's edge queue and edge insertion (issue 33,
+//! `docs/sampler.md`, "OMPL's edge queue and edge insertion": the three-part key with re-keying,
+//! edges queued on the lower bound of the parent's cost-to-come, expansions registered as
+//! OMPL's). More popped edges are dropped unchecked, so the same first solution (the same 11
+//! states, 8 anchors, cost and 182 motion checks, 19 shadow samples) comes after 346 iterations
+//! instead of 316, with 132 states instead of 134 (fewer history copies).
 
 use rappel::navigate::{PATON_ITERATIONS, RoverProblem, SHADOW_SAMPLE_FRACTION, navigate};
 use rappel::planners::sampler::Termination;
@@ -51,9 +58,9 @@ fn seed_0_of_the_shadow_row_finds_the_recorded_first_solution() {
     let term = Termination::iterations(PATON_ITERATIONS).or_cost_at_most(f64::MAX);
     let r = navigate(&problem, 0, term, &StopCondition::none()).unwrap();
     assert!(r.found, "{:?}", r.unsafe_reason);
-    assert_eq!(r.first_solution_iteration, Some(316));
-    assert_eq!(r.iterations, 316);
-    assert_eq!((r.batches, r.states), (1, 134));
+    assert_eq!(r.first_solution_iteration, Some(346));
+    assert_eq!(r.iterations, 346);
+    assert_eq!((r.batches, r.states), (1, 132));
     assert_eq!(r.motions_checked, 182);
     assert_eq!(r.shadow_samples, 19);
     let cost = r.cost.unwrap();
