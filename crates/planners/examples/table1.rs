@@ -9,7 +9,8 @@
 //! shadow sampling, `SHADOW_SAMPLE_FRACTION`); rayon across seeds (`RAYON_NUM_THREADS`).
 //! `VERBOSE` prints a line per seed; `KF` and `BATCH` override `rgg_k_factor` and `batch_size`;
 //! `POLE_R` sets test 3's pole radius, metres (Paton does not state it; ours is 0.3 m), for a
-//! sensitivity study of the scene.
+//! sensitivity study of the scene; `SURFACE` draws the uniform samples over the ground's surface
+//! area ([`RoverProblem::sample_surface_area`]) instead of its footprint.
 use rappel_planners::rover::problem::{RoverProblem, SHADOW_SAMPLE_FRACTION};
 use rappel_planners::sampler::{AbitCounters, Termination};
 use rappel_planners::stop::StopCondition;
@@ -55,6 +56,7 @@ fn main() {
     if shadow {
         p.shadow_sample_fraction = SHADOW_SAMPLE_FRACTION;
     }
+    p.sample_surface_area(std::env::var("SURFACE").is_ok());
     let verbose = std::env::var("VERBOSE").is_ok();
     let began = std::time::Instant::now();
     let runs: Vec<Run> = (0..seeds)

@@ -63,6 +63,7 @@ use super::ground::PREDICT_RESOLUTION;
 use super::ground::{DistanceReport, DistanceSource, DistanceSourceError, GroundDistances};
 use super::shadow::TetherShadow;
 use super::stability_map::{pose_stability, settle_from, tether_end};
+use super::surface_sampling::SurfaceSampler;
 use super::verdict::pose_is_stable;
 
 /// Weight of the drive length in the cost, per metre.
@@ -154,15 +155,26 @@ pub struct RoverSpace {
     pub hi: [f64; 2],
     /// The shadow the biased samples are drawn from (`None`: no bias).
     pub shadow: Option<TetherShadow>,
+    /// Uniform samples over the ground's surface area ([`SurfaceSampler`]) instead of its
+    /// footprint (`None`: uniform in the box).
+    pub surface: Option<SurfaceSampler>,
 }
 
 impl StateSpace<4> for RoverSpace {
     type State = RoverState;
 
     fn sample_uniform(&self, rng: &mut ChaCha8Rng) -> RoverState {
+        // Over the surface's area when asked, else over the box.
+        let (x, y) = match &self.surface {
+            Some(s) => s.sample(rng),
+            None => (
+                rng.random_range(self.lo[0]..self.hi[0]),
+                rng.random_range(self.lo[1]..self.hi[1]),
+            ),
+        };
         RoverState {
-            x: rng.random_range(self.lo[0]..self.hi[0]),
-            y: rng.random_range(self.lo[1]..self.hi[1]),
+            x,
+            y,
             yaw: rng.random_range(-std::f64::consts::PI..std::f64::consts::PI),
         }
     }
@@ -454,6 +466,7 @@ impl RoverProblem {
                     bottom.z,
                     top.z,
                 )),
+                surface: None,
             },
             fast,
             shadow_sample_fraction: 0.0,
@@ -472,6 +485,17 @@ impl RoverProblem {
             },
             held_within_boom_reach: false,
         })
+    }
+
+    /// Draws the planner's uniform samples over the ground's surface area (`true`,
+    /// [`SurfaceSampler`]: our reading of Paton §III's samples from the reconstructed voxel
+    /// space) or over the sampled box's footprint (`false`, the default).
+    pub fn sample_surface_area(&mut self, on: bool) {
+        self.space.surface = if on {
+            SurfaceSampler::new(&self.ground, self.space.lo, self.space.hi)
+        } else {
+            None
+        };
     }
 
     /// The settled pose of a state on the exact mesh.
