@@ -119,14 +119,23 @@ fn recheck<const D: usize>(w: &ObstacleWorld<D>, st: &PlannerStatus<[f64; D], ()
     recheck_geometry(w, &sol.path, sol.cost)
 }
 
+/// ABIT* on `w` from its start to its goal, default settings, seed `seed`.
+fn planner<const D: usize>(
+    w: &ObstacleWorld<D>,
+    seed: u64,
+) -> Abit<'_, RealVectorSpace<D>, ObstacleWorld<D>, D> {
+    let settings = AbitSettings::default().with_seed(seed);
+    Abit::new(&w.space, w, w.start, w.goal, settings).unwrap()
+}
+
 fn plan<const D: usize>(
     w: &ObstacleWorld<D>,
     seed: u64,
     iterations: u64,
 ) -> PlannerStatus<[f64; D], ()> {
-    let settings = AbitSettings::default().with_seed(seed);
-    let mut p = Abit::new(&w.space, w, w.start, w.goal, settings).unwrap();
-    p.solve(Termination::iterations(iterations)).unwrap()
+    planner(w, seed)
+        .solve(Termination::iterations(iterations))
+        .unwrap()
 }
 
 #[test]
@@ -468,14 +477,7 @@ fn queued_edges_are_unique_and_rekeyed_when_their_parent_improves() {
     // descendants') when its cost falls. After every iteration each queued edge's key must be
     // the one computed now; rewirings happen in the final searches of `narrow_2d`.
     let (w, _) = super::peer_worlds::narrow_2d(super::peer_worlds::GENERATED_SEED);
-    let mut p = Abit::new(
-        &w.space,
-        &w,
-        w.start,
-        w.goal,
-        AbitSettings::default().with_seed(1),
-    )
-    .unwrap();
+    let mut p = planner(&w, 1);
     let mut rekeyed = 0;
     let mut before: std::collections::HashMap<(u32, u32), [f64; 3]> = Default::default();
     for _ in 0..4000 {
@@ -507,14 +509,7 @@ fn edges_are_queued_by_ompls_lower_bound_filter() {
     // lower-bound filter, and some must fail the cost filter `g(v) + ĉ < g(x)`.
     use super::space::StateSpace;
     let (w, _) = super::peer_worlds::narrow_2d(super::peer_worlds::GENERATED_SEED);
-    let mut p = Abit::new(
-        &w.space,
-        &w,
-        w.start,
-        w.goal,
-        AbitSettings::default().with_seed(1),
-    )
-    .unwrap();
+    let mut p = planner(&w, 1);
     let mut queued_before: std::collections::HashSet<(u32, u32)> = Default::default();
     let (mut into_tree, mut not_improving_now) = (0, 0);
     for _ in 0..3000 {
@@ -553,14 +548,7 @@ fn inflation_and_truncation_count_ompls_vertices_plus_samples() {
     // final search's inflation `1 + 10 / q` with `q = numVertices() + numSamples()`, the
     // vertices counted twice (they are samples too). Ours: states in the tree plus locations.
     let w = circle_2d();
-    let mut p = Abit::new(
-        &w.space,
-        &w,
-        w.start,
-        w.goal,
-        AbitSettings::default().with_seed(3),
-    )
-    .unwrap();
+    let mut p = planner(&w, 3);
     let q = |p: &Abit<'_, RealVectorSpace<2>, ObstacleWorld<2>, 2>| {
         let g = p.graph();
         let vertices = g.nodes.iter().filter(|n| n.in_tree()).count();
