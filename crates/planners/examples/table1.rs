@@ -56,7 +56,10 @@ fn main() {
     if shadow {
         p.shadow_sample_fraction = SHADOW_SAMPLE_FRACTION;
     }
-    p.sample_surface_area(std::env::var("SURFACE").is_ok());
+    if let Err(e) = p.sample_surface_area(std::env::var("SURFACE").is_ok()) {
+        eprintln!("SURFACE: {e}");
+        std::process::exit(2);
+    }
     let verbose = std::env::var("VERBOSE").is_ok();
     let began = std::time::Instant::now();
     let runs: Vec<Run> = (0..seeds)

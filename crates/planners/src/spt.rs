@@ -126,7 +126,7 @@
 //! `k` has a semi-minor axis of at least `w`. It never switches when the free space reaches
 //! behind the start by more than [`SWEEP_BEHIND_FRACTION`] of `D` (one band would sweep that
 //! too). At the switch every queued entry is queued again, in the emptied queue, under its word
-//! in the new layout from its own key and reach bound (a goal's from its length): valid words,
+//! in the new layout from its own reach bound (a goal's from its length): valid words,
 //! as above, and words never decrease from there on, so the proof holds after the switch as
 //! before it. In one band a funnel's word is its reach's (the band is the reach's binade), so
 //! its A* key orders nothing: a child is then keyed by its reach bound (also a lower bound of
@@ -1770,9 +1770,10 @@ impl<'a> SptSearch<'a> {
                     } else {
                         Apex::of(&self.scratch.tree, child.apex())
                     };
-                    let child_key = self.child_key(&child, child_apex, key);
+                    let (child_key, reach) = self.child_key(&child, child_apex, key);
                     if self.admit(child_key, &child, child_apex) {
-                        let child_word = self.funnel_word(child_key, &child, child_apex, word);
+                        let child_word =
+                            self.funnel_word(child_key, reach, &child, child_apex, word);
                         *slot = Some((child_key, child_word, child, child_apex));
                     }
                 }
@@ -1851,7 +1852,7 @@ impl<'a> SptSearch<'a> {
             return;
         }
         let trail = self.record_mouth(f.mouth(), parent_trail);
-        let word = self.funnel_word(key, &f, apex, 0);
+        let word = self.funnel_word(key, None, &f, apex, 0);
         self.push(
             word,
             Kind::Funnel {
@@ -1930,11 +1931,19 @@ impl<'a> SptSearch<'a> {
     /// The order word of a funnel keyed `key`, no smaller than `after` (the word of the funnel
     /// it was split from, so that words never decrease along the tree: the radix queue needs
     /// it, and the max of two valid words is valid). In the A* order the key's bits; in the
-    /// wave order its band, then its reach bound (module docs, "The wave order").
-    fn funnel_word(&self, key: f64, f: &FunnelState, apex: Apex, after: u64) -> u64 {
+    /// wave order its band, then its reach bound (module docs, "The wave order"): `reach`, when
+    /// the caller has computed it, else computed here.
+    fn funnel_word(
+        &self,
+        key: f64,
+        reach: Option<f64>,
+        f: &FunnelState,
+        apex: Apex,
+        after: u64,
+    ) -> u64 {
         let word = match self.wave {
             Some(wave) => {
-                let reach = self.reach_bound(f, apex);
+                let reach = reach.unwrap_or_else(|| self.reach_bound(f, apex));
                 // One band orders by the reach alone: its band is the reach's binade.
                 let band_key = if wave.is_one_band() { reach } else { key };
                 wave.word(band_key, reach, WaveEntry::Funnel)
@@ -1947,17 +1956,18 @@ impl<'a> SptSearch<'a> {
     /// The key of a child funnel split from a funnel popped under key `parent_key`: its A* key
     /// ([`SptSearch::lower_bound`]), or, in one band while no incumbent or length limit prunes
     /// by key, its reach bound (module docs, "The wave order": there the key orders nothing, and
-    /// the reach is a lower bound as well); never below `parent_key`.
-    fn child_key(&self, f: &FunnelState, apex: Apex, parent_key: f64) -> f64 {
+    /// the reach is a lower bound as well); never below `parent_key`. With it the reach bound
+    /// when it was computed (for [`SptSearch::funnel_word`], so that it is computed once).
+    fn child_key(&self, f: &FunnelState, apex: Apex, parent_key: f64) -> (f64, Option<f64>) {
         let by_reach = self.wave.is_some_and(Wave::is_one_band)
             && self.incumbent().is_none()
             && self.length_limit().is_none();
-        let key = if by_reach {
-            self.reach_bound(f, apex)
+        if by_reach {
+            let reach = self.reach_bound(f, apex);
+            (reach.max(parent_key), Some(reach))
         } else {
-            self.lower_bound(f, apex)
-        };
-        key.max(parent_key)
+            (self.lower_bound(f, apex).max(parent_key), None)
+        }
     }
 
     /// The key a popped word stands for: the key itself in the A* order; in the wave order the
@@ -2140,7 +2150,7 @@ impl<'a> SptSearch<'a> {
 
     /// Switches the wave order to one band (module docs, "The wave order"): every queued entry,
     /// and `popped` (the entry just popped), is queued again under its word in the new layout,
-    /// from its own key and reach bound (a goal's from its length), into the emptied queue.
+    /// a funnel's from its reach bound, a goal's from its length, into the emptied queue.
     fn sweep(&mut self, popped: Kind) {
         self.sweep_from = None;
         self.stats.swept_at = Some(self.stats.expansions);
@@ -2161,7 +2171,7 @@ impl<'a> SptSearch<'a> {
                 Kind::Funnel { funnel, apex, .. } => {
                     // One band orders by the reach alone (`funnel_word`): no A* key is needed.
                     let reach = self.reach_bound(&funnel, apex);
-                    self.funnel_word(reach, &funnel, apex, 0)
+                    self.funnel_word(reach, Some(reach), &funnel, apex, 0)
                 }
             };
             self.push(word, item);

@@ -489,13 +489,18 @@ impl RoverProblem {
 
     /// Draws the planner's uniform samples over the ground's surface area (`true`,
     /// [`SurfaceSampler`]: our reading of Paton §III's samples from the reconstructed voxel
-    /// space) or over the sampled box's footprint (`false`, the default).
-    pub fn sample_surface_area(&mut self, on: bool) {
+    /// space) or over the sampled box's footprint (`false`, the default). An error when asked
+    /// for and the ground has no upward-facing surface in the box (nothing to draw from).
+    pub fn sample_surface_area(&mut self, on: bool) -> Result<(), String> {
         self.space.surface = if on {
-            SurfaceSampler::new(&self.ground, self.space.lo, self.space.hi)
+            let (lo, hi) = (self.space.lo, self.space.hi);
+            Some(SurfaceSampler::new(&self.ground, lo, hi).ok_or_else(|| {
+                format!("no upward-facing ground in the sampled box {lo:?}..{hi:?}")
+            })?)
         } else {
             None
         };
+        Ok(())
     }
 
     /// The settled pose of a state on the exact mesh.
@@ -967,6 +972,26 @@ mod tests {
 
     fn problem(anchor: usize, pole: bool) -> RoverProblem {
         RoverProblem::paton(&PatonScene::paper(pole), anchor).unwrap()
+    }
+
+    /// Surface-area samples stay in the sampled box; a box with no ground under it is an
+    /// error, not a silent return to box sampling.
+    #[test]
+    fn surface_area_samples_stay_in_the_box_and_need_ground() {
+        let mut p = problem(1, true);
+        p.sample_surface_area(true).unwrap();
+        let mut rng = <ChaCha8Rng as rand::SeedableRng>::seed_from_u64(3);
+        for _ in 0..1000 {
+            let s = p.space.sample_uniform(&mut rng);
+            assert!((p.space.lo[0]..=p.space.hi[0]).contains(&s.x));
+            assert!((p.space.lo[1]..=p.space.hi[1]).contains(&s.y));
+        }
+        p.sample_surface_area(false).unwrap();
+        assert!(p.space.surface.is_none());
+        p.space.lo = [1e3, 1e3];
+        p.space.hi = [1e3 + 1.0, 1e3 + 1.0];
+        let e = p.sample_surface_area(true).unwrap_err();
+        assert!(e.contains("no upward-facing ground"), "{e}");
     }
 
     #[test]
