@@ -51,7 +51,7 @@ impl<const D: usize> MotionValidator<RealVectorSpace<D>, D> for Counting<'_, D> 
 
     fn motion(&self, from: &[f64; D], _h: &(), to: &[f64; D]) -> Option<(f64, ())> {
         self.world
-            .motion_with(from, to, |p| self.state_valid(p))
+            .interior_with(from, to, |p| self.state_valid(p))
             .map(|c| (c, ()))
     }
 }

@@ -49,6 +49,10 @@ pub struct NavigateReport {
     pub shadow_samples: u64,
     /// Iterations until the first solution.
     pub first_solution_iteration: Option<u64>,
+    /// Motions checked until the first solution (OMPL's "collision checked" edges; the
+    /// iterations also count edges dropped unchecked).
+    #[serde(default)]
+    pub first_solution_motions_checked: Option<u64>,
     /// Wall time until the first solution, seconds.
     pub first_solution_s: Option<f64>,
     /// Total wall time, seconds.
@@ -112,6 +116,7 @@ pub fn navigate(
         motions_checked: status.motions_checked,
         shadow_samples: status.biased_samples,
         first_solution_iteration: first.map(|e| e.iteration),
+        first_solution_motions_checked: first.map(|e| e.motions_checked),
         first_solution_s: first.map(|e| e.elapsed.as_secs_f64()),
         elapsed_s: began.elapsed().as_secs_f64(),
         stopped_by: stopped_by(status.stopped_by, status.stop_reason, stop),

@@ -433,6 +433,10 @@ fn table_one() -> Result<Vec<Case>, String> {
                 .iter()
                 .filter_map(|r| r.first_solution_iteration.map(|i| i as f64))
                 .collect();
+            let checks: Vec<f64> = found
+                .iter()
+                .filter_map(|r| r.first_solution_motions_checked.map(|i| i as f64))
+                .collect();
             // The shape of the found paths, from their re-predicted anchor histories.
             let shape_ok = |a: &[[f64; 3]]| match test {
                 // One intermediate anchor, on the lip (x = 0, z = 4).
@@ -491,12 +495,13 @@ fn table_one() -> Result<Vec<Case>, String> {
                 kind,
                 name,
                 format!(
-                    "{}/{} of {n} ({shaped} with the expected anchors), {:.1} s wall; {} s, {} it{shadow_note}",
+                    "{}/{} of {n} ({shaped} with the expected anchors), {:.1} s wall; {} s, {} it ({} motions checked){shadow_note}",
                     found.len(),
                     unsafe_,
                     wall,
                     mean_sd(&times, 2),
-                    mean_sd(&its, 0)
+                    mean_sd(&its, 0),
+                    mean_sd(&checks, 0)
                 ),
                 reference,
                 pass,

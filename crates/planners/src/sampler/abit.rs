@@ -105,6 +105,11 @@ pub struct SolutionEvent {
     pub elapsed: Duration,
     /// The new best cost.
     pub cost: f64,
+    /// Motions checked by the validator until then ([`PlannerStatus::motions_checked`] at that
+    /// moment: valid or not, each geometric motion once; OMPL's `numEdgeCollisionChecks_`, its
+    /// log's "collision checked" edges), an effort measure beside the iterations, which also
+    /// count edges dropped unchecked.
+    pub motions_checked: u64,
 }
 
 /// What [`Abit::solve`] returns.
@@ -1021,6 +1026,7 @@ where
                 iteration: self.iterations,
                 elapsed: self.created.elapsed(),
                 cost,
+                motions_checked: self.motions.len() as u64,
             });
             // Paton §V-A: a fresh goal with undetermined history for the next better path.
             if self

@@ -41,7 +41,10 @@ pub trait MotionValidator<S: StateSpace<K>, const K: usize> {
 
     /// The motion from `from` (reached with `history`) to `to`: `None` if it is invalid,
     /// otherwise its true cost and the history at `to`. Called lazily, only for edges the search
-    /// actually processes, and at most once per ordered pair of graph states.
+    /// actually processes, and at most once per ordered pair of graph states. Both ends are
+    /// graph states, each of which passed [`MotionValidator::state_valid`] when it was added
+    /// (start, goal, samples; copies share a checked state's location), so an implementation
+    /// need not check `to` itself again (OMPL's `DiscreteMotionValidator` does).
     fn motion(
         &self,
         from: &S::State,
