@@ -1,9 +1,9 @@
-//! The SPT search's outcome as reports spell it (`docs/output-format.md`): [`TerminationName`]
-//! (snake_case names of [`Termination`]) and [`SearchStatsReport`] (the counters of
-//! [`SearchStats`]), both readable back and with JSON Schemas. The search itself keeps its own
-//! types; reports convert at the boundary.
+//! The SPT search's stop reason as reports spell it (`docs/output-format.md`):
+//! [`TerminationName`], the snake_case names of [`Termination`], readable back and with a JSON
+//! Schema. The search keeps its own enum; reports convert at the boundary. (The counters,
+//! [`crate::spt::SearchStats`], are written as they are.)
 
-use crate::spt::{SearchStats, Termination};
+use crate::spt::Termination;
 use serde::{Deserialize, Serialize};
 
 /// Why a search stopped, as a report spells it.
@@ -91,75 +91,6 @@ pub mod option_termination_serde {
     }
 }
 
-/// The counters of a search ([`SearchStats`]) in a report.
-#[derive(
-    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
-)]
-pub struct SearchStatsReport {
-    /// Funnels expanded (Alg. 4 calls).
-    pub expansions: usize,
-    /// Funnels dropped by dominance pruning.
-    pub pruned_dominated: usize,
-    /// Funnels dropped because their mouth is covered (one class wanted).
-    #[serde(default)]
-    pub pruned_covered: usize,
-    /// Funnels dropped by the length bound.
-    pub pruned_length: usize,
-    /// Funnels never queued because enough queued goals are at least as short.
-    #[serde(default)]
-    pub pruned_incumbent: usize,
-    /// Funnels dropped because their apex chain is not simple (simple-classes mode).
-    pub pruned_simple: usize,
-    /// Goal lifts reached whose class was not simple (simple-classes mode).
-    pub skipped_not_simple: usize,
-    /// Nodes held in the shortest path tree at the end (after any collection of it).
-    pub tree_nodes: usize,
-    /// Split nodes removed because both children were dropped.
-    #[serde(default)]
-    pub nodes_discarded: usize,
-    /// Nodes dropped by collections of the tree (no queued funnel held them).
-    #[serde(default)]
-    pub nodes_collected: usize,
-    /// Largest number of queued entries.
-    pub queue_peak: usize,
-    /// The expansions made when the one-class search's automatic order switched to one band
-    /// (a single sweep by the reach bound); absent when it did not.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub swept_at: Option<usize>,
-    /// The expansions the search was allowed (the automatic budget of the map, or the given one;
-    /// `rappel_planners::budget`).
-    #[serde(default)]
-    pub expansion_limit: usize,
-    /// Expansions of the reverse search that bounded the distances to the goal before a
-    /// several-class search (not in `expansions`).
-    #[serde(default)]
-    pub bound_expansions: usize,
-    /// Peak bytes held by the search's own structures.
-    pub peak_bytes: usize,
-}
-
-impl From<SearchStats> for SearchStatsReport {
-    fn from(s: SearchStats) -> Self {
-        SearchStatsReport {
-            expansions: s.expansions,
-            pruned_dominated: s.pruned_dominated,
-            pruned_covered: s.pruned_covered,
-            pruned_length: s.pruned_length,
-            pruned_incumbent: s.pruned_incumbent,
-            pruned_simple: s.pruned_simple,
-            skipped_not_simple: s.skipped_not_simple,
-            tree_nodes: s.tree_nodes,
-            nodes_discarded: s.nodes_discarded,
-            nodes_collected: s.nodes_collected,
-            queue_peak: s.queue_peak,
-            swept_at: s.swept_at,
-            expansion_limit: s.expansion_limit,
-            bound_expansions: s.bound_expansions,
-            peak_bytes: s.peak_bytes,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,6 +114,33 @@ mod tests {
         assert_eq!(
             serde_json::to_string(&TerminationName::ClassCount).unwrap(),
             "\"class_count\""
+        );
+    }
+
+    /// The counters are written as the search keeps them: `swept_at` only when the order
+    /// switched, every field read back; the fields added since the first reports default when
+    /// an older report lacks them.
+    #[test]
+    fn search_counters_write_swept_at_only_when_set_and_read_back() {
+        use crate::spt::SearchStats;
+        let mut s = SearchStats {
+            expansions: 7,
+            tree_nodes: 9,
+            ..SearchStats::default()
+        };
+        let text = serde_json::to_string(&s).unwrap();
+        assert!(!text.contains("swept_at"), "{text}");
+        assert_eq!(serde_json::from_str::<SearchStats>(&text).unwrap(), s);
+        s.swept_at = Some(5);
+        let text = serde_json::to_string(&s).unwrap();
+        assert!(text.contains("\"swept_at\":5"), "{text}");
+        assert_eq!(serde_json::from_str::<SearchStats>(&text).unwrap(), s);
+        let old = r#"{"expansions":1,"pruned_dominated":0,"pruned_length":0,"pruned_simple":0,
+            "skipped_not_simple":0,"tree_nodes":2,"queue_peak":3,"peak_bytes":4}"#;
+        let read: SearchStats = serde_json::from_str(old).unwrap();
+        assert_eq!(
+            (read.expansions, read.swept_at, read.bound_expansions),
+            (1, None, 0)
         );
     }
 }

@@ -599,8 +599,11 @@ impl From<StopReason> for Termination {
     }
 }
 
-/// Counters of a search.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// Counters of a search, as the search keeps them and as reports write them (`stats` of the
+/// plan report, `docs/output-format.md`; its JSON Schema is derived from this type).
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub struct SearchStats {
     /// Funnels expanded (Alg. 4 calls).
     pub expansions: usize,
@@ -634,7 +637,8 @@ pub struct SearchStats {
     /// Largest number of queued entries.
     pub queue_peak: usize,
     /// The expansions made when the automatic wave order switched to one band (module docs,
-    /// "The wave order"); `None` when it did not.
+    /// "The wave order"); `None`, and absent from a report, when it did not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub swept_at: Option<usize>,
     /// The expansions the search was allowed ([`SearchOptions::expansion_limit`]).
     #[serde(default)]

@@ -229,7 +229,6 @@ pub struct PlanOutcome {
     #[serde(default)]
     pub stop_reason: Option<StopReason>,
     /// The search's counters.
-    #[schemars(with = "rappel_planners::search_report::SearchStatsReport")]
     pub stats: SearchStats,
     /// Warnings (concave plane edges, approximated robot models).
     pub warnings: Vec<String>,

@@ -99,11 +99,36 @@ pub struct StabilityDot {
     pub beyond_tether: bool,
 }
 
+/// The stability criterion a map was judged by, as a report names it.
+///
+/// ```
+/// use rappel::stability::CriterionName;
+/// assert_eq!(CriterionName::KumarLp.to_string(), "kumar-lp");
+/// assert_eq!(serde_json::to_string(&CriterionName::PatonQp).unwrap(), "\"paton-qp\"");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum CriterionName {
+    /// Paton's wheel/tether QP (no tension limit given).
+    PatonQp,
+    /// Kumar's tension-limited LP (a tension limit given).
+    KumarLp,
+}
+
+impl std::fmt::Display for CriterionName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            CriterionName::PatonQp => "paton-qp",
+            CriterionName::KumarLp => "kumar-lp",
+        })
+    }
+}
+
 /// A stability map.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct StabilityReport {
     /// The criterion used: `"paton-qp"` or `"kumar-lp"`.
-    pub criterion: String,
+    pub criterion: CriterionName,
     /// The robot model's name.
     pub robot: String,
     /// What the judged robot stands in for, when it is not the scenario's own (a point robot has
@@ -192,13 +217,17 @@ pub fn stability_observed(
     let robot = crate::robot::contact_model(&scenario.robot).map_err(StabilityError::Setting)?;
     let stand_in_for = (scenario.robot.model == crate::scenario::RobotModel::Point)
         .then(|| "the scenario's point robot (it has no wheel contacts to judge)".to_string());
-    let (criterion, name): (Box<dyn StabilityCriterion>, &str) = match options.tension_limit {
-        Some(_) => (Box::new(TensionLimitedLp::default()), "kumar-lp"),
-        None => (
-            Box::new(StabilityQp::new(StabilitySettings::default())),
-            "paton-qp",
-        ),
-    };
+    let (criterion, name): (Box<dyn StabilityCriterion>, CriterionName) =
+        match options.tension_limit {
+            Some(_) => (
+                Box::new(TensionLimitedLp::default()),
+                CriterionName::KumarLp,
+            ),
+            None => (
+                Box::new(StabilityQp::new(StabilitySettings::default())),
+                CriterionName::PatonQp,
+            ),
+        };
     let planes = plane_bands(&scenario.terrain.planes, &scenario.map.aabb())
         .map_err(|e| StabilityError::Setting(e.to_string()))?;
     let exit_height = robot
@@ -313,7 +342,7 @@ pub fn stability_observed(
         })
         .collect();
     Ok(StabilityReport {
-        criterion: name.to_string(),
+        criterion: name,
         robot: robot.name().to_string(),
         stand_in_for,
         tether_length_m: scenario.robot.tether_length_m,

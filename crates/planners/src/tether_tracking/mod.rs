@@ -153,6 +153,41 @@ pub struct TetherAnchor {
     pub world: Point3<f64>,
 }
 
+/// Which point or step a [`TrackError`] is about, typed so that a caller can tell whose input
+/// it was (the two-robot problem blames Robot 1 or Robot 2 by it) and printed as the error's
+/// words.
+///
+/// ```
+/// use rappel_planners::tether_tracking::TrackSubject;
+/// assert_eq!(TrackSubject::Step(3).to_string(), "step 3");
+/// assert_eq!(TrackSubject::Base.to_string(), "the base");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TrackSubject {
+    /// The tracker's base (the tether's fixed end).
+    Base,
+    /// The robot's start.
+    RobotStart,
+    /// The initial tether, straight from the base to the robot's start.
+    InitialTether,
+    /// The robot's step with this index (0 for the first).
+    Step(usize),
+    /// A caller's own words for one of the above ([`TrackError::renamed`]).
+    Named(&'static str),
+}
+
+impl std::fmt::Display for TrackSubject {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TrackSubject::Base => f.write_str("the base"),
+            TrackSubject::RobotStart => f.write_str("the robot's start"),
+            TrackSubject::InitialTether => f.write_str("the initial tether"),
+            TrackSubject::Step(i) => write!(f, "step {i}"),
+            TrackSubject::Named(s) => f.write_str(s),
+        }
+    }
+}
+
 /// Why a step cannot be tracked.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TrackError {
@@ -160,13 +195,13 @@ pub enum TrackError {
     #[error("{what} is not finite")]
     NonFinite {
         /// Which point.
-        what: String,
+        what: TrackSubject,
     },
     /// A point is off every surface.
     #[error("{what} ({}, {}) is off the terrain's surfaces", Compact(*.x), Compact(*.y))]
     OffTerrain {
         /// Which point.
-        what: String,
+        what: TrackSubject,
         /// Frame x.
         x: f64,
         /// Frame y.
@@ -176,7 +211,7 @@ pub enum TrackError {
     #[error("{what} passes through obstacle {obstacle}")]
     ThroughObstacle {
         /// Which step or point.
-        what: String,
+        what: TrackSubject,
         /// Obstacle index.
         obstacle: usize,
     },
@@ -192,23 +227,23 @@ pub enum TrackError {
 
 impl TrackError {
     /// Which point or step the error is about (`None` for the event limit).
-    pub fn what(&self) -> Option<&str> {
+    pub fn what(&self) -> Option<TrackSubject> {
         match self {
             TrackError::NonFinite { what }
             | TrackError::OffTerrain { what, .. }
-            | TrackError::ThroughObstacle { what, .. } => Some(what),
+            | TrackError::ThroughObstacle { what, .. } => Some(*what),
             TrackError::EventLimit { .. } => None,
         }
     }
 
-    /// The error with its point or step renamed `what` (for a caller that knows better which
-    /// robot's point it is).
-    pub fn renamed(mut self, name: &str) -> Self {
+    /// The error with its point or step named in the caller's words (for a caller that knows
+    /// better which robot's point it is); the event limit keeps its step.
+    pub fn renamed(mut self, name: &'static str) -> Self {
         if let TrackError::NonFinite { what }
         | TrackError::OffTerrain { what, .. }
         | TrackError::ThroughObstacle { what, .. } = &mut self
         {
-            *what = name.to_string();
+            *what = TrackSubject::Named(name);
         }
         self
     }
@@ -322,9 +357,9 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
             event_limit: EVENTS_PER_VERTEX * n + 16,
             ground_edges: GroundAnchorEdges::default(),
         };
-        t.check_point("the base", &base)?;
-        t.check_point("the robot's start", &robot)?;
-        t.check_segment("the initial tether", &base, &robot)?;
+        t.check_point(TrackSubject::Base, &base)?;
+        t.check_point(TrackSubject::RobotStart, &robot)?;
+        t.check_segment(TrackSubject::InitialTether, &base, &robot)?;
         Ok(t)
     }
 
@@ -342,7 +377,7 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
             .filter(|a| matches!(a.kind, AnchorKind::Obstacle { .. }))
             .collect();
         t.robot = robot;
-        t.check_point("the robot's start", &robot)?;
+        t.check_point(TrackSubject::RobotStart, &robot)?;
         Ok(t)
     }
 
@@ -359,23 +394,20 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
         self.ground_edges
     }
 
-    fn check_point(&self, what: &str, p: &Point2<f64>) -> Result<(), TrackError> {
+    fn check_point(&self, what: TrackSubject, p: &Point2<f64>) -> Result<(), TrackError> {
         if !(p.x.is_finite() && p.y.is_finite()) {
-            return Err(TrackError::NonFinite { what: what.into() });
+            return Err(TrackError::NonFinite { what });
         }
         if self.terrain.surface_at(p).is_none() {
             return Err(TrackError::OffTerrain {
-                what: what.into(),
+                what,
                 x: p.x,
                 y: p.y,
             });
         }
         for (k, o) in self.terrain.obstacles().iter().enumerate() {
             if o.base.locate(p) == PointInPolygon::Inside {
-                return Err(TrackError::ThroughObstacle {
-                    what: what.into(),
-                    obstacle: k,
-                });
+                return Err(TrackError::ThroughObstacle { what, obstacle: k });
             }
         }
         Ok(())
@@ -387,7 +419,7 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
     /// against the interior angle with `orient2d`; no rounded midpoint is used).
     fn check_segment(
         &self,
-        what: &str,
+        what: TrackSubject,
         p: &Point2<f64>,
         q: &Point2<f64>,
     ) -> Result<(), TrackError> {
@@ -397,10 +429,7 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
                     && sign(orient2d(a, b, p)) * sign(orient2d(a, b, q)) < 0
             });
             if crosses || enters_interior(&o.base.vertices, p, q) {
-                return Err(TrackError::ThroughObstacle {
-                    what: what.into(),
-                    obstacle: k,
-                });
+                return Err(TrackError::ThroughObstacle { what, obstacle: k });
             }
         }
         Ok(())
@@ -542,9 +571,9 @@ impl<'t, T: Terrain + ?Sized> TetherTracker<'t, T> {
 
     /// Moves the robot to `q` along a straight step (Kumar Alg. 1).
     pub fn step(&mut self, q: Point2<f64>) -> Result<(), TrackError> {
-        let what = format!("step {}", self.steps);
-        self.check_point(&what, &q)?;
-        self.check_segment(&what, &self.robot, &q)?;
+        let what = TrackSubject::Step(self.steps);
+        self.check_point(what, &q)?;
+        self.check_segment(what, &self.robot, &q)?;
         let p0 = self.robot;
         if p0 == q {
             self.steps += 1;

@@ -15,7 +15,10 @@
 //! the moving end, phase 2 on the reversed anchor list (turn sides flipped) with Robot 1 as the base
 //! (Kumar: "the same algorithm can be used ... for the motion of Robot 1").
 
-use super::{AnchorKind, GroundAnchorEdges, TetherAnchor, TetherTracker, TrackError, windings_of};
+use super::{
+    AnchorKind, GroundAnchorEdges, TetherAnchor, TetherTracker, TrackError, TrackSubject,
+    windings_of,
+};
 use nalgebra::{Point2, Point3};
 use rappel_mechanics::point_body::PointBody;
 use rappel_mechanics::robot::{PlanarPose, RobotModel, SlopePlane, TetherSpec, place};
@@ -223,9 +226,9 @@ impl<'a, T: Terrain + Sync + ?Sized> TwoRobots<'a, T> {
         // objection to the base is about Robot 2's path, not Robot 1's.
         let edges = self.model.ground_anchors;
         let mut phase1 = TetherTracker::new(self.terrain, s2, s1).map_err(|e| match e.what() {
-            Some("the base") => t2(e.renamed("the start")),
-            Some("the robot's start") => t1(e.renamed("the start")),
-            Some("the initial tether") => t1(e.renamed("the tether from Robot 2's start")),
+            Some(TrackSubject::Base) => t2(e.renamed("the start")),
+            Some(TrackSubject::RobotStart) => t1(e.renamed("the start")),
+            Some(TrackSubject::InitialTether) => t1(e.renamed("the tether from Robot 2's start")),
             _ => t1(e),
         })?;
         phase1.follow(&path1[1..]).map_err(t1)?;

@@ -629,3 +629,57 @@ fn kumars_reading_valley_anchors_and_free_body_against_rappels_model() {
     });
     assert!(body.stable && body.ground_anchored);
 }
+
+/// Each robot is blamed for its own input, by the tracker's typed subject: on Kumar's scene
+/// (O2 the square [2, 4] x [19, 21]), Robot 2's start off the terrain is Robot 2's, Robot 1's start
+/// inside O2 and an initial tether through O2 are Robot 1's, and Robot 2's step through O2 is its
+/// step 0; each message names the point as the user gave it.
+#[test]
+fn two_robots_blame_the_robot_whose_input_is_refused() {
+    use rappel_mechanics::four_wheel::FourWheelRover;
+    use rappel_mechanics::robot::{RobotModel, STANDARD_GRAVITY};
+    use rappel_mechanics::tension_limit::HoldingRobot;
+    use rappel_planners::tether_tracking::TrackSubject;
+    use rappel_planners::tether_tracking::two_robots::{TrackModel, TwoRobotError, TwoRobots};
+    let terrain = rappel_terrain::kumar::kumar_scene().unwrap();
+    let rover = FourWheelRover::default();
+    let two = TwoRobots {
+        terrain: &terrain,
+        holding: HoldingRobot {
+            max_pull: 0.0,
+            friction: 0.4,
+            mass: 35.0,
+        },
+        gravity: STANDARD_GRAVITY,
+        robot2: &rover as &dyn RobotModel,
+        tether_height: rover.params().tether_exit.z,
+        model: TrackModel::default(),
+    };
+    let blame = |path1: &[Point2<f64>], path2: &[Point2<f64>]| match two.run(path1, path2) {
+        Err(e @ TwoRobotError::Track { .. }) => {
+            let TwoRobotError::Track { robot, source } = &e else {
+                unreachable!()
+            };
+            (*robot, source.what(), e.to_string())
+        }
+        other => panic!("expected a tracking error, got {other:?}"),
+    };
+    let path1 = [p(5.0, 18.0), p(5.0, 23.0), p(3.0, 23.0)];
+    let (robot, what, text) = blame(&path1, &[p(20.0, 10.0)]);
+    assert_eq!((robot, what), (2, Some(TrackSubject::Named("the start"))));
+    assert!(text.starts_with("robot 2: the start (20, 10)"), "{text}");
+    let (robot, what, _) = blame(&[p(3.0, 20.0)], &[p(3.0, 17.0)]);
+    assert_eq!((robot, what), (1, Some(TrackSubject::Named("the start"))));
+    let (robot, what, text) = blame(&[p(3.0, 23.0)], &[p(3.0, 17.0)]);
+    assert_eq!(
+        (robot, what),
+        (
+            1,
+            Some(TrackSubject::Named("the tether from Robot 2's start"))
+        )
+    );
+    assert!(text.contains("passes through obstacle 1"), "{text}");
+    let (robot, what, text) = blame(&path1, &[p(3.0, 17.0), p(3.0, 22.0)]);
+    assert_eq!((robot, what), (2, Some(TrackSubject::Step(0))));
+    assert_eq!(text, "robot 2: step 0 passes through obstacle 1");
+}
