@@ -545,6 +545,28 @@ fn dyadic_walks_that_went_wrong() {
     }
 }
 
+/// Kumar's two robots on `terrain` (his scene): Robot 1 holding with `μ` 0.4 and 35 kg, Robot 2
+/// the default four-wheel rover `rover`, tracked with `model`.
+fn kumar_two_robots<'a>(
+    terrain: &'a PlaneSeriesTerrain,
+    rover: &'a rappel_mechanics::four_wheel::FourWheelRover,
+    model: rappel_planners::tether_tracking::two_robots::TrackModel,
+) -> rappel_planners::tether_tracking::two_robots::TwoRobots<'a, PlaneSeriesTerrain> {
+    use rappel_mechanics::robot::{RobotModel, STANDARD_GRAVITY};
+    rappel_planners::tether_tracking::two_robots::TwoRobots {
+        terrain,
+        holding: rappel_mechanics::tension_limit::HoldingRobot {
+            max_pull: 0.0,
+            friction: 0.4,
+            mass: 35.0,
+        },
+        gravity: STANDARD_GRAVITY,
+        robot2: rover as &dyn RobotModel,
+        tether_height: rover.params().tether_exit.z,
+        model,
+    }
+}
+
 /// Kumar's text against rappel's model on Kumar's scene (Fig. 5a: Robot 1 partly round O2;
 /// Robot 2's last anchor O2's corner (4, 19)), Robot 2 at (2, 10.5) on S1, 5.5 m below the crest,
 /// `θ = atan(2 / 8.5)` off its anchor's line in the unfolding. Independent closed forms: with
@@ -556,24 +578,12 @@ fn dyadic_walks_that_went_wrong() {
 fn kumars_reading_valley_anchors_and_free_body_against_rappels_model() {
     use nalgebra::Vector3;
     use rappel_mechanics::four_wheel::FourWheelRover;
-    use rappel_mechanics::robot::{RobotModel, STANDARD_GRAVITY};
-    use rappel_mechanics::tension_limit::HoldingRobot;
+    use rappel_mechanics::robot::STANDARD_GRAVITY;
     use rappel_planners::tether_tracking::GroundAnchorEdges;
-    use rappel_planners::tether_tracking::two_robots::{Robot2Contact, TrackModel, TwoRobots};
+    use rappel_planners::tether_tracking::two_robots::{Robot2Contact, TrackModel};
     let terrain = rappel_terrain::kumar::kumar_scene().unwrap();
     let rover = FourWheelRover::default();
-    let two = |model| TwoRobots {
-        terrain: &terrain,
-        holding: HoldingRobot {
-            max_pull: 0.0,
-            friction: 0.4,
-            mass: 35.0,
-        },
-        gravity: STANDARD_GRAVITY,
-        robot2: &rover as &dyn RobotModel,
-        tether_height: rover.params().tether_exit.z,
-        model,
-    };
+    let two = |model| kumar_two_robots(&terrain, &rover, model);
     let path1 = [p(5.0, 18.0), p(5.0, 23.0), p(3.0, 23.0)];
     let path2 = [p(3.0, 17.0), p(2.0, 16.0), p(2.0, 10.5)];
     let at = |model| two(model).run(&path1, &path2).unwrap().pop().unwrap();
@@ -637,24 +647,11 @@ fn kumars_reading_valley_anchors_and_free_body_against_rappels_model() {
 #[test]
 fn two_robots_blame_the_robot_whose_input_is_refused() {
     use rappel_mechanics::four_wheel::FourWheelRover;
-    use rappel_mechanics::robot::{RobotModel, STANDARD_GRAVITY};
-    use rappel_mechanics::tension_limit::HoldingRobot;
     use rappel_planners::tether_tracking::TrackSubject;
-    use rappel_planners::tether_tracking::two_robots::{TrackModel, TwoRobotError, TwoRobots};
+    use rappel_planners::tether_tracking::two_robots::{TrackModel, TwoRobotError};
     let terrain = rappel_terrain::kumar::kumar_scene().unwrap();
     let rover = FourWheelRover::default();
-    let two = TwoRobots {
-        terrain: &terrain,
-        holding: HoldingRobot {
-            max_pull: 0.0,
-            friction: 0.4,
-            mass: 35.0,
-        },
-        gravity: STANDARD_GRAVITY,
-        robot2: &rover as &dyn RobotModel,
-        tether_height: rover.params().tether_exit.z,
-        model: TrackModel::default(),
-    };
+    let two = kumar_two_robots(&terrain, &rover, TrackModel::default());
     let blame = |path1: &[Point2<f64>], path2: &[Point2<f64>]| match two.run(path1, path2) {
         Err(e @ TwoRobotError::Track { .. }) => {
             let TwoRobotError::Track { robot, source } = &e else {
