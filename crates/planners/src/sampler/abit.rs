@@ -732,7 +732,7 @@ where
         self.expanded_ever[v as usize] = true;
         for i in 0..self.graph.nodes[v as usize].children.len() {
             let x = self.graph.nodes[v as usize].children[i];
-            self.enqueue_conditionally(v, x);
+            self.enqueue_conditionally(v, g_lower, x);
         }
         let key = self.space.key(&self.graph.nodes[v as usize].state);
         // The k nearest locations with `v`'s own among them (OMPL queries its samples, which
@@ -752,7 +752,7 @@ where
         for x in near {
             let node = &self.graph.nodes[x as usize];
             if !node.in_tree() {
-                self.enqueue_conditionally(v, x);
+                self.enqueue_conditionally(v, g_lower, x);
                 continue;
             }
             // A tree state (OMPL: not the root, not `v`, not already `v`'s child, not `v`'s
@@ -775,7 +775,7 @@ where
             } else {
                 x
             };
-            self.enqueue_conditionally(v, x);
+            self.enqueue_conditionally(v, g_lower, x);
         }
     }
 
@@ -791,13 +791,14 @@ where
     /// Queues edge `(v, x)` unless its motion is known to be invalid or it cannot possibly
     /// improve the solution or its child (OMPL's `enqueueEdgeConditionally` and
     /// `canPossiblyImproveCurrentSolution`): `ĝ(v) + ĉ + ĥ(x) <= c_best` and, when `x` is in the
-    /// tree, `ĝ(v) + ĉ <= g(x)`, with the lower bound `ĝ(v)`, not `g(v)`.
-    fn enqueue_conditionally(&mut self, v: u32, x: u32) {
+    /// tree, `ĝ(v) + ĉ <= g(x)`, with the lower bound `ĝ(v)` (`g_lower`, [`Abit::g_hat`], computed
+    /// once per expansion by the caller), not `g(v)`.
+    fn enqueue_conditionally(&mut self, v: u32, g_lower: f64, x: u32) {
         let node = &self.graph.nodes[x as usize];
         if matches!(self.motions.get(&(v, node.location)), Some(None)) {
             return;
         }
-        let to_target = self.g_hat(v) + self.c_hat(v, x);
+        let to_target = g_lower + self.c_hat(v, x);
         if to_target + self.h(x) > self.best_cost || (node.in_tree() && to_target > node.g) {
             return;
         }
@@ -853,10 +854,14 @@ where
     fn rekey_subtree(&mut self, x: u32) {
         let mut stack = vec![x];
         while let Some(u) = stack.pop() {
-            if let Some(out) = self.queued_out.get(u as usize) {
-                for c in out.clone() {
+            if let Some(out) = self.queued_out.get_mut(u as usize) {
+                // Every edge listed is queued already, so `enqueue` only updates its key and
+                // leaves the list alone: taken out and put back rather than copied.
+                let out = std::mem::take(out);
+                for &c in &out {
                     self.enqueue(u, c);
                 }
+                self.queued_out[u as usize] = out;
             }
             stack.extend(self.graph.nodes[u as usize].children.iter().copied());
         }
